@@ -1,0 +1,43 @@
+"""Error types shared by every symvi module.
+
+Every failure a user can provoke is one of these, carrying a one-line message
+that names the offending parameter and its valid range.
+"""
+
+
+class SymviError(Exception):
+    """Base class of all symvi errors; the CLI turns it into exit code 2."""
+
+
+class ParameterError(SymviError, ValueError):
+    """A parameter is out of its valid range.
+
+    Attributes
+    ----------
+    name : the parameter's name as the user wrote it.
+    valid : the valid range, in words.
+    """
+
+    def __init__(self, name, value, valid, detail=""):
+        self.name = name
+        self.value = value
+        self.valid = valid
+        msg = f"{name} = {value!r} is invalid; valid range: {valid}"
+        if detail:
+            msg += f" ({detail})"
+        super().__init__(msg)
+
+
+class SingularCaseError(SymviError):
+    """The problem is singular at this point (resonance, grazing, λ^m = 1, ...).
+
+    ``kind`` is a short machine-readable tag such as ``"forcing-resonance"``.
+    """
+
+    def __init__(self, kind, message):
+        self.kind = kind
+        super().__init__(f"{kind}: {message}")
+
+
+class NearSingularWarning(UserWarning):
+    """The problem is close to a singular case; results may lose digits."""

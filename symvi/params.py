@@ -1,0 +1,133 @@
+"""System parameters and modal analysis, eqs. (3)–(8).
+
+The non-dimensional model of eq. (3), with the second derivative the printed
+equation drops (``\\dot x`` there is a typo for ``\\ddot x``)::
+
+    M x'' + K x = P sin(omega t + tau),   x1 < b,
+    M = diag(1, mu_m),  K = [[1, -1], [-1, 1 + mu_k]],  P = (1 - f2, f2).
+
+Modal matrix ``psi`` is mass-normalised, ``psi^T M psi = I`` and
+``psi^T K psi = Lambda = diag(omega1^2, omega2^2)`` with ``omega1 < omega2``;
+the first row of ``psi`` is positive (our sign convention).
+"""
+import math
+import warnings
+from dataclasses import dataclass
+
+from ._backend import FLOAT
+from .errors import NearSingularWarning, ParameterError, SingularCaseError
+
+#: relative distance |omega - omega_j| / omega_j below which forcing is refused
+RESONANCE_REFUSE = 1e-10
+#: relative distance below which a NearSingularWarning is issued
+RESONANCE_WARN = 1e-4
+
+
+def _finite(name, value):
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "a finite real number") from None
+    if not math.isfinite(v):
+        raise ParameterError(name, value, "a finite real number")
+    return v
+
+
+@dataclass(frozen=True)
+class Params:
+    """Non-dimensional parameters of eq. (4): mass ratio, stiffness ratio,
+    force split, gap and coefficient of restitution.
+
+    Validated on construction: mu_m > 0, mu_k > 0, 0 < r <= 1, all finite.
+    """
+
+    mu_m: float
+    mu_k: float
+    f2: float
+    b: float
+    r: float
+
+    def __post_init__(self):
+        for name in ("mu_m", "mu_k", "f2", "b", "r"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if not self.mu_m > 0:
+            raise ParameterError("mu_m", self.mu_m, "mu_m > 0")
+        if not self.mu_k > 0:
+            raise ParameterError("mu_k", self.mu_k, "mu_k > 0")
+        if not 0 < self.r <= 1:
+            raise ParameterError("r", self.r, "0 < r <= 1")
+
+    def as_dict(self):
+        return {"mu_m": self.mu_m, "mu_k": self.mu_k, "f2": self.f2,
+                "b": self.b, "r": self.r}
+
+    def key(self):
+        """A stable tuple for hashing and caching."""
+        return (self.mu_m, self.mu_k, self.f2, self.b, self.r)
+
+
+@dataclass(frozen=True)
+class Modal:
+    """Modal data of eqs. (5)–(8) in one arithmetic backend.
+
+    ``psi[i][j]`` is psi_{i+1, j+1}; ``F[j] = psi_j^T P`` is the modal forcing
+    (eq. 6); ``D = det psi`` (so ``psi^{-1} = adj(psi) / D``, as in eqs. 21–24).
+    """
+
+    omega1: object
+    omega2: object
+    psi: tuple
+    F: tuple
+    D: object
+
+    @property
+    def omegas(self):
+        return (self.omega1, self.omega2)
+
+
+def modal(params, lib=FLOAT):
+    """Eigenfrequencies and mass-normalised modes of eq. (3), eqs. (5)–(6).
+
+    det(K - w^2 M) = 0 gives mu_m w^4 - (1 + mu_k + mu_m) w^2 + mu_k = 0.
+    The mode for w_j^2 is (1, 1 - w_j^2) before normalisation.
+    """
+    mu_m, mu_k = lib.num(params.mu_m), lib.num(params.mu_k)
+    s = 1 + mu_k + mu_m
+    disc = lib.sqrt((mu_m - mu_k) ** 2 + 2 * (mu_m + mu_k) + 1)  # = sqrt(s^2 - 4 mu_m mu_k) > 0
+    # smaller root via the product of roots: no cancellation
+    w2_hi = (s + disc) / (2 * mu_m)
+    w2_lo = mu_k / (mu_m * w2_hi)
+    psi_cols = []
+    for w2 in (w2_lo, w2_hi):
+        u = 1 - w2
+        nrm = lib.sqrt(1 + mu_m * u * u)
+        psi_cols.append((1 / nrm, u / nrm))
+    psi = ((psi_cols[0][0], psi_cols[1][0]), (psi_cols[0][1], psi_cols[1][1]))
+    P = (1 - lib.num(params.f2), lib.num(params.f2))
+    F = tuple(psi[0][j] * P[0] + psi[1][j] * P[1] for j in range(2))
+    D = psi[0][0] * psi[1][1] - psi[0][1] * psi[1][0]
+    return Modal(lib.sqrt(w2_lo), lib.sqrt(w2_hi), psi, F, D)
+
+
+def check_omega(params, omega, name="omega", warn=True):
+    """Validate a forcing frequency: finite, > 0 and not at a natural frequency.
+
+    Exact resonance omega = omega_j makes A_j of eq. (7) infinite and is refused;
+    within a relative 1e-4 a NearSingularWarning is issued.
+    """
+    w = _finite(name, omega)
+    if not w > 0:
+        raise ParameterError(name, omega, f"{name} > 0")
+    m = modal(params)
+    for j, wj in enumerate(m.omegas, start=1):
+        rel = abs(w - wj) / wj
+        if rel < RESONANCE_REFUSE:
+            raise SingularCaseError(
+                "forcing-resonance",
+                f"{name} = {w!r} equals the natural frequency omega_{j} = {wj:.15g}; "
+                f"A_{j} of eq. (7) is infinite. Choose {name} != omega_{j}.")
+        if warn and rel < RESONANCE_WARN:
+            warnings.warn(f"{name} = {w:.10g} is within {rel:.1e} (relative) of the natural "
+                          f"frequency omega_{j} = {wj:.10g}; results lose about "
+                          f"{-math.log10(rel):.0f} digits", NearSingularWarning, stacklevel=2)
+    return w
