@@ -1,0 +1,1 @@
+"""Machine-written by derivations/poincare_jets.py; do not edit."""

@@ -1,0 +1,200 @@
+"""Taylor jets of the Poincaré map from the generated code, eqs. (33)–(38).
+
+The tensors are raw derivatives in the paper's variable order
+(dx1dot+, dx20, dx20dot, dtau):
+
+* ``jacobian[i, j] = df_i/dx_j`` (= F01, eq. 36),
+* ``d2[i, j, k] = d^2 f_i/dx_j dx_k`` (the paper's F02 = d2 / 2),
+* ``d3[i, j, k, l]`` (F03 = d3 / 6),
+* ``dA[i, j] = d/dv (df_i/dx_j)`` along the orbit branch v = omega (F11, eq. 34
+  with p = q = 1): the explicit omega-derivative plus d2 · dy*/domega, where
+  dy*/domega = (I - J)^{-1} dP/domega follows from P(y*(omega); omega) = y*(omega).
+
+Order K imports ``symvi._generated.order<K>`` only: a multiplier-only job never
+imports second- or third-order code.
+"""
+import importlib
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+
+from ._backend import FLOAT, MP
+from .errors import ParameterError, SingularCaseError
+from .params import modal as _modal
+
+
+_LOADED = {}
+
+
+def _gen(order):
+    """The generated module of ``order`` and its layout as numpy index arrays (cached)."""
+    if order not in _LOADED:
+        mod = importlib.import_module(f"symvi._generated.order{order}")
+        _LOADED[order] = (mod, [(k, np.asarray(v)) for k, v in mod.LAYOUT.items()])
+    return _LOADED[order]
+
+
+def _inputs(m, omega, r, b, y, te):
+    p = m.psi
+    return (p[0][0], p[0][1], p[1][0], p[1][1], m.omega1, m.omega2, m.F[0], m.F[1],
+            omega, r, b, y[0], y[1], y[2], y[3], te)
+
+
+def _evaluate(order, inp, mp):
+    """Flat generated values -> dict of numpy arrays (object arrays of mpf when ``mp``)."""
+    mod, layout = _gen(order)
+    if mp:
+        vals = mod.mp(inp)
+        flat = np.empty(len(vals), dtype=object)
+        flat[:] = vals
+    else:
+        flat = np.array(mod.f64(inp))
+    return {name: flat[idx] for name, idx in layout}
+
+
+def jacobian_at(params, omega, y, t_e, digits=None):
+    """DP at a section point y whose flight to the next impact lasts t_e, eqs. (36)–(38).
+
+    Valid at any impact point, not only at the period-1 orbit, so it serves the
+    Lyapunov exponents along a simulated orbit.
+    """
+    if digits is None:
+        inp = _inputs(_modal(params), float(omega), params.r, params.b,
+                      tuple(map(float, y)), float(t_e))
+        return _evaluate(1, inp, False)["J"]
+    with mpmath.mp.workdps(digits):
+        inp = _inputs(_modal(params, MP), MP.num(omega), MP.num(params.r), MP.num(params.b),
+                      tuple(MP.num(v) for v in y), MP.num(t_e))
+        return _evaluate(1, inp, True)["J"]
+
+
+def _orbit_inputs(params, orbit):
+    lib = FLOAT if orbit.digits is None else MP
+    m = _modal(params, lib)
+    te = 2 * lib.pi / orbit.omega
+    return _inputs(m, orbit.omega, lib.num(params.r), lib.num(params.b), orbit.y, te)
+
+
+def eigenvalues(J):
+    """Eigenvalues of a 4x4 Jacobian, sorted by modulus descending (float or mpmath)."""
+    if J.dtype == object:
+        ev = mpmath.eig(mpmath.matrix(J.tolist()), left=False, right=False)
+        return tuple(sorted(ev, key=lambda z: (-abs(z), -mpmath.im(z))))
+    ev = np.linalg.eigvals(J)
+    return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
+
+
+def multipliers_of(params, orbit):
+    """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit."""
+    if orbit.digits is None:
+        J = _evaluate(1, _orbit_inputs(params, orbit), False)["J"]
+        return eigenvalues(J)
+    with mpmath.mp.workdps(orbit.digits):
+        J = _evaluate(1, _orbit_inputs(params, orbit), True)["J"]
+        return eigenvalues(J)
+
+
+@dataclass(frozen=True)
+class Jet:
+    """Jet of the Poincaré map f(v, dX) at a period-1 orbit, eqs. (33)–(38).
+
+    Arrays are numpy float64, or numpy object arrays of mpf when ``digits`` is set.
+    Unrequested orders are ``None``.
+    """
+
+    orbit: object
+    omega: object
+    order: int
+    jacobian: np.ndarray
+    theta1: np.ndarray         # d(dtheta)/dx_i, eq. (37)
+    g_theta: object            # dg/d(dtheta) at 0; -> 0 at grazing
+    d2: np.ndarray = None
+    d3: np.ndarray = None
+    dA: np.ndarray = None      # F11 along the branch, eq. (34)
+    dP_domega: np.ndarray = None     # explicit dP/domega at fixed y
+    dy_domega: np.ndarray = None     # motion of the fixed point with omega
+    digits: object = None
+
+    @property
+    def F01(self):
+        return self.jacobian
+
+    @property
+    def F02(self):
+        return None if self.d2 is None else self.d2 / 2
+
+    @property
+    def F03(self):
+        return None if self.d3 is None else self.d3 / 6
+
+    @property
+    def F11(self):
+        return self.dA
+
+
+def select_orbit(params, omega, branch=None, digits=None, multipliers=False):
+    """The admissible period-1 orbit at omega (``branch`` picks one when both are)."""
+    from .orbit import period1_orbits
+    orbits = period1_orbits(params, omega, digits=digits, multipliers=multipliers)
+    if branch is not None and branch not in ("+", "-"):
+        raise ParameterError("branch", branch, "'+' or '-'")
+    cands = [o for o in orbits if o.admissible and (branch is None or o.branch == branch)]
+    if not cands:
+        why = "; ".join(f"branch {o.branch}: {o.reason}" for o in orbits) or \
+            "conditions (10) have no solution (eq. 16)"
+        raise SingularCaseError("no-admissible-orbit",
+                                f"no admissible period-1 orbit at omega = {float(omega):.12g} ({why})")
+    if len(cands) > 1:
+        raise SingularCaseError("two-admissible-orbits",
+                                f"both branches are admissible at omega = {float(omega):.12g}; "
+                                "pass branch='+' or '-'")
+    return cands[0]
+
+
+def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
+    """Jet of the Poincaré map at the admissible period-1 orbit, eqs. (33)–(38).
+
+    ``order`` 1 gives the Jacobian only; 2 adds d2, dA (F11), dP/domega; 3 adds d3.
+    ``digits`` selects the mpmath backend at that many digits.
+    """
+    if order not in (1, 2, 3):
+        raise ParameterError("order", order, "1, 2 or 3")
+    if orbit is None:
+        orbit = select_orbit(params, omega, branch, digits)
+    if digits is None:
+        return _jet(params, orbit, order, False)
+    with mpmath.mp.workdps(digits):
+        return _jet(params, orbit, order, True)
+
+
+def _jet(params, orbit, order, mp):
+    vals = _evaluate(order, _orbit_inputs(params, orbit), mp)
+    g_th = vals["g_theta"]
+    scale = max(abs(v) for v in vals["theta1"]) * abs(g_th) + abs(g_th)
+    if abs(g_th) <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
+        raise SingularCaseError("grazing", "dg/d(dtheta) = 0 at the orbit: the impact is "
+                                "grazing and the implicit function theorem of eq. (30) fails")
+    kw = dict(orbit=orbit, omega=orbit.omega, order=order, jacobian=vals["J"],
+              theta1=vals["theta1"], g_theta=g_th, digits=orbit.digits)
+    if order >= 2:
+        J, d2, dwP = vals["J"], vals["d2"], vals["dwP"]
+        dy = _solve(np.eye(4, dtype=object if mp else float) - J, dwP, mp)
+        kw.update(d2=d2, dP_domega=dwP, dy_domega=dy,
+                  dA=vals["dwJ"] + np.tensordot(d2, dy, axes=([2], [0])))
+    if order >= 3:
+        kw.update(d3=vals["d3"])
+    return Jet(**kw)
+
+
+def _solve(M, v, mp):
+    if mp:
+        x = mpmath.lu_solve(mpmath.matrix(M.tolist()), mpmath.matrix(list(v)))
+        out = np.empty(len(v), dtype=object)
+        out[:] = [x[i] for i in range(len(v))]
+        return out
+    cond = np.linalg.cond(M)
+    if not np.isfinite(cond) or cond > 1e13:
+        raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point does "
+                                "not move smoothly with omega (fold), dy*/domega is undefined")
+    return np.linalg.solve(M, v)
