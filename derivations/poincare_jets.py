@@ -254,12 +254,11 @@ def layout_of(names, K):
     return out
 
 
-def input_hash(orders=ORDERS):
-    """Hash of what the output depends on: this script, the SymPy version, the orders."""
+def input_hash():
+    """Hash of what the output depends on: this script and the SymPy version."""
     h = hashlib.sha256()
     h.update(Path(__file__).read_bytes())
     h.update(sp.__version__.encode())
-    h.update(repr(tuple(orders)).encode())
     return h.hexdigest()
 
 
@@ -296,15 +295,18 @@ def generate(out_dir, orders=ORDERS, force=False):
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    ihash = input_hash(orders)
+    ihash = input_hash()
     man_path = out_dir / "manifest.json"
-    if not force and man_path.exists():
-        man = json.loads(man_path.read_text())
-        if man.get("input_hash") == ihash and all(
-                (out_dir / f).exists() and file_hash(out_dir / f) == h
-                for f, h in man["files"].items()):
-            return False, man
+    old = json.loads(man_path.read_text()) if man_path.exists() else {}
+    if not force and not check(out_dir, orders):
+        return False, old
+    # keep entries of orders not regenerated now only if they are still fresh
     files = {}
+    for K in sorted(set(old.get("orders", [])) - set(orders)):
+        f = f"order{K}.py"
+        if (old.get("input_hash") == ihash and (out_dir / f).exists()
+                and file_hash(out_dir / f) == old["files"].get(f)):
+            files[f] = old["files"][f]
     for K in orders:
         p = out_dir / f"order{K}.py"
         _write_atomic(p, render(K, ihash))
@@ -313,26 +315,29 @@ def generate(out_dir, orders=ORDERS, force=False):
     if not init.exists():
         _write_atomic(init, f'"""Machine-written by {SCRIPT}; do not edit."""\n')
     man = {"script": SCRIPT, "equations": EQUATIONS, "sympy": sp.__version__,
-           "python": sys.version.split()[0], "orders": list(orders), "inputs": INPUTS,
+           "orders": sorted(int(f[5:-3]) for f in files), "inputs": INPUTS,
            "input_hash": ihash, "files": files}
     _write_atomic(man_path, json.dumps(man, indent=2, sort_keys=True) + "\n")
     return True, man
 
 
 def check(out_dir, orders=ORDERS):
-    """List of reasons why out_dir is stale (empty when fresh)."""
+    """List of reasons why out_dir is stale for ``orders`` (empty when fresh)."""
     out_dir = Path(out_dir)
     man_path = out_dir / "manifest.json"
     if not man_path.exists():
         return [f"{man_path} is missing"]
     man = json.loads(man_path.read_text())
     why = []
-    if man.get("input_hash") != input_hash(orders):
+    if man.get("input_hash") != input_hash():
         why.append("input hash differs: the derivation script or the SymPy version changed")
-    for f, h in man.get("files", {}).items():
-        if not (out_dir / f).exists():
+    for K in orders:
+        f = f"order{K}.py"
+        if f not in man.get("files", {}):
+            why.append(f"{f} is not in the manifest")
+        elif not (out_dir / f).exists():
             why.append(f"{f} is missing")
-        elif file_hash(out_dir / f) != h:
+        elif file_hash(out_dir / f) != man["files"][f]:
             why.append(f"{f} was edited by hand (hash differs from the manifest)")
     return why
 
