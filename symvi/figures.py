@@ -1,0 +1,146 @@
+"""Figures from finished results; matplotlib (Agg) only, nothing is computed here.
+
+* :func:`multiplier_paths` -- multipliers of the period-1 orbit over omega on
+  the unit circle (paper, figs. 4 and 10);
+* :func:`sections` -- projected Poincaré sections (figs. 5–9, 11–12).  The
+  paper does not name its axes; we use three projections of the section
+  point (x1dot+, x2, x2dot, tau): (x2, x1dot+), (tau, x1dot+) and (x2dot, x2);
+* :func:`bifurcation_diagram` -- section coordinate against omega;
+* :func:`circle_loglog` -- measured and predicted circle half-widths against mu.
+
+Every figure is written as PNG or PDF (from the file suffix) through a
+temporary file renamed into place.
+"""
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from ._io import atomic_path  # noqa: E402
+
+#: the projections drawn by :func:`sections`: (x index, y index) into the section point
+PROJECTIONS = ((1, 0), (3, 0), (2, 1))
+LABELS = (r"$\dot x_{1+}$", r"$x_2$", r"$\dot x_2$", r"$\tau$")
+
+
+def save(fig, path, dpi=150):
+    """Write ``fig`` to ``path`` (PNG or PDF by suffix) atomically and close it."""
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in (".png", ".pdf"):
+        raise ValueError(f"figure path {path!r}: use a .png or .pdf suffix")
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=dpi, format=ext[1:])
+    plt.close(fig)
+    return os.fspath(path)
+
+
+def save_all(fig, stem, formats=("png", "pdf")):
+    """Write ``fig`` as ``stem.png`` and ``stem.pdf``; returns the paths."""
+    paths = []
+    for f in formats:
+        with atomic_path(f"{stem}.{f}") as tmp:
+            fig.savefig(tmp, dpi=150, format=f)
+        paths.append(f"{stem}.{f}")
+    plt.close(fig)
+    return paths
+
+
+def multiplier_paths(omegas, multipliers, title="", omega_c=None):
+    """Multipliers lambda_i(omega) in the complex plane with the unit circle, figs. 4, 10.
+
+    ``multipliers`` is (m, 4) complex, one row per omega.
+    """
+    lam = np.asarray(multipliers, dtype=complex)
+    om = np.asarray(omegas, dtype=float)
+    fig, ax = plt.subplots(figsize=(5.2, 5))
+    th = np.linspace(0, 2 * np.pi, 400)
+    ax.plot(np.cos(th), np.sin(th), color="0.6", lw=0.8)
+    for i in range(lam.shape[1]):
+        sc = ax.scatter(lam[:, i].real, lam[:, i].imag, c=om, s=6, cmap="viridis")
+    fig.colorbar(sc, ax=ax, label=r"$\omega$")
+    if omega_c is not None:
+        ax.set_title(f"{title}\n" + r"$\omega_c$" + f" = {omega_c:.6g}" if title else
+                     r"$\omega_c$" + f" = {omega_c:.6g}")
+    elif title:
+        ax.set_title(title)
+    ax.set_aspect("equal")
+    ax.set_xlabel(r"Re $\lambda$")
+    ax.set_ylabel(r"Im $\lambda$")
+    ax.axhline(0, color="0.85", lw=0.5)
+    ax.axvline(0, color="0.85", lw=0.5)
+    fig.tight_layout()
+    return fig
+
+
+def sections(section, title="", fixed_point=None, projections=PROJECTIONS, marker_size=0.6,
+             highlight=None):
+    """Projected Poincaré sections, one panel per projection (figs. 5–9, 11–12).
+
+    ``highlight`` = (start, stop) draws that slice of points in a second colour
+    (e.g. the first 1112 impacts of fig. 12a).
+    """
+    sec = np.asarray(section, dtype=float)
+    fig, axes = plt.subplots(1, len(projections), figsize=(4.2 * len(projections), 4))
+    axes = np.atleast_1d(axes)
+    for ax, (ix, iy) in zip(axes, projections):
+        ax.scatter(sec[:, ix], sec[:, iy], s=marker_size, color="k", lw=0, rasterized=True)
+        if highlight is not None:
+            a, b = highlight
+            ax.scatter(sec[a:b, ix], sec[a:b, iy], s=marker_size * 2, color="tab:red", lw=0,
+                       rasterized=True)
+        if fixed_point is not None:
+            ax.plot(fixed_point[ix], fixed_point[iy], "+", color="tab:blue", ms=8)
+        ax.set_xlabel(LABELS[ix])
+        ax.set_ylabel(LABELS[iy])
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kinds=None):
+    """Section coordinate ``component`` of the stored points against omega.
+
+    ``section`` is (m, n, 4) as in :class:`symvi.simulate.Sweep`.
+    """
+    om = np.asarray(omegas, dtype=float)
+    sec = np.asarray(section, dtype=float)
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    n = sec.shape[1]
+    X = np.repeat(om, n)
+    Y = sec[:, :, component].ravel()
+    ok = np.isfinite(Y)
+    ax.scatter(X[ok], Y[ok], s=0.3, color="k", lw=0, rasterized=True)
+    ax.set_xlabel(r"$\omega$")
+    ax.set_ylabel(LABELS[component])
+    if title:
+        ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def circle_loglog(mu, measured, predicted=None, names=LABELS, title=""):
+    """Circle half-widths against mu on log-log axes, with the sqrt(mu) law.
+
+    ``measured`` and ``predicted`` are (k, 4): one row per mu.
+    """
+    mu = np.asarray(mu, dtype=float)
+    M = np.asarray(measured, dtype=float)
+    fig, ax = plt.subplots(figsize=(5.6, 4.4))
+    for i in range(M.shape[1]):
+        line, = ax.loglog(mu, M[:, i], "o", label=f"{names[i]} simulated")
+        if predicted is not None:
+            ax.loglog(mu, np.asarray(predicted, dtype=float)[:, i], "-", color=line.get_color(),
+                      label=f"{names[i]} normal form")
+    ref = M[0].max() * np.sqrt(mu / mu[0])
+    ax.loglog(mu, ref, ":", color="0.5", label=r"$\propto\sqrt{\mu}$")
+    ax.set_xlabel(r"$\mu = \omega - \omega_c$")
+    ax.set_ylabel("half-width of the invariant circle")
+    if title:
+        ax.set_title(title)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,218 @@
+"""Long runs of the Poincaré map P, eqs. (26) and (31): impact sections and sweeps.
+
+The float64 path runs the compiled exact flow and first-impact finder of
+:mod:`symvi._fastflow`; :func:`simulate_mp` runs the same map through
+:func:`symvi.poincare.step` on mpmath, as an independent reference.
+
+A run ends early, with a stop reason, on
+
+* ``grazing``  -- a contact with x1dot- below the grazing speed and x1'' < 0,
+* ``sticking`` -- such a contact with x1'' > 0: the stop would hold the mass,
+* ``chatter``  -- CHATTER_COUNT flights in a row shorter than CHATTER_FLIGHT
+  forcing periods (an accumulation of impacts),
+* ``no-impact`` -- no return to the stop within 1000 forcing periods,
+
+never with a hang or a section point past an unresolved contact.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _fastflow as ff
+from .errors import ParameterError, SingularCaseError
+from .params import check_omega
+
+#: default start: the admissible period-1 orbit y* plus this vector (x1dot+, x2, x2dot, tau)
+DEFAULT_PERTURBATION = (1e-4, 1e-4, 1e-4, 1e-4)
+
+STOP_NAMES = ff.STOP_NAMES
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A finished run: section points after the transient, in the order of eq. (9)."""
+
+    params: object
+    omega: float
+    y0: tuple                 # start point used (x1dot+, x2, x2dot, tau)
+    section: np.ndarray       # (n, 4): x1dot+, x2, x2dot, tau in [0, 2 pi)
+    t: np.ndarray             # (n,) impact times since the start, transient included
+    impact_velocity: np.ndarray   # (n,) x1dot- just before each stored impact
+    stop: str                 # "completed", "grazing", "chatter", "sticking", "no-impact"
+    transient: int            # images dropped before the first stored one
+    fixed_point: tuple = None     # the period-1 orbit y* at omega, when it exists
+
+    @property
+    def n(self):
+        return len(self.section)
+
+    @property
+    def flight_times(self):
+        """t_e of eq. (26) from each stored point to the next impact (n - 1 values)."""
+        return np.diff(self.t)
+
+
+def _frozen(a):
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    a.flags.writeable = False
+    return a
+
+
+def _positive_int(name, value, minimum=1):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ParameterError(name, value, f"an integer >= {minimum}")
+    return int(value)
+
+
+def fixed_point(params, omega):
+    """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
+    from .orbit import period1_orbits
+    try:
+        orbits = period1_orbits(params, omega, multipliers=False)
+    except SingularCaseError:
+        return None
+    ok = [o for o in orbits if o.admissible]
+    if not ok:
+        return None
+    # both branches admissible never happens for the paper's examples; take "+" first
+    ok.sort(key=lambda o: o.branch != "+")
+    return tuple(float(v) for v in ok[0].y)
+
+
+def _check_start(y0):
+    try:
+        y = tuple(float(v) for v in y0)
+    except (TypeError, ValueError):
+        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)") from None
+    if len(y) != 4 or not all(math.isfinite(v) for v in y):
+        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)")
+    if not y[0] < 0:
+        raise ParameterError("y0", y0, "x1dot+ < 0: the mass must leave the stop")
+    return (y[0], y[1], y[2], y[3] % (2 * math.pi))
+
+
+def start_point(params, omega, perturbation=DEFAULT_PERTURBATION):
+    """Default start y* + perturbation, and y*; raises if no admissible orbit exists."""
+    ys = fixed_point(params, omega)
+    if ys is None:
+        raise SingularCaseError(
+            "no-orbit", f"no admissible period-1 orbit at omega = {omega!r} to start from; "
+            "pass y0 explicitly")
+    return tuple(a + d for a, d in zip(ys, perturbation)), ys
+
+
+def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
+             perturbation=DEFAULT_PERTURBATION):
+    """Iterate the Poincaré map P of eq. (31) on float64 with the exact flow.
+
+    ``y0`` defaults to the admissible period-1 orbit y* plus ``perturbation``
+    (the paper starts from the "theoretical fixed point"; an exact fixed point
+    would stay there).  The first ``transient`` images are dropped and the next
+    ``n_impacts`` stored.
+    """
+    omega = check_omega(params, omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0)
+    ys = fixed_point(params, omega)
+    if y0 is None:
+        y0, ys = start_point(params, omega, perturbation)
+    y0 = _check_start(y0)
+    c = ff.constants(params, omega)
+    code, sec, t, vimp, _ = ff.run(c, y0, n_impacts, transient)
+    return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
+                      ff.STOP_NAMES[code], transient, ys)
+
+
+def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
+    """Reference run of the same map on mpmath at ``digits`` (slow: about 1 ms per impact).
+
+    Uses :func:`symvi.poincare.step` with the MP backend, so it shares no code
+    with the compiled kernels.  Values are rounded to float64 only on output.
+    """
+    import mpmath
+
+    from ._backend import MP
+    from .params import modal as _modal
+    from .poincare import step
+    omega = check_omega(params, omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    y0 = _check_start(y0)
+    out, times, vimp = [], [], []
+    stop = "completed"
+    with mpmath.mp.workdps(digits):
+        m = _modal(params, MP)
+        om, b, r = MP.num(omega), MP.num(params.b), MP.num(params.r)
+        y = tuple(MP.num(v) for v in y0)
+        T = MP.num(0)
+        for _ in range(n_impacts):
+            s = step(m, om, b, r, y, MP)
+            if s.status != "impact":
+                stop = s.status
+                break
+            y, T = s.y, T + s.t
+            out.append([float(v) for v in y])
+            times.append(float(T))
+            vimp.append(float(s.impact_velocity))
+    return Simulation(params, omega, y0, _frozen(np.array(out).reshape(-1, 4)), _frozen(times),
+                      _frozen(vimp), stop, 0, fixed_point(params, omega))
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Section points of many runs over a grid of omega (a bifurcation diagram)."""
+
+    params: object
+    omegas: np.ndarray        # (m,)
+    section: np.ndarray       # (m, n, 4); rows past counts[i] are NaN
+    counts: np.ndarray        # (m,) points stored per omega
+    stops: tuple              # stop reason per omega
+    starts: np.ndarray        # (m, 4) start points used
+    transient: int
+    impacts_total: int        # map iterations done, transient included
+
+
+def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
+    """Start points for a sweep: y* + perturbation at each omega.
+
+    Where no admissible orbit exists the nearest omega's start is reused; if
+    none exists anywhere, raise.
+    """
+    ys = [fixed_point(params, w) for w in omegas]
+    have = [i for i, y in enumerate(ys) if y is not None]
+    if not have:
+        raise SingularCaseError("no-orbit", "no admissible period-1 orbit anywhere on the "
+                                "omega grid to start from")
+    starts = np.empty((len(omegas), 4))
+    for i in range(len(omegas)):
+        j = min(have, key=lambda k: abs(k - i))
+        starts[i] = np.add(ys[j], perturbation)
+    return starts
+
+
+def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
+          perturbation=DEFAULT_PERTURBATION, chunk=None, progress=None):
+    """Independent runs at each omega in parallel (numba threads).
+
+    ``progress(done, total)`` is called after each chunk of omegas.
+    """
+    omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0)
+    if starts is None:
+        starts = sweep_starts(params, omegas, perturbation)
+    starts = np.array([_check_start(y) for y in np.asarray(starts, dtype=float)])
+    m = len(omegas)
+    C = np.array([ff.constants(params, w) for w in omegas])
+    sec = np.full((m, n_impacts, 4), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
+    codes = np.zeros(m, dtype=np.int64)
+    chunk = chunk or max(1, m // 50)
+    for lo in range(0, m, chunk):
+        hi = min(m, lo + chunk)
+        cd, ct, s, _, _ = ff.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
+        sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
+        if progress is not None:
+            progress(hi, m)
+    return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
+                 _frozen(starts), transient, int(m * (n_impacts + transient)))

@@ -1,0 +1,15 @@
+import pytest
+
+from symvi import Params
+
+#: the paper's two examples, Sec. 4
+EX1 = Params(2, 5, 0, 1.5, 0.8)
+EX2 = Params(4, 2, 0, 1.8, 0.8)
+#: a set of our own: force on both masses, another gap and restitution
+OWN = Params(1.5, 3.0, 0.3, 0.9, 0.7)
+
+
+@pytest.fixture(params=["ex1", "ex2"])
+def example(request):
+    return {"ex1": (EX1, [0.7219, 0.73, 0.7368, 0.7396, 0.745]),
+            "ex2": (EX2, [0.458, 0.47, 0.4906, 0.4944])}[request.param]
