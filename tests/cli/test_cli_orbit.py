@@ -1,0 +1,49 @@
+"""`symvi orbit` and bad input on the command line."""
+import json
+import subprocess
+import sys
+
+import pytest
+
+BASE = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
+
+
+def test_orbit_json_contract():
+    r = run("orbit", *BASE, "--omega", "0.7369", "--json")
+    assert r.returncode == 0, r.stderr
+    obj = json.loads(r.stdout)
+    assert set(obj) == {"params", "omega", "orbits"}
+    keys = {"branch", "v1_plus", "x20", "x20_dot", "tau0", "impact_velocity", "admissible",
+            "reason", "multipliers", "stable"}
+    assert {o["branch"] for o in obj["orbits"]} == {"+", "-"}
+    for o in obj["orbits"]:
+        assert set(o) == keys
+        assert len(o["multipliers"]) == 4 and all(len(z) == 2 for z in o["multipliers"])
+
+
+def test_orbit_table():
+    r = run("orbit", *BASE, "--omega", "0.7369")
+    assert r.returncode == 0
+    assert "INADMISSIBLE" in r.stdout and "multipliers" in r.stdout
+
+
+@pytest.mark.parametrize("args,word", [
+    (["--mu-m", "-2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8", "--omega", "0.7"], "mu_m"),
+    (BASE + ["--omega", "nan"], "omega"),
+    (BASE + ["--omega", "abc"], "omega"),
+    (BASE + ["--omega", "0"], "omega"),
+    (["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "1.5", "--omega", "0.7"], "r"),
+    (["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "inf", "--r", "0.8", "--omega", "0.7"], "b"),
+    (BASE + ["--omega", "0.8804857344718374"], "resonance"),
+    (BASE, "omega"),
+])
+def test_bad_input_exits_2_with_one_line(args, word):
+    r = run("orbit", *args)
+    assert r.returncode == 2
+    assert r.stdout == ""
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0]
