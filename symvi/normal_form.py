@@ -598,9 +598,12 @@ def _paper(bk, A, d2, d3, e):
         g21 = G["G21"] + 2 * np.dot(G["G10"], W11) + np.dot(G["G01"], W20)   # eq. (54)
         g30 = G["G30"] + 3 * np.dot(G["G10"], W20)                          # eq. (A17)
         g03 = G["G03"] + 3 * np.dot(G["G01"], W02)                          # eq. (A17)
+        # z zbar^2 coefficient (not printed; by the same expansion as eq. 54)
+        g12 = G["G12"] + 2 * np.dot(G["G01"], W11) + np.dot(G["G10"], W02)
     else:
-        g21, g30, g03 = G["G21"], G["G30"], G["G03"]
-    g = {"g20": G["G20"], "g11": G["G11"], "g02": G["G02"], "g21": g21, "g30": g30, "g03": g03}
+        g21, g30, g03, g12 = G["G21"], G["G30"], G["G03"], G["G12"]
+    g = {"g20": G["G20"], "g11": G["G11"], "g02": G["G02"], "g21": g21, "g30": g30,
+         "g12": g12, "g03": g03}
     args = (lam, g["g20"], g["g11"], g["g02"], g["g21"])
     return PaperReduction(P=P, Pinv=Pinv, D=D, alpha=lam.real, omega=lam.imag, G=G, H=H, W=W,
                           g=g, f1_printed=f1_eq60_printed(*args), f1_wan=f1_eq60(*args),
