@@ -116,6 +116,30 @@ def _root(h, h1, K):
 
 
 @nb.njit(cache=True)
+def _near_max(c, a1, b1, a2, b2, tau, ta, ha, da, tb, hb, db, L):
+    """Location of the max of h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it may
+    come within 1e-3 L of the stop; else -1.  Safeguarded Newton on h'."""
+    s = tb - ta
+    u = s * da / (da - db)            # linear h' between the ends
+    if max(ha + 0.5 * da * u, hb - 0.5 * db * (s - u)) < -1e-3 * L:
+        return -1.0
+    t = ta + u
+    for _ in range(60):
+        h, h1, h2, h3, h4, x2, v2 = _eval(c, a1, b1, a2, b2, tau, t)
+        if h1 > 0.0:
+            ta = t
+        else:
+            tb = t
+        tn = t - h1 / h2 if h2 < 0.0 else 0.5 * (ta + tb)
+        if not ta < tn < tb:
+            tn = 0.5 * (ta + tb)
+        if abs(tn - t) <= 4.0 * _EPS * t:
+            return tn
+        t = tn
+    return t
+
+
+@nb.njit(cache=True)
 def first_impact(c, a1, b1, a2, b2, tau, t_max):
     """First t > 0 with x1(t) = b; the compiled twin of :func:`symvi.flow.first_impact`.
 
@@ -137,8 +161,18 @@ def first_impact(c, a1, b1, a2, b2, tau, t_max):
         return GRAZING, 0.0, h1, x2, v2, h2, 0
     t = -h1 / M2                      # vertex of the global bound: h < 0 up to here
     S = 0.5 / max(w1, w2, om)         # first horizon; adapted below
+    tp, hp, dp = 0.0, h, h1
     for n in range(1, _MAX_STEPS + 1):
         h, h1, h2, h3, h4, x2, v2 = _eval(c, a1, b1, a2, b2, tau, t)
+        if dp > 0.0 and h1 <= 0.0 and h < -eps_h:
+            # a local max of h was stepped over; the reference (smaller steps)
+            # lands within eps_h of a near-tangency and calls it grazing: so do we
+            tm = _near_max(c, a1, b1, a2, b2, tau, tp, hp, dp, t, h, h1, L)
+            if tm >= 0.0:
+                hm, hm1, hm2, _, _, xm2, vm2 = _eval(c, a1, b1, a2, b2, tau, tm)
+                if hm >= -eps_h:
+                    return GRAZING, tm, hm1, xm2, vm2, hm2, n
+        tp, hp, dp = t, h, h1
         if h >= -eps_h:
             if h1 <= v_graze:
                 return GRAZING, t, h1, x2, v2, h2, n
