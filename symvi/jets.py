@@ -171,7 +171,8 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
 def _jet(params, orbit, order, mp):
     vals = _evaluate(order, _orbit_inputs(params, orbit), mp)
     g_th = vals["g_theta"]
-    scale = max(abs(v) for v in vals["theta1"]) * abs(g_th) + abs(g_th)
+    # theta1 = -g_x / g_theta, so |theta1| |g_theta| is the scale of dg/dx
+    scale = abs(g_th) * (1 + float(np.max(np.abs(vals["theta1"].astype(float)))))
     if abs(g_th) <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
         raise SingularCaseError("grazing", "dg/d(dtheta) = 0 at the orbit: the impact is "
                                 "grazing and the implicit function theorem of eq. (30) fails")
@@ -181,7 +182,7 @@ def _jet(params, orbit, order, mp):
         J, d2, dwP = vals["J"], vals["d2"], vals["dwP"]
         dy = _solve(np.eye(4, dtype=object if mp else float) - J, dwP, mp)
         kw.update(d2=d2, dP_domega=dwP, dy_domega=dy,
-                  dA=vals["dwJ"] + np.tensordot(d2, dy, axes=([2], [0])))
+                  dA=vals["dwJ"] + d2 @ dy)
     if order >= 3:
         kw.update(d3=vals["d3"])
     return Jet(**kw)
@@ -193,8 +194,8 @@ def _solve(M, v, mp):
         out = np.empty(len(v), dtype=object)
         out[:] = [x[i] for i in range(len(v))]
         return out
-    cond = np.linalg.cond(M)
-    if not np.isfinite(cond) or cond > 1e13:
+    # det(I - J) = prod(1 - lambda_i): ~0 iff a multiplier is 1 (fold)
+    if abs(np.linalg.det(M)) < 1e-12 * max(1.0, np.abs(M).max()) ** 4:
         raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point does "
                                 "not move smoothly with omega (fold), dy*/domega is undefined")
     return np.linalg.solve(M, v)
