@@ -1,0 +1,65 @@
+"""``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
+from . import add_params, params_from, print_json
+
+
+def register(sub):
+    p = sub.add_parser("sweep", help="bifurcation diagram over omega (parallel simulations)")
+    add_params(p)
+    p.add_argument("--omega-min", type=float, required=True)
+    p.add_argument("--omega-max", type=float, required=True)
+    p.add_argument("--steps", type=int, required=True, help="number of omega values (>= 2)")
+    p.add_argument("--impacts", type=int, default=200, help="section points kept per omega")
+    p.add_argument("--transient", type=int, default=2000, help="impacts dropped per omega")
+    p.add_argument("--component", type=int, default=0, choices=range(4),
+                   help="plotted coordinate: 0 x1dot+, 1 x2, 2 x2dot, 3 tau")
+    p.add_argument("--out", required=True,
+                   help="output: .npz (omegas, section (m,n,4), counts, stops) or .png/.pdf")
+    p.add_argument("--plot", help="also draw the diagram to this .png/.pdf")
+    p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
+                   help="progress bar on stderr (auto: when stderr is a terminal)")
+    return p
+
+
+def run(args):
+    import numpy as np
+
+    from .._io import atomic_path
+    from ..errors import ParameterError
+    from ..progress import Progress
+    from ..simulate import sweep
+    params = params_from(args)
+    if not args.steps >= 2:
+        raise ParameterError("--steps", args.steps, "an integer >= 2")
+    if not args.omega_min < args.omega_max:
+        raise ParameterError("--omega-max", args.omega_max,
+                             f"greater than --omega-min = {args.omega_min!r}")
+    figs = [p for p in (args.out, args.plot) if p and p.lower().endswith((".png", ".pdf"))]
+    data = args.out if args.out.lower().endswith(".npz") else None
+    if args.plot and args.plot not in figs:
+        raise ParameterError("--plot", args.plot, "a file name ending in .png or .pdf")
+    if data is None and args.out not in figs:
+        raise ParameterError("--out", args.out, "a file name ending in .npz, .png or .pdf")
+    omegas = np.linspace(args.omega_min, args.omega_max, args.steps)
+    enabled = {"auto": None, "always": True, "never": False}[args.progress]
+    with Progress(len(omegas), "sweep", enabled=enabled) as bar:
+        res = sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
+                    progress=lambda done, total: bar.update(done - bar.n))
+    if data:
+        with atomic_path(data, suffix=".npz") as tmp:
+            with open(tmp, "wb") as fh:
+                np.savez(fh, omegas=res.omegas, section=res.section, counts=res.counts,
+                         stops=np.array(res.stops), starts=res.starts,
+                         params=np.array(params.key()), transient=res.transient)
+    if figs:
+        from .. import figures
+        title = (f"mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} b={params.b:g} "
+                 f"r={params.r:g}")
+        for path in figs:
+            fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,
+                                              component=args.component, title=title)
+            figures.save(fig, path)
+    stops = {s: res.stops.count(s) for s in sorted(set(res.stops))}
+    print_json({"steps": len(omegas), "omega_min": args.omega_min, "omega_max": args.omega_max,
+                "impacts": args.impacts, "transient": args.transient, "stops": stops,
+                "outputs": [p for p in (data, *figs) if p]})
+    return 0
