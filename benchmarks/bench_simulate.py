@@ -1,0 +1,178 @@
+"""Benchmark of the impact simulation (issue 5): impacts/s and one-step error.
+
+Run:  python benchmarks/bench_simulate.py      (writes benchmarks/results_simulate.md)
+
+Measured in the same run, on the same trajectories (points on the attractors of
+the paper's examples):
+
+* symvi: the compiled finder and map (``symvi._fastflow``), one trajectory and a
+  parallel batch over many omegas (numba threads);
+* the pure-Python reference map ``symvi.poincare.poincare_map`` (float64);
+* baseline: ``scipy.integrate.solve_ivp`` on eq. (3) with a terminal event at
+  x1 = b, as a user would write it, at the default and at tight tolerances.
+
+One-step error: time of flight and state at the next impact against the same
+map at 40 digits (``poincare_map(..., digits=40)``).
+"""
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+HERE = Path(__file__).parent
+sys.path.insert(0, str(HERE.parent))
+
+import numba  # noqa: E402
+
+from symvi import Params  # noqa: E402
+from symvi import _fastflow as ff  # noqa: E402
+from symvi.poincare import poincare_map  # noqa: E402
+from symvi.simulate import simulate  # noqa: E402
+
+CASES = [(Params(2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),
+         (Params(2, 5, 0, 1.5, 0.8), 0.7440, "ex1 doubled torus"),
+         (Params(2, 5, 0, 1.5, 0.8), 0.7555, "ex1 0.7555"),
+         (Params(4, 2, 0, 1.8, 0.8), 0.4944, "ex2 chaos")]
+N_ERR = 40          # one-step error sample per case
+N_IVP = 40          # solve_ivp impacts timed per case
+
+
+def median_time(fn, reps=5):
+    out = []
+    for _ in range(reps):
+        t = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t)
+    return statistics.median(out)
+
+
+def ivp_step(params, omega, y, rtol, atol):
+    """Next impact from section point y with solve_ivp (RK45) and an x1 = b event."""
+    M = np.diag([1.0, params.mu_m])
+    K = np.array([[1.0, -1.0], [-1.0, 1.0 + params.mu_k]])
+    Minv = np.linalg.inv(M)
+    P = np.array([1 - params.f2, params.f2])
+    v1, x2, v2, tau = y
+
+    def rhs(t, s):
+        x, v = s[:2], s[2:]
+        return np.concatenate([v, Minv @ (P * math.sin(omega * t + tau) - K @ x)])
+
+    def hit(t, s):
+        return s[0] - params.b
+    hit.terminal, hit.direction = True, 1
+    sol = solve_ivp(rhs, (0, 2000 * math.pi / omega), [params.b, x2, v1, v2], events=hit,
+                    rtol=rtol, atol=atol)
+    te = sol.t_events[0][0]
+    s = sol.y_events[0][0]
+    return te, np.array([-params.r * s[2], s[1], s[3], (tau + omega * te) % (2 * math.pi)])
+
+
+def one_step_errors(params, omega, pts):
+    c = ff.constants(params, omega)
+    rows = {"symvi": [], "ivp default": [], "ivp tight": []}
+    for y in pts:
+        ref = poincare_map(params, omega, y, digits=40)
+        tr = float(ref.t)
+        yr = np.array([float(v) for v in ref.y])
+        st, te, a, b_, c_, d, *_ = ff.step(c, *y)
+        got = {"symvi": (te, np.array([a, b_, c_, d])),
+               "ivp default": ivp_step(params, omega, y, 1e-3, 1e-6),
+               "ivp tight": ivp_step(params, omega, y, 1e-10, 1e-12)}
+        for k, (t, z) in got.items():
+            dz = np.abs(z - yr)
+            dz[3] = min(dz[3], 2 * math.pi - dz[3])
+            rows[k].append(max(abs(t - tr), dz.max()))
+    return {k: (statistics.median(v), max(v)) for k, v in rows.items()}
+
+
+def main():
+    nthreads = numba.get_num_threads()
+    lines = ["# Impact simulation: measured figures", "",
+             "Command: `python benchmarks/bench_simulate.py` (medians of 5 runs; "
+             f"{nthreads} numba threads; start points on each attractor after 20000 impacts).", ""]
+    single, ref_rate, ivp = [], [], {}
+    errs = {}
+    for params, omega, name in CASES:
+        s = simulate(params, omega, n_impacts=N_ERR, transient=20000)
+        y0 = tuple(s.section[-1])
+        c = ff.constants(params, omega)
+        ff.run(c, y0, 10)
+        n = 200_000
+        dt = median_time(lambda: ff.run(c, y0, n))
+        steps = ff.run(c, y0, n)[4] / n
+        single.append((name, omega, n / dt, steps))
+        # pure-Python reference map, same start
+        m = 200
+        y = y0
+
+        def ref():
+            z = y
+            for _ in range(m):
+                z = poincare_map(params, omega, z).y
+        ref_rate.append(m / median_time(ref, reps=3))
+        # solve_ivp, same trajectory
+        for label, rtol, atol in (("default", 1e-3, 1e-6), ("tight", 1e-10, 1e-12)):
+            def ivp_run():
+                z = y0
+                for _ in range(N_IVP):
+                    z = tuple(ivp_step(params, omega, z, rtol, atol)[1])
+            ivp.setdefault(label, []).append(N_IVP / median_time(ivp_run, reps=3))
+        errs[name] = one_step_errors(params, omega, [tuple(v) for v in s.section])
+
+    lines += ["## One trajectory (200 000 impacts)", "",
+              "| case | ω | symvi impacts/s | finder steps/impact | reference map (Python) "
+              "impacts/s | solve_ivp default | solve_ivp tight | symvi / ivp tight |",
+              "|---|---|---|---|---|---|---|---|"]
+    for i, (name, omega, rate, steps) in enumerate(single):
+        lines.append(f"| {name} | {omega} | {rate:,.0f} | {steps:.2f} | {ref_rate[i]:,.0f} | "
+                     f"{ivp['default'][i]:,.0f} | {ivp['tight'][i]:,.0f} | "
+                     f"{rate / ivp['tight'][i]:,.0f}× |")
+    med_single = statistics.median(r for _, _, r, _ in single)
+    med_ivp = statistics.median(ivp["tight"])
+    lines += ["", f"Median single-trajectory rate: **{med_single:,.0f} impacts/s** "
+              f"(target ≥ 100 000); median ratio to solve_ivp (tight): "
+              f"**{statistics.median(r / v for (_, _, r, _), v in zip(single, ivp['tight'])):,.0f}×**"
+              f", to solve_ivp (default tolerances): "
+              f"**{statistics.median(r / v for (_, _, r, _), v in zip(single, ivp['default'])):,.0f}×**.",
+              f"(solve_ivp tight median {med_ivp:,.0f} impacts/s.)", ""]
+
+    # batch: many omegas of example 1 in parallel
+    p = Params(2, 5, 0, 1.5, 0.8)
+    oms = np.linspace(0.7300, 0.7560, 256)
+    from symvi.simulate import sweep_starts
+    starts = sweep_starts(p, oms)
+    C = np.array([ff.constants(p, w) for w in oms])
+    nb_imp = 4000
+    ff.run_batch(C[:2], starts[:2], 10)
+    dt = median_time(lambda: ff.run_batch(C, starts, nb_imp))
+    agg = len(oms) * nb_imp / dt
+    dt1 = median_time(lambda: [ff.run(C[i], starts[i], nb_imp) for i in range(len(oms))])
+    lines += ["## Batch: 256 values of ω in [0.7300, 0.7560] (example 1), 4000 impacts each", "",
+              "| mode | impacts/s |", "|---|---|",
+              f"| parallel batch (`run_batch`, {nthreads} threads) | **{agg:,.0f}** |",
+              f"| same runs one after another | {len(oms) * nb_imp / dt1:,.0f} |", "",
+              f"Aggregate {agg:,.0f} impacts/s (target ≥ 1 000 000); speed-up over serial "
+              f"{dt1 / dt:.2f}× on {nthreads} threads.", ""]
+
+    lines += ["## One-step error against the same map at 40 digits", "",
+              f"Max over time of flight and the four section coordinates; median (max) of "
+              f"{N_ERR} points per case.", "",
+              "| case | symvi | solve_ivp default (rtol 1e-3) | solve_ivp tight (rtol 1e-10, atol 1e-12) |",
+              "|---|---|---|---|"]
+    for name, e in errs.items():
+        lines.append(f"| {name} | {e['symvi'][0]:.1e} ({e['symvi'][1]:.1e}) | "
+                     f"{e['ivp default'][0]:.1e} ({e['ivp default'][1]:.1e}) | "
+                     f"{e['ivp tight'][0]:.1e} ({e['ivp tight'][1]:.1e}) |")
+    text = "\n".join(lines) + "\n"
+    from symvi._io import write_text
+    write_text(HERE / "results_simulate.md", text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
