@@ -1,0 +1,681 @@
+"""Automatic precision: error estimates for float64 results, mpmath recomputation when needed.
+
+Every float64 result of the chain (orbit y*, multipliers, v_c, d|lambda1|/dv,
+l1) gets a relative-error estimate of the form
+
+    rel_err = eps * (C_EVAL + kappa) [* cancellation]
+
+* ``kappa`` is a relative condition number, the largest of
+
+  - the **input condition**: the relative change of the result under a relative
+    change delta of each input (omega, mu_m, mu_k, f2, b, r), by two one-sided
+    differences (the larger is kept).  Rounding an input, or an intermediate
+    quantity computed from the inputs, moves the result by about kappa * eps.
+    This is what picks up forcing resonance (A_j = F_j / (omega_j^2 - omega^2),
+    eq. 7), 1 - cos(2 pi omega_j / omega) -> 0 (eq. 15), the merging of the two
+    branches (arccos near +-1, eq. 16) and grazing (dg/d(dtheta) -> 0, eq. 30);
+  - the **linear-algebra condition**: the eigenvalue condition numbers
+    1 / |y^H x| (unit left/right eigenvectors) times ||J|| / |lambda|, the
+    condition numbers of I - A and e^{2 i theta} I - A (Kuznetsov's h11, h20),
+    the eigenvector condition ||J|| / gap, and for l1 the cancellation
+    factor (sum of the moduli of the terms of c1) / |l1|.
+
+* ``C_EVAL`` covers the rounding of the generated code itself (a few hundred
+  operations); it was calibrated against mpmath at 50 digits
+  (``tests/precision/test_precision.py`` checks that the estimate bounds the
+  true error).
+
+When an estimate says fewer than ``MIN_DIGITS`` (= 8) significant digits are
+trustworthy, :func:`auto_orbits` / :func:`auto_hopf_point` recompute with the
+mpmath backend (``digits=`` of :func:`symvi.period1_orbits` and
+:func:`symvi.jets.jet`) at ``MIN_DIGITS + log10(C_EVAL + kappa) + GUARD``
+digits, re-estimate there, and say so in ``Estimate.note``.  A result whose
+required precision exceeds ``MAX_DIGITS``, or whose condition is infinite (a
+singular case within the perturbation), is returned with ``trusted=False`` and
+``value=None``: it is never printed as a bare number.
+
+Integration points (for the owners of hopf.py and the CLI)
+---------------------------------------------------------
+* ``estimate_orbit(params, orbit)`` -> :class:`OrbitEstimate` (``.y``,
+  ``.multipliers``: :class:`Estimate`).
+* ``auto_orbits(params, omega)`` -> list of :class:`AutoOrbit` (orbit at the
+  precision used, estimate, note).
+* ``estimate_hopf_point(params, omega_c, branch=None)`` -> :class:`HopfEstimate`
+  (``.omega_c``, ``.dmod_domega``, ``.l1``).
+* ``auto_hopf_point(params, omega_c, branch=None, refine=None)`` -> the same,
+  recomputed at mpmath precision when needed; ``refine(params, omega, digits,
+  branch)`` may be hopf.py's own high-precision root polish.
+"""
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import mpmath
+import numpy as np
+
+from .errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from .params import Params
+
+#: significant digits below which a result is recomputed at higher precision
+MIN_DIGITS = 8
+#: largest mpmath precision tried before a result is declared untrustworthy
+MAX_DIGITS = 160
+#: extra digits added to the estimated requirement
+GUARD = 6
+#: rounding constant of the generated evaluators (calibrated, see module doc)
+C_EVAL = 256.0
+#: float64 unit roundoff used throughout (2^-52, as in symvi._backend)
+EPS64 = 2.0 ** -52
+#: the inputs whose relative perturbation defines the input condition
+INPUTS = ("omega", "mu_m", "mu_k", "f2", "b", "r")
+
+
+# --------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class Estimate:
+    """One result with its estimated relative error.
+
+    ``value`` is the number (float, complex, or a list for vectors; mpf/mpc
+    when recomputed with mpmath), or ``None`` when ``trusted`` is False.
+    ``rel_err`` is normwise for vectors.  ``condition`` is the relative
+    condition number kappa (precision independent).  ``digits_used`` is None
+    for float64, else the mpmath precision.
+    """
+
+    name: str
+    value: object
+    rel_err: float
+    condition: float
+    digits_used: object = None
+    trusted: bool = True
+    recomputed: bool = False
+    note: str = ""
+    raw: object = None        # the untrusted number, for diagnostics only
+
+    @property
+    def backend(self):
+        return "float64" if self.digits_used is None else f"mpmath-{self.digits_used}"
+
+    @property
+    def digits(self):
+        """Trustworthy significant digits (0 when untrusted)."""
+        if not self.trusted or not math.isfinite(self.rel_err):
+            return 0.0
+        cap = 15.95 if self.digits_used is None else float(self.digits_used)
+        if self.rel_err <= 0:
+            return cap
+        return max(0.0, min(cap, -math.log10(self.rel_err)))
+
+    def __float__(self):
+        if not self.trusted:
+            raise SingularCaseError("untrusted", f"{self.name} cannot be trusted: {self.note}")
+        return float(complex(self.value).real) if not isinstance(self.value, (list, tuple)) \
+            else float("nan")
+
+    def as_dict(self):
+        """JSON shape: value is null when untrusted; complex numbers as [re, im]."""
+        def conv(v):
+            if isinstance(v, (list, tuple, np.ndarray)):
+                return [conv(x) for x in v]
+            z = complex(v)
+            return [z.real, z.imag] if z.imag != 0 or isinstance(v, (complex, mpmath.mpc)) \
+                else z.real
+        return {"name": self.name, "value": None if not self.trusted else conv(self.value),
+                "rel_err": _json_float(self.rel_err), "digits": round(self.digits, 2),
+                "condition": _json_float(self.condition), "backend": self.backend,
+                "recomputed": self.recomputed, "trusted": self.trusted, "note": self.note}
+
+    def text(self, fmt=".10g"):
+        """A short human-readable form: value, digits and backend, or UNTRUSTED."""
+        if not self.trusted:
+            return f"{self.name}: UNTRUSTED ({self.note})"
+        v = self.value
+        vs = (", ".join(format(complex(x).real, fmt) for x in v)
+              if isinstance(v, (list, tuple)) else format(float(complex(v).real), fmt))
+        extra = f", recomputed with {self.backend}" if self.recomputed else ""
+        return f"{self.name} = {vs}  (~{self.digits:.1f} digits{extra})"
+
+
+def _json_float(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+@dataclass(frozen=True)
+class OrbitEstimate:
+    """Error estimates of a period-1 orbit: fixed point y* and multipliers."""
+
+    y: Estimate
+    multipliers: Estimate
+    g_theta: float            # dg/d(dtheta) at the orbit (grazing margin, eq. 30)
+    eig_condition: tuple      # 1/|y^H x| per multiplier, in the orbit's order
+    input_condition: dict     # input name -> relative condition of y*
+
+    @property
+    def digits(self):
+        return min(self.y.digits, self.multipliers.digits)
+
+    @property
+    def trusted(self):
+        return self.y.trusted and self.multipliers.trusted
+
+
+@dataclass(frozen=True)
+class AutoOrbit:
+    """An orbit at the precision that was needed, with its estimate."""
+
+    orbit: object
+    estimate: OrbitEstimate
+    digits_used: object       # None (float64) or the mpmath precision
+    note: str
+
+
+@dataclass(frozen=True)
+class HopfEstimate:
+    """Error estimates of a Hopf (Neimark–Sacker) point: v_c, d|lambda1|/dv, l1."""
+
+    omega_c: Estimate
+    dmod_domega: Estimate
+    l1: Estimate
+    branch: str = None
+
+    @property
+    def trusted(self):
+        return self.omega_c.trusted and self.dmod_domega.trusted and self.l1.trusted
+
+    @property
+    def digits(self):
+        return min(self.omega_c.digits, self.dmod_domega.digits, self.l1.digits)
+
+    def as_dict(self):
+        return {"omega_c": self.omega_c.as_dict(), "dmod_domega": self.dmod_domega.as_dict(),
+                "l1": self.l1.as_dict()}
+
+
+# --------------------------------------------------------------------------- helpers
+def _eps(digits):
+    """Unit roundoff of the backend: 2^-52 for float64, 10^(1 - digits) for mpmath."""
+    return EPS64 if digits is None else 10.0 ** (1 - digits)
+
+
+def _delta(digits):
+    """Relative perturbation of the inputs: above the noise, below nonlinearity."""
+    if digits is None:
+        return 2.0 ** -22          # ~2.4e-7: noise kappa*eps/delta ~ 1e-9 kappa
+    return max(10.0 ** (-digits / 2.5), 1e-13)
+
+
+def _perturbed(params, omega, name, h):
+    """(params', omega', actual relative step) with input ``name`` scaled by (1 + h)."""
+    if name == "omega":
+        w2 = omega * (1 + h)
+        return params, w2, (w2 - omega) / omega if omega else 0.0
+    d = params.as_dict()
+    x = d[name]
+    if x == 0:
+        return None
+    x2 = float(x * (1 + h))
+    d[name] = x2
+    return Params(**d), omega, (x2 - x) / x
+
+
+def _vec_norm(v):
+    return max(abs(complex(x)) for x in v) if len(v) else 0.0
+
+
+def _rel_change(a, b):
+    """Normwise relative change between two vectors of numbers."""
+    nrm = _vec_norm(a)
+    if nrm == 0:
+        return math.inf if _vec_norm(b) else 0.0
+    return max(abs(complex(x) - complex(y)) for x, y in zip(a, b)) / nrm
+
+
+def _input_condition(fn, params, omega, digits, base):
+    """{input: relative condition} of the vector function fn(params, omega) at ``base``.
+
+    Two one-sided differences per input, the larger kept.  A perturbation that
+    meets a singular case (SymviError) within delta gives kappa >= 1/delta,
+    recorded as a lower bound with the reason.
+    """
+    h = _delta(digits)
+    out, notes = {}, []
+    for name in INPUTS:
+        best = 0.0
+        for sgn in (1, -1):
+            try:
+                pert = _perturbed(params, omega, name, sgn * h)
+            except ParameterError:      # e.g. r = 1 cannot grow
+                continue
+            if pert is None:
+                continue
+            p2, w2, hh = pert
+            if hh == 0:
+                continue
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", NearSingularWarning)
+                    val = fn(p2, w2)
+            except SymviError as exc:
+                best = max(best, 1.0 / abs(hh))
+                notes.append(f"{name} {'+' if sgn > 0 else '-'}{abs(hh):.0e}: {exc}")
+                continue
+            best = max(best, _rel_change(base, val) / abs(hh))
+        out[name] = best
+    return out, notes
+
+
+def _digits_needed(kappa, min_digits):
+    return int(math.ceil(min_digits + math.log10(C_EVAL + kappa) + GUARD))
+
+
+def _mp_eig_condition(J):
+    """Eigenvalues and condition numbers 1/|y^H x| (unit vectors), float or mpmath."""
+    if J.dtype == object:
+        M = mpmath.matrix(J.tolist())
+        E, L, R = mpmath.eig(M, left=True, right=True)
+        n = M.rows
+        conds = []
+        for i in range(n):
+            x = [R[k, i] for k in range(n)]
+            y = [L[i, k] for k in range(n)]      # left eigenvectors are rows of L
+            nx = mpmath.sqrt(sum(abs(c) ** 2 for c in x))
+            ny = mpmath.sqrt(sum(abs(c) ** 2 for c in y))
+            yx = abs(sum(y[k] * x[k] for k in range(n)))
+            conds.append(float(nx * ny / yx) if yx != 0 else math.inf)
+        return [complex(e) for e in E], conds
+    import scipy.linalg
+    w, vl, vr = scipy.linalg.eig(J, left=True, right=True)
+    conds = []
+    for i in range(len(w)):
+        x, y = vr[:, i], vl[:, i]
+        yx = abs(np.vdot(y, x))
+        conds.append(float(np.linalg.norm(x) * np.linalg.norm(y) / yx) if yx else math.inf)
+    return [complex(e) for e in w], conds
+
+
+def _match(vals, ref):
+    """Reorder numeric ``vals`` to best match ``ref`` (greedy nearest)."""
+    vals = [complex(v) for v in vals]
+    out = []
+    for r in ref:
+        k = min(range(len(vals)), key=lambda i: abs(vals[i] - complex(r)))
+        out.append(vals.pop(k))
+    return out
+
+
+def period1_orbits_at(params, omega, *, digits=None, multipliers=True):
+    """:func:`symvi.period1_orbits`, but keeping an mpf ``omega`` at full precision.
+
+    ``period1_orbits(..., digits=d)`` passes omega through ``check_omega``, which
+    returns a float: an mpf omega between two floats is rounded to float64
+    (reported; see tests/precision/test_precision.py::test_mp_omega_not_rounded).
+    Here omega is validated as a float and then used unrounded.
+    """
+    from .orbit import _orbits, period1_orbits
+    from .params import check_omega
+    from ._backend import MP
+    if digits is None or not isinstance(omega, mpmath.mpf):
+        return period1_orbits(params, omega, digits=digits, multipliers=multipliers)
+    check_omega(params, float(omega))
+    if not isinstance(digits, int) or digits < 16 or digits > 10000:
+        raise ParameterError("digits", digits, "an integer from 16 to 10000")
+    with mpmath.mp.workdps(digits):
+        return _orbits(params, MP.num(omega), MP, multipliers, digits)
+
+
+def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
+    for o in period1_orbits_at(params, omega, digits=digits, multipliers=multipliers):
+        if o.branch == branch:
+            if admissible and not o.admissible:
+                raise SingularCaseError("inadmissible", o.reason)
+            return o
+    raise SingularCaseError("no-orbit", "the branch does not exist here")
+
+
+# --------------------------------------------------------------------------- orbits
+def estimate_orbit(params, orbit, *, input_condition=True):
+    """Error estimate of an orbit's y* and multipliers, at the orbit's own precision.
+
+    The orbit may be float64 (``orbit.digits is None``) or mpmath.
+    """
+    from .jets import jet
+    digits = orbit.digits
+    eps = _eps(digits)
+    omega = orbit.omega
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        try:
+            j = jet(params, omega, order=1, digits=digits, orbit=orbit)
+            J, g_theta = j.jacobian, j.g_theta
+            grazing = ""
+        except SingularCaseError as exc:
+            J, g_theta, grazing = None, 0.0, str(exc)
+    y = list(orbit.y)
+    lam = list(orbit.multipliers)
+
+    if input_condition:
+        def f_y(p2, w2):
+            o = _orbit_on(p2, w2, orbit.branch, digits, False, orbit.admissible)
+            return list(o.y)
+
+        def f_lam(p2, w2):
+            o = _orbit_on(p2, w2, orbit.branch, digits, True, orbit.admissible)
+            return _match(o.multipliers, lam)
+
+        ctx = mpmath.mp.workdps(digits) if digits else _null()
+        with ctx:
+            kin_y, notes_y = _input_condition(f_y, params, omega, digits, y)
+            kin_l, notes_l = (_input_condition(f_lam, params, omega, digits, lam)
+                              if lam else ({}, []))
+    else:
+        kin_y, notes_y, kin_l, notes_l = {}, [], {}, []
+    ky = max(kin_y.values(), default=0.0)
+    err_y = eps * (C_EVAL + ky)
+
+    eig_conds = ()
+    err_l = math.inf if J is None else 0.0
+    kl = math.inf if J is None else 0.0
+    if J is not None and lam:
+        vals, conds = _mp_eig_condition(J)
+        conds = [conds[min(range(len(vals)), key=lambda i: abs(vals[i] - complex(l)))]
+                 for l in lam]
+        eig_conds = tuple(conds)
+        Jn = float(np.max(np.abs(np.array(J, dtype=complex))))
+        # |d lambda| <= cond * ||dJ||, ||dJ|| ~ ||J|| eps (C_EVAL + kappa_y): J inherits y*'s error
+        lam_max = max(abs(complex(l)) for l in lam)
+        k_lin = max(conds) * Jn * (C_EVAL + ky) / max(lam_max, 1e-300) / C_EVAL
+        kl = max(max(kin_l.values(), default=0.0), k_lin * C_EVAL)
+        err_l = eps * (C_EVAL + kl)
+    note_y = "; ".join(notes_y[:2])
+    note_l = "; ".join(([grazing] if grazing else []) + notes_l[:2])
+    est_y = _make("y*", y, err_y, ky, digits, note_y)
+    est_l = _make("multipliers", lam, err_l, kl, digits, note_l)
+    return OrbitEstimate(est_y, est_l, float(abs(complex(g_theta))), eig_conds, kin_y)
+
+
+def _make(name, value, err, kappa, digits, note, recomputed=False):
+    trusted = math.isfinite(err) and err < 1
+    if not trusted and not note:
+        note = f"estimated relative error {err:.1e}"
+    return Estimate(name, value if trusted else None, float(err), float(kappa), digits,
+                    trusted, recomputed, note, raw=None if trusted else value)
+
+
+class _null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
+
+
+def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
+    """Every period-1 orbit at omega with at least ``min_digits`` trustworthy digits.
+
+    Admissible orbits whose float64 estimate falls short are recomputed with
+    mpmath at the digits the condition number asks for (escalating up to
+    ``max_digits``); ``AutoOrbit.note`` says so.  An orbit that cannot reach
+    ``min_digits`` at ``max_digits`` keeps ``estimate.trusted == False``.
+    Inadmissible orbits are returned with their float64 estimate only.
+    """
+    from .orbit import period1_orbits
+    out = []
+    for o in period1_orbits(params, omega):
+        est = estimate_orbit(params, o)
+        if not o.admissible or est.digits >= min_digits:
+            out.append(AutoOrbit(o, est, None, "float64"))
+            continue
+        out.append(_escalate_orbit(params, omega, o, est, min_digits, max_digits))
+    return out
+
+
+def _escalate_orbit(params, omega, o, est, min_digits, max_digits):
+    kappa = max(est.y.condition, est.multipliers.condition)
+    d = max(30, _digits_needed(kappa, min_digits))
+    tried = []
+    while d <= max_digits:
+        tried.append(d)
+        try:
+            o2 = _orbit_on(params, omega, o.branch, d, True)
+        except SingularCaseError as exc:
+            return AutoOrbit(o, _untrust(est, f"mpmath-{d}: {exc}"), None,
+                             f"untrusted: {exc}")
+        est2 = estimate_orbit(params, o2)
+        if est2.digits >= min_digits:
+            note = (f"float64 gave ~{est.digits:.1f} digits; recomputed with mpmath at "
+                    f"{d} digits (~{est2.digits:.1f} digits)")
+            est2 = OrbitEstimate(_re(est2.y, note), _re(est2.multipliers, note), est2.g_theta,
+                                 est2.eig_condition, est2.input_condition)
+            return AutoOrbit(o2, est2, d, note)
+        kappa = max(est2.y.condition, est2.multipliers.condition, kappa * 10)
+        d = max(2 * d, _digits_needed(kappa, min_digits))
+    msg = (f"fewer than {min_digits} trustworthy digits even at mpmath {tried} digits "
+           f"(condition {kappa:.1e})")
+    return AutoOrbit(o, _untrust(est, msg), None, "untrusted: " + msg)
+
+
+def _re(e, note):
+    return Estimate(e.name, e.value, e.rel_err, e.condition, e.digits_used, e.trusted, True,
+                    note if not e.note else f"{note}; {e.note}")
+
+
+def _untrust(est, msg):
+    def u(e):
+        return Estimate(e.name, None, math.inf, e.condition, e.digits_used, False, False, msg,
+                        raw=e.value if e.value is not None else e.raw)
+    return OrbitEstimate(u(est.y), u(est.multipliers), est.g_theta, est.eig_condition,
+                         est.input_condition)
+
+
+# --------------------------------------------------------------------------- Hopf points
+def _critical(J):
+    """Index of lambda1 in the eigenvalues of J the way normal_form picks it."""
+    from .normal_form import eigen
+    return eigen(J)
+
+
+def _hopf_quantities(params, omega, branch, digits):
+    """(|lambda1| - 1, d|lambda1|/dv, l1, extras) at omega on ``branch`` (jet order 3)."""
+    from . import normal_form as nf
+    from .jets import jet
+    o = _orbit_on(params, omega, branch, digits, False)
+    jt = jet(params, omega, order=3, digits=digits, orbit=o)
+    kw = {} if digits is None else {"digits": digits}
+    ctx = mpmath.mp.workdps(digits) if digits else _null()
+    with ctx:
+        e = nf.eigen(jt.jacobian, **kw)
+        _, dmod = nf.dmod_A3(jt.jacobian, jt.dA, **kw)
+        _, l1 = nf.kuznetsov(jt.jacobian, jt.d2, jt.d3, **kw)
+        resid = abs(e.lam) - 1
+    return resid, dmod, l1, (jt, e)
+
+
+def refine_omega_c(params, omega_c, *, digits=None, branch=None, tol_digits=None,
+                   max_iter=30):
+    """Newton polish of |lambda1(omega)| = 1 at the given precision, (H1).
+
+    The Newton derivative is d|lambda1|/dv of eq. (A3) along the orbit branch
+    (F11 = jet.dA), so convergence is quadratic.  Used by :func:`auto_hopf_point`
+    when no ``refine`` from hopf.py is given.  Returns omega_c (float or mpf).
+    """
+    from . import normal_form as nf
+    from .jets import jet, select_orbit
+    if branch is None:
+        branch = select_orbit(params, float(omega_c)).branch
+    eps = _eps(digits)
+    kw = {} if digits is None else {"digits": digits}
+    ctx = mpmath.mp.workdps(digits + 10) if digits else _null()
+    with ctx:
+        w = mpmath.mpf(omega_c) if digits else float(omega_c)
+        for _ in range(max_iter):
+            o = _orbit_on(params, w, branch, digits, False)
+            jt = jet(params, w, order=2, digits=digits, orbit=o)
+            e = nf.eigen(jt.jacobian, **kw)
+            _, dmod = nf.dmod_A3(jt.jacobian, jt.dA, **kw)
+            step = (abs(e.lam) - 1) / dmod
+            w = w - step
+            if abs(step) <= 4 * eps * abs(w):
+                break
+        return w
+
+
+def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None, l1=None):
+    """Error estimates of (v_c, d|lambda1|/dv, l1) at a computed Hopf point.
+
+    ``omega_c`` is the located root of |lambda1| = 1 (float64 or mpf at
+    ``digits``).  The residual |lambda1(omega_c)| - 1 over d|lambda1|/dv is added
+    to the error of omega_c (a root finder that stopped early shows up here).
+    ``dmod``/``l1``, if given, are the values to attach (else recomputed here).
+    """
+    from .jets import select_orbit
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        if branch is None:
+            branch = select_orbit(params, float(omega_c)).branch
+        eps = _eps(digits)
+        ctx = mpmath.mp.workdps(digits) if digits else _null()
+        with ctx:
+            w = mpmath.mpf(omega_c) if digits else float(omega_c)
+            resid, dm, l, (jt, e) = _hopf_quantities(params, w, branch, digits)
+            dmod = dm if dmod is None else dmod
+            l1 = l if l1 is None else l1
+
+            def f(p2, w2):
+                r2, d2_, l2, _ = _hopf_quantities(p2, w2, branch, digits)
+                # v_c moves by -(|lambda1| - 1)/dmod; the others at the moved point to first order
+                return [w - r2 / dm, d2_, l2]
+
+        # per-quantity input condition (componentwise)
+        kin_c, notes = _componentwise_condition(f, params, w, digits, [w, dm, l])
+        lin = _linear_condition(jt, e, digits)
+        dmf, lf = float(dm), float(l)
+        # v_c: |lambda1| carries the eigenvalue error, divided by the crossing speed
+        k_vc = max(kin_c[0], lin["eig"] * (C_EVAL) / max(abs(dmf) * float(w), 1e-300))
+        err_vc = eps * (C_EVAL + k_vc) + abs(float(resid)) / max(abs(dmf) * float(w), 1e-300)
+        k_dm = max(kin_c[1], lin["vec"] * lin["dmod_terms"] / max(abs(dmf), 1e-300))
+        err_dm = eps * (C_EVAL + k_dm)
+        k_l1 = max(kin_c[2], (lin["solve"] + lin["vec"]) * lin["l1_terms"] / max(abs(lf), 1e-300))
+        err_l1 = eps * (C_EVAL + k_l1)
+    note = "; ".join(notes[:2])
+    return HopfEstimate(_make("omega_c", w, err_vc, k_vc, digits, note),
+                        _make("dmod_domega", dmod, err_dm, k_dm, digits, note),
+                        _make("l1", l1, err_l1, k_l1, digits, note), branch)
+
+
+def _componentwise_condition(f, params, omega, digits, base):
+    """Relative condition of each component of f (a short vector), max over inputs."""
+    h = _delta(digits)
+    out, notes = [0.0] * len(base), []
+    for name in INPUTS:
+        for sgn in (1, -1):
+            try:
+                pert = _perturbed(params, omega, name, sgn * h)
+            except ParameterError:
+                continue
+            if pert is None or pert[2] == 0:
+                continue
+            p2, w2, hh = pert
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", NearSingularWarning)
+                    ctx = mpmath.mp.workdps(digits) if digits else _null()
+                    with ctx:
+                        val = f(p2, w2)
+            except SymviError as exc:
+                out = [max(o, 1.0 / abs(hh)) for o in out]
+                notes.append(f"{name} {'+' if sgn > 0 else '-'}{abs(hh):.0e}: {exc}")
+                continue
+            for i, (a, b) in enumerate(zip(base, val)):
+                a, b = complex(a), complex(b)
+                out[i] = max(out[i], abs(b - a) / abs(a) / abs(hh) if a != 0 else
+                             (math.inf if b != a else 0.0))
+    return out, notes
+
+
+def _linear_condition(jt, e, digits):
+    """Linear-algebra condition numbers at the Hopf point (float estimates)."""
+    J = np.array(jt.jacobian.tolist(), dtype=complex) if digits else jt.jacobian.astype(complex)
+    Jn = float(np.linalg.norm(J, 2))
+    vals, conds = _mp_eig_condition(J)
+    lam = complex(e.lam)
+    k = min(range(len(vals)), key=lambda i: abs(vals[i] - lam))
+    gap = min(abs(vals[i] - lam) for i in range(len(vals)) if i != k)
+    I = np.eye(len(J))
+    c11 = float(np.linalg.cond(abs(lam) ** 2 * I - J))
+    c20 = float(np.linalg.cond(lam * lam * I - J))
+    q = np.array([complex(x) for x in e.q])
+    p = np.array([complex(x) for x in e.p])
+    dA = np.array(jt.dA.tolist(), dtype=complex) if digits else jt.dA.astype(complex)
+    d2 = np.array(jt.d2.tolist(), dtype=complex) if digits else jt.d2.astype(complex)
+    d3 = np.array(jt.d3.tolist(), dtype=complex) if digits else jt.d3.astype(complex)
+    # size of the terms whose sum is d|lambda|/dv and c1 (cancellation factors)
+    dmod_terms = float(np.linalg.norm(p) * np.linalg.norm(dA, 2) * np.linalg.norm(q))
+    B = lambda u, v: np.einsum("ijk,j,k->i", d2, u, v)           # noqa: E731
+    C = lambda u, v, w: np.einsum("ijkl,j,k,l->i", d3, u, v, w)  # noqa: E731
+    qb = q.conj()
+    h11 = np.linalg.solve(abs(lam) ** 2 * I - J, B(q, qb))
+    h20 = np.linalg.solve(lam * lam * I - J, B(q, q))
+    terms = [np.vdot(p, C(q, q, qb)), 2 * np.vdot(p, B(q, h11)), np.vdot(p, B(qb, h20))]
+    l1_terms = 0.5 * float(sum(abs(t) for t in terms))
+    return {"eig": conds[k] * Jn, "vec": max(conds[k], 1.0) * Jn / max(gap, 1e-300),
+            "solve": c11 + c20, "dmod_terms": dmod_terms, "l1_terms": l1_terms, "gap": gap}
+
+
+def auto_hopf_point(params, omega_c, *, branch=None, dmod=None, l1=None,
+                    min_digits=MIN_DIGITS, max_digits=MAX_DIGITS, refine=None):
+    """(v_c, d|lambda1|/dv, l1) with at least ``min_digits`` trustworthy digits each.
+
+    Starts from the float64 values (``omega_c`` and optionally ``dmod``, ``l1``
+    as computed by hopf.py).  When the estimate falls short, v_c is re-polished
+    with mpmath at the digits the condition asks for (``refine(params, omega,
+    digits, branch)`` if given, else :func:`refine_omega_c`) and all three are
+    recomputed there; the notes say so.  Untrustworthy at ``max_digits``:
+    returned with ``trusted=False`` and ``value=None``.
+    """
+    from .jets import select_orbit
+    if branch is None:
+        branch = select_orbit(params, float(omega_c)).branch
+    est = estimate_hopf_point(params, omega_c, branch=branch, dmod=dmod, l1=l1)
+    if est.digits >= min_digits:
+        return est
+    kappa = max(est.omega_c.condition, est.dmod_domega.condition, est.l1.condition)
+    d = max(30, _digits_needed(kappa, min_digits))
+    refine = refine or (lambda p, w, dg, br: refine_omega_c(p, w, digits=dg, branch=br))
+    tried = []
+    while d <= max_digits:
+        tried.append(d)
+        try:
+            with mpmath.mp.workdps(d):
+                w = refine(params, omega_c, d, branch)
+                est2 = estimate_hopf_point(params, w, branch=branch, digits=d)
+        except SingularCaseError as exc:
+            return _untrust_hopf(est, f"mpmath-{d}: {exc}")
+        if est2.digits >= min_digits:
+            note = (f"float64 gave ~{est.digits:.1f} digits; recomputed with mpmath at {d} "
+                    f"digits")
+            return HopfEstimate(_re(est2.omega_c, note), _re(est2.dmod_domega, note),
+                                _re(est2.l1, note), branch)
+        kappa = max(est2.omega_c.condition, est2.dmod_domega.condition, est2.l1.condition,
+                    10 * kappa)
+        d = max(2 * d, _digits_needed(kappa, min_digits))
+    return _untrust_hopf(est, f"fewer than {min_digits} digits even at mpmath {tried} digits "
+                              f"(condition {kappa:.1e})")
+
+
+def _untrust_hopf(est, msg):
+    def u(e):
+        if e.digits >= MIN_DIGITS:
+            return e
+        return Estimate(e.name, None, math.inf, e.condition, e.digits_used, False, False, msg,
+                        raw=e.value if e.value is not None else e.raw)
+    return HopfEstimate(u(est.omega_c), u(est.dmod_domega), u(est.l1), est.branch)
+
+
+def auto(kind, params, omega, **kw):
+    """Dispatcher for the CLI: ``auto("orbit", p, w)`` or ``auto("hopf", p, omega_c)``."""
+    if kind == "orbit":
+        return auto_orbits(params, omega, **kw)
+    if kind == "hopf":
+        return auto_hopf_point(params, omega, **kw)
+    raise ParameterError("kind", kind, "'orbit' or 'hopf'")
