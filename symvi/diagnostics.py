@@ -27,8 +27,10 @@ from . import _fastflow as ff
 TWO_PI = 2 * math.pi
 #: step of the finite-difference fallback, relative to max(1, |y_k|)
 FD_STEP = 1e-7
-#: largest exponent (per impact) above which a bounded attractor is called chaotic
-CHAOS_THRESHOLD = 0.01
+#: a bounded attractor is chaotic when its largest exponent (per impact) exceeds
+#: this floor and CHAOS_SIGMAS block standard errors
+CHAOS_THRESHOLD = 1e-3
+CHAOS_SIGMAS = 4.0
 
 
 def _generated():
@@ -68,6 +70,7 @@ class Lyapunov:
     n: int                    # Jacobians multiplied
     mean_flight_time: float   # divide exponents by this for per unit time
     source: str               # "generated" or "finite-difference"
+    stderr: float = math.nan  # standard error of the largest, from 10 consecutive blocks
 
     @property
     def largest(self):
@@ -86,16 +89,20 @@ def lyapunov(sim, n=None):
     k0 = 0 if n is None else max(0, len(sec) - 1 - int(n))
     te = np.diff(t)
     Q = np.eye(4)
-    acc = np.zeros(4)
+    m = len(sec) - 1 - k0
+    logs = np.empty((m, 4))
     for k in range(k0, len(sec) - 1):
         J = jacobian(sim.params, sim.omega, sec[k], te[k])
         Q, R = np.linalg.qr(J @ Q)
         d = np.diag(R)
         # keep Q's columns continuous: the sign of R's diagonal is immaterial
         Q = Q * np.sign(d)
-        acc += np.log(np.abs(d))
-    m = len(sec) - 1 - k0
-    return Lyapunov(np.sort(acc / m)[::-1], m, float(np.mean(te[k0:])), jacobian_source())
+        logs[k - k0] = np.log(np.abs(d))
+    # columns of Q stay ordered by growth once converged: column 0 carries lambda_1
+    blocks = [b[:, 0].mean() for b in np.array_split(logs, 10) if len(b)]
+    err = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
+    return Lyapunov(np.sort(logs.mean(axis=0))[::-1], m, float(np.mean(te[k0:])),
+                    jacobian_source(), err)
 
 
 def _unwrapped(section, center):
@@ -186,24 +193,33 @@ class Classification:
     """What the stored section of a run looks like."""
 
     kind: str                 # "period-k", "invariant circle", "doubled torus", "chaos",
-    #                           "quasi-periodic", or "stopped: <reason>"
+    #                           "periodic (period > max)", "quasi-periodic", "stopped: <reason>"
     period: object            # k for a period-k point, else None
     lyapunov: object          # Lyapunov, or None
     rotation: object          # rotation number on an invariant circle, else None
     branches: object          # branch_count for quasi-periodic sets, else None
 
 
-def classify(sim, *, max_period=64, tol=1e-7, lyap_points=2000,
+def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
              chaos_threshold=CHAOS_THRESHOLD):
-    """Classify the attractor sampled by ``sim`` (use a run past its transient)."""
+    """Classify the attractor sampled by ``sim`` (use a run past its transient).
+
+    Period-k when the points repeat (to ``tol``); else chaos when the largest
+    Lyapunov exponent is positive beyond ``chaos_threshold`` and CHAOS_SIGMAS
+    block standard errors; else an invariant circle (one sheet) or a doubled
+    torus (two sheets, :func:`branch_count`).
+    """
     if sim.stop != "completed":
         return Classification(f"stopped: {sim.stop}", None, None, None, None)
     k = period_of(sim.section, max_period, tol)
     if k is not None:
         return Classification(f"period-{k}", k, None, None, None)
     lya = lyapunov(sim, n=lyap_points)
-    if lya.largest > chaos_threshold:
+    if lya.largest > max(chaos_threshold, CHAOS_SIGMAS * lya.stderr):
         return Classification("chaos", None, lya, None, None)
+    if lya.largest < -max(chaos_threshold, CHAOS_SIGMAS * lya.stderr):
+        # contracting in every direction but not repeating yet: a long period
+        return Classification(f"periodic (period > {max_period})", None, lya, None, None)
     nb = branch_count(sim.section)
     if nb == 1:
         return Classification("invariant circle", None, lya, rotation_number(sim.section), 1)

@@ -106,11 +106,13 @@ def test_period_of_synthetic():
 @pytest.mark.parametrize("params, omega, kind", [
     (EX1, 0.7400, "invariant circle"),      # paper: circles just past 0.7368
     (EX1, 0.7460, "doubled torus"),         # paper: torus doubling past 0.7438
+    (EX1, 0.7519, "chaos"),                 # paper: chaos at 0.7519 (weak: lambda_1 ~ 0.01)
+    (EX2, 0.4935, "period-117"),            # a phase-locked orbit on the circle (ours)
     (EX2, 0.4944, "chaos"),                 # paper: chaos at 0.4944
 ])
 def test_classify_paper_cases(params, omega, kind):
-    s = simulate(params, omega, n_impacts=3000, transient=30000)
-    assert dg.classify(s, lyap_points=1500).kind == kind
+    s = simulate(params, omega, n_impacts=3000, transient=60000)
+    assert dg.classify(s, lyap_points=3000).kind == kind
 
 
 def test_jacobian_source_is_generated():
