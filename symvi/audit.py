@@ -718,16 +718,19 @@ def _check_onset(params, row, quick):
         kinds.append(branch_count(sw.section[i, :sw.counts[i]]))
     want = 2 if row["expect"] == "doubled torus" else 1
     first = next((ws[i] for i in range(len(ws)) if kinds[i] == want), None)
+    # the onset proper: from here on every grid frequency shows it
+    stay = next((ws[i] for i in range(len(ws)) if all(k == want for k in kinds[i:])), None)
     step = ws[1] - ws[0]
     seq = "".join(str(k) for k in kinds)
-    if first is None:
-        return "differs", None, (f"no {row['expect']} found on [{ws[0]}, {ws[-1]}] "
+    if stay is None:
+        return "differs", None, (f"no persistent {row['expect']} on [{ws[0]}, {ws[-1]}] "
                                  f"({steps} frequencies; sheets per ω: {seq})")
     u = max(_unit(row["printed"]), step)
-    st = "agrees" if abs(first - row["printed"]) <= u * (1 + 1e-9) else "differs"
-    return st, float(first), (
-        f"first ω with a {row['expect']} (2 sheets) on a grid of step {step:.2g}: {first:.5g}; "
-        f"sheets per ω: {seq}; {row['impacts']} impacts after {tr} each"
+    st = "agrees" if abs(stay - row["printed"]) <= u * (1 + 1e-9) else "differs"
+    return st, float(f"{stay:.6g}"), (
+        f"{row['expect']} (2 sheets, diagnostics.branch_count) at every ω ≥ {stay:.5g} on a grid "
+        f"of step {step:.2g} (first seen at {first:.5g}); sheets per ω from {ws[0]:g} to "
+        f"{ws[-1]:g}: {seq}; {row['impacts']} impacts after {tr} each"
         + (" (quick mode: coarser grid)" if quick and steps != row["steps"] else ""))
 
 
