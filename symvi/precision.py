@@ -508,15 +508,19 @@ def refine_omega_c(params, omega_c, *, digits=None, branch=None, tol_digits=None
     ctx = mpmath.mp.workdps(digits + 10) if digits else _null()
     with ctx:
         w = mpmath.mpf(omega_c) if digits else float(omega_c)
+        prev = None
         for _ in range(max_iter):
             o = _orbit_on(params, w, branch, digits, False)
             jt = jet(params, w, order=2, digits=digits, orbit=o)
             e = nf.eigen(jt.jacobian, **kw)
             _, dmod = nf.dmod_A3(jt.jacobian, jt.dA, **kw)
-            step = (abs(e.lam) - 1) / dmod
-            w = w - step
-            if abs(step) <= 4 * eps * abs(w):
+            step = abs((abs(e.lam) - 1) / dmod)
+            w = w - (abs(e.lam) - 1) / dmod
+            # converged, or stagnating at the rounding level (no longer quadratic)
+            if step <= 4 * eps * abs(w) or (prev is not None and step >= prev / 2
+                                             and step < 1e-11 * abs(w)):
                 break
+            prev = step
         return w
 
 
