@@ -1,0 +1,73 @@
+"""``symvi hopf``: every Neimark–Sacker point in an omega interval, with its normal form."""
+from . import add_params, params_from, print_json
+
+
+def register(sub):
+    p = sub.add_parser("hopf", help="Neimark-Sacker (Hopf) points in [omega-min, omega-max], "
+                                    "(H1)-(H3), l1 and f1, eqs. (39)-(60)")
+    add_params(p)
+    p.add_argument("--omega-min", type=float, required=True, help="start of the interval (> 0)")
+    p.add_argument("--omega-max", type=float, required=True, help="end of the interval")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--digits", type=int, default=None,
+                   help="also re-run each point at this many digits (mpmath, 30..500): the "
+                        "project's chain and an independent finite-difference chain; seconds "
+                        "per point")
+    return p
+
+
+def run(args):
+    from ..errors import ParameterError
+    from ..hopf import hopf_points
+    params = params_from(args)
+    if args.digits is not None and not 30 <= args.digits <= 500:
+        raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
+    res = hopf_points(params, args.omega_min, args.omega_max)
+    checks = []
+    if args.digits is not None:
+        from ..mpcheck import check_point
+        checks = [check_point(params, pt, digits=args.digits) for pt in res.points]
+    if args.json:
+        obj = res.as_dict()
+        for d, c in zip(obj["points"], checks):
+            d["mpcheck"] = c.as_dict()
+        print_json(obj)
+        return 0
+    print(f"params: mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} "
+          f"b={params.b:g} r={params.r:g}   omega in [{res.omega_min:g}, {res.omega_max:g}]"
+          f"   ({res.samples} orbit evaluations)")
+    if not res.points:
+        print("no complex pair of an admissible period-1 orbit crosses |lambda| = 1 here")
+    for i, pt in enumerate(res.points):
+        lam = pt.multiplier
+        print(f"\nHopf point {i + 1}: omega_c = {pt.omega_c:.15g}  (branch {pt.branch})")
+        print(f"  lambda1        = {lam.real:+.12f} {lam.imag:+.12f}i   theta/2pi = "
+              f"{pt.theta_over_2pi:.10f}")
+        print("  other          = " + ", ".join(f"{z.real:+.8f}{z.imag:+.8f}i"
+                                                 for z in pt.other_multipliers))
+        m, dist = pt.nearest_resonance
+        print(f"  (H1) {'yes' if pt.h1 else 'NO '}   (H2) {'yes' if pt.h2 else 'NO '} "
+              f"(nearest lambda^{m} = 1 at distance {dist:.3e})   (H3) "
+              f"{'yes' if pt.h3 else 'NO (stability regained as omega increases)'}")
+        print(f"  d|lambda1|/domega = {pt.dmod_domega:.12g} (eqs. A1-A3)   "
+              f"{pt.dmod_domega_branch:.12g} (along the branch)")
+        print(f"  l1 = {pt.l1:.12g}  (Kuznetsov, ||q|| = 1, <p,q> = 1)  -> {pt.kind}")
+        print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
+              "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
+        if pt.circle is not None:
+            c = pt.circle
+            side = "omega > omega_c" if c.side > 0 else "omega < omega_c"
+            hw = ", ".join(f"{n} {2 * c.coefficient * a:.5g}" for n, a in zip(c.names, c.q_abs))
+            print(f"  circle ({'stable' if c.stable else 'unstable'}, {side}): radius "
+                  f"{c.coefficient:.6g} sqrt|mu|; half-widths / sqrt|mu|: {hw}")
+        if checks:
+            ag = checks[i].agreement
+            print(f"  mpmath ({args.digits} digits), digits of agreement chain A vs B: "
+                  + ", ".join(f"{k} {v['A-B']}" for k, v in ag.items())
+                  + "; float64 vs A: " + ", ".join(f"{k} {v['float-A']}" for k, v in ag.items()))
+    if res.events:
+        print("\nevents:")
+        for e in res.events:
+            br = f"branch {e.branch}" if e.branch else "        "
+            print(f"  omega = {e.omega:.13g}  {br}  {e.kind}: {e.detail}")
+    return 0

@@ -1,0 +1,584 @@
+"""Neimark–Sacker (Hopf) points of period-1 orbits, (H1)–(H3), and their normal forms, Sec. 3.
+
+``hopf_points(params, omega_min, omega_max)`` scans both orbit branches of
+eqs. (10)–(16) with order-1 code only (orbit + multipliers), finds *every*
+crossing of a complex pair through |lambda| = 1 of an admissible orbit, locates
+it to 1e-12 in omega, and evaluates the order-3 jet and the normal form of
+:mod:`symvi.normal_form` there.  Along the way it records the other events a
+sweep in omega meets: a real multiplier through +1 or -1, the orbit becoming
+admissible or inadmissible (grazing, or impact velocity through 0), the orbit
+appearing or vanishing (eq. 16), and singular frequencies.
+
+How the scan avoids missing a crossing
+--------------------------------------
+The interval is cut into segments; a segment [a, b] is *certified* from its
+ends and its midpoint m.  Multipliers are matched a -> m -> b (minimum total
+distance) and each one is followed along the polyline lambda(a), lambda(m),
+lambda(b).  For a path whose second derivative is locally constant the
+polyline is within |lambda(m) - (lambda(a) + lambda(b))/2| / 4 =: e/4 of the
+true path, so the segment is accepted when, for every multiplier, either the
+polyline stays a distance > 2e from the unit circle (no crossing possible), or
+it crosses once, on one half, with a change of |lambda| there larger than 2e
+(exactly one transversal crossing, bracketed).  Otherwise both halves are
+certified recursively (this is what refines where |lambda| approaches 1, and
+near a collision of two real multipliers, where the path has a square-root
+corner).  A crossing between samples therefore needs the path to bend by 8
+times more than its own local second difference predicts.  Segments narrower
+than ``MIN_WIDTH`` that still fail (tangency) are reported as events.
+
+The crossing itself is located with Brent's method on |lambda(omega)|^2 - 1
+(the multiplier nearest the bracket's linear prediction), on det(J -/+ I)
+for real multipliers through +/-1, on the existence ratio of eq. (16) for the
+orbit's end, and on the impact velocity, or by bisection of the admissibility
+test for grazing.  All to ``XTOL`` in omega.
+
+References
+----------
+[Kuznetsov, Elements of Applied Bifurcation Theory] Yu. A. Kuznetsov, Elements
+of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4.
+"""
+import itertools
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from .normal_form import normal_form, resonance
+
+#: the crossing is located to this absolute tolerance in omega (plus 4 eps relative)
+XTOL = 2e-13
+#: segments narrower than this (relative to the interval) are not split further
+MIN_WIDTH = 1e-7
+#: initial number of segments
+N_INITIAL = 8
+#: step for differentiating |lambda1| along the branch (Richardson, h and 2h)
+BRANCH_H = 1e-5
+#: (H2) is said to hold when min_m |lambda^m - 1| (m = 1..5) exceeds this
+H2_TOL = 1e-6
+#: cap on orbit evaluations per scan: past it no segment is split further (never hang)
+MAX_SAMPLES = 20000
+SAFETY = 2.0
+STATE_NAMES = ("x1dot+", "x20", "x20dot", "tau")
+
+
+# --------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class Event:
+    """Something a sweep in omega meets (not a Hopf point)."""
+
+    kind: str        # multiplier+1, multiplier-1, becomes-admissible, becomes-inadmissible,
+    #                  orbit-appears, orbit-vanishes, singular, unresolved
+    omega: float
+    branch: str
+    detail: str = ""
+    span: tuple = None   # (lo, hi) for events that cover an interval
+
+    def as_dict(self):
+        d = {"kind": self.kind, "omega": float(self.omega), "branch": self.branch,
+             "detail": self.detail}
+        if self.span is not None:
+            d["span"] = [float(self.span[0]), float(self.span[1])]
+        return d
+
+
+def _Unresolved(br, lo, hi):
+    return Event("unresolved", 0.5 * (lo + hi), br,
+                 f"multipliers within reach of the unit circle on [{lo:.12g}, {hi:.12g}] could "
+                 "not be resolved (tangency, multipliers at +1 or a near-singular map); a "
+                 "crossing there may be missed", (lo, hi))
+
+
+@dataclass(frozen=True)
+class HopfPoint:
+    """A Neimark–Sacker point of an admissible period-1 orbit, with (H1)–(H3) and f1.
+
+    ``dmod_domega`` is d|lambda1|/dv from F11 by eqs. (A1)–(A3);
+    ``dmod_domega_branch`` by differentiating |lambda1| along the branch
+    (Richardson-extrapolated central differences, step ``BRANCH_H``).
+    ``l1``: Kuznetsov, ||q||_2 = 1, <p,q> = 1, l1 < 0 stable.  ``f1_paper``:
+    eq. (60) as printed; ``f1_wan``: eq. (60) corrected (= -l1/4), both in the
+    paper's normalisation (||r1||_2 = 1, f1 > 0 attracting).
+    """
+
+    omega_c: float
+    branch: str
+    multiplier: complex
+    theta_over_2pi: float
+    other_multipliers: tuple
+    h1: bool
+    h2: bool
+    nearest_resonance: tuple        # (m, |lambda1^m - 1|)
+    dmod_domega: float
+    dmod_domega_branch: float
+    dlam_domega: complex
+    c1: complex
+    l1: float
+    f1_paper: float
+    f1_wan: float
+    wan_a: float
+    orbit: object
+    circle: object
+    normal_form: object = field(repr=False, default=None)
+
+    @property
+    def kind(self):
+        """'supercritical' (stable circle, l1 < 0) or 'subcritical'."""
+        return "supercritical" if self.l1 < 0 else "subcritical"
+
+    @property
+    def h3(self):
+        """(H3) as the paper states it: d|lambda1|/dv > 0 at v_c."""
+        return self.dmod_domega > 0
+
+    def as_dict(self):
+        m, dist = self.nearest_resonance
+        orb = self.orbit.as_dict()
+        orb["omega"] = float(self.orbit.omega)
+        return {
+            "omega_c": float(self.omega_c), "branch": self.branch,
+            "multiplier": [self.multiplier.real, self.multiplier.imag],
+            "theta_over_2pi": float(self.theta_over_2pi),
+            "other_multipliers": [[complex(x).real, complex(x).imag]
+                                  for x in self.other_multipliers],
+            "dmod_domega": float(self.dmod_domega),
+            "dmod_domega_branch": float(self.dmod_domega_branch),
+            "l1": float(self.l1), "c1": [self.c1.real, self.c1.imag],
+            "f1_paper": float(self.f1_paper), "f1_wan": float(self.f1_wan),
+            "kind": self.kind, "h1": bool(self.h1), "h2": bool(self.h2), "h3": bool(self.h3),
+            "nearest_resonance": {"m": int(m), "distance": float(dist)},
+            "orbit": orb,
+            "circle": None if self.circle is None else self.circle.as_dict(),
+            "normalisation": {
+                "l1": "Kuznetsov: ||q||_2 = 1, <p,q> = conj(p)^T q = 1, l1 = Re(e^{-i theta} c1),"
+                      " l1 < 0 stable",
+                "f1": "paper eqs. (58)-(60): ||r1||_2 = 1, z = y1 + i y2, f1 > 0 attracting; "
+                      "f1_paper = eq. (60) as printed, f1_wan = eq. (60) corrected = -l1/4",
+                "q_phase": "largest |q_k| real positive"},
+        }
+
+
+@dataclass(frozen=True)
+class HopfResult:
+    """All Hopf points and events of a scan of [omega_min, omega_max]."""
+
+    params: object
+    omega_min: float
+    omega_max: float
+    points: tuple
+    events: tuple
+    samples: int
+
+    def __iter__(self):
+        return iter(self.points)
+
+    def __len__(self):
+        return len(self.points)
+
+    def __getitem__(self, i):
+        return self.points[i]
+
+    def as_dict(self):
+        return {"params": self.params.as_dict(),
+                "interval": [self.omega_min, self.omega_max],
+                "points": [p.as_dict() for p in self.points],
+                "events": [e.as_dict() for e in self.events],
+                "samples": self.samples}
+
+
+# --------------------------------------------------------------------------- sampling
+_NONE, _INADM, _ADM, _SING = "none", "inadmissible", "admissible", "singular"
+
+
+class _Sampler:
+    """Order-1 evaluations (orbits + multipliers), cached; both branches per call."""
+
+    def __init__(self, params):
+        self.params = params
+        self.cache = {}
+
+    def orbits(self, w):
+        w = float(w)
+        hit = self.cache.get(w)
+        if hit is None:
+            from .orbit import period1_orbits
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", NearSingularWarning)
+                try:
+                    hit = {o.branch: o for o in period1_orbits(self.params, w)}
+                except SingularCaseError as exc:
+                    hit = exc
+            self.cache[w] = hit
+        return hit
+
+    def state(self, br, w):
+        """(kind, orbit or error)."""
+        o = self.orbits(w)
+        if isinstance(o, SingularCaseError):
+            return _SING, o
+        o = o.get(br)
+        if o is None:
+            return _NONE, None
+        return (_ADM if o.admissible else _INADM), o
+
+
+def _match(la, lb):
+    """Permutation of lb closest to la (minimum total distance)."""
+    best, bp = None, None
+    for p in itertools.permutations(range(len(lb))):
+        d = sum(abs(la[i] - lb[p[i]]) for i in range(len(la)))
+        if best is None or d < best:
+            best, bp = d, p
+    return [lb[i] for i in bp]
+
+
+# --------------------------------------------------------------------------- scan
+class _Scan:
+    def __init__(self, params, a, b):
+        self.params, self.a, self.b = params, a, b
+        self.s = _Sampler(params)
+        self.min_width = MIN_WIDTH * (b - a)
+        self.delta = max(1e-10 * (b - a), 50 * XTOL)
+        self.brackets = []     # (branch, kind, wl, wr, lam_l, lam_r)
+        self.events = []
+
+    # ---- transitions -------------------------------------------------------
+    def _event(self, kind, w, br, detail=""):
+        self.events.append(Event(kind, float(w), br, detail))
+
+    def _locate_kind_change(self, br, wa, wb):
+        """Boundary between two states of different kinds on [wa, wb] (Brent / bisection)."""
+        ka, oa = self.s.state(br, wa)
+        kb, ob = self.s.state(br, wb)
+        w = None
+        if _SING not in (ka, kb) and _NONE in (ka, kb):
+            from .orbit import existence_ratio
+
+            def f(w):
+                try:
+                    return abs(existence_ratio(self.params, w)) - 1
+                except SingularCaseError:
+                    return math.nan
+            w = _brent(f, wa, wb)
+            why = "|alpha b / rho| of eq. (16) reaches 1: the two branches merge (fold)"
+        elif {ka, kb} == {_ADM, _INADM}:
+            bad = oa if ka == _INADM else ob
+            if "impact velocity" in bad.reason:
+                def fv(w):
+                    k, o = self.s.state(br, w)
+                    return float(o.impact_velocity) if k in (_ADM, _INADM) else math.nan
+                w = _brent(fv, wa, wb)
+                why = "impact velocity through 0"
+        if w is not None:
+            return w, why
+        # generic: bisection on the kind
+        lo, hi = wa, wb
+        while hi - lo > XTOL + 4e-16 * abs(hi):
+            mid = 0.5 * (lo + hi)
+            if mid in (lo, hi):
+                break
+            if self.s.state(br, mid)[0] == ka:
+                lo = mid
+            else:
+                hi = mid
+        why = ""
+        for w_ in (lo, hi):
+            k, o = self.s.state(br, w_)
+            if k == _SING:
+                why = str(o)
+            elif o is not None and o.reason:
+                why = o.reason
+        return 0.5 * (lo + hi), why
+
+    def _transition(self, br, wa, wb, ka, kb):
+        w, why = self._locate_kind_change(br, wa, wb)
+        names = {(_NONE, _ADM): "orbit-appears", (_NONE, _INADM): "orbit-appears",
+                 (_ADM, _NONE): "orbit-vanishes", (_INADM, _NONE): "orbit-vanishes",
+                 (_INADM, _ADM): "becomes-admissible", (_ADM, _INADM): "becomes-inadmissible"}
+        kind = names.get((ka, kb), "singular")
+        if kind == "orbit-appears" and kb == _INADM:
+            why += " (inadmissible)"
+        self._event(kind, w, br, why)
+        return w
+
+    def _unresolved(self, br, wa, wb):
+        """Record a segment the certification could not resolve (merged with its neighbours)."""
+        for i, e in enumerate(self.events):
+            if e.kind == "unresolved" and e.branch == br:
+                lo, hi = e.span
+                if wa <= hi + self.min_width and wb >= lo - self.min_width:
+                    lo, hi = min(lo, wa), max(hi, wb)
+                    self.events[i] = _Unresolved(br, lo, hi)
+                    return
+        self.events.append(_Unresolved(br, wa, wb))
+
+    # ---- certification -----------------------------------------------------
+    def certify(self, br, wa, wb, edges=(False, False)):
+        """Certify [wa, wb] on branch ``br``; collect crossing brackets and events.
+
+        ``edges``: whether the left / right end lies next to a located boundary
+        (fold, grazing, singular frequency), where a multiplier may approach the circle.
+        """
+        stack = [(wa, wb, tuple(edges))]
+        while stack:
+            wa, wb, (ea, eb) = stack.pop()
+            ka, oa = self.s.state(br, wa)
+            kb, ob = self.s.state(br, wb)
+            if ka != kb:
+                w = self._transition(br, wa, wb, ka, kb)
+                # keep scanning the inner parts, a safe distance from the boundary
+                left, right = w - self.delta, w + self.delta
+                if left > wa + self.delta:
+                    stack.append((wa, left, (ea, True)))
+                if right < wb - self.delta:
+                    stack.append((right, wb, (True, eb)))
+                continue
+            wm = 0.5 * (wa + wb)
+            km, om = self.s.state(br, wm)
+            halves = [(wm, wb, (False, eb)), (wa, wm, (ea, False))]
+            if km != ka:
+                stack += halves
+                continue
+            if ka != _ADM:
+                # nothing to follow; split while the pieces are coarse, to catch a short
+                # admissible (or existing) stretch between two samples
+                if wb - wa > (self.b - self.a) / (4 * N_INITIAL):
+                    stack += halves
+                continue
+            if not self._accept(br, (wa, wm, wb), (oa, om, ob), (ea, eb)):
+                if wb - wa > self.min_width and len(self.s.cache) < MAX_SAMPLES:
+                    stack += halves
+                else:
+                    self._unresolved(br, wa, wb)
+
+    def _accept(self, br, ws, orbits, edges):
+        """Certify one segment from its ends and midpoint (see the module docstring)."""
+        wa, wm, wb = ws
+        la = [complex(x) for x in orbits[0].multipliers]
+        lm = _match(la, [complex(x) for x in orbits[1].multipliers])
+        lb = _match(lm, [complex(x) for x in orbits[2].multipliers])
+        found = []
+        for za, zm, zb in zip(la, lm, lb):
+            ma, mm, mb = abs(za), abs(zm), abs(zb)
+            # deviation of |lambda| from the chord; 1e-13: the noise of the eigenvalues
+            tol = SAFETY * abs(mm - 0.5 * (ma + mb)) + 1e-13
+            sa, sm, sb = ma > 1, mm > 1, mb > 1
+            if sa == sm == sb:
+                dist = (abs(ma - 1), abs(mm - 1), abs(mb - 1))
+                if min(dist) > tol:
+                    continue
+                # next to a boundary a multiplier may approach the circle (e.g. +1 at a
+                # fold, where the orbit ends): accept a monotone approach towards that end
+                if edges[1] and dist[0] > dist[1] > dist[2]:
+                    continue
+                if edges[0] and dist[0] < dist[1] < dist[2]:
+                    continue
+                return False
+            if sa != sm and sm != sb:
+                return False                     # two crossings: split
+            if sa != sm:
+                z0, z1, w0, w1, rest = za, zm, wa, wm, mb
+            else:
+                z0, z1, w0, w1, rest = zm, zb, wm, wb, ma
+            if abs(rest - 1) <= tol or abs(abs(z1) - abs(z0)) <= tol:
+                return False
+            real0, real1 = abs(z0.imag) < 1e-9, abs(z1.imag) < 1e-9
+            if real0 and real1:
+                kind = "multiplier+1" if z0.real + z1.real > 0 else "multiplier-1"
+            elif not real0 and not real1:
+                if z0.imag < 0:
+                    continue                     # the conjugate reports it
+                kind = "ns"
+            else:
+                return False                     # collision inside: split
+            found.append((br, kind, w0, w1, z0, z1))
+        self.brackets.extend(found)
+        return True
+
+    # ---- root finding ------------------------------------------------------
+    def locate(self, bracket):
+        br, kind, w0, w1, z0, z1 = bracket
+        s = self.s
+
+        def mults(w):
+            k, o = s.state(br, w)
+            if o is None or k == _SING:
+                raise SymviError(f"branch {br} lost inside a certified bracket at {w!r}")
+            return o, [complex(x) for x in o.multipliers]
+
+        if kind == "ns":
+            def f(w):
+                pred = z0 + (z1 - z0) * (w - w0) / (w1 - w0)
+                _, ls = mults(w)
+                z = min(ls, key=lambda x: abs(x - pred))
+                return abs(z) ** 2 - 1
+        else:
+            sgn = 1.0 if kind == "multiplier+1" else -1.0
+
+            def f(w):
+                _, ls = mults(w)
+                return float(np.prod([x - sgn for x in ls]).real)
+        return brentq(f, w0, w1, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
+
+
+def _brent(f, a, b):
+    """Brent's method when f is finite with opposite signs at a and b, else None."""
+    fa, fb = f(a), f(b)
+    if not (math.isfinite(fa) and math.isfinite(fb)) or fa * fb > 0:
+        return None
+    try:
+        return brentq(f, a, b, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
+    except (ValueError, RuntimeError):
+        return None
+
+
+def _lam_near(params, orbit_branch, w, target):
+    from .orbit import period1_orbits
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        o = {x.branch: x for x in period1_orbits(params, w)}[orbit_branch]
+    return min((complex(x) for x in o.multipliers), key=lambda x: abs(x - target))
+
+
+def dmod_along_branch(params, omega, branch, lam, h=BRANCH_H):
+    """d|lambda1|/domega along the branch: Richardson-extrapolated central differences."""
+    def m(w):
+        return abs(_lam_near(params, branch, w, lam))
+    d1 = (m(omega + h) - m(omega - h)) / (2 * h)
+    d2 = (m(omega + 2 * h) - m(omega - 2 * h)) / (4 * h)
+    return (4 * d1 - d2) / 3
+
+
+def hopf_point(params, omega_c, branch, *, sampler=None):
+    """All of issue 4's quantities at a located Neimark–Sacker point (order-3 jet there)."""
+    from .jets import jet
+    from .orbit import period1_orbits
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        orbit = {o.branch: o for o in period1_orbits(params, omega_c)}[branch]
+        j = jet(params, omega_c, order=3, orbit=orbit)
+        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=STATE_NAMES)
+    lam = complex(nf.lam)
+    others = tuple(sorted((complex(x) for i, x in enumerate(nf.multipliers)
+                           if i not in (_index_of(nf, lam), _index_of(nf, lam.conjugate()))),
+                          key=lambda z: -abs(z)))
+    h1 = abs(abs(lam) - 1) < 1e-9 and abs(lam.imag) > 1e-9 and all(abs(z) < 1 for z in others)
+    m, dist = resonance(lam)
+    try:
+        dbranch = dmod_along_branch(params, omega_c, branch, lam)
+    except (SymviError, KeyError):
+        dbranch = dmod_along_branch(params, omega_c, branch, lam, h=BRANCH_H / 20)
+    return HopfPoint(
+        omega_c=float(omega_c), branch=branch, multiplier=lam,
+        theta_over_2pi=float(nf.theta) / (2 * math.pi), other_multipliers=others, h1=bool(h1),
+        h2=bool(dist > H2_TOL), nearest_resonance=(m, float(dist)),
+        dmod_domega=float(nf.dmod_dv), dmod_domega_branch=float(dbranch),
+        dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=float(nf.l1),
+        f1_paper=float(nf.f1_printed), f1_wan=float(nf.f1_wan), wan_a=float(nf.wan_a),
+        orbit=orbit, circle=nf.circle, normal_form=nf)
+
+
+def _index_of(nf, z):
+    return min(range(len(nf.multipliers)), key=lambda i: abs(complex(nf.multipliers[i]) - z))
+
+
+def _check_interval(params, omega_min, omega_max):
+    from .params import check_omega, modal
+    for name, w in (("omega_min", omega_min), ("omega_max", omega_max)):
+        try:
+            w = float(w)
+        except (TypeError, ValueError):
+            raise ParameterError(name, w, "a finite real number > 0") from None
+        if not (math.isfinite(w) and w > 0):
+            raise ParameterError(name, w, "a finite real number > 0")
+    a, b = float(omega_min), float(omega_max)
+    if not b > a:
+        raise ParameterError("omega_max", omega_max, f"omega_max > omega_min = {a!r}")
+    m = modal(params)
+    for j, wj in enumerate(m.omegas, start=1):
+        if a <= wj <= b:
+            raise SingularCaseError(
+                "forcing-resonance",
+                f"the interval [{a}, {b}] contains the natural frequency omega_{j} = "
+                f"{wj:.12g}, where the forcing amplitude of eq. (7) is infinite; split it there")
+    del check_omega
+    return a, b
+
+
+def hopf_points(params, omega_min, omega_max):
+    """Every Neimark–Sacker point of an admissible period-1 orbit in [omega_min, omega_max].
+
+    Returns a :class:`HopfResult`: ``points`` (each a :class:`HopfPoint` with
+    the normal form and the predicted circle) sorted by omega, and ``events``
+    (real multipliers through +/-1, admissibility changes, orbit appearing or
+    vanishing).  See the module docstring for why no crossing is missed.
+    """
+    a, b = _check_interval(params, omega_min, omega_max)
+    scan = _Scan(params, a, b)
+    # eq. (15) divides by 1 - cos(2 pi omega_j / omega): the orbit is not isolated at
+    # omega = omega_j / n; those points cut the scan and are reported
+    sing = _singular_frequencies(params, a, b)
+    cuts = sorted(set(np.linspace(a, b, N_INITIAL + 1).tolist()) | {w for w, _ in sing})
+    for w, what in sing:
+        scan._event("singular", w, "", what)
+    sset = {w for w, _ in sing}
+    for br in ("+", "-"):
+        for wa, wb in zip(cuts[:-1], cuts[1:]):
+            ea, eb = wa in sset, wb in sset
+            lo = wa + _sing_gap(wa) if ea else wa
+            hi = wb - _sing_gap(wb) if eb else wb
+            if hi > lo:
+                scan.certify(br, lo, hi, (ea, eb))
+    points, seen = [], []
+    for br_ in scan.brackets:
+        w = scan.locate(br_)
+        if br_[1] == "ns":
+            if any(br == br_[0] and abs(w - x) < 1e-9 * (b - a) for br, x in seen):
+                continue
+            seen.append((br_[0], w))
+            try:
+                points.append(hopf_point(params, w, br_[0]))
+            except SymviError as exc:
+                # the crossing is there, but the map is (nearly) singular: say so
+                scan._event("ns-unanalysable", w, br_[0], f"complex pair through |lambda| = 1, "
+                            f"normal form not computable: {exc}")
+        else:
+            k, o = scan.s.state(br_[0], w)
+            scan._event(br_[1], w, br_[0], "real multiplier through "
+                        + ("+1 (fold / saddle-node)" if br_[1] == "multiplier+1"
+                           else "-1 (flip / period doubling)"))
+    events = tuple(sorted(_dedupe(scan.events), key=lambda e: (e.omega, e.branch)))
+    return HopfResult(params, a, b, tuple(sorted(points, key=lambda p: (p.omega_c, p.branch))),
+                      events, len(scan.s.cache))
+
+
+def _singular_frequencies(params, a, b):
+    """The omega_j / n (n >= 1) inside (a, b): (omega, description)."""
+    from .params import modal
+    out = []
+    for j, wj in enumerate(modal(params).omegas, start=1):
+        n = max(1, math.ceil(wj / b))
+        while wj / n > a:
+            w = wj / n
+            if a < w < b and n > 1:
+                out.append((w, f"omega_{j} / omega = {n}: 1 - cos(2 pi omega_{j} / omega) = 0 in "
+                               "eq. (15), the period-1 orbit is not isolated"))
+            n += 1
+    return sorted(out)
+
+
+def _sing_gap(w):
+    # the orbit code refuses |sin(pi omega_j / omega)| < 1e-9; stay well clear of that
+    return 1e-7 * w
+
+
+def _dedupe(events):
+    out, seen = [], set()
+    for e in events:
+        key = (e.kind, e.branch, round(e.omega, 9))
+        if key not in seen:
+            seen.add(key)
+            out.append(e)
+    return out
