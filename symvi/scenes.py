@@ -378,16 +378,34 @@ def paper_scenes():
 
 
 # --------------------------------------------------------------------------- cache
-def _source_hash():
-    """Hash of symvi's own sources: any code change invalidates cached results."""
-    h = hashlib.sha256()
-    pkg = os.path.dirname(os.path.abspath(__file__))
-    for root in (pkg, os.path.join(pkg, "cli")):
-        for name in sorted(os.listdir(root)):
-            if name.endswith(".py"):
-                with open(os.path.join(root, name), "rb") as fh:
-                    h.update(name.encode() + b"\0" + fh.read())
-    return h.hexdigest()
+#: symvi modules each kind of output depends on (their sources enter the cache key)
+_COMMON = ("__init__", "scenes", "params", "_backend", "errors", "flow", "orbit", "jets")
+DEPS = {"multipliers": (),
+        "hopf": ("hopf", "normal_form"),
+        "section": ("simulate", "_fastflow", "diagnostics"),
+        "bifurcation": ("simulate", "_fastflow"),
+        "circle_check": ("circle_check", "simulate", "_fastflow", "hopf", "normal_form", "audit"),
+        "audit": ("audit", "audit_orbit", "hopf", "normal_form", "poincare", "circle_check",
+                  "simulate", "_fastflow"),
+        "numbers": ("audit", "hopf", "normal_form", "simulate", "_fastflow", "diagnostics")}
+_SRC = {}
+
+
+def source_hash(modules):
+    """Hash of the sources of ``symvi.<module>`` for each name (absent modules count as absent)."""
+    key = tuple(sorted(set(modules)))
+    if key not in _SRC:
+        h = hashlib.sha256()
+        pkg = os.path.dirname(os.path.abspath(__file__))
+        for name in key:
+            h.update(name.encode() + b"\0")
+            try:
+                with open(os.path.join(pkg, f"{name}.py"), "rb") as fh:
+                    h.update(fh.read())
+            except OSError:
+                h.update(b"<absent>")
+        _SRC[key] = h.hexdigest()[:16]
+    return _SRC[key]
 
 
 def _generated_hash():
@@ -405,11 +423,11 @@ _STAMP = None
 
 
 def version_stamp():
-    """symvi version + source hash + generated input hash (computed once per process)."""
+    """symvi version, hash of the sources scenes use, generated/ input hash (once per process)."""
     global _STAMP
     if _STAMP is None:
         from . import __version__
-        _STAMP = {"symvi": __version__, "source": _source_hash()[:16],
+        _STAMP = {"symvi": __version__, "source": source_hash(sum(DEPS.values(), _COMMON)),
                   "generated": _generated_hash()[:16]}
     return _STAMP
 
@@ -420,7 +438,9 @@ def cache_key(scene, output, quick):
     payload = {"kind": output.kind, "spec": output.compute_spec(), "params": p.as_dict(),
                "params_sets": {k: v.as_dict() for k, v in scene.params.items()}
                if output.kind == "numbers" else None,
-               "quick": bool(quick), "stamp": version_stamp()}
+               "quick": bool(quick), "symvi": version_stamp()["symvi"],
+               "generated": version_stamp()["generated"],
+               "source": source_hash(_COMMON + DEPS[output.kind])}
     return hashlib.sha256(json.dumps(payload, sort_keys=True, default=str).encode()).hexdigest()[:24]
 
 
