@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from _nf_maps import conjugated, eval_poly, family_dA
+from ._nf_maps import conjugated, eval_poly, family_dA
 from symvi.normal_form import appendix_printed, normal_form, transform_jet
 
 THETA = 1.1

@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 import pytest
 
-from _nf_maps import base, conjugated, family_dA, linear
+from ._nf_maps import base, conjugated, family_dA, linear
 from symvi.errors import NearSingularWarning, ParameterError, SingularCaseError
 from symvi.normal_form import eigen, kuznetsov, normal_form
 

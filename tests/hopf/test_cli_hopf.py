@@ -1,0 +1,47 @@
+"""`symvi hopf`: table, JSON contract, bad input."""
+import json
+import subprocess
+import sys
+
+import pytest
+
+BASE = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "symvi", "hopf", *args], capture_output=True,
+                          text=True)
+
+
+@pytest.mark.slow
+def test_json_contract():
+    r = run(*BASE, "--omega-min", "0.70", "--omega-max", "0.76", "--json")
+    assert r.returncode == 0, r.stderr
+    obj = json.loads(r.stdout)
+    assert {"params", "points", "events"} <= set(obj)
+    (pt,) = obj["points"]
+    assert {"omega_c", "multiplier", "theta_over_2pi", "dmod_domega", "dmod_domega_branch", "l1",
+            "f1_paper", "f1_wan", "kind", "h1", "h2", "nearest_resonance", "orbit",
+            "circle"} <= set(pt)
+    assert pt["kind"] == "supercritical" and abs(pt["omega_c"] - 0.736876922090593) < 1e-12
+
+
+def test_table(capsys):
+    from symvi.cli import main
+    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    out = capsys.readouterr().out
+    assert "omega_c = 0.73687692209059" in out and "supercritical" in out
+    assert "multiplier-1" in out
+
+
+@pytest.mark.parametrize("args,word", [
+    (["--omega-min", "0.76", "--omega-max", "0.70"], "omega_max"),
+    (["--omega-min", "nan", "--omega-max", "0.70"], "omega_min"),
+    (["--omega-min", "0.7", "--omega-max", "0.76", "--digits", "5"], "--digits"),
+    (["--omega-min", "0.7", "--omega-max", "1.0"], "omega_1"),
+])
+def test_bad_input(args, word, capsys):
+    from symvi.cli import main
+    assert main(["hopf", *BASE, *args]) == 2
+    err = capsys.readouterr().err
+    assert word in err and "Traceback" not in err
