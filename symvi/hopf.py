@@ -24,13 +24,40 @@ certified recursively (this is what refines where |lambda| approaches 1, and
 near a collision of two real multipliers, where the path has a square-root
 corner).  A crossing between samples therefore needs the path to bend by 8
 times more than its own local second difference predicts.  Segments narrower
-than ``MIN_WIDTH`` that still fail (tangency) are reported as events.
+than ``MIN_WIDTH`` that still fail (tangency, a collision on the real axis next to
++1, a near-singular map) are reported as ``unresolved`` events with their span.
+Next to a located boundary (fold, admissibility change, a singular frequency
+omega_j / n) a multiplier that approaches the circle monotonically towards the
+boundary is accepted (e.g. the multiplier tending to +1 at a fold).
 
 The crossing itself is located with Brent's method on |lambda(omega)|^2 - 1
 (the multiplier nearest the bracket's linear prediction), on det(J -/+ I)
 for real multipliers through +/-1, on the existence ratio of eq. (16) for the
 orbit's end, and on the impact velocity, or by bisection of the admissibility
 test for grazing.  All to ``XTOL`` in omega.
+
+The paper's numbers (Sec. 4) beside ours
+-----------------------------------------
+Each of ours agrees with an independent 80-digit finite-difference chain
+(:mod:`symvi.mpcheck`) to >= 40 digits.
+
+============  ==========  ==================  =======================================
+example       v_c         d|lambda1|/dv       f1(0)
+============  ==========  ==================  =======================================
+1, paper      0.7368      3.0701              1.361
+1, symvi      0.73687692  2.35553882          0.6710 (eq. 60 printed), 0.02430 (corrected)
+2, paper      0.4906      0.641               1.096
+2, symvi      0.49051952  2.55555715          0.09229 (eq. 60 printed), 0.005016 (corrected)
+============  ==========  ==================  =======================================
+
+v_c and the kind (supercritical) are reproduced.  d|lambda1|/dv is not: ours
+agrees three ways (eqs. A1–A3 on F11, |lambda1| differentiated along the
+branch, chain B), and neither the explicit d/dv at fixed Delta X nor reading
+omega_0 of (A3) as Im lambda gives the paper's values.  f1(0) depends on the
+normalisation of r1, which the paper does not state; no single scaling of r1
+maps our printed-(60) or corrected-(60) values onto both published ones (the
+ratios differ between the examples), so only the sign is comparable (f1 > 0,
+attracting, in all forms).
 
 References
 ----------
@@ -485,7 +512,7 @@ def _index_of(nf, z):
 
 
 def _check_interval(params, omega_min, omega_max):
-    from .params import check_omega, modal
+    from .params import modal
     for name, w in (("omega_min", omega_min), ("omega_max", omega_max)):
         try:
             w = float(w)
@@ -503,7 +530,6 @@ def _check_interval(params, omega_min, omega_max):
                 "forcing-resonance",
                 f"the interval [{a}, {b}] contains the natural frequency omega_{j} = "
                 f"{wj:.12g}, where the forcing amplitude of eq. (7) is infinite; split it there")
-    del check_omega
     return a, b
 
 

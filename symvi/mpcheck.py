@@ -25,7 +25,6 @@ References
 of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4.
 """
 import itertools
-import math
 import warnings
 from dataclasses import dataclass
 
@@ -295,6 +294,3 @@ def check_point(params, pt, *, digits=50):
                            "float-A": round(digits_of_agreement(ff, fa), 1)}
     return MpCheck(params, pt.branch, a, b, pt, agree)
 
-
-def _fmt_digits(x):
-    return "exact" if math.isinf(x) else f"{x:.1f}"

@@ -780,7 +780,8 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None):
         n = A.shape[0]
         d2, d3 = bk.arr(d2), bk.arr(d3)
         if d2.shape != (n,) * 3 or d3.shape != (n,) * 4:
-            raise ParameterError("d2/d3", (d2.shape, d3.shape), f"shapes {(n,) * 3} and {(n,) * 4}")
+            raise ParameterError("d2/d3", (d2.shape, d3.shape),
+                                 f"shapes {(n,) * 3} and {(n,) * 4}")
         d2, d3 = _symmetrise(d2), _symmetrise(d3)
         e = _eigen(bk, A, index)
         lam = e.lam
