@@ -169,7 +169,7 @@ class Sweep:
     stops: tuple              # stop reason per omega
     starts: np.ndarray        # (m, 4) start points used
     transient: int
-    impacts_total: int        # map iterations done, transient included
+    impacts_total: int        # map iterations requested (runs that stop early do fewer)
 
 
 def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
