@@ -612,7 +612,11 @@ def _paper(bk, A, d2, d3, e):
 
 # --------------------------------------------------------------------------- Kuznetsov
 def _kuznetsov(bk, A, d2, d3, e):
-    """c1 = 1/2 <p, C(q,q,qb) + 2 B(q, (|l|^2 I - A)^{-1} B(q,qb)) + B(qb, (l^2 I - A)^{-1} B(q,q))>."""
+    """Kuznetsov's c1 = 1/2 <p, C(q,q,qb) + 2 B(q, h11) + B(qb, h20)> and l1.
+
+    h11 = (|lambda|^2 I - A)^{-1} B(q, qb), h20 = (lambda^2 I - A)^{-1} B(q, q)
+    (|lambda| = 1 at the Neimark–Sacker point).
+    """
     n = A.shape[0]
     q, p, lam = e.q, e.p, e.lam
     qb = np.conj(q)
