@@ -382,9 +382,11 @@ def estimate_orbit(params, orbit, *, input_condition=True):
                  for l in lam]
         eig_conds = tuple(conds)
         Jn = float(np.max(np.abs(np.array(J, dtype=complex))))
-        # |d lambda| <= cond * ||dJ||, ||dJ|| ~ ||J|| eps (C_EVAL + kappa_y): J inherits y*'s error
+        # |d lambda| <= cond * ||dJ||, ||dJ|| ~ ||J|| eps (C_EVAL + kappa_y) * graze:
+        # J inherits y*'s error, and eq. (37) divides by g_theta (rounded at the scale of y*)
         lam_max = max(abs(complex(l)) for l in lam)
-        k_lin = max(conds) * Jn * (C_EVAL + ky) / max(lam_max, 1e-300) / C_EVAL
+        k_lin = (max(conds) * Jn * (C_EVAL + ky) * _graze_factor(y, g_theta)
+                 / max(lam_max, 1e-300) / C_EVAL)
         kl = max(max(kin_l.values(), default=0.0), k_lin * C_EVAL)
         err_l = eps * (C_EVAL + kl)
     note_y = "; ".join(notes_y[:2])
@@ -392,6 +394,13 @@ def estimate_orbit(params, orbit, *, input_condition=True):
     est_y = _make("y*", y, err_y, ky, digits, note_y)
     est_l = _make("multipliers", lam, err_l, kl, digits, note_l)
     return OrbitEstimate(est_y, est_l, float(abs(complex(g_theta))), eig_conds, kin_y)
+
+
+def _graze_factor(y, g_theta):
+    """max(1, |y*|_inf / |dg/d(dtheta)|): amplification of rounding by eq. (37) near grazing."""
+    g = abs(complex(g_theta))
+    scale = max(abs(complex(v)) for v in y[:3])
+    return math.inf if g == 0 else max(1.0, scale / g)
 
 
 def _make(name, value, err, kappa, digits, note, recomputed=False):
@@ -553,6 +562,8 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
         # per-quantity input condition (componentwise)
         kin_c, notes = _componentwise_condition(f, params, w, digits, [w, dm, l])
         lin = _linear_condition(jt, e, digits)
+        gf = _graze_factor(jt.orbit.y, jt.g_theta)
+        lin = {k: (v * gf if k in ("eig", "vec", "solve") else v) for k, v in lin.items()}
         dmf, lf = float(dm), float(l)
         # v_c: |lambda1| carries the eigenvalue error, divided by the crossing speed
         k_vc = max(kin_c[0], lin["eig"] * (C_EVAL) / max(abs(dmf) * float(w), 1e-300))

@@ -1,0 +1,108 @@
+"""No crash, hang or NaN escapes over the whole valid space (issue 7, item 4).
+
+Every call either returns finite numbers or raises a :class:`symvi.SymviError`
+with a one-line message; nothing else (ValueError, OverflowError,
+ZeroDivisionError, numpy LinAlgError ...) and no NaN in a returned result.
+"""
+import math
+import time
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import symvi
+from symvi import jets
+from symvi import normal_form as nf
+from symvi.errors import NearSingularWarning, SymviError
+
+from .strategies import omega_typical, omega_wide, params_typical, params_wide
+
+SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
+#: no single call may take longer than this (a hang shows up as a failure, not a stall)
+BUDGET_S = 20.0
+
+
+def finite(x):
+    a = np.asarray(x, dtype=complex) if not isinstance(x, (float, int)) else np.asarray(x)
+    return bool(np.all(np.isfinite(a)))
+
+
+def clean(exc):
+    assert isinstance(exc, SymviError), f"{type(exc).__name__}: {exc}"
+    assert str(exc).strip() and "\n" not in str(exc).strip(), str(exc)
+
+
+def chain(params, omega):
+    """Orbit -> jet(3) -> normal form; returns the number of admissible orbits analysed."""
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        warnings.simplefilter("error", RuntimeWarning)    # numpy overflow etc. must not leak
+        try:
+            orbits = symvi.period1_orbits(params, omega)
+        except Exception as exc:   # noqa: BLE001 - the property is about the type
+            clean(exc)
+            return 0
+        n = 0
+        for o in orbits:
+            assert all(finite(float(v)) for v in o.y), o
+            if not o.admissible:
+                assert o.reason
+                continue
+            assert all(finite(complex(z)) for z in o.multipliers), o.multipliers
+            try:
+                j = jets.jet(params, omega, order=3, orbit=o)
+                for arr in (j.jacobian, j.d2, j.d3, j.dA):
+                    assert finite(arr)
+                r = nf.normal_form(j.jacobian, j.d2, j.d3, j.dA)
+                assert finite(r.l1) and finite(r.dmod_dv) and finite(r.c1)
+            except Exception as exc:   # noqa: BLE001
+                clean(exc)
+            n += 1
+    assert time.perf_counter() - t0 < BUDGET_S
+    return n
+
+
+@settings(max_examples=300, **SETTINGS)
+@given(params_wide, omega_wide)
+def test_chain_wide(params, omega):
+    chain(params, omega)
+
+
+@settings(max_examples=200, **SETTINGS)
+@given(params_typical, omega_typical)
+def test_chain_typical(params, omega):
+    chain(params, omega)
+
+
+@settings(max_examples=15, **SETTINGS)
+@given(params_typical, omega_typical, st.floats(1.001, 1.2))
+def test_hopf_points_never_crash(params, omega, factor):
+    hopf = pytest.importorskip("symvi.hopf")
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        try:
+            res = hopf.hopf_points(params, omega, omega * factor)
+        except Exception as exc:   # noqa: BLE001
+            clean(exc)
+            return
+    for pt in res.points:
+        assert math.isfinite(pt.omega_c) and math.isfinite(pt.l1)
+    assert time.perf_counter() - t0 < BUDGET_S
+
+
+@pytest.mark.parametrize("args", [
+    (symvi.Params(2, 5, 0, 0.0, 0.8), 0.73),        # b = 0
+    (symvi.Params(2, 5, 0, -1.5, 0.8), 0.73),       # b < 0
+    (symvi.Params(2, 5, 0, 1.5, 1.0), 0.73),        # r = 1
+    (symvi.Params(2, 5, 0, 1.5, 0.05), 0.73),       # r small
+    (symvi.Params(2, 5, 0, 1.5, 0.8), 1e-3),        # very small omega
+    (symvi.Params(2, 5, 0, 1.5, 0.8), 1e2),         # very large omega
+    (symvi.Params(2, 5, 1.0, 1.5, 0.8), 0.73),      # force on mass 2 only
+])
+def test_edges(args):
+    chain(*args)
