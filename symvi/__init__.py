@@ -1,4 +1,10 @@
-"""symvi: symbolic-numeric bifurcation analysis of vibro-impact systems."""
+"""symvi: symbolic-numeric bifurcation analysis of vibro-impact systems.
+
+Heavy parts (the Hopf scan with scipy, the numba simulator) are imported on
+first use, so ``import symvi`` and ``symvi orbit`` stay fast.
+"""
+import importlib
+
 from .errors import NearSingularWarning as NearSingularWarning
 from .errors import ParameterError as ParameterError
 from .errors import SingularCaseError as SingularCaseError
@@ -10,3 +16,15 @@ from .params import modal as modal
 from .poincare import poincare_map as poincare_map
 
 __version__ = "0.1.0"
+
+_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "hopf", "simulate": "simulate"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module 'symvi' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_LAZY))

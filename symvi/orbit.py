@@ -150,13 +150,15 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
     ``admissible=False`` and a reason, never silently analysed.  ``digits``
     selects mpmath at that precision.  ``multipliers=False`` skips the Jacobian.
     """
-    omega = check_omega(params, omega)
+    omega_f = check_omega(params, omega)
     if digits is not None:
         if not isinstance(digits, int) or digits < 16 or digits > 10000:
             raise ParameterError("digits", digits, "an integer from 16 to 10000")
         with mpmath.mp.workdps(digits):
-            return _orbits(params, MP.num(omega), MP, multipliers, digits)
-    return _orbits(params, omega, FLOAT, multipliers, None)
+            # keep an mpf omega at full precision (a 50-digit v_c must not be rounded)
+            w = MP.num(omega) if isinstance(omega, (mpmath.mpf, str)) else MP.num(omega_f)
+            return _orbits(params, w, MP, multipliers, digits)
+    return _orbits(params, omega_f, FLOAT, multipliers, None)
 
 
 def _orbits(params, omega, lib, want_multipliers, digits):
