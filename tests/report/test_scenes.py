@@ -95,6 +95,7 @@ def test_multipliers_scene_imports_no_order2_or_3(tmp_path):
     assert not {"symvi.normal_form", "symvi.hopf", "symvi.simulate"} & mods
 
 
+@pytest.mark.slow
 def test_section_scene_computes_no_normal_form(tmp_path):
     f = tmp_path / "sec.toml"
     f.write_text(GOOD.replace('kind = "multipliers"\nomega_min = 0.7219\nomega_max = 0.7396\n'
