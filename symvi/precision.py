@@ -150,6 +150,7 @@ class OrbitEstimate:
     g_theta: float            # dg/d(dtheta) at the orbit (grazing margin, eq. 30)
     eig_condition: tuple      # 1/|y^H x| per multiplier, in the orbit's order
     input_condition: dict     # input name -> relative condition of y*
+    input_condition_multipliers: dict = field(default_factory=dict)
 
     @property
     def digits(self):
@@ -334,10 +335,13 @@ def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
 
 
 # --------------------------------------------------------------------------- orbits
-def estimate_orbit(params, orbit, *, input_condition=True):
+def estimate_orbit(params, orbit, *, input_condition=True, reuse=None):
     """Error estimate of an orbit's y* and multipliers, at the orbit's own precision.
 
-    The orbit may be float64 (``orbit.digits is None``) or mpmath.
+    The orbit may be float64 (``orbit.digits is None``) or mpmath.  ``reuse``: an
+    earlier :class:`OrbitEstimate` of the same orbit whose input condition numbers
+    are taken over (they do not depend on the precision; near a singular case
+    the perturbed mpmath orbits are expensive, see benchmarks/results_stress.md).
     """
     from .jets import jet
     digits = orbit.digits
@@ -354,7 +358,10 @@ def estimate_orbit(params, orbit, *, input_condition=True):
     y = list(orbit.y)
     lam = list(orbit.multipliers)
 
-    if input_condition:
+    if reuse is not None:
+        kin_y, notes_y = dict(reuse.input_condition), []
+        kin_l, notes_l = dict(reuse.input_condition_multipliers), []
+    elif input_condition:
         def f_y(p2, w2):
             o = _orbit_on(p2, w2, orbit.branch, digits, False, orbit.admissible)
             return list(o.y)
@@ -371,7 +378,8 @@ def estimate_orbit(params, orbit, *, input_condition=True):
     else:
         kin_y, notes_y, kin_l, notes_l = {}, [], {}, []
     ky = max(kin_y.values(), default=0.0)
-    err_y = eps * (C_EVAL + ky)
+    cancel = _cancellation(params, orbit)
+    err_y = eps * (C_EVAL + 16 * cancel + ky)
 
     eig_conds = ()
     err_l = math.inf if J is None else 0.0
@@ -385,7 +393,7 @@ def estimate_orbit(params, orbit, *, input_condition=True):
         # |d lambda| <= cond * ||dJ||, ||dJ|| ~ ||J|| eps (C_EVAL + kappa_y) * graze:
         # J inherits y*'s error, and eq. (37) divides by g_theta (rounded at the scale of y*)
         lam_max = max(abs(complex(l)) for l in lam)
-        k_lin = (max(conds) * Jn * (C_EVAL + ky) * _graze_factor(y, g_theta)
+        k_lin = (max(conds) * Jn * (C_EVAL + 16 * cancel + ky) * _graze_factor(y, g_theta)
                  / max(lam_max, 1e-300) / C_EVAL)
         kl = max(max(kin_l.values(), default=0.0), k_lin * C_EVAL)
         err_l = eps * (C_EVAL + kl)
@@ -393,7 +401,27 @@ def estimate_orbit(params, orbit, *, input_condition=True):
     note_l = "; ".join(([grazing] if grazing else []) + notes_l[:2])
     est_y = _make("y*", y, err_y, ky, digits, note_y)
     est_l = _make("multipliers", lam, err_l, kl, digits, note_l)
-    return OrbitEstimate(est_y, est_l, float(abs(complex(g_theta))), eig_conds, kin_y)
+    return OrbitEstimate(est_y, est_l, float(abs(complex(g_theta))), eig_conds, kin_y, kin_l)
+
+
+def _cancellation(params, orbit):
+    """(largest modal term) / |y*|: the cancellation in the sums of eqs. (17)–(18), (21)–(24).
+
+    Near forcing resonance A_j = F_j / (omega_j^2 - omega^2) and kappa_j = cot(pi omega_j /
+    omega) both blow up while y* stays finite: the input condition does not see it, the
+    rounding of the large terms does (eps * largest term).
+    """
+    from .flow import forcing_amplitudes
+    from .params import modal as _modal
+    m = _modal(params)
+    w = float(orbit.omega)
+    A = forcing_amplitudes(m, w)
+    terms = [1.0]
+    for j in range(2):
+        wj = m.omegas[j]
+        terms += [abs(float(orbit.a[j])), abs(float(orbit.b[j])) * wj, abs(A[j]) * max(1.0, w)]
+    ymax = max(abs(float(v)) for v in orbit.y[:3])
+    return max(1.0, max(terms) / max(ymax, 1e-300))
 
 
 def _graze_factor(y, g_theta):
@@ -432,11 +460,17 @@ def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
     out = []
     for o in period1_orbits(params, omega):
         est = estimate_orbit(params, o)
-        if not o.admissible or est.digits >= min_digits:
+        if _enough(o, est, min_digits):
             out.append(AutoOrbit(o, est, None, "float64"))
             continue
         out.append(_escalate_orbit(params, omega, o, est, min_digits, max_digits))
     return out
+
+
+def _enough(o, est, min_digits):
+    """y* always needs min_digits; multipliers only for an admissible orbit."""
+    return est.y.digits >= min_digits and (not o.admissible or
+                                           est.multipliers.digits >= min_digits)
 
 
 def _escalate_orbit(params, omega, o, est, min_digits, max_digits):
@@ -446,16 +480,21 @@ def _escalate_orbit(params, omega, o, est, min_digits, max_digits):
     while d <= max_digits:
         tried.append(d)
         try:
-            o2 = _orbit_on(params, omega, o.branch, d, True)
+            o2 = _orbit_on(params, omega, o.branch, d, True, admissible=False)
         except SingularCaseError as exc:
             return AutoOrbit(o, _untrust(est, f"mpmath-{d}: {exc}"), None,
                              f"untrusted: {exc}")
-        est2 = estimate_orbit(params, o2)
-        if est2.digits >= min_digits:
-            note = (f"float64 gave ~{est.digits:.1f} digits; recomputed with mpmath at "
-                    f"{d} digits (~{est2.digits:.1f} digits)")
+        est2 = estimate_orbit(params, o2, reuse=est)
+        if _enough(o2, est2, min_digits):
+            note = (f"float64 gave ~{est.y.digits:.1f} digits; recomputed with mpmath at "
+                    f"{d} digits (~{est2.y.digits:.1f} digits)")
+            if o2.admissible != o.admissible:
+                note += (f"; admissibility corrected: float64 said "
+                         f"{'admissible' if o.admissible else 'inadmissible (' + o.reason + ')'}"
+                         f", mpmath says {'admissible' if o2.admissible else 'inadmissible'}")
             est2 = OrbitEstimate(_re(est2.y, note), _re(est2.multipliers, note), est2.g_theta,
-                                 est2.eig_condition, est2.input_condition)
+                                 est2.eig_condition, est2.input_condition,
+                                 est2.input_condition_multipliers)
             return AutoOrbit(o2, est2, d, note)
         kappa = max(est2.y.condition, est2.multipliers.condition, kappa * 10)
         d = max(2 * d, _digits_needed(kappa, min_digits))
@@ -474,7 +513,7 @@ def _untrust(est, msg):
         return Estimate(e.name, None, math.inf, e.condition, e.digits_used, False, False, msg,
                         raw=e.value if e.value is not None else e.raw)
     return OrbitEstimate(u(est.y), u(est.multipliers), est.g_theta, est.eig_condition,
-                         est.input_condition)
+                         est.input_condition, est.input_condition_multipliers)
 
 
 # --------------------------------------------------------------------------- Hopf points
@@ -562,7 +601,7 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
         # per-quantity input condition (componentwise)
         kin_c, notes = _componentwise_condition(f, params, w, digits, [w, dm, l])
         lin = _linear_condition(jt, e, digits)
-        gf = _graze_factor(jt.orbit.y, jt.g_theta)
+        gf = _graze_factor(jt.orbit.y, jt.g_theta) * _cancellation(params, jt.orbit)
         lin = {k: (v * gf if k in ("eig", "vec", "solve") else v) for k, v in lin.items()}
         dmf, lf = float(dm), float(l)
         # v_c: |lambda1| carries the eigenvalue error, divided by the crossing speed
