@@ -194,13 +194,13 @@ def _solve(M, v, mp):
         out = np.empty(len(v), dtype=object)
         out[:] = [x[i] for i in range(len(v))]
         return out
-    # det(I - J) = prod(1 - lambda_i): ~0 iff a multiplier is 1 (fold)
-    if abs(np.linalg.det(M)) < 1e-12 * max(1.0, np.abs(M).max()) ** 4:
-        lam = np.abs(np.linalg.eigvals(np.eye(4) - M))
-        if lam.max() > 1e6:
-            raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of modulus "
-                                    f"{lam.max():.3g}: the orbit is close to grazing and "
-                                    "dy*/domega cannot be resolved")
+    # I - J is singular iff a multiplier is 1 (fold); judge by the multipliers, not det
+    lam = np.linalg.eigvals(np.eye(4) - M)
+    if np.abs(lam).max() > 1e8:
+        raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of modulus "
+                                f"{np.abs(lam).max():.3g}: the orbit is close to grazing and "
+                                "dy*/domega cannot be resolved")
+    if np.abs(1 - lam).min() < 1e-10:
         raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point does "
                                 "not move smoothly with omega (fold), dy*/domega is undefined")
     return np.linalg.solve(M, v)

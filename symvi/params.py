@@ -21,6 +21,10 @@ from .errors import NearSingularWarning, ParameterError, SingularCaseError
 RESONANCE_REFUSE = 1e-10
 #: relative distance below which a NearSingularWarning is issued
 RESONANCE_WARN = 1e-4
+#: valid ranges; outside them float64 over- or underflows in eqs. (4)-(16)
+MU_RANGE = (1e-6, 1e6)
+ABS_MAX = 1e6              # |b| and |f2|
+OMEGA_RANGE = (1e-4, 1e4)
 
 
 def _finite(name, value):
@@ -38,7 +42,8 @@ class Params:
     """Non-dimensional parameters of eq. (4): mass ratio, stiffness ratio,
     force split, gap and coefficient of restitution.
 
-    Validated on construction: mu_m > 0, mu_k > 0, 0 < r <= 1, all finite.
+    Validated on construction: mu_m > 0, mu_k > 0, 0 < r <= 1, all finite,
+    and within the representable ranges MU_RANGE and ABS_MAX.
     """
 
     mu_m: float
@@ -50,10 +55,17 @@ class Params:
     def __post_init__(self):
         for name in ("mu_m", "mu_k", "f2", "b", "r"):
             object.__setattr__(self, name, _finite(name, getattr(self, name)))
-        if not self.mu_m > 0:
-            raise ParameterError("mu_m", self.mu_m, "mu_m > 0")
-        if not self.mu_k > 0:
-            raise ParameterError("mu_k", self.mu_k, "mu_k > 0")
+        lo, hi = MU_RANGE
+        for name in ("mu_m", "mu_k"):
+            v = getattr(self, name)
+            if not v > 0:
+                raise ParameterError(name, v, f"{name} > 0 (and {lo:g} <= {name} <= {hi:g})")
+            if not lo <= v <= hi:
+                raise ParameterError(name, v, f"{lo:g} <= {name} <= {hi:g}")
+        for name in ("b", "f2"):
+            v = getattr(self, name)
+            if not abs(v) <= ABS_MAX:
+                raise ParameterError(name, v, f"|{name}| <= {ABS_MAX:g}")
         if not 0 < self.r <= 1:
             raise ParameterError("r", self.r, "0 < r <= 1")
 
@@ -117,7 +129,10 @@ def check_omega(params, omega, name="omega", warn=True):
     """
     w = _finite(name, omega)
     if not w > 0:
-        raise ParameterError(name, omega, f"{name} > 0")
+        raise ParameterError(name, omega, f"{name} > 0 ({OMEGA_RANGE[0]:g} <= {name} <= "
+                                          f"{OMEGA_RANGE[1]:g})")
+    if not OMEGA_RANGE[0] <= w <= OMEGA_RANGE[1]:
+        raise ParameterError(name, omega, f"{OMEGA_RANGE[0]:g} <= {name} <= {OMEGA_RANGE[1]:g}")
     m = modal(params)
     for j, wj in enumerate(m.omegas, start=1):
         rel = abs(w - wj) / wj

@@ -59,9 +59,15 @@ def _frozen(a):
     return a
 
 
-def _positive_int(name, value, minimum=1):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ParameterError(name, value, f"an integer >= {minimum}")
+#: stored impacts are 32 bytes each: 5e7 of them is 1.6 GB
+MAX_STORED = 50_000_000
+MAX_TRANSIENT = 1_000_000_000
+
+
+def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer))
+            or not minimum <= value <= maximum):
+        raise ParameterError(name, value, f"an integer from {minimum} to {maximum}")
     return int(value)
 
 
@@ -113,7 +119,7 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     """
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
-    transient = _positive_int("transient", transient, minimum=0)
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     ys = fixed_point(params, omega)
     if y0 is None:
         y0, ys = start_point(params, omega, perturbation)
@@ -197,8 +203,8 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``progress(done, total)`` is called after each chunk of omegas.
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
-    n_impacts = _positive_int("n_impacts", n_impacts)
-    transient = _positive_int("transient", transient, minimum=0)
+    n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
     starts = np.array([_check_start(y) for y in np.asarray(starts, dtype=float)])

@@ -28,6 +28,9 @@ def run(args):
     from ..progress import Progress
     from ..simulate import sweep
     params = params_from(args)
+    from ..params import check_omega
+    check_omega(params, args.omega_min, "--omega-min", warn=False)
+    check_omega(params, args.omega_max, "--omega-max", warn=False)
     if not args.steps >= 2:
         raise ParameterError("--steps", args.steps, "an integer >= 2")
     if not args.omega_min < args.omega_max:
