@@ -306,23 +306,13 @@ def _match(vals, ref):
 
 
 def period1_orbits_at(params, omega, *, digits=None, multipliers=True):
-    """:func:`symvi.period1_orbits`, but keeping an mpf ``omega`` at full precision.
+    """:func:`symvi.period1_orbits`, keeping an mpf ``omega`` at full precision.
 
-    ``period1_orbits(..., digits=d)`` passes omega through ``check_omega``, which
-    returns a float: an mpf omega between two floats is rounded to float64
-    (reported; see tests/precision/test_precision.py::test_mp_omega_not_rounded).
-    Here omega is validated as a float and then used unrounded.
+    (Until commit 1822101 ``period1_orbits`` rounded an mpf omega to float64
+    through ``check_omega``; tests/precision guards the fix.)
     """
-    from .orbit import _orbits, period1_orbits
-    from .params import check_omega
-    from ._backend import MP
-    if digits is None or not isinstance(omega, mpmath.mpf):
-        return period1_orbits(params, omega, digits=digits, multipliers=multipliers)
-    check_omega(params, float(omega))
-    if not isinstance(digits, int) or digits < 16 or digits > 10000:
-        raise ParameterError("digits", digits, "an integer from 16 to 10000")
-    with mpmath.mp.workdps(digits):
-        return _orbits(params, MP.num(omega), MP, multipliers, digits)
+    from .orbit import period1_orbits
+    return period1_orbits(params, omega, digits=digits, multipliers=multipliers)
 
 
 def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
@@ -517,12 +507,6 @@ def _untrust(est, msg):
 
 
 # --------------------------------------------------------------------------- Hopf points
-def _critical(J):
-    """Index of lambda1 in the eigenvalues of J the way normal_form picks it."""
-    from .normal_form import eigen
-    return eigen(J)
-
-
 def _hopf_quantities(params, omega, branch, digits):
     """(|lambda1| - 1, d|lambda1|/dv, l1, extras) at omega on ``branch`` (jet order 3)."""
     from . import normal_form as nf

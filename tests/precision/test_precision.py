@@ -1,6 +1,5 @@
 """symvi.precision: error estimates that bound the true error, automatic mpmath recomputation,
 and untrustworthy results that are never bare numbers (issue 7, item 3)."""
-import math
 import warnings
 
 import mpmath
