@@ -130,7 +130,7 @@ class CircleCheck:
     @property
     def measured_coefficients(self):
         """Half-width / sqrt(mu) extrapolated to mu -> 0 (linear fit in mu), (4,)."""
-        k = self.measured / np.sqrt(self.mu)[:, None]
+        k = self.measured / np.sqrt(np.abs(self.mu))[:, None]
         return np.array([np.polyfit(self.mu, k[:, i], 1)[1] for i in range(4)])
 
     def table(self):
@@ -163,7 +163,12 @@ class CircleCheck:
 def check(params, point, mus, **measure_kw):
     """Compare the circle of ``point`` (``.omega_c`` and ``.circle.half_widths(mu)``,
     as from :func:`symvi.hopf.hopf_points`) with simulation at v_c + mu."""
+    from .errors import SingularCaseError
     mus = np.asarray(mus, dtype=float)
+    if not point.circle.stable:
+        raise SingularCaseError("repelling-circle", f"the circle born at omega_c = "
+                                f"{float(point.omega_c):.10g} is repelling (subcritical); forward "
+                                "simulation cannot measure it")
     meas = [measure(params, point.omega_c + mu, **measure_kw) for mu in mus]
     pred = np.array([point.circle.half_widths(mu) for mu in mus])
     return CircleCheck(float(point.omega_c), mus, np.array([m.half_widths for m in meas]), pred,
