@@ -89,6 +89,8 @@ def newton_bracketed(fd_fn, a, b, fa, fb, tol, max_iter=60, to=float):
     prev = None
     for _ in range(max_iter):
         s, ds = fd_fn(w)
+        if s == 0:
+            return w
         if (s < 0) == (fa < 0):
             a, fa = w, s
         else:

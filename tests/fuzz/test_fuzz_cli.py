@@ -79,16 +79,9 @@ def test_orbit_out_of_range(opt, value, word):
 
 
 @pytest.mark.parametrize("opt,value", [
-    pytest.param("--mu-m", "1e308", marks=pytest.mark.xfail(
-        strict=True, reason="params.modal: (mu_m - mu_k)**2 overflows -> OverflowError "
-                            "traceback (reported to the lead)")),
-    pytest.param("--omega", "5e-324", marks=pytest.mark.xfail(
-        strict=True, reason="orbit._branches: sin(pi w_j / omega) of inf -> ValueError "
-                            "traceback (reported to the lead)")),
-    pytest.param("--mu-k", "1e308", marks=pytest.mark.xfail(
-        strict=True, reason="params.modal: (mu_m - mu_k)**2 overflows -> OverflowError "
-                            "traceback (reported to the lead)")),
-    ("--b", "1e308"), ("--b", "-1e308"), ("--f2", "1e308"),
+    # the first three gave tracebacks until ccaffeb (OverflowError in params.modal,
+    # ValueError from sin(inf) in orbit._branches); kept as regression tests
+    ("--mu-m", "1e308"), ("--omega", "5e-324"), ("--mu-k", "1e308"), ("--b", "1e308"), ("--b", "-1e308"), ("--f2", "1e308"),
     ("--mu-m", "1e-300"), ("--omega", "1e-300"),
 ])
 def test_orbit_huge_or_tiny_never_traceback(opt, value):
@@ -130,10 +123,8 @@ SIM_BAD = [
     ["--transient", "-1"], ["--y0", "nan", "0", "0", "0"], ["--y0", "1", "0", "0", "0"],
     ["--y0", "inf", "0", "0", "0"], ["--y0", "-1", "0", "0"],
     ["--r", "2"], ["--mu-m", "0"],
-    pytest.param(["--impacts", "999999999999"], marks=pytest.mark.xfail(
-        strict=True, reason="simulate: no upper bound on --impacts -> numpy MemoryError "
-                            "traceback (reported to the lead)")),
-]
+    ["--impacts", "999999999999"], ["--transient", "999999999999"],   # traceback / hang
+]                                                                       # until ccaffeb
 
 
 @pytest.mark.skipif("simulate" not in commands(), reason="symvi simulate not built")
@@ -151,9 +142,7 @@ def test_simulate_bad_input_leaves_folder(tmp_path, bad):
 @pytest.mark.skipif("sweep" not in commands(), reason="symvi sweep not built")
 @pytest.mark.parametrize("bad", [
     ["--omega-min", "nan"],
-    pytest.param(["--omega-max", "inf"], marks=pytest.mark.xfail(
-        strict=True, reason="cli/sweep: np.linspace on inf prints a RuntimeWarning to stderr "
-                            "before the error line (reported to the lead)")),
+    ["--omega-max", "inf"],
     ["--omega-min", "0.8", "--omega-max", "0.7"],
     ["--steps", "1"], ["--steps", "-3"], ["--steps", "x"], ["--impacts", "0"],
     ["--component", "7"], ["--omega-min", "0"],

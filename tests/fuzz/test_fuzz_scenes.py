@@ -4,6 +4,7 @@ In-process: ``symvi.scenes.parse_scene`` must raise a SymviError with a
 one-line message naming the key.  Through the CLI (``symvi run``, when built):
 one line on stderr, non-zero exit, output folder untouched.
 """
+import os
 import subprocess
 import sys
 
@@ -27,7 +28,9 @@ r = 0.8
 
 [[output]]
 kind = "multipliers"
-omega = 0.73
+omega_min = 0.72
+omega_max = 0.74
+steps = 3
 """
 
 
@@ -43,14 +46,19 @@ def variants():
         ("bad-kind", GOOD.replace('"multipliers"', '"nonsense"'), "kind"),
         ("unknown-key", GOOD.replace("r = 0.8", "r = 0.8\nrr = 1"), "rr"),
         ("bad-name", GOOD.replace('"fz"', '"../../etc"'), "name"),
-        ("huge-omega", GOOD.replace("omega = 0.73", "omega = 1e308"), None),
-        ("string-omega", GOOD.replace("omega = 0.73", 'omega = "0.73x"'), "omega"),
-        ("bool-omega", GOOD.replace("omega = 0.73", "omega = true"), "omega"),
+        ("huge-omega", GOOD.replace("omega_max = 0.74", "omega_max = 1e308"), None),
+        ("string-omega", GOOD.replace("omega_min = 0.72", 'omega_min = "0.72x"'), "omega_min"),
+        ("bool-omega", GOOD.replace("omega_min = 0.72", "omega_min = true"), "omega_min"),
+        ("reversed", GOOD.replace("omega_min = 0.72", "omega_min = 0.75"), None),
+        ("huge-steps", GOOD.replace("steps = 3", "steps = 999999999999"), "steps"),
+        ("float-steps", GOOD.replace("steps = 3", "steps = 2.5"), "steps"),
         ("array-r", GOOD.replace("r = 0.8", "r = [0.8]"), "r"),
     ]
     for key, line in (("mu_m", "mu_m = 2"), ("mu_k", "mu_k = 5"), ("b", "b = 1.5"),
-                      ("r", "r = 0.8"), ("omega", "omega = 0.73")):
+                      ("r", "r = 0.8"), ("omega_min", "omega_min = 0.72")):
         for bad in ("nan", "inf", "-inf", "-1", '"x"'):
+            if key == "b" and bad == "-1":
+                continue        # b < 0 is a valid gap (a preloaded stop)
             out.append((f"{key}={bad}", GOOD.replace(line, f"{key} = {bad}"), None))
         out.append((f"missing-{key}", GOOD.replace(line + "\n", ""), key))
     out.append(("r=0", GOOD.replace("r = 0.8", "r = 0"), "r"))
@@ -82,6 +90,12 @@ def test_parse_scene_rejects(text, word):
             pytest.fail(f"bad scene accepted and computed: {text!r}")
 
 
+def test_good_scene_parses():
+    """The base of every variant is valid, so each variant tests its own defect."""
+    sc = scenes.parse_scene(GOOD, source="good.toml")
+    assert len(sc.outputs) == 1
+
+
 def _has_run():
     from symvi.cli import build_parser
     sub = next(a for a in build_parser()._actions if a.dest == "command")
@@ -102,3 +116,17 @@ def test_run_bad_scene_leaves_folder(tmp_path, text):
                        capture_output=True, text=True, timeout=60)
     assert_one_line_error(r)
     assert snapshot(out) == before
+
+
+@pytest.mark.skipif(not _has_run(), reason="symvi run not built")
+def test_run_good_scene_leaves_no_temp_files(tmp_path):
+    from .test_fuzz_cli import snapshot
+    scene = tmp_path / "good.toml"
+    scene.write_text(GOOD)
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "symvi", "run", str(scene), "--out", str(out),
+                        "--quick"], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    files = snapshot(out)
+    assert "report.md" in files
+    assert not [f for f in files if os.path.basename(f).startswith(".tmp")], files
