@@ -149,10 +149,18 @@ class HopfPoint:
     orbit: object
     circle: object
     normal_form: object = field(repr=False, default=None)
+    precision: object = field(repr=False, default=None)   # precision.HopfEstimate
+
+    def trusted(self, name):
+        """False when automatic precision could not make ``name`` trustworthy."""
+        return self.precision is None or getattr(self.precision, name).trusted
 
     @property
     def kind(self):
-        """'supercritical' (stable circle, l1 < 0) or 'subcritical'."""
+        """'supercritical' (stable circle, l1 < 0), 'subcritical', or 'undetermined'
+        when l1 cannot be trusted at any precision."""
+        if not self.trusted("l1"):
+            return "undetermined"
         return "supercritical" if self.l1 < 0 else "subcritical"
 
     @property
@@ -164,20 +172,22 @@ class HopfPoint:
         m, dist = self.nearest_resonance
         orb = self.orbit.as_dict()
         orb["omega"] = float(self.orbit.omega)
+        num = lambda name: float(getattr(self, name)) if self.trusted(name) else None
         return {
-            "omega_c": float(self.omega_c), "branch": self.branch,
+            "omega_c": num("omega_c"), "branch": self.branch,
             "multiplier": [self.multiplier.real, self.multiplier.imag],
             "theta_over_2pi": float(self.theta_over_2pi),
             "other_multipliers": [[complex(x).real, complex(x).imag]
                                   for x in self.other_multipliers],
-            "dmod_domega": float(self.dmod_domega),
+            "dmod_domega": num("dmod_domega"),
             "dmod_domega_branch": float(self.dmod_domega_branch),
-            "l1": float(self.l1), "c1": [self.c1.real, self.c1.imag],
+            "l1": num("l1"), "c1": [self.c1.real, self.c1.imag],
             "f1_paper": float(self.f1_paper), "f1_wan": float(self.f1_wan),
             "kind": self.kind, "h1": bool(self.h1), "h2": bool(self.h2), "h3": bool(self.h3),
             "nearest_resonance": {"m": int(m), "distance": float(dist)},
             "orbit": orb,
             "circle": None if self.circle is None else self.circle.as_dict(),
+            "precision": None if self.precision is None else self.precision.as_dict(),
             "normalisation": {
                 "l1": "Kuznetsov: ||q||_2 = 1, <p,q> = conj(p)^T q = 1, l1 = Re(e^{-i theta} c1),"
                       " l1 < 0 stable",
@@ -497,14 +507,22 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         dbranch = dmod_along_branch(params, omega_c, branch, lam)
     except (SymviError, KeyError):
         dbranch = dmod_along_branch(params, omega_c, branch, lam, h=BRANCH_H / 20)
+    # error estimates; recomputed in mpmath when float64 gives < 8 digits
+    from .precision import auto_hopf_point
+    acc = auto_hopf_point(params, omega_c, branch=branch, dmod=float(nf.dmod_dv), l1=float(nf.l1))
+    if acc.omega_c.recomputed and acc.trusted:
+        omega_c = float(acc.omega_c)
+    dmod = float(acc.dmod_domega) if acc.dmod_domega.recomputed and acc.dmod_domega.trusted \
+        else float(nf.dmod_dv)
+    l1 = float(acc.l1) if acc.l1.recomputed and acc.l1.trusted else float(nf.l1)
     return HopfPoint(
         omega_c=float(omega_c), branch=branch, multiplier=lam,
         theta_over_2pi=float(nf.theta) / (2 * math.pi), other_multipliers=others, h1=bool(h1),
         h2=bool(dist > H2_TOL), nearest_resonance=(m, float(dist)),
-        dmod_domega=float(nf.dmod_dv), dmod_domega_branch=float(dbranch),
-        dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=float(nf.l1),
+        dmod_domega=dmod, dmod_domega_branch=float(dbranch),
+        dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=l1,
         f1_paper=float(nf.f1_printed), f1_wan=float(nf.f1_wan), wan_a=float(nf.wan_a),
-        orbit=orbit, circle=nf.circle, normal_form=nf)
+        orbit=orbit, circle=nf.circle, normal_form=nf, precision=acc)
 
 
 def _index_of(nf, z):

@@ -63,7 +63,17 @@ def build_parser():
     return parser
 
 
+def _warn_once(message, category, filename, lineno, file=None, line=None, _seen=set()):
+    # one line per distinct warning, without source locations
+    text = f"symvi: warning: {message}"
+    if text not in _seen:
+        _seen.add(text)
+        sys.stderr.write(text + "\n")
+
+
 def main(argv=None):
+    import warnings
+    warnings.showwarning = _warn_once
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "_module", None):

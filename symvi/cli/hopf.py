@@ -40,7 +40,11 @@ def run(args):
         print("no complex pair of an admissible period-1 orbit crosses |lambda| = 1 here")
     for i, pt in enumerate(res.points):
         lam = pt.multiplier
-        print(f"\nHopf point {i + 1}: omega_c = {pt.omega_c:.15g}  (branch {pt.branch})")
+
+        def val(name, fmt=".12g", pt=pt):
+            # never print a number automatic precision could not trust
+            return format(getattr(pt, name), fmt) if pt.trusted(name) else "UNTRUSTED"
+        print(f"\nHopf point {i + 1}: omega_c = {val('omega_c', '.15g')}  (branch {pt.branch})")
         print(f"  lambda1        = {lam.real:+.12f} {lam.imag:+.12f}i   theta/2pi = "
               f"{pt.theta_over_2pi:.10f}")
         print("  other          = " + ", ".join(f"{z.real:+.8f}{z.imag:+.8f}i"
@@ -49,9 +53,13 @@ def run(args):
         print(f"  (H1) {'yes' if pt.h1 else 'NO '}   (H2) {'yes' if pt.h2 else 'NO '} "
               f"(nearest lambda^{m} = 1 at distance {dist:.3e})   (H3) "
               f"{'yes' if pt.h3 else 'NO (stability regained as omega increases)'}")
-        print(f"  d|lambda1|/domega = {pt.dmod_domega:.12g} (eqs. A1-A3)   "
+        print(f"  d|lambda1|/domega = {val('dmod_domega')} (eqs. A1-A3)   "
               f"{pt.dmod_domega_branch:.12g} (along the branch)")
-        print(f"  l1 = {pt.l1:.12g}  (Kuznetsov, ||q|| = 1, <p,q> = 1)  -> {pt.kind}")
+        print(f"  l1 = {val('l1')}  (Kuznetsov, ||q|| = 1, <p,q> = 1)  -> {pt.kind}")
+        if pt.precision is not None:
+            print("  precision: " + "; ".join(
+                e.text() for e in (pt.precision.omega_c, pt.precision.dmod_domega,
+                                   pt.precision.l1)))
         print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
               "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
         if pt.circle is not None:

@@ -11,14 +11,22 @@ def register(sub):
 
 
 def run(args):
-    from ..orbit import period1_orbits
     from ..params import check_omega, modal
+    from ..precision import auto_orbits
     params = params_from(args)
     omega = check_omega(params, args.omega)
-    orbits = period1_orbits(params, omega)
+    # error estimates; mpmath recomputation where float64 gives < 8 digits
+    autos = auto_orbits(params, omega)
+    orbits = [a.orbit for a in autos]
     if args.json:
-        print_json({"params": params.as_dict(), "omega": omega,
-                    "orbits": [o.as_dict() for o in orbits]})
+        items = []
+        for a in autos:
+            d = a.orbit.as_dict()
+            d["precision"] = {"y": a.estimate.y.as_dict(),
+                              "multipliers": a.estimate.multipliers.as_dict(),
+                              "note": a.note}
+            items.append(d)
+        print_json({"params": params.as_dict(), "omega": omega, "orbits": items})
         return 0
     m = modal(params)
     print(f"params: mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} "
@@ -30,13 +38,17 @@ def run(args):
     hdr = f"{'branch':6} {'x1dot+':>13} {'x20':>13} {'x20dot':>13} {'tau0':>13} " \
           f"{'v_impact':>13} {'max|lambda|':>11}  status"
     print(hdr)
-    for o in orbits:
+    for a in autos:
+        o = a.orbit
         lam = max(abs(complex(z)) for z in o.multipliers)
         status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
-        print(f"{o.branch:6} {o.v1_plus:13.8f} {o.x20:13.8f} {o.x20_dot:13.8f} {o.tau0:13.8f} "
-              f"{o.impact_velocity:13.8f} {lam:11.7f}  {status}")
+        y = [float(v) for v in (*o.y, o.impact_velocity)]
+        print(f"{o.branch:6} {y[0]:13.8f} {y[1]:13.8f} {y[2]:13.8f} {y[3]:13.8f} "
+              f"{y[4]:13.8f} {float(lam):11.7f}  {status}")
         print("       multipliers: " + ", ".join(
             f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
         if not o.admissible:
             print(f"       reason: {o.reason}")
+        print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
+              + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
