@@ -194,13 +194,17 @@ def _solve(M, v, mp):
         out = np.empty(len(v), dtype=object)
         out[:] = [x[i] for i in range(len(v))]
         return out
-    # I - J is singular iff a multiplier is 1 (fold); judge by the multipliers, not det
-    lam = np.linalg.eigvals(np.eye(4) - M)
-    if np.abs(lam).max() > 1e8:
-        raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of modulus "
-                                f"{np.abs(lam).max():.3g}: the orbit is close to grazing and "
-                                "dy*/domega cannot be resolved")
-    if np.abs(1 - lam).min() < 1e-10:
-        raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point does "
-                                "not move smoothly with omega (fold), dy*/domega is undefined")
+    # I - J is singular iff a multiplier is 1 (fold).  Cheap, scale-free test first:
+    # Hadamard's ratio |det M| / prod ||row_i|| lies in [0, 1] and is ~0 only near singular.
+    had = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
+    if not had > 1e-13:
+        lam = np.linalg.eigvals(np.eye(4) - M)
+        if np.abs(lam).max() > 1e8:
+            raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of "
+                                    f"modulus {np.abs(lam).max():.3g}: the orbit is close to "
+                                    "grazing and dy*/domega cannot be resolved")
+        if np.abs(1 - lam).min() < 1e-10:
+            raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point "
+                                    "does not move smoothly with omega (fold), dy*/domega is "
+                                    "undefined")
     return np.linalg.solve(M, v)

@@ -10,6 +10,7 @@ Modal matrix ``psi`` is mass-normalised, ``psi^T M psi = I`` and
 ``psi^T K psi = Lambda = diag(omega1^2, omega2^2)`` with ``omega1 < omega2``;
 the first row of ``psi`` is positive (our sign convention).
 """
+import functools
 import math
 import warnings
 from dataclasses import dataclass
@@ -103,6 +104,18 @@ def modal(params, lib=FLOAT):
     det(K - w^2 M) = 0 gives mu_m w^4 - (1 + mu_k + mu_m) w^2 + mu_k = 0.
     The mode for w_j^2 is (1, 1 - w_j^2) before normalisation.
     """
+    if lib is FLOAT:
+        return _modal_float(params)
+    return _modal(params, lib)
+
+
+@functools.lru_cache(maxsize=1024)
+def _modal_float(params):
+    # hot path of every jet and map evaluation; Params is frozen and hashable
+    return _modal(params, FLOAT)
+
+
+def _modal(params, lib):
     mu_m, mu_k = lib.num(params.mu_m), lib.num(params.mu_k)
     s = 1 + mu_k + mu_m
     disc = lib.sqrt((mu_m - mu_k) ** 2 + 2 * (mu_m + mu_k) + 1)  # = sqrt(s^2 - 4 mu_m mu_k) > 0

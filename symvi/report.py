@@ -76,15 +76,16 @@ def _figure(p, out_dir, cache, use_cache):
         return None
     if p.output.kind == "section" and not len(p.arrays.get("section", [])):
         return None
-    path = os.path.join(out_dir, f"{p.scene.name}-{p.output.id}.png")
+    stem = os.path.join(out_dir, f"{p.scene.name}-{p.output.id}")
+    path = stem + ".png"
     rkey = hashlib.sha256(json.dumps([p.key, _fig_title(p), p.output.spec.get("highlight"),
                                       sc.source_hash(("figures", "report"))],
                                      default=str).encode()).hexdigest()[:24]
-    if use_cache and cache.figure_ok(p.key, path, rkey):
+    if use_cache and cache.figure_ok(p.key, path, rkey) and os.path.exists(stem + ".pdf"):
         return path, "cache"
     from . import figures
     fig = _draw(figures, p)
-    figures.save(fig, path)
+    figures.save_all(fig, stem)          # PNG for the report, PDF for print
     cache.record_figure(p.key, path, rkey)
     return path, "drawn"
 

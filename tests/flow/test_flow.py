@@ -59,6 +59,30 @@ def _x1_dense(mot, ts):
     return x
 
 
+def _refine_max(mot, tm):
+    """Newton on x1dot for a local maximum of x1 near tm."""
+    for _ in range(30):
+        acc = (mot.state(tm + 1e-6)[2] - mot.state(tm - 1e-6)[2]) / 2e-6
+        tm -= mot.state(tm)[2] / acc
+    return tm
+
+
+def _restart_at_level(mot, m, ts, h, k, level):
+    """Restart the flight where x1 last falls through ``level`` before sample k;
+    returns (new motion, its start time) or None."""
+    before = np.where((h[:k - 1] > level) & (h[1:k] <= level))[0]
+    if len(before) == 0:
+        return None
+    t0 = ts[before[-1]]
+    for _ in range(50):      # Newton on the down-crossing
+        s = mot.state(t0)
+        t0 -= (s[0] - level) / s[2]
+    s = mot.state(t0)
+    if not s[2] < 0:
+        return None
+    return motion_from(m, mot.omega, (s[0], s[1]), (s[2], s[3]), mot.tau + mot.omega * t0), t0
+
+
 def _random_motions(rng, n):
     """Random flights leaving x1 = b downward, plus near-grazing ones built by
     restarting a flight where x1 sits delta above a later local maximum."""
@@ -84,27 +108,15 @@ def _random_motions(rng, n):
         if len(imax) < 2:
             continue
         k = imax[rng.integers(1, len(imax))]
-        tm = ts[k]
-        # refine the max by Newton on velocity
-        for _ in range(20):
-            s = mot.state(tm)
-            acc = (mot.state(tm + 1e-6)[2] - mot.state(tm - 1e-6)[2]) / 2e-6
-            tm -= s[2] / acc
+        tm = _refine_max(mot, ts[k])
         hmax = mot.state(tm)[0]
         delta = float(rng.choice([-1e-3, -1e-6, -1e-9, 1e-12, 1e-9, 1e-6, 1e-3]))
-        level = hmax + delta         # b; delta > 0: max lies delta below the stop
-        before = np.where((h[:k - 1] > level) & (h[1:k] <= level))[0]
-        if len(before) == 0:
+        # b = level; delta > 0: the max lies delta below the stop
+        got = _restart_at_level(mot, m, ts, h, k, hmax + delta)
+        if got is None:
             continue
-        t0 = ts[before[-1]]
-        # refine the down-crossing of the level
-        for _ in range(50):
-            s = mot.state(t0)
-            t0 -= (s[0] - level) / s[2]
-        s = mot.state(t0)
-        if not s[2] < 0:
-            continue
-        mot2 = motion_from(m, omega, (s[0], s[1]), (s[2], s[3]), tau + omega * t0)
+        mot2, t0 = got
+        s = mot2.state(0)
         out.append((mot2, s[0], (tm - t0, delta)))
     return out
 
@@ -146,20 +158,12 @@ def test_grazing_contact_is_reported_not_stepped_over():
     ts = np.linspace(0, 60, 600001)
     h = _x1_dense(mot, ts)
     for k in np.where((h[1:-1] > h[:-2]) & (h[1:-1] >= h[2:]))[0] + 1:
-        tm = ts[k]
-        for _ in range(30):
-            acc = (mot.state(tm + 1e-6)[2] - mot.state(tm - 1e-6)[2]) / 2e-6
-            tm -= mot.state(tm)[2] / acc
-        top = mot.state(tm)[0]
-        above = np.where((h[:k - 1] > top) & (h[1:k] <= top))[0]
-        if len(above):
+        tm = _refine_max(mot, ts[k])
+        got = _restart_at_level(mot, m, ts, h, k, mot.state(tm)[0])
+        if got is not None:
             break
-    t0 = ts[above[-1]]
-    for _ in range(50):
-        s = mot.state(t0)
-        t0 -= (s[0] - top) / s[2]
-    s = mot.state(t0)
-    mot2 = motion_from(m, omega, (s[0], s[1]), (s[2], s[3]), 0.4 + omega * t0)
+    mot2, t0 = got
+    s = mot2.state(0)
     hit = first_impact(mot2, s[0])
     assert hit.status == GRAZING
     assert abs(hit.t - (tm - t0)) < 1e-3

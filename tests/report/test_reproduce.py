@@ -41,6 +41,7 @@ def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
         assert data[:8] == PNG
         img = mpimg.imread(out / f)
         assert img.ndim == 3 and img.shape[0] > 100
+        assert (out / (f[:-4] + ".pdf")).read_bytes()[:5] == b"%PDF-"
 
 
 @pytest.mark.slow

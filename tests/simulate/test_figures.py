@@ -37,16 +37,3 @@ def test_save_rejects_unknown_suffix(tmp_path):
     assert not list(tmp_path.iterdir())
 
 
-@pytest.mark.slow
-def test_paper_figures_quick(tmp_path):
-    """The figure driver end to end on coarse grids: every figure of Sec. 4 in PNG and PDF."""
-    from symvi.paper_figures import make
-    F = make(str(tmp_path), quick=True)
-    names = {p.rsplit("/", 1)[1] for p in F["figures"]}
-    for stem in ("fig04_multipliers", "fig05_v0.7369_from_fixed_point", "fig06_v0.7369_from_outside",
-                 "fig07_v0.744", "fig08_v0.7519", "fig09_v0.7555", "fig10_multipliers",
-                 "fig11_v0.4917", "fig12a_v0.4944_1112", "fig12bc_v0.4944_4000",
-                 "bifurcation_ex1", "bifurcation_ex2"):
-        assert {stem + ".png", stem + ".pdf"} <= names
-    _check(F["figures"])
-    assert (tmp_path / "findings.json").exists()

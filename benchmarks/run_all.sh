@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Re-measure every benchmark, one after the other (never concurrently: the
+# machine has 2 cores), and collect the figures in benchmarks/README.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python benchmarks/bench_jets.py
+python benchmarks/bench_hopf.py --repeat 21
+python benchmarks/bench_simulate.py
+python benchmarks/bench_accuracy.py
+python benchmarks/stress.py
