@@ -13,8 +13,10 @@ Method (avoids expression swell):
 3. Compose with truncated power series over abstract symbols for those partials:
    the implicit function theorem order by order, dtheta_k = -[g(z, dtheta_<k)]_k / g_theta
    (eq. 37 generalised), then f = f~(z, dtheta(z)) (eq. 38 generalised).
-4. CSE each order's straight-line program and print it twice, for float64
-   (``math``) and for mpmath, from the same expressions.
+4. CSE each order's straight-line program and print it once, as a body that
+   takes sin, cos and the rational constants as arguments: ``f64`` passes
+   ``math`` and floats, ``mp`` passes mpmath and mpf, so both backends run the
+   very same expressions.
 
 Order K's module holds everything up to order K, so a caller that needs only
 the Jacobian imports ``order1`` alone.  domega enters at order >= 2 only:
@@ -30,7 +32,7 @@ import sys
 from pathlib import Path
 
 import sympy as sp
-from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
+from sympy.printing.pycode import PythonCodePrinter
 
 #: input names of every generated function, in order
 INPUTS = ["psi11", "psi12", "psi21", "psi22", "w1", "w2", "F1", "F2",
@@ -204,17 +206,33 @@ def build_order(K):
     return defs, names, exprs
 
 
-def _printer(kind):
-    if kind == "f64":
-        return PythonCodePrinter({"fully_qualified_modules": True})
-    return MpmathPrinter({"fully_qualified_modules": True})
+class _BackendFreePrinter(PythonCodePrinter):
+    """Prints sin/cos as bare names and each rational p/q as a constant ``q{p}_{q}``,
+    so one function body serves float64 and mpmath (they are passed in)."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": False})
+        self.rationals = set()
+
+    def _print_Rational(self, expr):
+        self.rationals.add((int(expr.p), int(expr.q)))
+        return f"q{expr.p}_{expr.q}".replace("-", "m")
+
+    def _print_Half(self, expr):
+        return self._print_Rational(expr)
+
+    def _print_sin(self, expr):
+        return f"sin({self._print(expr.args[0])})"
+
+    def _print_cos(self, expr):
+        return f"cos({self._print(expr.args[0])})"
 
 
-def emit_function(fname, kind, defs, exprs):
-    """One straight-line function: CSE of the primitives, then of the composition."""
-    pr = _printer(kind)
-    lines = [f"def {fname}(inp):",
-             f"    {', '.join(INPUTS)} = inp"]
+def emit_body(defs, exprs):
+    """One straight-line function ``_jet(inp, sin, cos, Q)``: CSE of the primitives,
+    then of the composition.  Returns (source, sorted rationals used)."""
+    pr = _BackendFreePrinter()
+    lines = ["    " + ", ".join(INPUTS) + " = inp"]
     prim_syms = [s for s, _ in defs]
     rep1, red1 = sp.cse([e for _, e in defs], symbols=sp.numbered_symbols("c"),
                         order="canonical")
@@ -227,7 +245,12 @@ def emit_function(fname, kind, defs, exprs):
         lines.append(f"    {s} = {pr.doprint(e)}")
     outs = ", ".join(pr.doprint(e) for e in red2)
     lines.append(f"    return ({outs},)")
-    return "\n".join(lines)
+    rats = sorted(pr.rationals)
+    names = [f"q{p}_{q}".replace("-", "m") for p, q in rats]
+    head = ["def _jet(inp, sin, cos, Q):"]
+    if names:
+        head.append(f"    {', '.join(names)}, = Q")
+    return "\n".join(head + lines), rats
 
 
 def layout_of(names, K):
@@ -271,10 +294,18 @@ def render(K, ihash):
            "Machine-written; regenerate with ``symvi regenerate``.  ``f64(inp)`` and\n"
            "``mp(inp)`` evaluate the same expressions; ``inp`` is a tuple in the order of\n"
            "``INPUTS``; the flat result is indexed by ``LAYOUT``.\n\"\"\"\n")
+    src, rats = emit_body(defs, exprs)
+    qf = "(" + "".join(f"{p} / {q}, " for p, q in rats) + ")"
+    qm = "(" + "".join(f"mpmath.mpf({p}) / {q}, " for p, q in rats) + ")"
     body = [header, doc, "import math", "", "import mpmath", "",
             f"INPUTS = {INPUTS!r}", f"ORDER = {K}", f"LAYOUT = {layout_of(names, K)!r}", "", "",
-            emit_function("f64", "f64", defs, exprs), "", "",
-            emit_function("mp", "mp", defs, exprs), ""]
+            src, "", "",
+            "def f64(inp):",
+            '    """float64 backend (``math``)."""',
+            f"    return _jet(inp, math.sin, math.cos, {qf})", "", "",
+            "def mp(inp):",
+            '    """mpmath backend at the current ``mpmath.mp.dps``; rationals exact to that precision."""',
+            f"    return _jet(inp, mpmath.sin, mpmath.cos, {qm})", ""]
     return "\n".join(body)
 
 
