@@ -87,6 +87,11 @@ def main(argv=None):
     except KeyboardInterrupt:
         sys.stderr.write("symvi: interrupted\n")
         return 130
+    except BrokenPipeError:
+        # output piped into e.g. `head`: stop quietly, as Unix tools do
+        import os
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
 
 
 if __name__ == "__main__":
