@@ -14,13 +14,14 @@ Order K imports ``symvi._generated.order<K>`` only: a multiplier-only job never
 imports second- or third-order code.
 """
 import importlib
+import warnings
 from dataclasses import dataclass
 
 import mpmath
 import numpy as np
 
 from ._backend import FLOAT, MP
-from .errors import ParameterError, SingularCaseError
+from .errors import NearSingularWarning, ParameterError, SingularCaseError
 from .params import modal as _modal
 
 
@@ -194,17 +195,22 @@ def _solve(M, v, mp):
         out = np.empty(len(v), dtype=object)
         out[:] = [x[i] for i in range(len(v))]
         return out
-    # I - J is singular iff a multiplier is 1 (fold).  Cheap, scale-free test first:
-    # Hadamard's ratio |det M| / prod ||row_i|| lies in [0, 1] and is ~0 only near singular.
+    # I - J is singular iff a multiplier is 1 (fold).  Cheap, scale-free screen first:
+    # Hadamard's ratio |det M| / prod ||row_i|| lies in [0, 1] and is small only near singular.
     had = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
-    if not had > 1e-13:
+    if not had > 1e-6:
         lam = np.linalg.eigvals(np.eye(4) - M)
         if np.abs(lam).max() > 1e8:
             raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of "
                                     f"modulus {np.abs(lam).max():.3g}: the orbit is close to "
                                     "grazing and dy*/domega cannot be resolved")
-        if np.abs(1 - lam).min() < 1e-10:
+        gap = np.abs(1 - lam).min()
+        if not gap >= 1e-10:
             raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point "
                                     "does not move smoothly with omega (fold), dy*/domega is "
                                     "undefined")
+        if gap < 1e-6:
+            warnings.warn(f"a multiplier is within {gap:.1e} of 1 (near a fold): F11 = dA "
+                          f"loses about {-np.log10(gap):.0f} digits", NearSingularWarning,
+                          stacklevel=4)
     return np.linalg.solve(M, v)

@@ -110,6 +110,10 @@ def test_generated_jets_match_finite_differences(params, omega):
         # grazing is a legitimate refusal; the multiplier-one false alarm is
         # tests/property/test_regressions.py::test_jet_multiplier_one_false_alarm
         assume(False)
+    # Near grazing the map is smooth only on a ball of radius ~ g_theta^2 / |x1''|,
+    # smaller than any FD step that still beats rounding: finite differences cannot
+    # judge the jets there (benchmarks/stress.py checks that regime against mpmath).
+    assume(abs(j.g_theta) > 1e-3)
     g = min(1.0, abs(j.g_theta))
     y = np.array(o.y, dtype=float)
     floor = 1e-7 / g
