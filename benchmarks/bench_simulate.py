@@ -31,7 +31,7 @@ import numba  # noqa: E402
 from symvi import Params  # noqa: E402
 from symvi import _fastflow as ff  # noqa: E402
 from symvi.poincare import poincare_map  # noqa: E402
-from symvi.simulate import simulate  # noqa: E402
+from symvi.simulation import simulate  # noqa: E402
 
 CASES = [(Params(2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),
          (Params(2, 5, 0, 1.5, 0.8), 0.7440, "ex1 doubled torus"),
@@ -144,7 +144,7 @@ def main():
     # batch: many omegas of example 1 in parallel
     p = Params(2, 5, 0, 1.5, 0.8)
     oms = np.linspace(0.7300, 0.7560, 256)
-    from symvi.simulate import sweep_starts
+    from symvi.simulation import sweep_starts
     starts = sweep_starts(p, oms)
     C = np.array([ff.constants(p, w) for w in oms])
     nb_imp = 4000

@@ -17,7 +17,7 @@ from .poincare import poincare_map as poincare_map
 
 __version__ = "0.1.0"
 
-_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "hopf", "simulate": "simulate"}
+_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "hopf", "simulate": "simulation"}
 
 
 def __getattr__(name):

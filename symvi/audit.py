@@ -660,7 +660,7 @@ def _sim_counts(row, quick):
 
 def _classify_at(params, omega, n, tr, pert):
     from .diagnostics import classify
-    from .simulate import simulate
+    from .simulation import simulate
     kw = {"perturbation": tuple(pert)} if pert else {}
     sim = simulate(params, omega, n_impacts=n, transient=tr, **kw)
     return sim, classify(sim)
@@ -702,7 +702,7 @@ def _check_attractor(params, row, quick):
 
 def _check_onset(params, row, quick):
     from .diagnostics import branch_count
-    from .simulate import sweep
+    from .simulation import sweep
     steps = row["steps"]
     tr = row["transient"]
     if quick:
@@ -735,7 +735,7 @@ def _check_onset(params, row, quick):
 
 
 def _check_escape(params, row, quick):
-    from .simulate import fixed_point, simulate
+    from .simulation import fixed_point, simulate
     ys = fixed_point(params, row["omega"])
     if ys is None:
         return "not checkable", None, "no admissible period-1 orbit to start from"

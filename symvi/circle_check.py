@@ -25,7 +25,7 @@ import numpy as np
 from . import _fastflow as ff
 from .errors import SingularCaseError
 from .params import check_omega
-from .simulate import fixed_point
+from .simulation import fixed_point
 
 NAMES = ("x1dot+", "x2", "x2dot", "tau")
 

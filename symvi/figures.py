@@ -104,7 +104,7 @@ def sections(section, title="", fixed_point=None, projections=PROJECTIONS, marke
 def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kinds=None):
     """Section coordinate ``component`` of the stored points against omega.
 
-    ``section`` is (m, n, 4) as in :class:`symvi.simulate.Sweep`.
+    ``section`` is (m, n, 4) as in :class:`symvi.simulation.Sweep`.
     """
     om = np.asarray(omegas, dtype=float)
     sec = np.asarray(section, dtype=float)

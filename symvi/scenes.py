@@ -382,12 +382,12 @@ def paper_scenes():
 _COMMON = ("__init__", "scenes", "params", "_backend", "errors", "flow", "orbit", "jets")
 DEPS = {"multipliers": (),
         "hopf": ("hopf", "normal_form"),
-        "section": ("simulate", "_fastflow", "diagnostics"),
-        "bifurcation": ("simulate", "_fastflow"),
-        "circle_check": ("circle_check", "simulate", "_fastflow", "hopf", "normal_form", "audit"),
+        "section": ("simulation", "_fastflow", "diagnostics"),
+        "bifurcation": ("simulation", "_fastflow"),
+        "circle_check": ("circle_check", "simulation", "_fastflow", "hopf", "normal_form", "audit"),
         "audit": ("audit", "audit_orbit", "hopf", "normal_form", "poincare", "circle_check",
-                  "simulate", "_fastflow"),
-        "numbers": ("audit", "hopf", "normal_form", "simulate", "_fastflow", "diagnostics")}
+                  "simulation", "_fastflow"),
+        "numbers": ("audit", "hopf", "normal_form", "simulation", "_fastflow", "diagnostics")}
 _SRC = {}
 
 
@@ -666,7 +666,7 @@ def _hopf(params, spec, quick, scene):
 def _section(params, spec, quick, scene):
     import numpy as np
 
-    from .simulate import DEFAULT_PERTURBATION, simulate
+    from .simulation import DEFAULT_PERTURBATION, simulate
     n, tr, note = quick_counts(spec, quick)
     kw = {}
     if spec["perturbation"] is not None:
@@ -694,7 +694,7 @@ def _section(params, spec, quick, scene):
 def _bifurcation(params, spec, quick, scene):
     import numpy as np
 
-    from .simulate import sweep
+    from .simulation import sweep
     steps, tr, note = spec["steps"], spec["transient"], ""
     if quick:
         steps = spec["quick_steps"] or min(steps, 60)

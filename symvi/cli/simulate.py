@@ -22,7 +22,7 @@ def run(args):
 
     from .._io import atomic_path
     from ..errors import ParameterError
-    from ..simulate import simulate
+    from ..simulation import simulate
     params = params_from(args)
     for name in ("out", "plot"):
         path = getattr(args, name)

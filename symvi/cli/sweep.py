@@ -26,7 +26,7 @@ def run(args):
     from .._io import atomic_path
     from ..errors import ParameterError
     from ..progress import Progress
-    from ..simulate import sweep
+    from ..simulation import sweep
     params = params_from(args)
     from ..params import check_omega
     check_omega(params, args.omega_min, "--omega-min", warn=False)

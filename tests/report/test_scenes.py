@@ -92,7 +92,7 @@ def test_multipliers_scene_imports_no_order2_or_3(tmp_path):
     assert "symvi._generated.order1" in mods
     assert "symvi._generated.order2" not in mods
     assert "symvi._generated.order3" not in mods
-    assert not {"symvi.normal_form", "symvi.hopf", "symvi.simulate"} & mods
+    assert not {"symvi.normal_form", "symvi.hopf", "symvi.simulation"} & mods
 
 
 @pytest.mark.slow

@@ -8,7 +8,7 @@ from symvi import _fastflow as ff
 from symvi import diagnostics as dg
 from symvi.orbit import period1_orbits
 from symvi.poincare import fd_jacobian
-from symvi.simulate import Simulation, simulate
+from symvi.simulation import Simulation, simulate
 
 from ..conftest import EX1, EX2
 

@@ -1,4 +1,4 @@
-"""symvi.simulate: runs of the Poincaré map, stop reasons, float64 against mpmath."""
+"""symvi.simulation: runs of the Poincaré map, stop reasons, float64 against mpmath."""
 import math
 
 import numpy as np
@@ -8,7 +8,7 @@ from symvi import ParameterError, SingularCaseError
 from symvi import _fastflow as ff
 from symvi.diagnostics import lyapunov
 from symvi.poincare import poincare_map
-from symvi.simulate import (DEFAULT_PERTURBATION, fixed_point, simulate, simulate_mp,
+from symvi.simulation import (DEFAULT_PERTURBATION, fixed_point, simulate, simulate_mp,
                             sweep)
 
 from ..conftest import EX1, EX2, OWN
