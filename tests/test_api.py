@@ -1,7 +1,6 @@
 """The public surface of ``import symvi``."""
 import subprocess
 import sys
-import types
 
 
 def test_public_functions_survive_submodule_imports():
