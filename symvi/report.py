@@ -279,6 +279,8 @@ def _part(p):
               f"stops: {r['stops']}.", ""]
     elif k == "circle_check":
         L += _circle_table(r)
+    elif k == "mpcheck":
+        L += _mpcheck_table(r)
     if r.get("_figure"):
         L += [f"![{p.output.id}]({r['_figure']})", ""]
     if r.get("warnings"):
@@ -293,9 +295,10 @@ def _hopf_table(r):
     L = ["| v_c | branch | λ1 | θ/2π | d\\|λ1\\|/dv (A1–A3) | along branch | l1 | f1 (60) as printed "
          "| f1 (60) corrected | kind | H1 | H2 | H3 |", "|" + "---|" * 13]
     for q in pts:
-        L.append(f"| {q['omega_c']:.12f} | {q['branch']} | {fmt(complex(*q['multiplier']))} | "
-                 f"{q['theta_over_2pi']:.6f} | {q['dmod_domega']:.8g} | "
-                 f"{q['dmod_domega_branch']:.8g} | {q['l1']:.6g} | {q['f1_paper']:.6g} | "
+        L.append(f"| {_num(q['omega_c'], '.12f')} | {q['branch']} | "
+                 f"{fmt(complex(*q['multiplier']))} | "
+                 f"{q['theta_over_2pi']:.6f} | {_num(q['dmod_domega'], '.8g')} | "
+                 f"{q['dmod_domega_branch']:.8g} | {_num(q['l1'], '.6g')} | {q['f1_paper']:.6g} | "
                  f"{q['f1_wan']:.6g} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
     nm = pts[0].get("normalisation", {})
     L += ["", "Normalisation: " + "; ".join(f"{k}: {v}" for k, v in nm.items()), ""]
@@ -303,6 +306,23 @@ def _hopf_table(r):
         L += ["Events: " + "; ".join(f"{e.get('kind')} at ω = {e.get('omega'):.10g} "
                                      f"({e.get('detail', '')})" for e in r["events"]), ""]
     return L
+
+
+def _mpcheck_table(r):
+    a, b = r["chain_a"], r["chain_b"]
+    L = [f"Chain A: symvi's own chain on the mpmath backend at {a['digits']} digits. Chain B: "
+         "Newton on the numeric map P and Richardson finite differences at higher precision, "
+         "fed into an independent Kuznetsov formula (shares no derivation code with A).", "",
+         "| quantity | chain A | chain B | digits A–B | digits float64–A |", "|---|---|---|---|---|"]
+    for q in ("omega_c", "dmod_domega", "l1"):
+        ag = r["agreement_digits"][q]
+        L.append(f"| {q} | {a[q]} | {b[q]} | {ag['A-B']} | {ag['float-A']} |")
+    return L + [""]
+
+
+def _num(x, spec):
+    # automatic precision reports an untrustworthy quantity as None: never print a number
+    return "UNTRUSTED" if x is None else format(x, spec)
 
 
 def _circle_table(r):

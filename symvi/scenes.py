@@ -121,6 +121,9 @@ KINDS = {
                                                                           check=_positive())),
     # every number the paper prints
     "numbers": dict(row=Field("rows")),
+    # 50-digit validation of the first Hopf point: chains A and B of symvi.mpcheck
+    "mpcheck": dict(omega_min=_OMEGA, omega_max=_OMEGA,
+                    digits=Field("int", 50, check=_int_range(30, 200))),
 }
 
 CHECKS = {
@@ -387,7 +390,8 @@ DEPS = {"multipliers": (),
         "circle_check": ("circle_check", "simulation", "_fastflow", "hopf", "normal_form", "audit"),
         "audit": ("audit", "audit_orbit", "hopf", "normal_form", "poincare", "circle_check",
                   "simulation", "_fastflow"),
-        "numbers": ("audit", "hopf", "normal_form", "simulation", "_fastflow", "diagnostics")}
+        "numbers": ("audit", "hopf", "normal_form", "simulation", "_fastflow", "diagnostics"),
+        "mpcheck": ("mpcheck", "hopf", "normal_form", "poincare", "precision")}
 _SRC = {}
 
 
@@ -730,6 +734,15 @@ def _numbers(params, spec, quick, scene):
     return audit.numbers_table(spec["row"], scene.params, quick), {}
 
 
+def _mpcheck(params, spec, quick, scene):
+    mp = _need("mpcheck")
+    digits = min(spec["digits"], 30) if quick else spec["digits"]
+    res = mp.mpcheck(params, spec["omega_min"], spec["omega_max"], digits=digits).as_dict()
+    if digits != spec["digits"]:
+        res["quick_note"] = f"quick mode: {digits} digits (full run: {spec['digits']})"
+    return res, {}
+
+
 _COMPUTE = {"multipliers": _multipliers, "hopf": _hopf, "section": _section,
             "bifurcation": _bifurcation, "circle_check": _circle_check, "audit": _audit,
-            "numbers": _numbers}
+            "numbers": _numbers, "mpcheck": _mpcheck}

@@ -31,6 +31,12 @@ def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
                "(A2)", "(A3)", "(A4)", "(A10)", "(A13)", "(A16)", "(A17)"):
         assert eq in text, eq
     assert "eq. (3)" in text and "eq. (6)" in text
+    # the high-precision validation: two independent chains agree far beyond float64
+    import re
+    rows = re.findall(r"^\| (omega_c|dmod_domega|l1) \| \S+ \| \S+ \| ([\d.]+) \| ([\d.]+) \|$",
+                      text, flags=re.M)
+    assert len(rows) == 6, rows
+    assert all(float(ab) >= 25 and float(fa) >= 11 for _, ab, fa in rows), rows
     assert "not available" not in text
     assert "quick mode" in text
     pngs = sorted(f for f in os.listdir(out) if f.endswith(".png"))
