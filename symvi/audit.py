@@ -610,24 +610,13 @@ def _check_f1(params, row, quick):
 
 
 def _check_interval(params, row, quick):
-    from .errors import SingularCaseError
-    from .orbit import period1_orbits
+    from .orbit import multiplier_path
     a, b = row["printed"]
     res = _hopf_cached(params, row["omega_min"], row["omega_max"])
     inside = [p for p in res.points if a <= p.omega_c <= b]
     ws = np.linspace(a, b, row["steps"])
-    mods, bad = [], 0
-    for w in ws:
-        try:
-            ok = [o for o in period1_orbits(params, float(w)) if o.admissible]
-        except SingularCaseError:
-            ok = []
-        if not ok:
-            bad += 1
-            mods.append([np.nan] * 4)
-            continue
-        mods.append(sorted((abs(complex(z)) for z in ok[0].multipliers), reverse=True))
-    M = np.array(mods)
+    M = np.abs(multiplier_path(params, ws)[0])      # |lambda| descending, NaN: no orbit
+    bad = int(np.isnan(M[:, 0]).sum())
     facts, good = [], True
     if bad:
         facts.append(f"no admissible orbit at {bad} of {len(ws)} frequencies")

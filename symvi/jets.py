@@ -137,9 +137,9 @@ class Jet:
 def select_orbit(params, omega, branch=None, digits=None, multipliers=False):
     """The admissible period-1 orbit at omega (``branch`` picks one when both are)."""
     from .orbit import period1_orbits
-    orbits = period1_orbits(params, omega, digits=digits, multipliers=multipliers)
     if branch is not None and branch not in ("+", "-"):
         raise ParameterError("branch", branch, "'+' or '-'")
+    orbits = period1_orbits(params, omega, digits=digits, multipliers=multipliers)
     cands = [o for o in orbits if o.admissible and (branch is None or o.branch == branch)]
     if not cands:
         why = "; ".join(f"branch {o.branch}: {o.reason}" for o in orbits) or \

@@ -177,6 +177,41 @@ def _orbits(params, omega, lib, want_multipliers, digits):
     return orbits
 
 
+def admissible_orbits(params, omega, *, digits=None, multipliers=True):
+    """The admissible period-1 orbits at omega, branch "+" first (empty when none).
+
+    Raises SingularCaseError where conditions (10) are singular.
+    """
+    orbits = period1_orbits(params, omega, digits=digits, multipliers=multipliers)
+    return sorted((o for o in orbits if o.admissible), key=lambda o: o.branch != "+")
+
+
+def multiplier_path(params, omegas):
+    """Multipliers of the admissible orbit along omega (figs. 4, 10), eq. (36).
+
+    Returns (lam, labels, skipped): lam is (n, 4) complex, |.| descending, NaN
+    where no admissible orbit exists; labels name the branch used ("" where
+    none); skipped counts the frequencies without an orbit, by reason.
+    """
+    import numpy as np
+    lam = np.full((len(omegas), 4), np.nan + 1j * np.nan)
+    labels, skipped = [], {}
+    for i, w in enumerate(omegas):
+        try:
+            ok = admissible_orbits(params, float(w))
+        except SingularCaseError as exc:
+            ok, why = [], exc.kind
+        else:
+            why = "no admissible orbit"
+        if not ok:
+            skipped[why] = skipped.get(why, 0) + 1
+            labels.append("")
+            continue
+        lam[i] = [complex(z) for z in ok[0].multipliers]
+        labels.append(ok[0].branch + ("" if len(ok) == 1 else "(2 admissible)"))
+    return lam, labels, skipped
+
+
 def _replace(obj, **kw):
     import dataclasses
     return dataclasses.replace(obj, **kw)

@@ -621,26 +621,9 @@ def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):
 def _multipliers(params, spec, quick, scene):
     import numpy as np
 
-    from .errors import SingularCaseError
-    from .orbit import period1_orbits
+    from .orbit import multiplier_path
     om = np.linspace(spec["omega_min"], spec["omega_max"], spec["steps"])
-    lam = np.full((len(om), 4), np.nan + 1j * np.nan)
-    branch, reasons = [], {}
-    for i, w in enumerate(om):
-        try:
-            orbits = period1_orbits(params, float(w))
-        except SingularCaseError as exc:
-            reasons[exc.kind] = reasons.get(exc.kind, 0) + 1
-            branch.append("")
-            continue
-        ok = [o for o in orbits if o.admissible]
-        if not ok:
-            branch.append("")
-            reasons["no admissible orbit"] = reasons.get("no admissible orbit", 0) + 1
-            continue
-        ok.sort(key=lambda o: o.branch != "+")
-        lam[i] = [complex(z) for z in ok[0].multipliers]
-        branch.append(ok[0].branch + ("" if len(ok) == 1 else "(2 admissible)"))
+    lam, branch, reasons = multiplier_path(params, om)
     mod = np.abs(lam)
     have = np.isfinite(mod[:, 0])
     crossings = []

@@ -73,17 +73,12 @@ def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
 
 def fixed_point(params, omega):
     """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
-    from .orbit import period1_orbits
+    from .orbit import admissible_orbits
     try:
-        orbits = period1_orbits(params, omega, multipliers=False)
+        ok = admissible_orbits(params, omega, multipliers=False)
     except SingularCaseError:
         return None
-    ok = [o for o in orbits if o.admissible]
-    if not ok:
-        return None
-    # both branches admissible never happens for the paper's examples; take "+" first
-    ok.sort(key=lambda o: o.branch != "+")
-    return tuple(float(v) for v in ok[0].y)
+    return tuple(float(v) for v in ok[0].y) if ok else None
 
 
 def _check_start(y0):
