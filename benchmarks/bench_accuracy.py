@@ -111,7 +111,7 @@ def newton_bracketed(fd_fn, a, b, fa, fb, tol, max_iter=60, to=float):
 
 # --------------------------------------------------------------------------- symvi generated
 def _orbit(params, w, digits, multipliers=False):
-    orbs = [o for o in precision.period1_orbits_at(params, w, digits=digits,
+    orbs = [o for o in symvi.period1_orbits(params, w, digits=digits,
                                                    multipliers=multipliers) if o.admissible]
     if len(orbs) != 1:
         raise SymviError("no unique admissible orbit")

@@ -66,7 +66,7 @@ def probe_orbit(params, omega, branch="+"):
     f64, err, warn = caught(lambda: {o.branch: o for o in symvi.period1_orbits(params, omega)})
     row["f64"] = err or ("no orbit" if not f64 else "")
     row["warn"] = warn
-    mp, errm, _ = caught(lambda: {o.branch: o for o in pr.period1_orbits_at(params, omega,
+    mp, errm, _ = caught(lambda: {o.branch: o for o in symvi.period1_orbits(params, omega,
                                                                           digits=MP)})
     row["mp"] = errm or ("no orbit" if not mp else "")
     o, om = (f64 or {}).get(branch), (mp or {}).get(branch)
@@ -98,7 +98,7 @@ def probe_jet(params, omega, branch="+"):
     """float64 vs mpmath-50 digits of J (order 1) and d3 (order 3) at an orbit, admissible or not."""
     row = {"omega": omega}
     o = {x.branch: x for x in symvi.period1_orbits(params, omega)}.get(branch)
-    om = {x.branch: x for x in pr.period1_orbits_at(params, omega, digits=MP)}.get(branch)
+    om = {x.branch: x for x in symvi.period1_orbits(params, omega, digits=MP)}.get(branch)
     row["v_imp"] = float(o.impact_velocity) if o else math.nan
     j, err, warn = caught(lambda: jets.jet(params, omega, order=3, orbit=o))
     jm, errm, _ = caught(lambda: jets.jet(params, omega, order=3, orbit=om, digits=MP))

@@ -282,31 +282,3 @@ def run_batch(C, Y0, n_keep, transient=0):
     steps = np.empty(m, dtype=np.int64)
     _run_batch(C, Y0, n_keep, transient, sec, times, codes, counts, steps)
     return codes, counts, sec, times, steps
-
-
-@nb.njit(cache=True)
-def fd_jacobian(c, y, h):
-    """Central-difference Jacobian of P at y with unwrapped tau (fallback only).
-
-    Returns (J (4,4), ok): ``ok`` is False when a perturbed flight did not end
-    in a transversal impact.
-    """
-    J = np.empty((4, 4))
-    ok = True
-    base_tau = y[3]
-    for k in range(4):
-        hk = h * max(1.0, abs(y[k]))
-        out = np.empty((2, 4))
-        for j in range(2):
-            z = y.copy()
-            z[k] += hk if j == 0 else -hk
-            a1, b1, a2, b2 = _motion(c, z[0], z[1], z[2], z[3])
-            st, t, v1m, x2n, v2n, acc, n = first_impact(c, a1, b1, a2, b2, z[3], c[_TMAX])
-            ok = ok and st == IMPACT
-            out[j, 0] = -c[_R] * v1m
-            out[j, 1] = x2n
-            out[j, 2] = v2n
-            out[j, 3] = z[3] - base_tau + c[_OM] * t
-        for i in range(4):
-            J[i, k] = (out[0, i] - out[1, i]) / (2.0 * hk)
-    return J, ok

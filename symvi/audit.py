@@ -118,7 +118,7 @@ def _orbit_rows(params, omega, omin, omax):
         pr = ao.cos_tau0_printed(params, omega, sign)
         cor = ao.cos_tau0_corrected(params, omega, sign)
         near = min(sym_cos.values(), key=lambda c: abs(c - (pr if pr is not None else cor)))
-        ev = (f"symvi cos τ0 of the branches: " + ", ".join(f"{b}: {fmt(c)}" for b, c in
+        ev = ("symvi cos τ0 of the branches: " + ", ".join(f"{b}: {fmt(c)}" for b, c in
                                                               sym_cos.items())
               + f"; the corrected formula gives {fmt(cor)}")
         if pr is None:
@@ -281,7 +281,7 @@ def _nf_rows(params, pt, circle_evidence):
     F = _poly(AY, d2Y, d3Y)
     n = AY.shape[0]
     Wd = {k: np.asarray(v, dtype=complex) for k, v in red.W.items()}
-    G, H, g = red.G, red.H, red.g
+    G, g = red.G, red.g
     pr = appendix_printed(d2Y, d3Y)
     rows = []
     norm = ("normalisation: x = P y, P = (Re r1, −Im r1, …), ‖r1‖₂ = 1, largest |r1_k| real > 0, "

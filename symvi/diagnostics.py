@@ -25,41 +25,19 @@ import numpy as np
 from . import _fastflow as ff
 
 TWO_PI = 2 * math.pi
-#: step of the finite-difference fallback, relative to max(1, |y_k|)
-FD_STEP = 1e-7
 #: a bounded attractor is chaotic when its largest exponent (per impact) exceeds
 #: this floor and CHAOS_SIGMAS block standard errors
 CHAOS_THRESHOLD = 1e-3
 CHAOS_SIGMAS = 4.0
 
 
-def _generated():
-    """jets.jacobian_at if the generated-code module provides it, else None."""
-    try:
-        from . import jets
-    except ModuleNotFoundError as exc:
-        if exc.name != "symvi.jets":
-            raise
-        return None
-    return getattr(jets, "jacobian_at", None)
-
-
-def jacobian_source():
-    """"generated" when symvi.jets.jacobian_at is used, else "finite-difference"."""
-    return "generated" if _generated() is not None else "finite-difference"
-
-
 def jacobian(params, omega, y, t_e=None):
-    """DP at the section point y with flight time t_e, eqs. (36)–(38), tau unwrapped."""
-    gen = _generated()
-    if gen is not None:
-        if t_e is None:
-            t_e = ff.step(ff.constants(params, omega), *map(float, y))[1]
-        return np.asarray(gen(params, omega, tuple(map(float, y)), float(t_e)), dtype=float)
-    J, ok = ff.fd_jacobian(ff.constants(params, omega), np.asarray(y, dtype=float), FD_STEP)
-    if not ok:
-        raise ArithmeticError("a perturbed flight grazed: DP is not defined here")
-    return J
+    """DP at the section point y with flight time t_e, eqs. (36)–(38), tau unwrapped
+    (generated code, :func:`symvi.jets.jacobian_at`)."""
+    from .jets import jacobian_at
+    if t_e is None:
+        t_e = ff.step(ff.constants(params, omega), *map(float, y))[1]
+    return jacobian_at(params, omega, tuple(map(float, y)), float(t_e))
 
 
 @dataclass(frozen=True)
@@ -69,7 +47,6 @@ class Lyapunov:
     exponents: np.ndarray     # (4,) per impact
     n: int                    # Jacobians multiplied
     mean_flight_time: float   # divide exponents by this for per unit time
-    source: str               # "generated" or "finite-difference"
     stderr: float = math.nan  # standard error of the largest, from 10 consecutive blocks
 
     @property
@@ -101,8 +78,7 @@ def lyapunov(sim, n=None):
     # columns of Q stay ordered by growth once converged: column 0 carries lambda_1
     blocks = [b[:, 0].mean() for b in np.array_split(logs, 10) if len(b)]
     err = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
-    return Lyapunov(np.sort(logs.mean(axis=0))[::-1], m, float(np.mean(te[k0:])),
-                    jacobian_source(), err)
+    return Lyapunov(np.sort(logs.mean(axis=0))[::-1], m, float(np.mean(te[k0:])), err)
 
 
 def _unwrapped(section, center):

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 
 import mpmath
 
-from ._backend import MP
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
 
 
@@ -86,9 +85,9 @@ def digits_of_agreement(a, b):
 
 # --------------------------------------------------------------------------- chain A
 def _orbit_mp(params, omega, branch, digits):
-    """The period-1 orbit at an mpf omega (period1_orbits would round omega to float)."""
-    from .orbit import _orbits
-    orbs = {o.branch: o for o in _orbits(params, omega, MP, True, digits)}
+    """The period-1 orbit of ``branch`` at an mpf omega, at ``digits``."""
+    from .orbit import period1_orbits
+    orbs = {o.branch: o for o in period1_orbits(params, omega, digits=digits)}
     o = orbs.get(branch)
     if o is None or not o.admissible:
         raise SingularCaseError("no-admissible-orbit", f"branch {branch} is not admissible "

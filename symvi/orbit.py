@@ -17,9 +17,8 @@ alpha = (1 - r) w1 w2 D, gamma = (1 + r) omega d, i.e. rho cos(tau - phi) = alph
 two branches tau = phi +- arccos(alpha b / rho) when |alpha b| <= rho (eq. 16).
 This form stays regular at r = 1 and b = 0.
 """
-import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import mpmath
 

@@ -8,7 +8,7 @@ applied and tau' = tau + omega t_e (mod 2 pi), eq. (26).
 from dataclasses import dataclass
 
 from ._backend import FLOAT, MP
-from .flow import IMPACT, first_impact, motion_from
+from .flow import first_impact, motion_from
 from .params import modal as _modal
 
 

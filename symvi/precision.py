@@ -305,18 +305,9 @@ def _match(vals, ref):
     return out
 
 
-def period1_orbits_at(params, omega, *, digits=None, multipliers=True):
-    """:func:`symvi.period1_orbits`, keeping an mpf ``omega`` at full precision.
-
-    (Until commit 1822101 ``period1_orbits`` rounded an mpf omega to float64
-    through ``check_omega``; tests/precision guards the fix.)
-    """
-    from .orbit import period1_orbits
-    return period1_orbits(params, omega, digits=digits, multipliers=multipliers)
-
-
 def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
-    for o in period1_orbits_at(params, omega, digits=digits, multipliers=multipliers):
+    from .orbit import period1_orbits
+    for o in period1_orbits(params, omega, digits=digits, multipliers=multipliers):
         if o.branch == branch:
             if admissible and not o.admissible:
                 raise SingularCaseError("inadmissible", o.reason)

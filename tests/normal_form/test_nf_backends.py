@@ -3,7 +3,6 @@ import itertools
 
 import mpmath
 import numpy as np
-import pytest
 
 from ._nf_maps import conjugated, family_dA
 from symvi.normal_form import normal_form

@@ -5,14 +5,13 @@ conjugated by a quadratic+cubic near-identity change T and a linear M, has
 c1 = 2 lambda c / ||M q_u||^2 and l1 = 2 Re(c) / ||M q_u||^2 exactly
 (see ``_nf_maps``); its circle attracts iff Re(c) < 0.
 """
-import warnings
 
 import numpy as np
 import pytest
 
 from ._nf_maps import base, conjugated, family_dA, linear
 from symvi.errors import NearSingularWarning, ParameterError, SingularCaseError
-from symvi.normal_form import eigen, kuznetsov, normal_form
+from symvi.normal_form import eigen, normal_form
 
 THETA = 1.1
 

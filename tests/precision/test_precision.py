@@ -167,16 +167,6 @@ def test_auto_hopf_point_escalates_when_asked_for_more_digits():
             assert abs(e.value - r.value) / abs(r.value) < 1e-20, e.name
 
 
-def test_period1_orbits_at_keeps_mp_omega():
-    with mpmath.mp.workdps(50):
-        w0 = mpmath.mpf("0.7368")
-        w1 = w0 + mpmath.mpf("1e-30")
-        a = pr.period1_orbits_at(EX1, w0, digits=50)[0]
-        b = pr.period1_orbits_at(EX1, w1, digits=50)[0]
-        assert a.tau0 != b.tau0
-        assert abs(a.tau0 - b.tau0) < mpmath.mpf("1e-25")
-
-
 def test_mp_omega_not_rounded():
     """period1_orbits(digits=...) keeps an mpf omega unrounded (was rounded via check_omega)."""
     with mpmath.mp.workdps(50):

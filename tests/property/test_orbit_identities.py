@@ -106,7 +106,7 @@ def test_generated_jets_match_finite_differences(params, omega):
     o = orbits[0]
     try:
         j = jets.jet(params, omega, order=3, orbit=o)
-    except SymviError as exc:
+    except SymviError:
         # grazing is a legitimate refusal; the multiplier-one false alarm is
         # tests/property/test_regressions.py::test_jet_multiplier_one_false_alarm
         assume(False)

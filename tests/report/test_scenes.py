@@ -1,6 +1,5 @@
 """Scene files: strict validation, lazy imports, cache (issue 6)."""
 import json
-import os
 import subprocess
 import sys
 import textwrap

@@ -4,7 +4,6 @@ import math
 import numpy as np
 import pytest
 
-from symvi import _fastflow as ff
 from symvi import diagnostics as dg
 from symvi.orbit import period1_orbits
 from symvi.poincare import fd_jacobian
@@ -14,13 +13,9 @@ from ..conftest import EX1, EX2
 
 
 def _multipliers(params, omega):
-    """Multipliers of the admissible orbit: generated jets if present, else reference fd."""
-    orb = [o for o in period1_orbits(params, omega, multipliers=False) if o.admissible][0]
-    try:
-        from symvi.jets import multipliers_of
-        return np.array(multipliers_of(params, orb), dtype=complex), orb
-    except ImportError:
-        return np.linalg.eigvals(fd_jacobian(params, omega, orb.y)), orb
+    """Multipliers of the admissible orbit (generated order-1 jet)."""
+    orb = [o for o in period1_orbits(params, omega) if o.admissible][0]
+    return np.array(orb.multipliers, dtype=complex), orb
 
 
 def test_jacobian_matches_finite_difference():
@@ -113,16 +108,3 @@ def test_period_of_synthetic():
 def test_classify_paper_cases(params, omega, kind):
     s = simulate(params, omega, n_impacts=3000, transient=60000)
     assert dg.classify(s, lyap_points=3000).kind == kind
-
-
-def test_jacobian_source_is_generated():
-    """The generated jets module is the Jacobian source when it exists."""
-    try:
-        from symvi.jets import jacobian_at  # noqa: F401
-    except ImportError:
-        pytest.skip("symvi.jets not present: finite-difference fallback in use")
-    assert dg.jacobian_source() == "generated"
-    c = ff.constants(EX1, 0.74)
-    J, ok = ff.fd_jacobian(c, np.array([-1.4, 0.3, 0.05, 1.5]), 1e-7)
-    te = ff.step(c, -1.4, 0.3, 0.05, 1.5)[1]
-    assert ok and np.abs(dg.jacobian(EX1, 0.74, (-1.4, 0.3, 0.05, 1.5), te) - J).max() < 1e-6
