@@ -14,7 +14,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
 
 HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE.parent))
@@ -39,7 +38,6 @@ def main():
     omega = 0.7369
     orb = [o for o in symvi.period1_orbits(p, omega) if o.admissible][0]
     inp = jets._orbit_inputs(p, orb)
-    rows = []
     # regeneration of all orders into a temporary folder
     from symvi._derivations import poincare_jets as pj
     regen = []
