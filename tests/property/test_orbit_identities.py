@@ -97,9 +97,10 @@ def _converges(errs, floor):
 def test_generated_jets_match_finite_differences(params, omega):
     """Central differences converge (error / 16 per step / 4) to the generated jets.
 
-    The steps scale with the impact velocity |dg/d(dtheta)|, the length on which
-    the map is nonlinear; a generated tensor that were wrong by delta would make
-    the FD error plateau at delta instead of shrinking.
+    The steps scale with g^2, g = |dg/d(dtheta)| (the impact velocity): the map is
+    smooth on a ball of radius ~ g^2 / |x1''| around the orbit.  A generated tensor
+    that were wrong by delta would make the FD error plateau at delta instead of
+    shrinking.
     """
     orbits = admissible(params, omega)
     assume(orbits)
@@ -110,15 +111,16 @@ def test_generated_jets_match_finite_differences(params, omega):
         # grazing is a legitimate refusal; the multiplier-one false alarm is
         # tests/property/test_regressions.py::test_jet_multiplier_one_false_alarm
         assume(False)
-    # Near grazing the map is smooth only on a ball of radius ~ g_theta^2 / |x1''|,
-    # smaller than any FD step that still beats rounding: finite differences cannot
-    # judge the jets there (benchmarks/stress.py checks that regime against mpmath).
+    # Closer to grazing that ball is smaller than any FD step that still beats
+    # rounding: finite differences cannot judge the jets there
+    # (benchmarks/stress.py checks that regime against mpmath).
     assume(abs(j.g_theta) > 1e-3)
     g = min(1.0, abs(j.g_theta))
+    hs = g * g                     # step scale: radius of the smooth ball
     y = np.array(o.y, dtype=float)
     floor = 1e-7 / g
     # J against FD of the numeric map (independent of the generated code)
-    errs = [_rel(poincare.fd_jacobian(params, omega, y, h=1e-3 * g * s), j.jacobian)
+    errs = [_rel(poincare.fd_jacobian(params, omega, y, h=1e-3 * hs * s), j.jacobian)
             for s in (1, 0.25)]
     assert _converges(errs, floor), errs
     # the jacobian at a general point (public API) equals the orbit's
@@ -128,7 +130,7 @@ def test_generated_jets_match_finite_differences(params, omega):
     for k in range(4):
         e2, e3 = [], []
         for s in (1, 0.25):
-            hh = 1e-3 * g * s
+            hh = 1e-3 * hs * s
             e = np.zeros(4)
             e[k] = hh
             gp = _gen(3, params, omega, y + e, _flight(params, omega, y + e))
@@ -140,7 +142,7 @@ def test_generated_jets_match_finite_differences(params, omega):
     # F11 = dA: derivative of J along the orbit branch
     errs = []
     for s in (1, 0.25):
-        hw = 1e-4 * omega * s
+        hw = 1e-4 * omega * hs * s
         Jw = []
         for w in (omega + hw, omega - hw):
             ob = [x for x in admissible(params, w) if x.branch == o.branch]
