@@ -7,4 +7,5 @@ python benchmarks/bench_jets.py
 python benchmarks/bench_hopf.py --repeat 21
 python benchmarks/bench_simulate.py
 python benchmarks/bench_accuracy.py
+python benchmarks/bench_ceiling.py
 python benchmarks/stress.py

@@ -298,11 +298,13 @@ def render(K, ihash):
     qf = "(" + "".join(f"{p} / {q}, " for p, q in rats) + ")"
     qm = "(" + "".join(f"mpmath.mpf({p}) / {q}, " for p, q in rats) + ")"
     body = [header, doc, "import math", "", "import mpmath", "",
-            f"INPUTS = {INPUTS!r}", f"ORDER = {K}", f"LAYOUT = {layout_of(names, K)!r}", "", "",
+            f"INPUTS = {INPUTS!r}", f"ORDER = {K}", f"LAYOUT = {layout_of(names, K)!r}",
+            "#: the rationals Q of ``_jet`` in float64 (also used by the compiled kernels)",
+            f"Q_F64 = {qf}", "", "",
             src, "", "",
             "def f64(inp):",
             '    """float64 backend (``math``)."""',
-            f"    return _jet(inp, math.sin, math.cos, {qf})", "", "",
+            "    return _jet(inp, math.sin, math.cos, Q_F64)", "", "",
             "def mp(inp):",
             '    """mpmath backend at the current ``mpmath.mp.dps``; rationals exact to that precision."""',
             f"    return _jet(inp, mpmath.sin, mpmath.cos, {qm})", ""]
