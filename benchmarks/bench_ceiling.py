@@ -27,16 +27,13 @@ can reach against this mpmath-50 chain.
 import argparse
 import math
 import os
-import statistics
 import sys
-import time
 
 import mpmath
 import numba as nb
 import numpy as np
 from numba import literal_unroll
 
-import symvi
 from symvi import _fastflow, flow, jets, orbit
 from symvi import normal_form as nf
 from symvi._backend import MP
@@ -46,20 +43,11 @@ from symvi.params import modal
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import bench_accuracy as BA  # noqa: E402  (same folder; the chain under test)
+from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
 
 PARAMS = BA.CASES[0][1]
 INTERVAL = BA.CASES[0][2]
 W = 0.7368769220905929
-
-
-def median_time(fn, repeats, number=1):
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        for _ in range(number):
-            fn()
-        ts.append((time.perf_counter() - t) / number)
-    return statistics.median(ts)
 
 
 # --------------------------------------------------------------------------- compiled loops
@@ -130,7 +118,7 @@ def _flight_loop(c, a1, b1, a2, b2, tau, tmax, n):
 
 def compiled_loop_time(loop, args, n=20000, repeats=7):
     loop(*args, 2)                                   # compile
-    return median_time(lambda: loop(*args, n), repeats) / n
+    return median_time(lambda: loop(*args, n), 1, repeats) / n
 
 
 # --------------------------------------------------------------------------- stages
@@ -145,32 +133,32 @@ def stages():
         m50 = modal(PARAMS, MP)
         for K in (1, 2, 3):
             mod, _ = jets._gen(K)
-            t_mp = median_time(lambda: mod.mp(inp50), 5)
+            t_mp = median_time(lambda: mod.mp(inp50), 1, 5)
             t_c = compiled_loop_time(_jet_loop(f64_kernel(K)), (inp,))
             out[f"generated jet, order {K}"] = (t_mp, t_c, "numba-compiled generated code")
         J = jets.jet(PARAMS, W, order=1, orbit=o).jacobian
         J50 = mpmath.matrix(jets.jet(PARAMS, W, order=1, orbit=o50, digits=50).jacobian.tolist())
-        t_mp = median_time(lambda: mpmath.eig(J50, left=False, right=False), 5)
+        t_mp = median_time(lambda: mpmath.eig(J50, left=False, right=False), 1, 5)
         out["eigenvalues 4x4"] = (t_mp, compiled_loop_time(_eigvals_loop, (J,)),
                                   "LAPACK zgeev via numba")
         bk = nf._MpBackend(50)
         A50 = bk.arr(J50)
-        t_mp = median_time(lambda: bk.inv(bk.eig(A50)[1]), 5)
+        t_mp = median_time(lambda: bk.inv(bk.eig(A50)[1]), 1, 5)
         out["eigenvectors + inverse 4x4"] = (t_mp, compiled_loop_time(_eig_inv_loop, (J,)),
                                              "LAPACK zgeev + zgetri via numba")
         M50, v50 = bk.arr(J50) - bk.eye(4) * mpmath.mpc(0.3, 0.9), bk.arr([1, 2, 3, 4])
-        t_mp = median_time(lambda: bk.solve(M50, v50), 5)
+        t_mp = median_time(lambda: bk.solve(M50, v50), 1, 5)
         M = J.astype(complex) - np.eye(4) * (0.3 + 0.9j)
         out["complex solve 4x4"] = (t_mp, compiled_loop_time(
             _solve_loop, (M, np.array([1, 2, 3, 4], dtype=complex))), "LAPACK zgesv via numba")
         b50 = MP.num(PARAMS.b)
-        t_mp = median_time(lambda: orbit._branches(PARAMS, o50.omega, m50, MP), 5)
+        t_mp = median_time(lambda: orbit._branches(PARAMS, o50.omega, m50, MP), 1, 5)
         out["closed-form orbit, both branches"] = (
             t_mp, compiled_loop_time(_libm_loop, (0.4,)), "lower bound: its 12 libm calls")
         T = 2 * MP.pi / o50.omega
         mot = flow.motion_from(m50, o50.omega, (b50, o50.x20), (o50.v1_plus, o50.x20_dot),
                                o50.tau0, MP)
-        t_mp = median_time(lambda: flow.first_impact(mot, b50, MP, t_max=2 * T), 5)
+        t_mp = median_time(lambda: flow.first_impact(mot, b50, MP, t_max=2 * T), 1, 5)
     c = _fastflow.constants(PARAMS, W)
     a1, b1, a2, b2 = _fastflow._motion(c, o.v1_plus, o.x20, o.x20_dot, o.tau0)
     out["flight over one period (admissibility)"] = (
@@ -220,8 +208,8 @@ def chain_counts():
             setattr(obj, attr, f)
     # jets.jet's own (I - J) solve for dy*/domega is one real 4x4 solve per order-2/3 jet
     counts["complex solve 4x4"] += counts["generated jet, order 2"] + counts["generated jet, order 3"]
-    t_chain = median_time(lambda: BA.chain_generated(PARAMS, INTERVAL, 50), 3)
-    t_f64 = median_time(lambda: BA.chain_generated(PARAMS, INTERVAL), 7)
+    t_chain = median_time(lambda: BA.chain_generated(PARAMS, INTERVAL, 50), 1, 3)
+    t_f64 = median_time(lambda: BA.chain_generated(PARAMS, INTERVAL), 1, 7)
     return counts, t_chain, t_f64
 
 
@@ -239,11 +227,11 @@ def _ops_loop(n):
 def elementary():
     with mpmath.mp.workdps(50):
         x, y = mpmath.mpf(1) / 3, mpmath.mpf(2) / 7
-        mp_mul = median_time(lambda: x * y + x, 7, 20000) / 2
-        mp_sin = median_time(lambda: mpmath.sin(x), 7, 5000)
+        mp_mul = median_time(lambda: x * y + x, 20000, 7) / 2
+        mp_sin = median_time(lambda: mpmath.sin(x), 5000, 7)
     _ops_loop(10)
     n = 10 ** 7
-    f_op = median_time(lambda: _ops_loop(n), 5) / (8 * n)
+    f_op = median_time(lambda: _ops_loop(n), 1, 5) / (8 * n)
     return mp_mul, mp_sin, f_op
 
 
