@@ -497,7 +497,7 @@ def main(argv=None):
         unsafe = int(np.sum((est > true + 0.5) & ok))
         safe = int(np.sum((est <= true + 0.5) & ok))
         L += ["## (ω, b) map", "",
-              f"![digits lost over (ω, b)](stress_map.png)", "",
+              "![digits lost over (ω, b)](stress_map.png)", "",
               f"{ws.size} × {bs.size} grid, ω ∈ [{ws[0]}, {ws[-1]}], b ∈ [{bs[0]}, {bs[-1]}], "
               f"μm = 2, μk = 5, f2 = 0, r = 0.8.  Admissible at {int(ok.sum())} points; "
               f"float64 digits of y* there: min {np.nanmin(true):.1f}, median "
