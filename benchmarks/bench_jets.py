@@ -33,6 +33,12 @@ def median_time(fn, n, reps=7):
     return statistics.median(out)
 
 
+def md_table(header, rows):
+    """Markdown table lines."""
+    return (["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+            + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows])
+
+
 def _in_loop(kernel, inp, n=20000):
     """Per-call time of ``kernel`` inside a numba loop that consumes every output."""
     import numba as nb
@@ -103,24 +109,20 @@ def main():
         f"Regenerating all orders (SymPy derivation + CSE + printing, both backends): "
         f"**{t_regen:.1f} s** median of 3 (target ≤ 30 s).",
         "",
-        "| order | generated f64 call | + numpy tensors | `jet(orbit=...)` (with F11) | `jet()` incl. orbit solve | mpmath 50 digits | mp50 / f64 |",
-        "|---|---|---|---|---|---|---|",
     ]
-    for K in (1, 2, 3):
-        r = res[K]
-        lines.append(f"| {K} | {us(r['gen'])} | {us(r['arrays'])} | {us(r['jet_at_orbit'])} | "
-                     f"{us(r['jet_full'])} | {r['mp50'] * 1e3:.1f} ms | {r['mp50'] / r['jet_full']:.0f}× |")
-    lines += [
-        "",
-        "Compiled evaluators (`symvi.jets.compiled(K)`: the same generated code compiled by numba):",
-        "",
-        "| order | Python `f64` call | compiled kernel called from Python | inside a compiled loop | Python / compiled loop |",
-        "|---|---|---|---|---|",
-    ]
-    for K in (1, 2, 3):
-        r = res[K]
-        lines.append(f"| {K} | {us(r['gen'])} | {us(r['compiled'])} | {r['in_loop'] * 1e9:.0f} ns | "
-                     f"{r['gen'] / r['in_loop']:.0f}× |")
+    lines += md_table(
+        ["order", "generated f64 call", "+ numpy tensors", "`jet(orbit=...)` (with F11)",
+         "`jet()` incl. orbit solve", "mpmath 50 digits", "mp50 / f64"],
+        [[K, us(r["gen"]), us(r["arrays"]), us(r["jet_at_orbit"]), us(r["jet_full"]),
+          f"{r['mp50'] * 1e3:.1f} ms", f"{r['mp50'] / r['jet_full']:.0f}×"]
+         for K, r in res.items()])
+    lines += ["", "Compiled evaluators (`symvi.jets.compiled(K)`: the same generated code "
+              "compiled by numba):", ""]
+    lines += md_table(
+        ["order", "Python `f64` call", "compiled kernel called from Python",
+         "inside a compiled loop", "Python / compiled loop"],
+        [[K, us(r["gen"]), us(r["compiled"]), f"{r['in_loop'] * 1e9:.0f} ns",
+          f"{r['gen'] / r['in_loop']:.0f}×"] for K, r in res.items()])
     lines += [
         "",
         f"Targets: order-3 jet ≤ 100 µs, order-1 jet ≤ 20 µs (the generated evaluator with its numpy "
