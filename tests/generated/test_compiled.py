@@ -70,3 +70,27 @@ def test_compiled_order1_never_imports_higher_orders():
 def test_compiled_bad_order():
     with pytest.raises(ParameterError, match="order"):
         compiled(0)
+
+
+@pytest.mark.parametrize("bad", [(1.0,) * 15, (1.0,) * 15 + (float("nan"),), ("a",) * 16, 3.0])
+def test_compiled_call_checks_its_input(bad):
+    with pytest.raises(ParameterError, match="inp"):
+        compiled(1)(bad)
+
+
+def test_compiled_call_equals_kernel():
+    cj = compiled(1)
+    inp = jet_inputs(*_general_points()[0])
+    assert cj(inp) == cj.kernel(inp)
+
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(y=(0.1, 0.2, 0.3)), "y"), (dict(y=(0.1, 0.2, float("inf"), 0.3)), "y[2]"),
+    (dict(t_e=0.0), "t_e"), (dict(t_e=float("nan")), "t_e"), (dict(omega=-1.0), "omega"),
+    (dict(params=(2, 5, 0, 1.5, 0.8)), "params")])
+def test_jet_inputs_names_the_bad_parameter(kw, name):
+    args = dict(params=EX1, omega=0.745, y=(-0.3, 0.1, 0.2, 1.0), t_e=8.0)
+    args.update(kw)
+    with pytest.raises(ParameterError) as e:
+        jet_inputs(**args)
+    assert e.value.name == name
