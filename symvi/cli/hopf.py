@@ -68,6 +68,14 @@ def run(args):
             hw = ", ".join(f"{n} {2 * c.coefficient * a:.5g}" for n, a in zip(c.names, c.q_abs))
             print(f"  circle ({'stable' if c.stable else 'unstable'}, {side}): radius "
                   f"{c.coefficient:.6g} sqrt|mu|; half-widths / sqrt|mu|: {hw}")
+        if not pt.h2:
+            # at lambda^m = 1 the cubic normal form (58) is not the normal form
+            kind = "strong resonance" if m <= 4 else "resonance"
+            print(f"  caution: (H2) fails, lambda1^{m} = 1 ({kind} 1:{m}); l1, f1 and the circle "
+                  "above assume (H2) and need not describe the dynamics here")
+        if not pt.h1:
+            print("  caution: (H1) fails, another multiplier lies on or outside the unit circle: "
+                  "a circle on the centre manifold is not attracting in all directions")
         if checks:
             ag = checks[i].agreement
             print(f"  mpmath ({args.digits} digits), digits of agreement chain A vs B: "

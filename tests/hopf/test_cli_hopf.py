@@ -45,3 +45,20 @@ def test_bad_input(args, word, capsys):
     assert main(["hopf", *BASE, *args]) == 2
     err = capsys.readouterr().err
     assert word in err and "Traceback" not in err
+
+
+def test_table_cautions_when_hypotheses_fail(capsys):
+    """At b = 2.8016416356 the ex. 1 Hopf point has lambda1^3 ~ 1 (stress.py, m = 3) and a
+    multiplier outside the unit circle: the table must say the normal form does not apply."""
+    from symvi.cli import main
+    assert main(["hopf", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "2.8016416356",
+                 "--r", "0.8", "--omega-min", "0.66", "--omega-max", "0.69"]) == 0
+    out = capsys.readouterr().out
+    assert "(H2) NO" in out and "strong resonance 1:3" in out
+    assert "(H1) NO" in out and "caution: (H1) fails" in out
+
+
+def test_table_has_no_caution_when_hypotheses_hold(capsys):
+    from symvi.cli import main
+    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    assert "caution" not in capsys.readouterr().out
