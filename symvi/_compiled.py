@@ -7,6 +7,7 @@ the generated module, or in numba's user cache when that is read-only); it is
 invalidated when ``symvi regenerate`` rewrites the module.  Order K is
 imported and compiled only when first asked for.
 """
+import hashlib
 import importlib
 import math
 import types
@@ -30,6 +31,10 @@ def f64_kernel(order):
 
 # --------------------------------------------------------------------------- Lyapunov QR loop
 _J1 = None            # the order-1 kernel, bound before _qr_logs is first compiled
+# Stamp of generated/order1.py, frozen into _qr_logs when it is compiled.  numba's cache
+# tracks _qr_logs' own file only, so after `symvi regenerate` a cached _qr_logs could
+# still hold the old Jacobian; the stamp it returns exposes that and forces a recompile.
+_STAMP = 0
 
 #: the input order _qr_logs assembles; checked against the generated INPUTS
 _QR_INPUTS = ('psi11', 'psi12', 'psi21', 'psi22', 'w1', 'w2', 'F1', 'F2', 'omega', 'r', 'b',
@@ -59,17 +64,23 @@ def _qr_logs(const, sec, te, jidx):
             logs[k, i] = math.log(abs(d))
             if d < 0.0:               # keep Q's columns continuous
                 Q[:, i] = -Q[:, i]
-    return logs
+    return logs, _STAMP
 
 
 def qr_logs(const, sec, te):
     """Compiled QR-method logs along a section; ``const`` = the first 11 jet inputs."""
-    global _J1
+    global _J1, _STAMP
+    mod = importlib.import_module("symvi._generated.order1")
     if _J1 is None:
-        mod = importlib.import_module("symvi._generated.order1")
         if tuple(mod.INPUTS) != _QR_INPUTS:
             raise RuntimeError("generated INPUTS changed; update symvi._compiled._QR_INPUTS")
         _J1 = f64_kernel(1)
-    jidx = np.array(importlib.import_module("symvi._generated.order1").LAYOUT["J"])
-    return _qr_logs(np.asarray(const, dtype=np.float64), np.ascontiguousarray(sec, dtype=np.float64),
-                    np.ascontiguousarray(te, dtype=np.float64), jidx)
+        with open(mod.__file__, "rb") as f:
+            _STAMP = int.from_bytes(hashlib.sha256(f.read()).digest()[:7], "big")
+    args = (np.asarray(const, dtype=np.float64), np.ascontiguousarray(sec, dtype=np.float64),
+            np.ascontiguousarray(te, dtype=np.float64), np.array(mod.LAYOUT["J"]))
+    logs, stamp = _qr_logs(*args)
+    if stamp != _STAMP:           # compiled against another generated/order1.py
+        _qr_logs.recompile()
+        logs, stamp = _qr_logs(*args)
+    return logs

@@ -98,7 +98,8 @@ class CompiledJet:
     (``layout["J"][i][j]`` is the position of dP_i/dy_j).  It is a numba
     dispatcher: call it from your own ``numba.njit`` code (no call overhead)
     or from Python (~0.6 µs for order 1); calling the CompiledJet itself
-    checks ``inp`` first.
+    checks ``inp`` first.  numba's on-disk cache of *your* function tracks your
+    file only: after ``symvi regenerate`` clear it (or compile without cache).
     """
 
     order: int
