@@ -631,8 +631,47 @@ def write_md(rows, refs, stages, path, cmd):
     L.append("")
     L.append("![run time against error](accuracy.png)")
     L.append("")
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(L))
+    _write_atomic(path, "\n".join(L))
+
+
+def _write_atomic(path, text):
+    with open(path + ".new", "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(path + ".new", path)
+
+
+README_START, README_END = "<!-- pareto:start -->", "<!-- pareto:end -->"
+
+
+def update_readme(rows, path, cmd):
+    """The Pareto table (methods on a front, plus the baselines) into benchmarks/README.md."""
+    L = [README_START, f"Written by `{cmd}`; all methods and the per-stage table are in "
+         "`results_accuracy.md`.  Rows: the methods on the time/error Pareto front for at least "
+         "one quantity (v, d, l = v_c, d|λ1|/dv, l1), and the baselines without symvi "
+         "(finite differences of P with the step that gives the best l1; plain `solve_ivp`).", "",
+         "| case | method | median time | ×f64 | digits v_c / d\\|λ1\\|/dv / l1 | Pareto |",
+         "|---|---|---|---|---|---|"]
+    for c, _, _ in CASES:
+        f64 = next(r for r in rows if r["case"] == c and r["method"] == "symvi-f64")["time"]
+        fronts = [set(pareto(rows, c, q)) for q in range(3)]
+        fds = [r for r in rows if r["case"] == c and r["method"].startswith("fd-P")
+               and "mp50" not in r["method"] and math.isfinite(r["time"])]
+        best_fd = max(fds, key=lambda r: r["digits"][2])["method"] if fds else None
+        for r in rows:
+            mark = "".join(s for s, f in zip(("v", "d", "l"), fronts) if r["method"] in f)
+            if r["case"] != c or not (mark or r["method"] in (best_fd, "plain solve_ivp")):
+                continue
+            L.append(f"| {c} | {r['method']} | {r['time'] * 1e3:.3g} ms | {r['time'] / f64:.3g} | "
+                     + " / ".join(f"{x:.1f}" for x in r["digits"]) + f" | {mark} |")
+    L += ["", "![run time against error](accuracy.png)", README_END]
+    with open(path, encoding="utf-8") as fh:
+        text = fh.read()
+    if README_START in text:
+        a, b = text.index(README_START), text.index(README_END) + len(README_END)
+        text = text[:a] + "\n".join(L) + text[b:]
+    else:
+        text = text.rstrip("\n") + "\n\n## Run time against error (Pareto)\n\n" + "\n".join(L) + "\n"
+    _write_atomic(path, text)
 
 
 def main(argv=None):
@@ -650,6 +689,8 @@ def main(argv=None):
         print(c, ratios(rows, c))
     plot(rows, os.path.join(a.out, "accuracy.png"))
     write_md(rows, refs, stages, os.path.join(a.out, "results_accuracy.md"), cmd)
+    if not a.quick:
+        update_readme(rows, os.path.join(a.out, "README.md"), cmd)
     return 0
 
 
