@@ -28,6 +28,9 @@ J, F11, d2, d3 from the flow alone; the table reports how many digits they share
 with the reference.
 
 Times are medians over repeats, measured in one run; ratios are what to quote.
+The same run also measures the simulation speed (impacts/s of the compiled map
+against ``solve_ivp`` with an event, as in ``bench_simulate.py``) and writes
+the Pareto table into ``benchmarks/README.md``.
 """
 import argparse
 import math
@@ -567,7 +570,7 @@ def plot(rows, path):
     fig.savefig(path, dpi=110)
 
 
-def write_md(rows, refs, stages, path, cmd):
+def write_md(rows, refs, stages, path, cmd, speed):
     L = ["# Run time against error: (v_c, d|λ1|/dv, l1)", "",
          f"Produced by `{cmd}` (issue 7).  Machine: shared, noisy; quote the ratios.", "",
          "Digits = -log10(relative error) against the 60-digit reference "
@@ -629,6 +632,7 @@ def write_md(rows, refs, stages, path, cmd):
     for k, (a, b) in stages.items():
         L.append(f"| {k} | {a * 1e6:.0f} µs | {b * 1e3:.2f} ms | {b / a:.0f}× |")
     L.append("")
+    L += ["## Simulation", ""] + _speed_lines(speed) + [""]
     L.append("![run time against error](accuracy.png)")
     L.append("")
     _write_atomic(path, "\n".join(L))
@@ -643,7 +647,36 @@ def _write_atomic(path, text):
 README_START, README_END = "<!-- pareto:start -->", "<!-- pareto:end -->"
 
 
-def update_readme(rows, path, cmd):
+def simulation_speed(n=200_000, n_ivp=40):
+    """Impacts/s of symvi's compiled map against solve_ivp (bench_simulate's baseline), ex. 1
+    on its invariant circle at omega = 0.7372, measured in this run."""
+    import bench_simulate as BS
+    from symvi import _fastflow as ff
+    from symvi.simulation import simulate
+    params, omega = CASES[0][1], 0.7372
+    y0 = tuple(simulate(params, omega, n_impacts=2, transient=20000).section[-1])
+    c = ff.constants(params, omega)
+    ff.run(c, y0, 10)
+    out = {"symvi": n / BS.median_time(lambda: ff.run(c, y0, n))}
+    for label, rtol, atol in (("solve_ivp default", 1e-3, 1e-6), ("solve_ivp tight", 1e-10, 1e-12)):
+        def ivp_run():
+            z = y0
+            for _ in range(n_ivp):
+                z = tuple(BS.ivp_step(params, omega, z, rtol, atol)[1])
+        out[label] = n_ivp / BS.median_time(ivp_run, reps=3)
+    return out
+
+
+def _speed_lines(speed):
+    return [f"Simulation speed, same run (ex. 1, ω = 0.7372, on the circle): symvi "
+            f"{speed['symvi']:,.0f} impacts/s; `solve_ivp` with an x1 = b event "
+            f"{speed['solve_ivp tight']:,.0f}/s at rtol 1e-10 (**{speed['symvi'] / speed['solve_ivp tight']:,.0f}×**) "
+            f"and {speed['solve_ivp default']:,.0f}/s at default tolerances "
+            f"(**{speed['symvi'] / speed['solve_ivp default']:,.0f}×**); details in "
+            "`results_simulate.md`."]
+
+
+def update_readme(rows, path, cmd, speed):
     """The Pareto table (methods on a front, plus the baselines) into benchmarks/README.md."""
     L = [README_START, f"Written by `{cmd}`; all methods and the per-stage table are in "
          "`results_accuracy.md`.  Rows: the methods on the time/error Pareto front for at least "
@@ -663,7 +696,7 @@ def update_readme(rows, path, cmd):
                 continue
             L.append(f"| {c} | {r['method']} | {r['time'] * 1e3:.3g} ms | {r['time'] / f64:.3g} | "
                      + " / ".join(f"{x:.1f}" for x in r["digits"]) + f" | {mark} |")
-    L += ["", "![run time against error](accuracy.png)", README_END]
+    L += [""] + _speed_lines(speed) + ["", "![run time against error](accuracy.png)", README_END]
     with open(path, encoding="utf-8") as fh:
         text = fh.read()
     if README_START in text:
@@ -683,14 +716,16 @@ def main(argv=None):
     cmd = "python benchmarks/bench_accuracy.py" + (" --quick" if a.quick else "")
     rows, refs = run(a.quick)
     stages = stage_times()
+    speed = simulation_speed()
+    print("simulation:", {k: round(v) for k, v in speed.items()})
     for k, (x, y) in stages.items():
         print(f"stage {k}: f64 {x * 1e6:.0f} us, mp50 {y * 1e3:.2f} ms, ratio {y / x:.0f}")
     for c, _, _ in CASES:
         print(c, ratios(rows, c))
     plot(rows, os.path.join(a.out, "accuracy.png"))
-    write_md(rows, refs, stages, os.path.join(a.out, "results_accuracy.md"), cmd)
+    write_md(rows, refs, stages, os.path.join(a.out, "results_accuracy.md"), cmd, speed)
     if not a.quick:
-        update_readme(rows, os.path.join(a.out, "README.md"), cmd)
+        update_readme(rows, os.path.join(a.out, "README.md"), cmd, speed)
     return 0
 
 
