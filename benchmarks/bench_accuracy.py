@@ -47,6 +47,7 @@ import symvi
 from symvi import normal_form as nf
 from symvi import poincare, precision
 from symvi._backend import FLOAT, MP
+from symvi._io import write_text
 from symvi.errors import NearSingularWarning, SymviError
 from symvi.jets import eigenvalues, jet
 from symvi.params import modal
@@ -635,44 +636,28 @@ def write_md(rows, refs, stages, path, cmd, speed):
     L += ["## Simulation", ""] + _speed_lines(speed) + [""]
     L.append("![run time against error](accuracy.png)")
     L.append("")
-    _write_atomic(path, "\n".join(L))
-
-
-def _write_atomic(path, text):
-    with open(path + ".new", "w", encoding="utf-8") as fh:
-        fh.write(text)
-    os.replace(path + ".new", path)
+    write_text(path, "\n".join(L))
 
 
 README_START, README_END = "<!-- pareto:start -->", "<!-- pareto:end -->"
 
 
-def simulation_speed(n=200_000, n_ivp=40):
-    """Impacts/s of symvi's compiled map against solve_ivp (bench_simulate's baseline), ex. 1
-    on its invariant circle at omega = 0.7372, measured in this run."""
+def simulation_speed():
+    """Impacts/s of symvi's compiled map against solve_ivp (bench_simulate.rates), ex. 1 on
+    its invariant circle at omega = 0.7372, measured in this run."""
     import bench_simulate as BS
-    from symvi import _fastflow as ff
     from symvi.simulation import simulate
     params, omega = CASES[0][1], 0.7372
     y0 = tuple(simulate(params, omega, n_impacts=2, transient=20000).section[-1])
-    c = ff.constants(params, omega)
-    ff.run(c, y0, 10)
-    out = {"symvi": n / BS.median_time(lambda: ff.run(c, y0, n))}
-    for label, rtol, atol in (("solve_ivp default", 1e-3, 1e-6), ("solve_ivp tight", 1e-10, 1e-12)):
-        def ivp_run():
-            z = y0
-            for _ in range(n_ivp):
-                z = tuple(BS.ivp_step(params, omega, z, rtol, atol)[1])
-        out[label] = n_ivp / BS.median_time(ivp_run, reps=3)
-    return out
+    return BS.rates(params, omega, y0)
 
 
 def _speed_lines(speed):
     return [f"Simulation speed, same run (ex. 1, ω = 0.7372, on the circle): symvi "
             f"{speed['symvi']:,.0f} impacts/s; `solve_ivp` with an x1 = b event "
-            f"{speed['solve_ivp tight']:,.0f}/s at rtol 1e-10 (**{speed['symvi'] / speed['solve_ivp tight']:,.0f}×**) "
-            f"and {speed['solve_ivp default']:,.0f}/s at default tolerances "
-            f"(**{speed['symvi'] / speed['solve_ivp default']:,.0f}×**); details in "
+            f"{speed['tight']:,.0f}/s at rtol 1e-10 (**{speed['symvi'] / speed['tight']:,.0f}×**) "
+            f"and {speed['default']:,.0f}/s at default tolerances "
+            f"(**{speed['symvi'] / speed['default']:,.0f}×**); details in "
             "`results_simulate.md`."]
 
 
@@ -704,7 +689,7 @@ def update_readme(rows, path, cmd, speed):
         text = text[:a] + "\n".join(L) + text[b:]
     else:
         text = text.rstrip("\n") + "\n\n## Run time against error (Pareto)\n\n" + "\n".join(L) + "\n"
-    _write_atomic(path, text)
+    write_text(path, text)
 
 
 def main(argv=None):

@@ -32,18 +32,18 @@ import sys
 import mpmath
 import numba as nb
 import numpy as np
-from numba import literal_unroll
 
 from symvi import _fastflow, flow, jets, orbit
 from symvi import normal_form as nf
 from symvi._backend import MP
 from symvi._compiled import f64_kernel
+from symvi._io import write_text
 from symvi.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import bench_accuracy as BA  # noqa: E402  (same folder; the chain under test)
-from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
+from bench_jets import jet_loop, median_time  # noqa: E402  median_time(fn, calls, reps): per call
 
 PARAMS = BA.CASES[0][1]
 INTERVAL = BA.CASES[0][2]
@@ -51,18 +51,6 @@ W = 0.7368769220905929
 
 
 # --------------------------------------------------------------------------- compiled loops
-def _jet_loop(kernel):
-    @nb.njit
-    def loop(inp, n):
-        s = 0.0
-        for i in range(n):
-            x = (inp[0] + 1e-12 * i,) + inp[1:]
-            for v in literal_unroll(kernel(x)):   # consume every output: no dead code
-                s += v
-        return s
-    return loop
-
-
 @nb.njit
 def _eigvals_loop(A, n):
     s = 0.0
@@ -134,7 +122,7 @@ def stages():
         for K in (1, 2, 3):
             mod, _ = jets._gen(K)
             t_mp = median_time(lambda: mod.mp(inp50), 1, 5)
-            t_c = compiled_loop_time(_jet_loop(f64_kernel(K)), (inp,))
+            t_c = compiled_loop_time(jet_loop(f64_kernel(K)), (inp,))
             out[f"generated jet, order {K}"] = (t_mp, t_c, "numba-compiled generated code")
         J = jets.jet(PARAMS, W, order=1, orbit=o).jacobian
         J50 = mpmath.matrix(jets.jet(PARAMS, W, order=1, orbit=o50, digits=50).jacobian.tolist())
@@ -283,10 +271,7 @@ def write(path, st, counts_mp, counts, t_chain, t_f64, el, cmd):
           "chain's ratio is a weighted mean of its stage ratios; the float64 chain's fewer "
           "Newton steps (its own counts, right column) are in the bounds above.  With gmpy2 "
           "installed mpmath gets faster and the ratio smaller still.", ""]
-    tmp = path + ".new"
-    with open(tmp, "w") as f:
-        f.write("\n".join(L))
-    os.replace(tmp, path)
+    write_text(path, "\n".join(L))
     print("\n".join(L))
 
 

@@ -6,7 +6,6 @@ Baseline measured in the same run: central finite differences of the numeric
 map P (`symvi.poincare.fd_jacobian`) for the Jacobian, and the mpmath backend of
 the same generated expressions at 50 digits.
 """
-import os
 import statistics
 import subprocess
 import sys
@@ -20,6 +19,7 @@ sys.path.insert(0, str(HERE.parent))
 
 import symvi  # noqa: E402
 from symvi import jets  # noqa: E402
+from symvi._io import write_text  # noqa: E402
 from symvi.poincare import fd_jacobian  # noqa: E402
 
 
@@ -39,8 +39,9 @@ def md_table(header, rows):
             + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows])
 
 
-def _in_loop(kernel, inp, n=20000):
-    """Per-call time of ``kernel`` inside a numba loop that consumes every output."""
+def jet_loop(kernel):
+    """A numba loop ``loop(inp, n)`` calling ``kernel`` n times and consuming every output
+    (so no evaluation is dead code)."""
     import numba as nb
     from numba import literal_unroll
 
@@ -51,6 +52,12 @@ def _in_loop(kernel, inp, n=20000):
             for v in literal_unroll(kernel((inp[0] + 1e-12 * i,) + inp[1:])):
                 s += v
         return s
+    return loop
+
+
+def _in_loop(kernel, inp, n=20000):
+    """Per-call time of ``kernel`` inside a compiled loop."""
+    loop = jet_loop(kernel)
     loop(inp, 2)
     return median_time(lambda: loop(inp, n), 1) / n
 
@@ -139,10 +146,7 @@ def main():
     for K in (1, 2, 3):
         lines.append(f"| {K} | {size[K][0] / 1024:.1f} KiB | {size[K][1]} | {imp[K] * 1e3:.1f} ms |")
     text = "\n".join(lines) + "\n"
-    out = HERE / "results_jets.md"
-    tmp = out.with_suffix(".md.new")
-    tmp.write_text(text)
-    os.replace(tmp, out)
+    write_text(HERE / "results_jets.md", text)
     print(text)
 
 

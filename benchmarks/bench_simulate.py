@@ -17,7 +17,6 @@ map at 40 digits (``poincare_map(..., digits=40)``).
 import math
 import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +29,9 @@ import numba  # noqa: E402
 
 from symvi import Params  # noqa: E402
 from symvi import _fastflow as ff  # noqa: E402
+from symvi._io import write_text  # noqa: E402
+
+from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
 from symvi.poincare import poincare_map  # noqa: E402
 from symvi.simulation import simulate  # noqa: E402
 
@@ -39,15 +41,6 @@ CASES = [(Params(2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),
          (Params(4, 2, 0, 1.8, 0.8), 0.4944, "ex2 chaos")]
 N_ERR = 40          # one-step error sample per case
 N_IVP = 40          # solve_ivp impacts timed per case
-
-
-def median_time(fn, reps=5):
-    out = []
-    for _ in range(reps):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return statistics.median(out)
 
 
 def ivp_step(params, omega, y, rtol, atol):
@@ -112,12 +105,28 @@ def lyapunov_section(n=4000):
     for params, omega, name in CASES:
         sim = simulate(params, omega, n_impacts=n + 1, transient=20000)
         lyapunov(sim)
-        tc = median_time(lambda: lyapunov(sim))
-        tp = median_time(lambda: _lyapunov_python(sim), reps=3)
+        tc = median_time(lambda: lyapunov(sim), 1, reps=5)
+        tp = median_time(lambda: _lyapunov_python(sim), 1, reps=3)
         diff = np.max(np.abs(lyapunov(sim).exponents - _lyapunov_python(sim)))
         out.append(f"| {name} | {omega} | {tc * 1e3:.3g} ms | {tp * 1e3:.3g} ms | "
                    f"{tp / tc:.3g}× | {diff:.1e} |")
     return out + [""]
+
+
+def rates(params, omega, y0, n=200_000, n_ivp=N_IVP):
+    """Impacts/s from y0: symvi's compiled map (with its finder steps per impact), and
+    solve_ivp with an x1 = b event at default and tight tolerances, same trajectory."""
+    c = ff.constants(params, omega)
+    ff.run(c, y0, 10)
+    out = {"symvi": n / median_time(lambda: ff.run(c, y0, n), 1, reps=5),
+           "steps": ff.run(c, y0, n)[4] / n}
+    for label, rtol, atol in (("default", 1e-3, 1e-6), ("tight", 1e-10, 1e-12)):
+        def ivp_run():
+            z = y0
+            for _ in range(n_ivp):
+                z = tuple(ivp_step(params, omega, z, rtol, atol)[1])
+        out[label] = n_ivp / median_time(ivp_run, 1, reps=3)
+    return out
 
 
 def main():
@@ -130,12 +139,10 @@ def main():
     for params, omega, name in CASES:
         s = simulate(params, omega, n_impacts=N_ERR, transient=20000)
         y0 = tuple(s.section[-1])
-        c = ff.constants(params, omega)
-        ff.run(c, y0, 10)
-        n = 200_000
-        dt = median_time(lambda: ff.run(c, y0, n))
-        steps = ff.run(c, y0, n)[4] / n
-        single.append((name, omega, n / dt, steps))
+        r = rates(params, omega, y0)
+        single.append((name, omega, r["symvi"], r["steps"]))
+        for label in ("default", "tight"):
+            ivp.setdefault(label, []).append(r[label])
         # pure-Python reference map, same start
         m = 200
         y = y0
@@ -144,14 +151,7 @@ def main():
             z = y
             for _ in range(m):
                 z = poincare_map(params, omega, z).y
-        ref_rate.append(m / median_time(ref, reps=3))
-        # solve_ivp, same trajectory
-        for label, rtol, atol in (("default", 1e-3, 1e-6), ("tight", 1e-10, 1e-12)):
-            def ivp_run():
-                z = y0
-                for _ in range(N_IVP):
-                    z = tuple(ivp_step(params, omega, z, rtol, atol)[1])
-            ivp.setdefault(label, []).append(N_IVP / median_time(ivp_run, reps=3))
+        ref_rate.append(m / median_time(ref, 1, reps=3))
         errs[name] = one_step_errors(params, omega, [tuple(v) for v in s.section])
 
     lines += ["## One trajectory (200 000 impacts)", "",
@@ -179,9 +179,10 @@ def main():
     C = np.array([ff.constants(p, w) for w in oms])
     nb_imp = 4000
     ff.run_batch(C[:2], starts[:2], 10)
-    dt = median_time(lambda: ff.run_batch(C, starts, nb_imp))
+    dt = median_time(lambda: ff.run_batch(C, starts, nb_imp), 1, reps=5)
     agg = len(oms) * nb_imp / dt
-    dt1 = median_time(lambda: [ff.run(C[i], starts[i], nb_imp) for i in range(len(oms))])
+    dt1 = median_time(lambda: [ff.run(C[i], starts[i], nb_imp) for i in range(len(oms))], 1,
+                      reps=5)
     lines += ["## Batch: 256 values of ω in [0.7300, 0.7560] (example 1), 4000 impacts each", "",
               "| mode | impacts/s |", "|---|---|",
               f"| parallel batch (`run_batch`, {nthreads} threads) | **{agg:,.0f}** |",
@@ -200,7 +201,6 @@ def main():
                      f"{e['ivp tight'][0]:.1e} ({e['ivp tight'][1]:.1e}) |")
     lines += lyapunov_section()
     text = "\n".join(lines) + "\n"
-    from symvi._io import write_text
     write_text(HERE / "results_simulate.md", text)
     print(text)
 

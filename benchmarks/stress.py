@@ -29,6 +29,7 @@ import symvi
 from symvi import hopf, jets
 from symvi import normal_form as nf
 from symvi import precision as pr
+from symvi._io import write_text
 from symvi.errors import NearSingularWarning, SymviError
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -508,8 +509,7 @@ def main(argv=None):
               ""]
         print(f"map: {time.perf_counter() - t:.1f} s")
     L.append(f"Total run time {time.perf_counter() - t0:.0f} s.")
-    with open(os.path.join(a.out, "results_stress.md"), "w", encoding="utf-8") as fh:
-        fh.write("\n".join(L) + "\n")
+    write_text(os.path.join(a.out, "results_stress.md"), "\n".join(L) + "\n")
     return 0
 
 

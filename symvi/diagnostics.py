@@ -23,7 +23,7 @@ import numpy as np
 
 from . import _fastflow as ff
 from ._compiled import qr_logs
-from .jets import jet_inputs
+from .jets import jacobian_at, jet_inputs
 
 TWO_PI = 2 * math.pi
 #: a bounded attractor is chaotic when its largest exponent (per impact) exceeds
@@ -35,10 +35,9 @@ CHAOS_SIGMAS = 4.0
 def jacobian(params, omega, y, t_e=None):
     """DP at the section point y with flight time t_e, eqs. (36)–(38), tau unwrapped
     (generated code, :func:`symvi.jets.jacobian_at`)."""
-    from .jets import jacobian_at
     if t_e is None:
         t_e = ff.step(ff.constants(params, omega), *map(float, y))[1]
-    return jacobian_at(params, omega, tuple(map(float, y)), float(t_e))
+    return jacobian_at(params, omega, y, t_e)
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ import numpy as np
 
 from ._backend import FLOAT, MP
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
+from .params import Params, _finite, check_omega
 from .params import modal as _modal
 
 
@@ -72,7 +73,6 @@ def jacobian_at(params, omega, y, t_e, digits=None):
 def jet_inputs(params, omega, y, t_e):
     """The float64 input tuple of the generated evaluators (order ``INPUTS``) at a section
     point y = (x1dot+, x20, x20dot, tau) whose flight lasts t_e, eqs. (21)–(29)."""
-    from .params import Params, _finite, check_omega
     if not isinstance(params, Params):
         raise ParameterError("params", params, "a symvi.Params")
     omega = check_omega(params, omega, warn=False)
