@@ -1,4 +1,4 @@
-"""Exact flow between impacts and the first-impact finder, eqs. (7)–(8), (19)–(20).
+"""The paper's 2-DOF modal flow between impacts and its first-impact finder, eqs. (7)–(8), (19)–(20).
 
 Between impacts the motion is a sum of three sinusoids (two modes, one forcing
 term), so it is evaluated in closed form; no ODE integrator is used.
@@ -12,7 +12,7 @@ transversal; a crossing with h' ~ 0 is reported as grazing, never stepped over.
 """
 from dataclasses import dataclass
 
-from ._backend import FLOAT
+from .._backend import FLOAT
 
 #: statuses returned by first_impact
 IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"

@@ -1,0 +1,15 @@
+"""The flow layer: exact motion between impacts and the first-impact finder.
+
+* :mod:`symvi.flow.linear` -- any model (N masses, damping, stop on any mass):
+  the state-space flow in modal form and the provably safe first-impact finder;
+* :mod:`symvi.flow.modal2` -- the paper's 2-DOF undamped modal form, eqs. (7)–(8),
+  kept as an independent oracle and for the paper's own chain.
+"""
+from .modal2 import GRAZING as GRAZING
+from .modal2 import IMPACT as IMPACT
+from .modal2 import NO_IMPACT as NO_IMPACT
+from .modal2 import FirstImpact as FirstImpact
+from .modal2 import Motion as Motion
+from .modal2 import first_impact as first_impact
+from .modal2 import forcing_amplitudes as forcing_amplitudes
+from .modal2 import motion_from as motion_from

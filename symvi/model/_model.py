@@ -1,0 +1,397 @@
+"""A linear impact oscillator: N masses, damping, one rigid stop on any mass.
+
+Between impacts::
+
+    M x'' + C x' + K x = P sin(omega t + tau),   x_k < b;
+    at x_k = b:  v_k+ = -r v_k-                    (Newton's impact law, eq. (2) generalised)
+
+M symmetric positive definite, K symmetric positive definite (every free-flight
+mode oscillates), C symmetric positive semi-definite (zero by default, as in
+the paper), P the forcing amplitudes; one stop on mass k (1-based) with gap b
+and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
+:meth:`Model.luo_xie`.
+
+Named parameters
+----------------
+Every scalar that defines the model has a stable name (1-based indices):
+``gap``, ``restitution``, ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``,
+``stiffness[i,j]``, ``damping[i,j]``, ``forcing[i]``; for the paper's preset
+also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  ``omega`` is the forcing
+frequency and is not a field of the model.  Setting an off-diagonal entry sets
+its mirror too (the matrices stay symmetric).  :meth:`Model.tangent` gives the
+exact derivative of (M, C, K, P, b, r) with respect to any name: the data the
+exact parameter derivatives of the map are built from.
+"""
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+
+#: number of masses supported
+N_MAX = 8
+#: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
+ABS_MAX = 1e6
+#: relative asymmetry tolerated (and removed) in a matrix given by the user
+SYM_TOL = 1e-12
+#: smallest eigenvalue of M and K, relative to the largest, accepted as definite
+DEF_TOL = 1e-12
+
+
+def _finite(name, value, valid="a finite real number"):
+    if isinstance(value, bool):
+        raise ParameterError(name, value, valid)
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, valid) from None
+    if not math.isfinite(v):
+        raise ParameterError(name, value, valid)
+    return v
+
+
+@dataclass(frozen=True)
+class Stop:
+    """The rigid stop: on mass ``mass`` (1-based), at x_mass = ``gap``, restitution r."""
+
+    mass: int
+    gap: float
+    restitution: float
+
+    def __post_init__(self):
+        if isinstance(self.mass, bool) or not isinstance(self.mass, (int, np.integer)):
+            raise ParameterError("stop.mass", self.mass, "a 1-based mass index (integer >= 1)")
+        object.__setattr__(self, "mass", int(self.mass))
+        if self.mass < 1:
+            raise ParameterError("stop.mass", self.mass, "a 1-based mass index (integer >= 1)")
+        g = _finite("stop.gap", self.gap)
+        if not abs(g) <= ABS_MAX:
+            raise ParameterError("stop.gap", g, f"|gap| <= {ABS_MAX:g}")
+        r = _finite("stop.restitution", self.restitution, "0 < restitution <= 1")
+        if not 0 < r <= 1:
+            raise ParameterError("stop.restitution", r, "0 < restitution <= 1")
+        object.__setattr__(self, "gap", g)
+        object.__setattr__(self, "restitution", r)
+
+
+def _matrix(field, value, n=None, diag_ok=False):
+    """A square float matrix from a list (diagonal, when ``diag_ok``) or a nested list."""
+    valid = (f"a list of {n or 'N'} numbers (the diagonal) or an {n or 'N'}x{n or 'N'} matrix"
+             if diag_ok else f"an {n or 'N'}x{n or 'N'} matrix (list of rows)")
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(field, value, valid) from None
+    if a.ndim == 1 and diag_ok:
+        a = np.diag(a)
+    if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
+        raise ParameterError(field, value, valid)
+    if n is not None and a.shape[0] != n:
+        raise ParameterError(field, value, valid, f"it is {a.shape[0]}x{a.shape[1]}")
+    if not np.all(np.isfinite(a)):
+        raise ParameterError(field, value, "finite numbers only", "found NaN or infinity")
+    if np.abs(a).max() > ABS_MAX:
+        raise ParameterError(field, value, f"entries with |a_ij| <= {ABS_MAX:g}")
+    scale = np.abs(a).max()
+    if np.abs(a - a.T).max() > SYM_TOL * max(scale, 1e-300):
+        i, j = np.unravel_index(np.argmax(np.abs(a - a.T)), a.shape)
+        raise ParameterError(field, value, "a symmetric matrix",
+                             f"entry [{i + 1},{j + 1}] = {a[i, j]!r} but [{j + 1},{i + 1}] = "
+                             f"{a[j, i]!r}")
+    return 0.5 * (a + a.T)
+
+
+def _definite(field, a, semi):
+    w = np.linalg.eigvalsh(a)
+    top = max(abs(w).max(), 1e-300)
+    if semi:
+        if w.min() < -DEF_TOL * top:
+            raise ParameterError(field, a.tolist(), "a positive semi-definite matrix",
+                                 f"smallest eigenvalue {w.min():.3g}")
+    elif not w.min() > DEF_TOL * top:
+        what = ("every free-flight mode must oscillate: a rigid-body or unstable mode is not "
+                "supported" if field == "stiffness" else "")
+        raise ParameterError(field, a.tolist(), "a positive definite matrix",
+                             f"smallest eigenvalue {w.min():.3g}" + (f"; {what}" if what else ""))
+
+
+def _tup(a):
+    return tuple(tuple(float(x) for x in row) for row in np.asarray(a))
+
+
+_NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
+_PRESET = ("mu_m", "mu_k", "f2", "b", "r")
+
+
+class Model:
+    """A linear impact oscillator (see the module docstring); immutable, hashable.
+
+    ``Model(mass=..., stiffness=..., forcing=..., damping=None, stop=Stop(...))``;
+    every argument is keyword-only and validated here; an error names the
+    field and its valid range.
+    """
+
+    __slots__ = ("_M", "_K", "_C", "_P", "_stop", "_preset", "_arrays")
+
+    def __init__(self, *, mass, stiffness, forcing, stop, damping=None, _preset=None):
+        if not isinstance(stop, Stop):
+            raise ParameterError("stop", stop, "a symvi.Stop(mass=k, gap=b, restitution=r)")
+        M = _matrix("mass", mass, diag_ok=True)
+        n = M.shape[0]
+        if n > N_MAX:
+            raise ParameterError("mass", f"{n} masses", f"1 <= N <= {N_MAX}")
+        K = _matrix("stiffness", stiffness, n)
+        C = np.zeros((n, n)) if damping is None else _matrix("damping", damping, n)
+        _definite("mass", M, semi=False)
+        _definite("stiffness", K, semi=False)
+        _definite("damping", C, semi=True)
+        try:
+            P = np.array(forcing, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError("forcing", forcing, f"a list of {n} finite numbers") from None
+        if P.shape != (n,) or not np.all(np.isfinite(P)):
+            raise ParameterError("forcing", forcing, f"a list of {n} finite numbers")
+        if np.abs(P).max() > ABS_MAX:
+            raise ParameterError("forcing", forcing, f"|forcing[i]| <= {ABS_MAX:g}")
+        if stop.mass > n:
+            raise ParameterError("stop.mass", stop.mass, f"a mass index from 1 to {n}")
+        object.__setattr__(self, "_M", _tup(M))
+        object.__setattr__(self, "_K", _tup(K))
+        object.__setattr__(self, "_C", _tup(C))
+        object.__setattr__(self, "_P", tuple(float(x) for x in P))
+        object.__setattr__(self, "_stop", stop)
+        object.__setattr__(self, "_preset", _preset)
+        object.__setattr__(self, "_arrays", {})
+
+    def __setattr__(self, name, value):
+        raise AttributeError("symvi.Model is immutable; use model.with_(...)")
+
+    # ---- fields --------------------------------------------------------------
+    def _array(self, key, data):
+        a = self._arrays.get(key)
+        if a is None:
+            a = np.array(data, dtype=float)
+            a.flags.writeable = False
+            self._arrays[key] = a
+        return a
+
+    @property
+    def mass(self):
+        """M, (N, N), read-only."""
+        return self._array("M", self._M)
+
+    @property
+    def stiffness(self):
+        return self._array("K", self._K)
+
+    @property
+    def damping(self):
+        return self._array("C", self._C)
+
+    @property
+    def forcing(self):
+        return self._array("P", self._P)
+
+    @property
+    def stop(self):
+        return self._stop
+
+    @property
+    def n(self):
+        """Number of masses N."""
+        return len(self._P)
+
+    @property
+    def dim(self):
+        """Dimension of the section state y, 2N."""
+        return 2 * self.n
+
+    @property
+    def damped(self):
+        return any(x != 0.0 for row in self._C for x in row)
+
+    @property
+    def conservative(self):
+        """r = 1 and C = 0: the impact map preserves volume (multipliers may sit on
+        the unit circle over whole intervals, and (H3) has no meaning)."""
+        return self._stop.restitution == 1.0 and not self.damped
+
+    @property
+    def preset(self):
+        """``{"name": "luo_xie", "mu_m": ..., ...}`` for the paper's model, else None."""
+        return None if self._preset is None else dict(self._preset)
+
+    def key(self):
+        """A stable tuple of every number, for hashing and caching."""
+        s = self._stop
+        return (self._M, self._K, self._C, self._P, s.mass, s.gap, s.restitution)
+
+    def __eq__(self, other):
+        return isinstance(other, Model) and self.key() == other.key()
+
+    def __hash__(self):
+        return hash(self.key())
+
+    def __repr__(self):
+        if self._preset is not None:
+            p = self._preset
+            return ("Model.luo_xie(" + ", ".join(f"{k}={p[k]!r}" for k in _PRESET) + ")")
+        return (f"Model(mass={[list(r) for r in self._M]}, stiffness={[list(r) for r in self._K]}, "
+                f"damping={[list(r) for r in self._C]}, forcing={list(self._P)}, "
+                f"stop={self._stop!r})")
+
+    def as_dict(self):
+        """The model as plain data (the ``[model]``/``[stop]`` tables of a model file)."""
+        d = {"mass": [list(r) for r in self._M], "stiffness": [list(r) for r in self._K],
+             "damping": [list(r) for r in self._C], "forcing": list(self._P),
+             "stop": {"mass": self._stop.mass, "gap": self._stop.gap,
+                      "restitution": self._stop.restitution}}
+        if self._preset is not None:
+            d["preset"] = dict(self._preset)
+        return d
+
+    # ---- the paper's preset ----------------------------------------------------
+    @classmethod
+    def luo_xie(cls, mu_m, mu_k, f2, b, r):
+        """The model of Luo & Xie (1998), eq. (4): M = diag(1, mu_m),
+        K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2), stop on mass 1 at b."""
+        from ..params import Params
+        p = Params(mu_m, mu_k, f2, b, r)       # the paper's ranges and messages
+        return cls(mass=[1.0, p.mu_m], stiffness=[[1.0, -1.0], [-1.0, 1.0 + p.mu_k]],
+                   forcing=[1.0 - p.f2, p.f2], stop=Stop(mass=1, gap=p.b, restitution=p.r),
+                   _preset={"name": "luo_xie", **p.as_dict()})
+
+    # ---- named parameters ------------------------------------------------------
+    def parameter_names(self):
+        """Every named scalar of this model (``omega`` excluded), in a stable order."""
+        n = self.n
+        names = ["gap", "restitution"]
+        names += [f"mass[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
+        names += [f"stiffness[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
+        names += [f"damping[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
+        names += [f"forcing[{i + 1}]" for i in range(n)]
+        if self._preset is not None:
+            names = list(_PRESET) + names
+        return names
+
+    def _parse(self, name):
+        """(kind, i, j) of a named parameter, 0-based; raise naming the valid names."""
+        valid = ("omega, gap, restitution, mass[i], mass[i,j], stiffness[i,j], damping[i,j], "
+                 f"forcing[i] with 1 <= i, j <= {self.n}"
+                 + ("; for this preset also mu_m, mu_k, f2, b, r" if self._preset else ""))
+        if name in ("gap", "restitution"):
+            return name, None, None
+        if name in _PRESET:
+            if self._preset is None:
+                raise ParameterError("parameter", name, valid,
+                                     f"{name} belongs to the Luo-Xie preset only")
+            return name, None, None
+        m = _NAME.match(str(name).replace(" ", ""))
+        if not m:
+            raise ParameterError("parameter", name, valid)
+        kind, i = m.group(1), int(m.group(2)) - 1
+        j = None if m.group(3) is None else int(m.group(3)) - 1
+        if kind == "forcing" and j is not None:
+            raise ParameterError("parameter", name, valid)
+        if kind == "mass" and j is None:
+            j = i
+        if kind in ("stiffness", "damping") and j is None:
+            raise ParameterError("parameter", name, valid, f"{kind} needs two indices")
+        if not 0 <= i < self.n or (j is not None and not 0 <= j < self.n):
+            raise ParameterError("parameter", name, valid)
+        return kind, i, j
+
+    def value(self, name):
+        """The value of a named parameter."""
+        kind, i, j = self._parse(name)
+        if kind == "gap":
+            return self._stop.gap
+        if kind == "restitution":
+            return self._stop.restitution
+        if kind in _PRESET:
+            return self._preset[kind]
+        if kind == "forcing":
+            return self._P[i]
+        return {"mass": self._M, "stiffness": self._K, "damping": self._C}[kind][i][j]
+
+    def with_(self, **changes):
+        """A copy with named parameters changed, e.g. ``model.with_(**{"forcing[1]": 0.3})``
+        or ``model.with_(mu_m=3)`` on the preset.  Validated like the constructor."""
+        preset = dict(self._preset) if self._preset else None
+        pre = {k: v for k, v in changes.items() if k in _PRESET}
+        for k in pre:
+            self._parse(k)                    # refuses preset names on a general model
+        if pre:
+            vals = {k: preset[k] for k in _PRESET}
+            vals.update(pre)
+            base = Model.luo_xie(**vals)
+            rest = {k: v for k, v in changes.items() if k not in _PRESET}
+            return base.with_(**rest) if rest else base
+        M, K, C = (np.array(x) for x in (self._M, self._K, self._C))
+        P = np.array(self._P)
+        gap, r = self._stop.gap, self._stop.restitution
+        for name, v in changes.items():
+            kind, i, j = self._parse(name)
+            v = _finite(name, v)
+            if kind == "gap":
+                gap = v
+            elif kind == "restitution":
+                r = v
+            elif kind == "forcing":
+                P[i] = v
+            else:
+                A = {"mass": M, "stiffness": K, "damping": C}[kind]
+                A[i, j] = A[j, i] = v
+        if preset is not None and set(changes) <= {"gap", "restitution"}:
+            # only b or r changed: still the paper's model, keep the preset's names
+            preset.update(b=gap, r=r)
+            return Model.luo_xie(**{k: preset[k] for k in _PRESET})
+        return Model(mass=M, stiffness=K, damping=C, forcing=P,
+                     stop=Stop(mass=self._stop.mass, gap=gap, restitution=r))
+
+    def tangent(self, name):
+        """d(M, C, K, P, b, r) / d(name): exact derivative of the model data, as a
+        :class:`Tangent`.  ``omega`` has the zero tangent here (it enters the map
+        directly, not through the model)."""
+        n = self.n
+        z = np.zeros((n, n))
+        dM, dK, dC, dP = z.copy(), z.copy(), z.copy(), np.zeros(n)
+        db = dr = 0.0
+        if name == "omega":
+            return Tangent(dM, dK, dC, dP, db, dr)
+        kind, i, j = self._parse(name)
+        if kind in ("gap", "b"):
+            db = 1.0
+        elif kind in ("restitution", "r"):
+            dr = 1.0
+        elif kind == "mu_m":
+            dM[1, 1] = 1.0
+        elif kind == "mu_k":
+            dK[1, 1] = 1.0
+        elif kind == "f2":
+            dP[:] = (-1.0, 1.0)
+        elif kind == "forcing":
+            dP[i] = 1.0
+        else:
+            A = {"mass": dM, "stiffness": dK, "damping": dC}[kind]
+            A[i, j] = A[j, i] = 1.0
+        return Tangent(dM, dK, dC, dP, db, dr)
+
+
+@dataclass(frozen=True)
+class Tangent:
+    """Derivative of the model data with respect to one named parameter."""
+
+    dM: np.ndarray
+    dK: np.ndarray
+    dC: np.ndarray
+    dP: np.ndarray
+    db: float
+    dr: float
+
+    @property
+    def zero(self):
+        return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
+                and not np.any(self.dC) and not np.any(self.dP))
