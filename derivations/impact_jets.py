@@ -1,0 +1,465 @@
+"""Derive the Taylor jets of the impact map of any N-mass model and write generated/.
+
+One *structure* per N serves every model with N masses: the numbers are inputs,
+and the masses are renumbered so that the stop's mass comes first
+(:class:`symvi.maps.Section`).  Run through ``symvi regenerate``.
+
+Method.  Between impacts z' = A z + B sin(omega t + tau) (state z = (x, v)), so
+z(t) = Phi(t) (z0 - zp(0)) + zp(t) with Phi(t) = e^{A t} and the steady-state
+response zp (x_p = U sin + V cos).  About a base section point y with flight
+time t_e, the flight of the perturbed point ends at t' = (omega t_e + theta) /
+(omega + domega), the implicit theta as in eq. (26); with dt = t' - t_e = O(theta, domega),
+
+    Phi(t') = Phi(t_e) e^{A dt} = sum_{k <= K} (Phi(t_e) A^k) dt^k / k!  + O(order K + 1),
+
+exactly to the order K of the jet.  The matrices E_k = Phi(t_e) A^k are
+*inputs* (computed from the eigen-decomposition of A, :mod:`symvi.flow.linear`),
+so no matrix exponential or eigenproblem is ever symbolic, damping of any kind
+included, and the expressions stay polynomial in the E_k.
+
+1. Build f~ (the section point after the impact, eq. (26) generalised) and
+   g = x_k(t') - b (eq. (27)) directly as truncated power series in the
+   variables (dy, domega, dp, theta); dp is a *generic* named parameter whose
+   direction enters through the inputs pE_k = d(E_k)/dp, pU, pV, pr, pb.
+2. Abstract their coefficients (the primitive partials) into symbols.
+3. The implicit function theorem order by order, theta_k = -[g(z, theta_<k)]_k / g_theta
+   (eq. (37) generalised), then f = f~(z, theta(z)) (eq. (38) generalised).
+4. CSE, and print one body that takes sin, cos and the rationals as arguments,
+   so the float64 and mpmath backends run the very same expressions.
+
+Variables: states to degree K; domega or dp once, with at most one state (K >= 2).
+Module ``impact_n<N>_order<K>`` holds everything up to order K: a multiplier-only
+job imports ``order1`` alone.
+"""
+import hashlib
+import itertools
+import json
+import math
+import os
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+NS_SHIPPED = (1, 2, 3, 4)
+ORDERS = (1, 2, 3)
+EQUATIONS = "eqs. (19)-(31), (33)-(38) generalised to N masses"
+SCRIPT = "derivations/impact_jets.py"
+MANIFEST = "impact_manifest.json"
+
+
+def module_name(n, K):
+    return f"impact_n{n}_order{K}"
+
+
+# --------------------------------------------------------------------------- inputs
+def inputs(n, K):
+    """Input names, in order, of the generated functions of structure n, order K."""
+    d = 2 * n
+    names = [f"E{k}_{i}_{j}" for k in range(K + 1) for i in range(d) for j in range(d)]
+    names += [f"U{i}" for i in range(n)] + [f"V{i}" for i in range(n)]
+    if K >= 2:
+        names += [f"dU{i}" for i in range(n)] + [f"dV{i}" for i in range(n)]
+        names += [f"pE{k}_{i}_{j}" for k in range(2) for i in range(d) for j in range(d)]
+        names += [f"pU{i}" for i in range(n)] + [f"pV{i}" for i in range(n)]
+    names += ["omega", "r", "b"]
+    if K >= 2:
+        names += ["pr", "pb"]
+    names += [f"y{i}" for i in range(d)] + ["te"]
+    return names
+
+
+# --------------------------------------------------------------------------- series
+class Vars:
+    """Variable slots: dy_0..dy_{2N-1} (dy_{2N-1} = dtau), domega, dp, theta."""
+
+    def __init__(self, n, K):
+        self.n, self.K = n, K
+        self.d = 2 * n
+        self.w, self.p, self.th = self.d, self.d + 1, self.d + 2
+        self.nv = self.d + 3
+
+    def allowed(self, e):
+        state = sum(e[:self.d]) + e[self.th]
+        np_ = e[self.w] + e[self.p]
+        tot = state + np_
+        if tot > self.K:
+            return False
+        return np_ == 0 or (np_ == 1 and self.K >= 2 and tot <= 2)
+
+    def unit(self, i):
+        e = [0] * self.nv
+        e[i] = 1
+        return tuple(e)
+
+    @property
+    def zero(self):
+        return (0,) * self.nv
+
+    def var(self, i):
+        return {self.unit(i): sp.Integer(1)}
+
+    def const(self, c):
+        return {self.zero: c} if c != 0 else {}
+
+    def add(self, *terms):
+        out = {}
+        for a in terms:
+            for e, c in a.items():
+                out[e] = out.get(e, 0) + c
+        return {e: c for e, c in out.items() if c != 0}
+
+    def scale(self, a, k):
+        return {e: c * k for e, c in a.items()} if k != 0 else {}
+
+    def mul(self, a, b):
+        out = {}
+        for ea, ca in a.items():
+            for eb, cb in b.items():
+                e = tuple(x + y for x, y in zip(ea, eb))
+                if self.allowed(e):
+                    out[e] = out.get(e, 0) + ca * cb
+        return out
+
+    def power(self, a, k):
+        out = self.const(sp.Integer(1))
+        for _ in range(k):
+            out = self.mul(out, a)
+        return out
+
+    def trig(self, s0, c0, u):
+        """(sin, cos) of (x0 + u) as series, sin x0 = s0, cos x0 = c0, u without constant."""
+        derivs = [(s0, c0), (c0, -s0), (-s0, -c0), (-c0, s0)]
+        S, C, uk = {}, {}, self.const(sp.Integer(1))
+        for k in range(self.K + 1):
+            ds, dc = derivs[k % 4]
+            f = sp.Rational(1, math.factorial(k))
+            S = self.add(S, self.scale(uk, ds * f))
+            C = self.add(C, self.scale(uk, dc * f))
+            uk = self.mul(uk, u)
+        return S, C
+
+
+def model(n, K):
+    """g (eq. 27) and f~ (eq. 26) as truncated series in (dy, domega, dp, theta)."""
+    V_ = Vars(n, K)
+    d = V_.d
+    sym = {s: sp.Symbol(s, real=True) for s in inputs(n, K)}
+    E = [[[sym[f"E{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(K + 1)]
+    pE = ([[[sym[f"pE{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(2)]
+          if K >= 2 else None)
+    omega, r, b, te = sym["omega"], sym["r"], sym["b"], sym["te"]
+    y = [sym[f"y{i}"] for i in range(d)]
+    dw, dp, th = V_.var(V_.w), V_.var(V_.p), V_.var(V_.th)
+    has_p = K >= 2
+    # parameter-dependent inputs: X + pX dp (+ dX domega for the forcing amplitudes)
+    U = [V_.add(V_.const(sym[f"U{i}"]),
+                V_.scale(dw, sym[f"dU{i}"]) if K >= 2 else {},
+                V_.scale(dp, sym[f"pU{i}"]) if has_p else {}) for i in range(n)]
+    Vv = [V_.add(V_.const(sym[f"V{i}"]),
+                 V_.scale(dw, sym[f"dV{i}"]) if K >= 2 else {},
+                 V_.scale(dp, sym[f"pV{i}"]) if has_p else {}) for i in range(n)]
+    bS = V_.add(V_.const(b), V_.scale(dp, sym["pb"]) if has_p else {})
+    rS = V_.add(V_.const(r), V_.scale(dp, sym["pr"]) if has_p else {})
+    W = V_.add(V_.const(omega), dw)
+    invW = V_.add(V_.const(1 / omega), V_.scale(dw, -1 / omega ** 2))
+    dt = V_.mul(V_.add(th, V_.scale(dw, -te)), invW)
+    tau = y[d - 1]
+    dtau = V_.var(d - 1)
+
+    def zp(s, c):
+        xs = [V_.add(V_.mul(U[i], s), V_.mul(Vv[i], c)) for i in range(n)]
+        vs = [V_.mul(W, V_.add(V_.mul(U[i], c), V_.scale(V_.mul(Vv[i], s), -1)))
+              for i in range(n)]
+        return xs + vs
+
+    s0, c0 = V_.trig(sp.sin(tau), sp.cos(tau), dtau)
+    zp0 = zp(s0, c0)
+    # z0 from the section point, stop-first order: (b, x_j; v_k+, v_j)
+    z0 = [bS] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
+    z0 += [V_.add(V_.const(y[0]), V_.var(0))]
+    z0 += [V_.add(V_.const(y[n + i - 1]), V_.var(n + i - 1)) for i in range(1, n)]
+    w = [V_.add(z0[i], V_.scale(zp0[i], -1)) for i in range(d)]
+    hom = [{} for _ in range(d)]
+    dtk = V_.const(sp.Integer(1))
+    for k in range(K + 1):
+        fk = sp.Rational(1, math.factorial(k))
+        for i in range(d):
+            row = {}
+            for j in range(d):
+                row = V_.add(row, V_.scale(w[j], E[k][i][j]))
+                if has_p and k <= 1:
+                    row = V_.add(row, V_.mul(V_.scale(dp, pE[k][i][j]), w[j]))
+            hom[i] = V_.add(hom[i], V_.scale(V_.mul(row, dtk), fk))
+        dtk = V_.mul(dtk, dt)
+    phe = omega * te + tau
+    se, ce = V_.trig(sp.sin(phe), sp.cos(phe), V_.add(th, dtau))
+    zpe = zp(se, ce)
+    ze = [V_.add(hom[i], zpe[i]) for i in range(d)]
+    g = V_.add(ze[0], V_.scale(bS, -1))
+    ft = [V_.scale(V_.mul(rS, ze[n]), -1)] + [ze[i] for i in range(1, n)] \
+        + [ze[n + i] for i in range(1, n)] + [V_.add(dtau, th)]
+    # only derivatives are output: drop the constant terms
+    g = {e: c for e, c in g.items() if e != V_.zero}
+    ft = [{e: c for e, c in f.items() if e != V_.zero} for f in ft]
+    return V_, g, ft
+
+
+# --------------------------------------------------------------------------- composition
+def zmonomials(V_):
+    """Monomials in the z-variables (no theta) kept at order K, ordered by degree."""
+    out = []
+    zv = [i for i in range(V_.nv) if i != V_.th]
+    for deg in range(1, V_.K + 1):
+        for combo in itertools.combinations_with_replacement(zv, deg):
+            e = [0] * V_.nv
+            for c in combo:
+                e[c] += 1
+            if V_.allowed(tuple(e)):
+                out.append(tuple(e))
+    return out
+
+
+def build(n, K):
+    """The straight-line program for structure n, order K: (defs, names, exprs)."""
+    V_, g, ft = model(n, K)
+    defs = []
+    counter = itertools.count()
+
+    def abstract(series, tag):
+        res = {}
+        for e in sorted(series, key=lambda e: (sum(e), e)):
+            c = series[e]
+            if c == 0:
+                continue
+            if c.is_Number:
+                res[e] = c
+                continue
+            s = sp.Symbol(f"{tag}{next(counter)}")
+            defs.append((s, c))
+            res[e] = s
+        return res
+
+    gc = abstract(g, "pg")
+    fcs = [abstract(f, f"pf{i}_") for i, f in enumerate(ft)]
+    eth = V_.unit(V_.th)
+    g_th = gc[eth]
+    g_rest = {e: c for e, c in gc.items() if e != eth}
+
+    def compose(series, theta):
+        powers = {0: V_.const(sp.Integer(1))}
+        out = {}
+        for e, c in series.items():
+            k = e[V_.th]
+            ez = list(e)
+            ez[V_.th] = 0
+            for m in range(len(powers), k + 1):
+                powers[m] = V_.mul(powers[m - 1], theta)
+            out = V_.add(out, V_.mul({tuple(ez): c}, powers[k]))
+        return out
+
+    theta = {}
+    mons = zmonomials(V_)
+    for k in range(1, K + 1):
+        S = compose(g_rest, theta)
+        for e in mons:
+            if sum(e) == k and e in S:
+                theta[e] = -S[e] / g_th
+    f = [compose(fc, theta) for fc in fcs]
+    names, exprs = [], []
+    for e in mons:
+        fac = math.prod(math.factorial(x) for x in e)
+        for i in range(V_.d):
+            names.append(("f", i, e))
+            exprs.append(f[i].get(e, 0) * fac)
+    for i in range(V_.d):
+        e = V_.unit(i)
+        names.append(("theta", e))
+        exprs.append(theta.get(e, 0))
+    names.append(("g_theta",))
+    exprs.append(g_th)
+    return V_, defs, names, exprs
+
+
+def layout_of(V_, names):
+    """Index maps from the flat output tuple to the tensors."""
+    pos = {nm: i for i, nm in enumerate(names)}
+    d, K = V_.d, V_.K
+
+    def unit(*idx):
+        e = [0] * V_.nv
+        for j in idx:
+            e[j] += 1
+        return tuple(e)
+    out = {"J": [[pos[("f", i, unit(j))] for j in range(d)] for i in range(d)],
+           "theta1": [pos[("theta", unit(j))] for j in range(d)],
+           "g_theta": pos[("g_theta",)]}
+    if K >= 2:
+        out["d2"] = [[[pos[("f", i, unit(j, k))] for k in range(d)] for j in range(d)]
+                     for i in range(d)]
+        for tag, slot in (("w", V_.w), ("p", V_.p)):
+            out[f"d{tag}J"] = [[pos[("f", i, unit(j, slot))] for j in range(d)]
+                               for i in range(d)]
+            out[f"d{tag}P"] = [pos[("f", i, unit(slot))] for i in range(d)]
+    if K >= 3:
+        out["d3"] = [[[[pos[("f", i, unit(j, k, l))] for l in range(d)] for k in range(d)]
+                      for j in range(d)] for i in range(d)]
+    return out
+
+
+# --------------------------------------------------------------------------- printing
+class _BackendFreePrinter(PythonCodePrinter):
+    """sin/cos as bare names and each rational p/q as a constant ``q{p}_{q}``, so
+    one function body serves float64 and mpmath (they are passed in)."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": False})
+        self.rationals = set()
+
+    def _print_Rational(self, expr):
+        self.rationals.add((int(expr.p), int(expr.q)))
+        return f"q{expr.p}_{expr.q}".replace("-", "m")
+
+    def _print_Half(self, expr):
+        return self._print_Rational(expr)
+
+    def _print_sin(self, expr):
+        return f"sin({self._print(expr.args[0])})"
+
+    def _print_cos(self, expr):
+        return f"cos({self._print(expr.args[0])})"
+
+
+def emit_body(input_names, defs, exprs):
+    """One straight-line ``_jet(inp, sin, cos, Q)``: CSE of the primitives, then of
+    the composition.  Returns (source, sorted rationals used)."""
+    pr = _BackendFreePrinter()
+    lines = ["    (" + ", ".join(input_names) + ",) = inp"]
+    rep1, red1 = sp.cse([e for _, e in defs], symbols=sp.numbered_symbols("c"),
+                        order="canonical")
+    for s, e in rep1:
+        lines.append(f"    {s} = {pr.doprint(e)}")
+    for (s, _), e in zip(defs, red1):
+        lines.append(f"    {s} = {pr.doprint(e)}")
+    rep2, red2 = sp.cse(exprs, symbols=sp.numbered_symbols("k"), order="canonical")
+    for s, e in rep2:
+        lines.append(f"    {s} = {pr.doprint(e)}")
+    lines.append("    return (" + ", ".join(pr.doprint(e) for e in red2) + ",)")
+    rats = sorted(pr.rationals)
+    head = ["def _jet(inp, sin, cos, Q):"]
+    if rats:
+        head.append("    " + ", ".join(f"q{p}_{q}".replace("-", "m") for p, q in rats) + ", = Q")
+    return "\n".join(head + lines), rats
+
+
+def input_hash():
+    """Hash of what the output depends on: this script and the SymPy version."""
+    h = hashlib.sha256()
+    h.update(Path(__file__).read_bytes())
+    h.update(sp.__version__.encode())
+    return h.hexdigest()
+
+
+def render(n, K, ihash):
+    V_, defs, names, exprs = build(n, K)
+    ins = inputs(n, K)
+    header = (f"# Generated by {SCRIPT} from {EQUATIONS}, N = {n}, order {K}. DO NOT EDIT.\n"
+              f"# input-hash: {ihash}\n"
+              f"# sympy: {sp.__version__}\n")
+    doc = (f'"""Jet of the impact map of any {n}-mass model up to order {K}, {EQUATIONS}.\n\n'
+           "Machine-written; regenerate with ``symvi regenerate``.  ``f64(inp)`` and\n"
+           "``mp(inp)`` evaluate the same expressions; ``inp`` is a tuple in the order of\n"
+           "``INPUTS`` (assembled by :mod:`symvi.codegen.layout`); the flat result is\n"
+           "indexed by ``LAYOUT``.\n\"\"\"\n")
+    src, rats = emit_body(ins, defs, exprs)
+    qf = "(" + "".join(f"{p} / {q}, " for p, q in rats) + ")"
+    qm = "(" + "".join(f"mpmath.mpf({p}) / {q}, " for p, q in rats) + ")"
+    body = [header, doc, "import math", "", "import mpmath", "",
+            f"N = {n}", f"ORDER = {K}", f"INPUTS = {ins!r}",
+            f"LAYOUT = {layout_of(V_, names)!r}",
+            "#: the rationals Q of ``_jet`` in float64 (also used by compiled kernels)",
+            f"Q_F64 = {qf}", "", "", src, "", "",
+            "def f64(inp):",
+            '    """float64 backend (``math``)."""',
+            "    return _jet(inp, math.sin, math.cos, Q_F64)", "", "",
+            "def mp(inp):",
+            '    """mpmath backend at the current ``mpmath.mp.dps``."""',
+            f"    return _jet(inp, mpmath.sin, mpmath.cos, {qm})", ""]
+    return "\n".join(body)
+
+
+def _write_atomic(path, text):
+    tmp = path.with_name(path.name + ".new")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def file_hash(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _read_manifest(out_dir):
+    p = Path(out_dir) / MANIFEST
+    return json.loads(p.read_text()) if p.exists() else {}
+
+
+def generate(out_dir, ns=NS_SHIPPED, orders=ORDERS, force=False):
+    """Write impact_n<N>_order<K>.py for the requested structures and update the manifest.
+
+    Skips a module whose manifest entry is fresh.  Returns (written: list, manifest).
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    ihash = input_hash()
+    man = _read_manifest(out_dir)
+    files = dict(man.get("files", {})) if man.get("input_hash") == ihash else {}
+    written = []
+    for n in ns:
+        for K in orders:
+            f = f"{module_name(n, K)}.py"
+            p = out_dir / f
+            if not force and f in files and p.exists() and file_hash(p) == files[f]:
+                continue
+            _write_atomic(p, render(n, K, ihash))
+            files[f] = file_hash(p)
+            written.append(f)
+    init = out_dir / "__init__.py"
+    if not init.exists():
+        _write_atomic(init, '"""Machine-written by derivations/; do not edit."""\n')
+    man = {"script": SCRIPT, "equations": EQUATIONS, "sympy": sp.__version__,
+           "input_hash": ihash, "files": dict(sorted(files.items()))}
+    if written or not (out_dir / MANIFEST).exists():
+        _write_atomic(out_dir / MANIFEST, json.dumps(man, indent=2, sort_keys=True) + "\n")
+    return written, man
+
+
+def check(out_dir, ns=NS_SHIPPED, orders=ORDERS):
+    """Reasons why out_dir is stale for the structures ``ns`` (empty when fresh)."""
+    out_dir = Path(out_dir)
+    man = _read_manifest(out_dir)
+    if not man:
+        return [f"{out_dir / MANIFEST} is missing"]
+    why = []
+    if man.get("input_hash") != input_hash():
+        why.append("input hash differs: the derivation script or the SymPy version changed")
+    for n in ns:
+        for K in orders:
+            f = f"{module_name(n, K)}.py"
+            if f not in man.get("files", {}):
+                why.append(f"{f} is not in the manifest")
+            elif not (out_dir / f).exists():
+                why.append(f"{f} is missing")
+            elif file_hash(out_dir / f) != man["files"][f]:
+                why.append(f"{f} was edited by hand (hash differs from the manifest)")
+    return why
+
+
+if __name__ == "__main__":
+    import argparse
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out_dir")
+    ap.add_argument("--n", type=int, nargs="*", default=list(NS_SHIPPED))
+    ap.add_argument("--force", action="store_true")
+    a = ap.parse_args()
+    w, _ = generate(a.out_dir, tuple(a.n), force=a.force)
+    print("written: " + ", ".join(w) if w else "up to date")

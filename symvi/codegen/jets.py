@@ -1,0 +1,197 @@
+"""Jets of the impact map of any model from the generated code, eqs. (33)–(38) generalised.
+
+Raw derivatives in the section's variable order (:class:`symvi.maps.Section`):
+
+* ``jacobian[i, j] = dP_i/dy_j`` (F01),
+* ``d2[i, j, k]``, ``d3[i, j, k, l]`` (F02 = d2 / 2, F03 = d3 / 6),
+* ``dP_domega``, ``dJ_domega``: explicit omega-derivatives at fixed y;
+  ``dA = dJ/domega + d2 . dy*/domega`` along the orbit branch (F11 of eq. (34)),
+  dy*/domega = (I - J)^{-1} dP/domega from P(y*(omega); omega) = y*(omega);
+* the same two for any named parameter p (:func:`parameter_derivatives`), exact.
+
+Order K imports ``impact_n<N>_order<K>`` only: a multiplier-only job never
+imports second- or third-order code.
+"""
+import warnings
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..flow.linear import LinearFlow
+from .layout import assemble, module
+
+
+def evaluate(flow, forcing, y, te, order, tangent=None):
+    """Flat generated values -> dict of numpy arrays (object arrays of mpf on mpmath)."""
+    mod, layout = module(flow.n, order)
+    inp = assemble(flow, forcing, y, te, order, tangent)
+    if flow.la.digits is None:
+        flat = np.array(mod.f64(inp))
+    else:
+        vals = mod.mp(inp)
+        flat = np.empty(len(vals), dtype=object)
+        flat[:] = vals
+    return {name: flat[idx] for name, idx in layout.items()}
+
+
+def eigenvalues(J):
+    """Eigenvalues of a Jacobian sorted by modulus descending (float or mpmath)."""
+    if J.dtype == object:
+        ev = mpmath.eig(mpmath.matrix(J.tolist()), left=False, right=False)
+        return tuple(sorted(ev, key=lambda z: (-abs(z), -mpmath.im(z))))
+    ev = np.linalg.eigvals(J)
+    return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
+
+
+def _at(model, omega, digits):
+    flow = LinearFlow.of(model, digits)
+    if digits is None:
+        return flow, flow.forcing(float(omega))
+    return flow, flow.forcing(mpmath.mpf(omega))
+
+
+def jacobian_at(model, omega, y, te, *, digits=None):
+    """DP at a section point y whose flight to the next impact lasts te (any point)."""
+    if digits is None:
+        flow, F = _at(model, omega, None)
+        return evaluate(flow, F, tuple(float(v) for v in y), float(te), 1)["J"]
+    with mpmath.mp.workdps(digits):
+        flow, F = _at(model, omega, digits)
+        return evaluate(flow, F, tuple(mpmath.mpf(v) for v in y), mpmath.mpf(te), 1)["J"]
+
+
+def multipliers_at(model, omega, y, te, *, digits=None):
+    """Eigenvalues of DP at y (|.| descending)."""
+    if digits is None:
+        return eigenvalues(jacobian_at(model, omega, y, te))
+    with mpmath.mp.workdps(digits):
+        return eigenvalues(jacobian_at(model, omega, y, te, digits=digits))
+
+
+@dataclass(frozen=True)
+class Jet:
+    """Jet of the impact map at a fixed point y* (flight time te), see the module docstring.
+
+    Arrays are float64, or object arrays of mpf when ``digits`` is set;
+    unrequested orders are None.
+    """
+
+    omega: object
+    y: tuple
+    order: int
+    jacobian: np.ndarray
+    theta1: np.ndarray
+    g_theta: object
+    d2: np.ndarray = None
+    d3: np.ndarray = None
+    dA: np.ndarray = None            # F11 along the branch
+    dP_domega: np.ndarray = None
+    dJ_domega: np.ndarray = None
+    dy_domega: np.ndarray = None
+    digits: object = None
+
+
+def jet_at(model, omega, y, te, order=3, *, digits=None):
+    """The jet of P at a fixed point y (flight time te) of ``model``; see :class:`Jet`."""
+    if order not in (1, 2, 3):
+        raise ParameterError("order", order, "1, 2 or 3")
+    if digits is None:
+        flow, F = _at(model, omega, None)
+        return _jet(flow, F, tuple(float(v) for v in y), float(te), order, False)
+    with mpmath.mp.workdps(digits):
+        flow, F = _at(model, omega, digits)
+        return _jet(flow, F, tuple(mpmath.mpf(v) for v in y), mpmath.mpf(te), order, True)
+
+
+def _check_grazing(vals, mp):
+    g_th = vals["g_theta"]
+    scale = abs(g_th) * (1 + float(np.max(np.abs(vals["theta1"].astype(float)))))
+    if abs(g_th) <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
+        raise SingularCaseError("grazing", "dg/d(dtheta) = 0 at the point: the impact is "
+                                "grazing and the implicit function theorem of eq. (30) fails")
+
+
+def _jet(flow, F, y, te, order, mp):
+    vals = evaluate(flow, F, y, te, order)
+    _check_grazing(vals, mp)
+    kw = dict(omega=F.omega, y=y, order=order, jacobian=vals["J"], theta1=vals["theta1"],
+              g_theta=vals["g_theta"], digits=flow.la.digits)
+    if order >= 2:
+        J, d2 = vals["J"], vals["d2"]
+        dy = fixed_point_motion(J, vals["dwP"], mp)
+        kw.update(d2=d2, dP_domega=vals["dwP"], dJ_domega=vals["dwJ"], dy_domega=dy,
+                  dA=vals["dwJ"] + d2 @ dy)
+    if order >= 3:
+        kw.update(d3=vals["d3"])
+    return Jet(**kw)
+
+
+@dataclass(frozen=True)
+class ParameterDerivative:
+    """d/dp of the map and of its Jacobian at y (fixed y), and along the fixed point."""
+
+    name: str
+    dP: np.ndarray            # explicit dP/dp at fixed y
+    dJ: np.ndarray            # explicit dJ/dp at fixed y
+    dy: np.ndarray = None     # dy*/dp of the fixed point (when y is one)
+    dJ_branch: np.ndarray = None   # dJ/dp along the fixed point: dJ + d2 . dy
+
+
+def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point=True):
+    """Exact first derivatives of P and DP with respect to the named parameter ``name``.
+
+    ``omega`` uses the generated omega-slot; any other name the generic slot fed
+    by :func:`symvi.codegen.layout.tangent_data` (Frechet derivative of e^{At}).
+    With ``fixed_point`` (y a fixed point, te its period) the motion of the fixed
+    point and the derivative of the Jacobian along it are added.
+    """
+    tangent = None if name == "omega" else model.tangent(name)
+    ctx = mpmath.mp.workdps(digits) if digits else _Null()
+    with ctx:
+        flow, F = _at(model, omega, digits)
+        mp = digits is not None
+        num = mpmath.mpf if mp else float
+        vals = evaluate(flow, F, tuple(num(v) for v in y), num(te), 2, tangent)
+        dP, dJ = (vals["dwP"], vals["dwJ"]) if name == "omega" else (vals["dpP"], vals["dpJ"])
+        if not fixed_point:
+            return ParameterDerivative(name, dP, dJ)
+        dy = fixed_point_motion(vals["J"], dP, mp)
+        return ParameterDerivative(name, dP, dJ, dy, dJ + vals["d2"] @ dy)
+
+
+class _Null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
+
+
+def fixed_point_motion(J, dP, mp):
+    """dy*/dp = (I - J)^{-1} dP/dp; refuses a multiplier at 1 (fold), warns near one."""
+    n = J.shape[0]
+    if mp:
+        x = mpmath.lu_solve(mpmath.matrix((np.eye(n, dtype=object) - J).tolist()),
+                            mpmath.matrix(list(dP)))
+        out = np.empty(n, dtype=object)
+        out[:] = [x[i] for i in range(n)]
+        return out
+    M = np.eye(n) - J
+    had = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
+    if not had > 1e-6:
+        lam = np.linalg.eigvals(J)
+        if np.abs(lam).max() > 1e8:
+            raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of "
+                                    f"modulus {np.abs(lam).max():.3g}: the orbit is close to "
+                                    "grazing and the fixed point's motion cannot be resolved")
+        gap = np.abs(1 - lam).min()
+        if not gap >= 1e-10:
+            raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point "
+                                    "does not move smoothly with the parameter (fold)")
+        if gap < 1e-6:
+            warnings.warn(f"a multiplier is within {gap:.1e} of 1 (near a fold): derivatives "
+                          f"along the branch lose about {-np.log10(gap):.0f} digits",
+                          NearSingularWarning, stacklevel=4)
+    return np.linalg.solve(M, dP)

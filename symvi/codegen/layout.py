@@ -1,0 +1,131 @@
+"""The one input layout of the generated impact-map jets (``generated/impact_n<N>_order<K>``).
+
+The generated functions take, in the order of the module's ``INPUTS``
+(:func:`derivations.impact_jets.inputs`):
+
+    E_k = Phi(t_e) A^k (k = 0..K, row-major), U, V, [dU, dV, pE_0, pE_1, pU, pV],
+    omega, r, b, [pr, pb], y (2N), t_e
+
+(bracketed groups for K >= 2): the flow matrices of :mod:`symvi.flow.linear`,
+the steady-state response and its omega-derivative, and the derivative of all
+of these along one named parameter p (``pX = dX/dp``), exact: the Fréchet
+derivative of the matrix exponential (eigen-decomposition form), the
+derivative of the steady-state solve, and the model's :class:`symvi.model.Tangent`.
+"""
+import importlib
+import os
+import sys
+from pathlib import Path
+
+import mpmath
+import numpy as np
+
+from ..flow.linear import NUMPY_LA
+
+_LOADED = {}
+
+
+def _user_dir():
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "symvi" / "generated"
+
+
+def module(n, order):
+    """The generated module of structure n, order K: shipped in ``symvi._generated``
+    (N = 1..4), else generated on first use into the per-user cache."""
+    key = (n, order)
+    if key not in _LOADED:
+        name = f"impact_n{n}_order{order}"
+        try:
+            mod = importlib.import_module(f"symvi._generated.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"symvi._generated.{name}":
+                raise
+            mod = _user_module(n, order, name)
+        _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
+    return _LOADED[key]
+
+
+def _user_module(n, order, name):
+    import warnings
+
+    from .._derivations import impact_jets
+    d = _user_dir()
+    why = impact_jets.check(d, (n,), (order,))
+    if why:
+        warnings.warn(f"generating the order-{order} jets of the {n}-mass structure into {d} "
+                      "(once; may take a minute)", stacklevel=4)
+        impact_jets.generate(d, (n,), tuple(range(1, order + 1)))
+    spec = importlib.util.spec_from_file_location(f"symvi_user_generated.{name}", d / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def frechet_exp(flow, t, dA):
+    """d/de e^{(A + e dA) t} at e = 0, by the eigen-decomposition of A:
+    W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t)."""
+    la = flow.la
+    lt = flow.lam * t
+    ex = la.exp(lt)
+    m = len(lt)
+    if la is NUMPY_LA:
+        diff = lt[:, None] - lt[None, :]
+        safe = np.where(diff == 0, 1, diff)
+        G = np.where(diff == 0, 1.0 + 0j, np.expm1(diff) / safe) * ex[None, :] * t
+    else:
+        G = np.empty((m, m), dtype=object)
+        for i in range(m):
+            for j in range(m):
+                d = lt[i] - lt[j]
+                G[i, j] = t * ex[j] * (mpmath.expm1(d) / d if d != 0 else 1)
+    return la.real(flow.W @ (G * (flow.Winv @ dA @ flow.W)) @ flow.Winv)
+
+
+def tangent_data(flow, forcing, te, tangent):
+    """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order)."""
+    la, n = flow.la, flow.n
+    p = list(flow.perm)
+
+    def perm(a):
+        return la.arr(np.asarray(a)[np.ix_(p, p)] if np.ndim(a) == 2 else np.asarray(a)[p])
+    dM, dK, dC, dP = perm(tangent.dM), perm(tangent.dK), perm(tangent.dC), perm(tangent.dP)
+    Minv = la.inv(flow.M)
+    dMinv = -(Minv @ dM @ Minv)
+    Z = la.arr(np.zeros((n, n)))
+    dA = np.block([[Z, Z], [-(dMinv @ flow.K + Minv @ dK), -(dMinv @ flow.C + Minv @ dC)]])
+    dPhi = frechet_exp(flow, te, dA)
+    Phi = flow.phi(te)
+    pE0 = dPhi
+    pE1 = dPhi @ flow.A + Phi @ dA
+    w = forcing.omega
+    i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+    D = flow.K - w * w * flow.M + i * w * flow.C
+    X = forcing.U + i * forcing.V
+    dX = la.solve(D, dP - (dK - w * w * dM + i * w * dC) @ X)
+    return pE0, pE1, la.real(dX), la.real(-i * dX), tangent.dr, tangent.db
+
+
+def assemble(flow, forcing, y, te, order, tangent=None):
+    """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
+    lib, la = flow.lib, flow.la
+    parts = [flow.phi(te, k).ravel() for k in range(order + 1)]
+    parts += [forcing.U, forcing.V]
+    scal_p = []
+    if order >= 2:
+        parts += [forcing.dU, forcing.dV]
+        if tangent is None or tangent.zero:
+            z = la.arr(np.zeros((2 * flow.n) ** 2))
+            zn = la.arr(np.zeros(flow.n))
+            parts += [z, z, zn, zn]
+            scal_p = [lib.num(0), lib.num(0)]
+        else:
+            pE0, pE1, pU, pV, pr, pb = tangent_data(flow, forcing, te, tangent)
+            parts += [pE0.ravel(), pE1.ravel(), pU, pV]
+            scal_p = [lib.num(pr), lib.num(pb)]
+    head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
+    tail = [forcing.omega, flow.r, flow.b] + scal_p + list(y) + [lib.num(te)]
+    if la is NUMPY_LA:
+        return tuple(head.tolist()) + tuple(float(v) for v in tail)
+    return tuple(head) + tuple(tail)

@@ -1,0 +1,414 @@
+"""Exact flow of any model between impacts, and the first-impact finder.
+
+State z = (x, v) in the *stop-first* order (the stop's mass first, then the
+others in mass order; :attr:`LinearFlow.perm`).  Between impacts::
+
+    z' = A z + B sin(omega t + tau),  A = [[0, I], [-M^-1 K, -M^-1 C]],
+
+solved exactly as z(t) = Phi(t) (z0 - zp(0)) + zp(t), Phi(t) = e^{A t}, with
+
+* the particular (steady-state) solution x_p(t) = U sin(phi) + V cos(phi),
+  phi = omega t + tau, where U + i V = X solves (K - omega^2 M + i omega C) X = P;
+* Phi(t) = Re(W diag(e^{lambda_j t}) W^-1) from the eigen-decomposition of A.
+  Undamped models use the mass-normalised modes (lambda = +-i omega_j, an exact
+  closed form for W^-1); damped ones the eigenvectors of A, refused when they
+  are ill-conditioned (a defective, e.g. critically damped, mode).
+
+The first-impact finder steps along h(t) = x_k(t) - b < 0 with a provably safe
+step, as :mod:`symvi.flow.modal2` does for the paper: with
+M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
+since Re lambda_j <= 0 for M, K positive definite and C semi-definite),
+h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
+of that quadratic.  A crossing with h' below a grazing speed is reported as
+grazing, never stepped over.  Damped motion is covered by the same bound.
+
+Both backends (float64 through numpy, mpmath at the current precision) run
+this one implementation.
+"""
+import functools
+import math
+import warnings
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+
+from .._backend import FLOAT, MP
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+
+IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
+
+#: relative distance to a forcing resonance refused / warned about (as for the paper)
+RESONANCE_REFUSE = 1e-10
+RESONANCE_WARN = 1e-4
+#: condition number of the eigenvector matrix of A above which a damped model is refused
+EIGVEC_COND_MAX = 1e10
+OMEGA_RANGE = (1e-4, 1e4)
+
+
+# --------------------------------------------------------------------------- backends
+class _NumpyLA:
+    """Complex float64 linear algebra."""
+
+    lib = FLOAT
+    digits = None
+
+    @staticmethod
+    def arr(x, dtype=float):
+        return np.array(x, dtype=dtype)
+
+    @staticmethod
+    def exp(v):
+        return np.exp(v)
+
+    @staticmethod
+    def inv(A):
+        return np.linalg.inv(A)
+
+    @staticmethod
+    def solve(A, b):
+        return np.linalg.solve(A, b)
+
+    @staticmethod
+    def eigh_pair(K, M):
+        """omega_j ascending and M-normalised modes (columns) of K psi = omega^2 M psi."""
+        L = np.linalg.cholesky(M)
+        Li = np.linalg.inv(L)
+        w2, Q = np.linalg.eigh(Li @ K @ Li.T)
+        return np.sqrt(w2), Li.T @ Q
+
+    @staticmethod
+    def eig(A):
+        lam, W = np.linalg.eig(A)
+        return lam, W
+
+    @staticmethod
+    def cond(W):
+        return np.linalg.cond(W)
+
+    @staticmethod
+    def real(x):
+        return np.real(x)
+
+    @staticmethod
+    def absv(x):
+        return np.abs(x)
+
+    @staticmethod
+    def sigma_min(A):
+        return np.linalg.svd(A, compute_uv=False)[-1]
+
+
+class _MpLA:
+    """mpmath linear algebra at the current ``mpmath.mp.dps``, on numpy object arrays."""
+
+    lib = MP
+
+    @property
+    def digits(self):
+        return mpmath.mp.dps
+
+    @staticmethod
+    def arr(x, dtype=None):
+        a = np.array(x, dtype=object)
+        return np.vectorize(lambda v: v if isinstance(v, (mpmath.mpf, mpmath.mpc))
+                            else mpmath.mpf(v) if not isinstance(v, complex)
+                            else mpmath.mpc(v), otypes=[object])(a) if a.size else a
+
+    @staticmethod
+    def _m(A):
+        return mpmath.matrix(A.tolist())
+
+    @staticmethod
+    def _a(m, shape):
+        out = np.empty(shape, dtype=object)
+        for i in range(shape[0]):
+            if len(shape) == 1:
+                out[i] = m[i]
+            else:
+                for j in range(shape[1]):
+                    out[i, j] = m[i, j]
+        return out
+
+    def exp(self, v):
+        return np.array([mpmath.exp(x) for x in v], dtype=object)
+
+    def inv(self, A):
+        return self._a(mpmath.inverse(self._m(A)), A.shape)
+
+    def solve(self, A, b):
+        return self._a(mpmath.lu_solve(self._m(A), mpmath.matrix(list(b))), b.shape)
+
+    def eigh_pair(self, K, M):
+        L = mpmath.cholesky(self._m(M))
+        Li = mpmath.inverse(L)
+        E, Q = mpmath.eigsy(Li * self._m(K) * Li.T)
+        n = K.shape[0]
+        order = sorted(range(n), key=lambda i: E[i])
+        psi = self._a(Li.T * Q, (n, n))[:, order]
+        return np.array([mpmath.sqrt(E[i]) for i in order], dtype=object), psi
+
+    def eig(self, A):
+        E, ER = mpmath.eig(self._m(A))
+        n = A.shape[0]
+        return np.array([E[i] for i in range(n)], dtype=object), self._a(ER, (n, n))
+
+    def cond(self, W):
+        m = self._m(W)
+        return float(mpmath.mnorm(m, 1) * mpmath.mnorm(mpmath.inverse(m), 1))
+
+    @staticmethod
+    def real(x):
+        return np.vectorize(lambda v: mpmath.re(v), otypes=[object])(x)
+
+    @staticmethod
+    def absv(x):
+        return np.vectorize(lambda v: abs(v), otypes=[object])(x)
+
+    def sigma_min(self, A):
+        s = mpmath.svd_c(self._m(A), compute_uv=False)
+        return min(s[i] for i in range(len(s)))
+
+
+NUMPY_LA = _NumpyLA()
+MP_LA = _MpLA()
+
+
+# --------------------------------------------------------------------------- the flow
+@dataclass(frozen=True)
+class Forcing:
+    """Steady-state response at omega: x_p = U sin(phi) + V cos(phi), stop-first order,
+    and its omega-derivative (dU, dV)."""
+
+    omega: object
+    U: np.ndarray
+    V: np.ndarray
+    dU: np.ndarray
+    dV: np.ndarray
+
+    def zp(self, phase, lib):
+        """(x_p, v_p) at phase phi = omega t + tau, as one 2N vector."""
+        s, c = lib.sin(phase), lib.cos(phase)
+        return np.concatenate([self.U * s + self.V * c, self.omega * (self.U * c - self.V * s)])
+
+
+class LinearFlow:
+    """The exact flow of one model in one backend (see the module docstring).
+
+    ``LinearFlow.of(model, digits=None)`` is cached; ``digits`` selects mpmath
+    (the flow then holds mpf data and must be used at that precision).
+    """
+
+    def __init__(self, model, la):
+        self.model, self.la = model, la
+        lib = la.lib
+        n = model.n
+        k = model.stop.mass - 1
+        self.perm = (k,) + tuple(j for j in range(n) if j != k)
+        p = list(self.perm)
+        self.n = n
+        M = la.arr(np.asarray(model.mass)[np.ix_(p, p)])
+        K = la.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
+        C = la.arr(np.asarray(model.damping)[np.ix_(p, p)])
+        self.M, self.K, self.C = M, K, C
+        self.P = la.arr(np.asarray(model.forcing)[p])
+        self.b = lib.num(model.stop.gap)
+        self.r = lib.num(model.stop.restitution)
+        Minv = la.inv(M)
+        Z, I = np.zeros((n, n)), np.eye(n)
+        self.A = np.block([[la.arr(Z), la.arr(I)], [-(Minv @ K), -(Minv @ C)]])
+        # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
+        self.omegas, psi = la.eigh_pair(K, M)
+        if not model.damped:
+            Om = self.omegas
+            i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+            self.lam = np.concatenate([i * Om, -i * Om])
+            self.W = np.block([[psi, psi], [i * psi * Om, -i * psi * Om]])
+            PM = psi.T @ M
+            half = 0.5 if la is NUMPY_LA else mpmath.mpf(1) / 2
+            Oi = (1 / Om)[:, None]
+            self.Winv = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
+        else:
+            self.lam, self.W = la.eig(self.A)
+            cond = la.cond(self.W)
+            if not cond < EIGVEC_COND_MAX:
+                raise SingularCaseError(
+                    "defective-flow", f"the eigenvectors of the state matrix are nearly "
+                    f"dependent (condition {cond:.3g}): a mode is (close to) critically damped "
+                    "and the modal form of the flow would lose all accuracy")
+            self.Winv = la.inv(self.W)
+        self.max_re_lambda = max(float(mpmath.re(x)) if la is MP_LA else float(x.real)
+                                 for x in self.lam)
+
+    @classmethod
+    def of(cls, model, digits=None):
+        if digits is None:
+            return _flow_float(model)
+        with mpmath.mp.workdps(digits):
+            return _flow_mp(model, digits)
+
+    @property
+    def lib(self):
+        return self.la.lib
+
+    # ---- forcing ---------------------------------------------------------------
+    def check_omega(self, omega, name="omega", warn=True):
+        """A valid forcing frequency: finite, in range, not at a forcing resonance.
+
+        Resonance: sigma_min(K~ - omega^2 I + i omega C~) / (2 omega^2) (K~, C~
+        mass-scaled), which is |omega - omega_j| / omega_j for an undamped mode
+        to first order; refused below 1e-10, warned about below 1e-4.
+        """
+        try:
+            w = float(omega)
+        except (TypeError, ValueError):
+            raise ParameterError(name, omega, "a finite real number > 0") from None
+        lo, hi = OMEGA_RANGE
+        if not (math.isfinite(w) and lo <= w <= hi):
+            raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
+        rel, j = _resonance(self.model, w)
+        wj = float(self.omegas[j])
+        if rel < RESONANCE_REFUSE:
+            raise SingularCaseError(
+                "forcing-resonance",
+                f"{name} = {w!r} is at the natural frequency omega_{j + 1} = {wj:.15g} of an "
+                f"undamped mode (relative distance {rel:.1e}): the steady-state response is "
+                f"infinite. Choose {name} != omega_{j + 1}.")
+        if warn and rel < RESONANCE_WARN:
+            warnings.warn(f"{name} = {w:.10g} is within {rel:.1e} (relative) of the natural "
+                          f"frequency omega_{j + 1} = {wj:.10g}; results lose about "
+                          f"{-math.log10(rel):.0f} digits", NearSingularWarning, stacklevel=2)
+        return w
+
+    def forcing(self, omega):
+        """U, V and their omega-derivatives at omega (no checks; see :meth:`check_omega`)."""
+        la, lib = self.la, self.lib
+        w = lib.num(omega)
+        i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+        D = self.K - w * w * self.M + i * w * self.C
+        X = la.solve(D, self.P * (1 if la is NUMPY_LA else mpmath.mpf(1)))
+        dX = la.solve(D, (2 * w * self.M - i * self.C) @ X)
+        re, im = la.real, lambda v: la.real(-i * v)
+        return Forcing(w, re(X), im(X), re(dX), im(dX))
+
+    # ---- the homogeneous part --------------------------------------------------
+    def phi(self, t, k=0):
+        """Phi(t) A^k = Re(W diag(lambda^k e^{lambda t}) W^-1), real 2N x 2N."""
+        e = self.la.exp(self.lam * t)
+        if k:
+            e = e * self.lam ** k
+        return self.la.real((self.W * e) @ self.Winv)
+
+    def motion(self, forcing, z0, tau):
+        """The free flight from state z0 (stop-first order) at phase tau."""
+        z0 = np.asarray(z0) if self.la is NUMPY_LA else self.la.arr(z0)
+        w = z0 - forcing.zp(tau, self.lib)
+        return Motion(self, forcing, tau, self.Winv @ w)
+
+    def one_minus_exp(self, omega):
+        """min_j |1 - e^{lambda_j 2 pi / omega}| and its mode index: 0 where the
+        period-1 orbit is not isolated (omega_j / omega an integer, undamped mode)."""
+        T = 2 * self.lib.pi / self.lib.num(omega)
+        d = self.la.absv(1 - self.la.exp(self.lam * T))
+        j = int(np.argmin([float(x) for x in d]))
+        return d[j], j % self.n
+
+
+@functools.lru_cache(maxsize=256)
+def _flow_float(model):
+    return LinearFlow(model, NUMPY_LA)
+
+
+_MP_CACHE = {}
+
+
+def _flow_mp(model, digits):
+    key = (model, digits)
+    f = _MP_CACHE.get(key)
+    if f is None:
+        if len(_MP_CACHE) > 64:
+            _MP_CACHE.clear()
+        f = _MP_CACHE[key] = LinearFlow(model, MP_LA)
+    return f
+
+
+def _resonance(model, w):
+    """(relative distance to forcing resonance, index of the nearest undamped mode)."""
+    flow = _flow_float(model)
+    L = np.linalg.cholesky(flow.M)
+    Li = np.linalg.inv(L)
+    Kt, Ct = Li @ flow.K @ Li.T, Li @ flow.C @ Li.T
+    smin = np.linalg.svd(Kt - w * w * np.eye(flow.n) + 1j * w * Ct, compute_uv=False)[-1]
+    j = int(np.argmin(np.abs(flow.omegas - w)))
+    return smin / (2 * w * w), j
+
+
+@dataclass(frozen=True)
+class FirstImpact:
+    """The first contact with the stop: status, time and state z (stop-first order)."""
+
+    status: str
+    t: object
+    state: np.ndarray
+    steps: int
+
+
+class Motion:
+    """z(t) = Re(W (c * e^{lambda t})) + zp(t) for one flight."""
+
+    def __init__(self, flow, forcing, tau, c):
+        self.flow, self.forcing, self.tau, self.c = flow, forcing, tau, c
+        la = flow.la
+        self.d = flow.W[0] * c                    # x_k(t) = Re sum d_j e^{lambda_j t} + x_p,k
+        lib = flow.lib
+        self.Xk = lib.sqrt(forcing.U[0] ** 2 + forcing.V[0] ** 2)
+        ad = la.absv(self.d)
+        al = la.absv(flow.lam)
+        self.amp = sum(ad)
+        self.M2 = sum(ad * al * al) + self.Xk * forcing.omega ** 2
+
+    def state(self, t):
+        """z(t), a real 2N vector."""
+        f, la = self.flow, self.flow.la
+        hom = la.real(f.W @ (self.c * la.exp(f.lam * t)))
+        return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.lib)
+
+    def h(self, t):
+        """(x_k(t) - b, x_k'(t)) of the stop's mass."""
+        z = self.state(t)
+        return z[0] - self.flow.b, z[self.flow.n]
+
+    def first_impact(self, t_max=None, max_steps=100000):
+        """First t > 0 with x_k(t) = b for a flight that leaves the stop (x_k' < 0)."""
+        f, lib = self.flow, self.flow.lib
+        om = self.forcing.omega
+        if t_max is None:
+            t_max = 2000 * lib.pi / om                 # 1000 forcing periods
+        M2 = self.M2
+        L = self.amp + self.Xk + lib.fabs(f.b)
+        eps_h = 64 * lib.eps * L
+        v_graze = 8 * lib.sqrt(2 * M2 * eps_h)
+        z = self.state(0 * t_max)
+        hd = z[f.n]
+        if not hd < 0:
+            return FirstImpact(GRAZING, 0 * t_max, z, 0)
+        t = -hd / M2                    # vertex of the bound: h(t) <= -hd^2 / (2 M2) < 0
+        for n in range(1, max_steps + 1):
+            z = self.state(t)
+            h, hd = z[0] - f.b, z[f.n]
+            if h >= -eps_h:
+                if hd <= v_graze:
+                    return FirstImpact(GRAZING, t, z, n)
+                for _ in range(3):    # Newton polish of a transversal root
+                    dt = -h / hd
+                    t += dt
+                    z = self.state(t)
+                    h, hd = z[0] - f.b, z[f.n]
+                    if lib.fabs(dt) <= 4 * lib.eps * t:
+                        break
+                return FirstImpact(IMPACT, t, z, n)
+            if t > t_max:
+                return FirstImpact(NO_IMPACT, t, z, n)
+            # safe step: first positive root of h + hd s + M2 s^2/2 = 0 (stable form)
+            t += -2 * h / (hd + lib.sqrt(hd * hd - 2 * M2 * h))
+        return FirstImpact(NO_IMPACT, t, self.state(t), max_steps)

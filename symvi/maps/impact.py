@@ -1,0 +1,52 @@
+"""The impact map P of any model on the section x_k = b, eqs. (26)–(31) generalised.
+
+From y just after an impact (t reset to 0) the flight of :mod:`symvi.flow.linear`
+runs to the first contact x_k = b, where the impact law v_k+ = -r v_k- applies
+and tau' = tau + omega t_e (mod 2 pi).
+"""
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+
+from ..flow.linear import IMPACT, LinearFlow
+from .section import Section
+
+
+@dataclass(frozen=True)
+class MapStep:
+    """One application of P: the image, the flight time and the impact velocity."""
+
+    y: tuple                 # section point after the impact, tau in [0, 2 pi)
+    t: object                # flight time t_e
+    impact_velocity: object  # v_k- just before the impact (> 0 on the physical branch)
+    status: str              # "impact", "grazing" or "no-impact"
+    tau_unwrapped: object    # tau + omega t_e, before reduction mod 2 pi
+
+
+def step(flow, forcing, y, t_max=None):
+    """Apply P once from y (flow and forcing in one backend, at its precision)."""
+    sec = Section(flow.n, flow.perm)
+    lib = flow.lib
+    z0, tau = sec.state(y, flow.b)
+    hit = flow.motion(forcing, z0, tau).first_impact(t_max=t_max)
+    tau_u = tau + forcing.omega * hit.t
+    z = hit.state
+    y1 = sec.image(z, flow.r, tau_u % (2 * lib.pi))
+    return MapStep(tuple(y1), hit.t, z[flow.n], hit.status, tau_u)
+
+
+def poincare_map(model, omega, y, *, digits=None, t_max=None):
+    """P(y; omega) of ``model`` on float64 or (``digits``) mpmath; inspect ``status``."""
+    if digits is None:
+        flow = LinearFlow.of(model)
+        omega = flow.check_omega(omega, warn=False)
+        return step(flow, flow.forcing(omega), np.array(y, dtype=float), t_max)
+    flow = LinearFlow.of(model, digits)
+    with mpmath.mp.workdps(digits):
+        flow.check_omega(float(omega), warn=False)
+        y = np.array([mpmath.mpf(v) for v in y], dtype=object)
+        return step(flow, flow.forcing(mpmath.mpf(omega)), y, t_max)
+
+
+__all__ = ["MapStep", "step", "poincare_map", "IMPACT"]

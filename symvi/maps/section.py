@@ -1,0 +1,61 @@
+"""The Poincaré section x_k = b just after an impact, and its state layout (the only owner).
+
+y = (v_k+, x_j for j != k, v_j for j != k, tau), dimension 2N, in mass order,
+where k is the stop's mass; for the paper's model this is (x1dot+, x20, x20dot, tau0)
+of eq. (9).  The flow works in the stop-first order of
+:attr:`symvi.flow.linear.LinearFlow.perm`, in which y is simply
+(v_0+, x_1..x_{N-1}, v_1..v_{N-1}, tau).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class Section:
+    """Section layout of one model: names, and conversions to and from the flow state."""
+
+    n: int
+    perm: tuple          # stop-first order: perm[0] is the stop's mass (0-based)
+
+    @classmethod
+    def of(cls, model):
+        k = model.stop.mass - 1
+        return cls(model.n, (k,) + tuple(j for j in range(model.n) if j != k))
+
+    @property
+    def dim(self):
+        return 2 * self.n
+
+    @property
+    def names(self):
+        """Stable names of the components of y, with 1-based mass numbers."""
+        k, rest = self.perm[0] + 1, [j + 1 for j in self.perm[1:]]
+        return (f"v{k}+", *(f"x{j}" for j in rest), *(f"v{j}" for j in rest), "tau")
+
+    def state(self, y, b):
+        """(z0, tau): the flow state (stop-first order) just after the impact at y."""
+        n = self.n
+        z = np.empty(2 * n, dtype=np.asarray(y).dtype if isinstance(y, np.ndarray) else object)
+        z[0] = b
+        z[1:n] = y[1:n]
+        z[n] = y[0]
+        z[n + 1:] = y[n:2 * n - 1]
+        return z, y[2 * n - 1]
+
+    def image(self, z, r, tau):
+        """y after an impact in state z (x_k = b): v_k+ = -r v_k-, eq. (2)."""
+        n = self.n
+        return (-r * z[n], *z[1:n], *z[n + 1:2 * n], tau)
+
+    def masses(self, y, b):
+        """Positions and velocities (x, v) in mass order from a section point."""
+        z, _ = self.state(y, b)
+        n = self.n
+        x, v = [None] * n, [None] * n
+        for i, j in enumerate(self.perm):
+            x[j], v[j] = z[i], z[n + i]
+        return x, v

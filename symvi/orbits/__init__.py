@@ -1,0 +1,5 @@
+"""Periodic-orbit problems of any model: period-1 one-impact orbits in closed form."""
+from .period1 import Orbit as Orbit
+from .period1 import admissible_orbits as admissible_orbits
+from .period1 import existence_ratio as existence_ratio
+from .period1 import period1_orbits as period1_orbits

@@ -1,0 +1,250 @@
+"""Period-1 one-impact orbits of any model, in closed form (eqs. (10)–(18) generalised).
+
+With T = 2 pi / omega, Phi = e^{A T} and the steady-state response
+zp(0) = cos(tau) P_c + sin(tau) P_s (P_c = (V, omega U), P_s = (U, -omega V)),
+write the state just after the impact as z0 = w + zp(0).  The flight returns
+after exactly one period, z(T) = Phi w + zp(0), and the impact law is
+z0 = E z(T), E = diag(1, ..., 1, -r, 1, ..., 1) (-r on v_k).  With x_k(0) = b::
+
+    (I - E Phi) w + (I - E) (c P_c + s P_s) = 0,     e_k^T w + c P_c[k] + s P_s[k] = b,
+
+2N + 1 linear equations in the 2N + 2 unknowns (w, c, s).  Their solutions form a
+line (w, c, s) = X_p + mu n (n spans the kernel); c^2 + s^2 = 1 cuts it in at
+most two points: the two branches.  This is the paper's rho cos(tau - phi) =
+alpha b of eq. (16) for any N, damping and stop; unlike eliminating w first it
+stays regular at r = 1 (where I - E Phi is singular).
+
+Branches: the line is nu . (c, s) = rho with nu the unit normal pointing *against*
+the gradient of x_k(0) in (cos tau, sin tau) on the fixed-point set, so that
+tau = arg(nu) +- arccos(rho): "+" and "-" as the paper's tau0 = phi +- arccos(alpha b / rho)
+(its alpha = (1 - r) w1 w2 D is negative in its sign convention, D < 0).
+"""
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import mpmath
+import numpy as np
+
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..flow.linear import GRAZING, IMPACT, NUMPY_LA, LinearFlow
+from ..maps.section import Section
+
+#: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated
+ISOLATION_REFUSE = 2e-9
+ISOLATION_WARN = 2e-4
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """A period-1 one-impact orbit of a model at omega: the fixed point y of P.
+
+    ``y`` follows :class:`symvi.maps.Section` (names in ``names``).  Numbers
+    are float, or mpf when computed with ``digits``.
+    """
+
+    model: object = field(repr=False)
+    omega: object
+    branch: str
+    y: tuple
+    names: tuple
+    impact_velocity: object   # v_k- at t = T, > 0 on the physical branch
+    admissible: bool
+    reason: str
+    multipliers: tuple = ()
+    stable: bool = False
+    digits: object = None
+
+    @property
+    def tau0(self):
+        return self.y[-1]
+
+    def as_dict(self):
+        return {"branch": self.branch, "y": [float(v) for v in self.y],
+                "names": list(self.names), "impact_velocity": float(self.impact_velocity),
+                "admissible": bool(self.admissible), "reason": self.reason,
+                "multipliers": [[float(complex(z).real), float(complex(z).imag)]
+                                for z in self.multipliers],
+                "stable": bool(self.stable)}
+
+
+def _svd(la, G):
+    """(U, s, Vt) of G, float or mpmath."""
+    if la is NUMPY_LA:
+        return np.linalg.svd(G)
+    U, s, V = mpmath.svd_r(mpmath.matrix(G.tolist()))
+    m, n = G.shape
+    Ua = np.array([[U[i, j] for j in range(m)] for i in range(m)], dtype=object)
+    Va = np.array([[V[i, j] for j in range(n)] for i in range(n)], dtype=object)
+    return Ua, np.array([s[i] for i in range(len(s))], dtype=object), Va
+
+
+class _Line:
+    """The solution line of the period-1 conditions at one omega."""
+
+    def __init__(self, flow, omega):
+        la, lib = flow.la, flow.lib
+        n2 = 2 * flow.n
+        self.flow, self.omega = flow, omega
+        T = 2 * lib.pi / omega
+        F = flow.forcing(omega)
+        self.Phi = flow.phi(T)
+        self.Pc = np.concatenate([F.V, omega * F.U])
+        self.Ps = np.concatenate([F.U, -omega * F.V])
+        one = 1 if la is NUMPY_LA else mpmath.mpf(1)
+        Ed = np.array([one] * n2, dtype=object if la is not NUMPY_LA else float)
+        Ed[flow.n] = -flow.r
+        I = la.arr(np.eye(n2))
+        IE = one - Ed
+        G = np.zeros((n2 + 1, n2 + 2), dtype=object if la is not NUMPY_LA else float)
+        G[:n2, :n2] = I - Ed[:, None] * self.Phi
+        G[:n2, n2] = IE * self.Pc
+        G[:n2, n2 + 1] = IE * self.Ps
+        G[n2, 0] = one
+        G[n2, n2] = self.Pc[0]
+        G[n2, n2 + 1] = self.Ps[0]
+        if la is not NUMPY_LA:
+            G[G == 0] = mpmath.mpf(0)
+        U, s, Vt = _svd(la, G)
+        self.sigma = s
+        self.null = Vt[-1]
+        self.rank_gap = s[-1] / s[0]
+        r = n2 + 1
+
+        def solve(rhs):
+            return Vt[:r].T @ ((U.T @ rhs)[:r] / s[:r])
+
+        e = np.zeros(n2 + 1, dtype=G.dtype)
+        if la is not NUMPY_LA:
+            e[:] = mpmath.mpf(0)
+        e[-1] = one
+        self.Xp = solve(e * flow.b)
+        p1 = solve(e)
+        nc, ns = self.null[n2], self.null[n2 + 1]
+        self.a = nc * nc + ns * ns
+        nrm = lib.sqrt(self.a)
+        nu = (ns / nrm, -nc / nrm)                 # along the gradient of x_k(0)
+        if nu[0] * p1[n2] + nu[1] * p1[n2 + 1] < 0:
+            nu = (-nu[0], -nu[1])
+        self.nu = (-nu[0], -nu[1])                 # the paper's orientation (see module doc)
+        self.ratio = self.nu[0] * self.Xp[n2] + self.nu[1] * self.Xp[n2 + 1]
+        self.phase = lib.atan2(self.nu[1], self.nu[0])
+
+    def point(self, tau):
+        """(z0, w) on the line at phase tau."""
+        lib = self.flow.lib
+        n2 = 2 * self.flow.n
+        c, s = lib.cos(tau), lib.sin(tau)
+        mu = ((c - self.Xp[n2]) * self.null[n2] + (s - self.Xp[n2 + 1]) * self.null[n2 + 1]) / self.a
+        w = self.Xp[:n2] + mu * self.null[:n2]
+        return w + c * self.Pc + s * self.Ps, w
+
+
+def _line(model, omega, digits):
+    flow = LinearFlow.of(model, digits)
+    lib = flow.lib
+    d, j = flow.one_minus_exp(omega)
+    if d < ISOLATION_REFUSE:
+        raise SingularCaseError(
+            "one-minus-cos",
+            f"1 - cos(2 pi omega_{j + 1} / omega) = {float(d) ** 2 / 2:.3e} at omega = "
+            f"{float(omega):.12g}: omega_{j + 1} / omega is an integer for an undamped mode, "
+            "so the period-1 orbit is not isolated. Move omega away from omega_"
+            f"{j + 1} / n.")
+    if lib is NUMPY_LA.lib and d < ISOLATION_WARN:
+        warnings.warn(f"1 - cos(2 pi omega_{j + 1}/omega) = {d * d / 2:.2e} is small: the "
+                      "period-1 conditions are ill-conditioned", NearSingularWarning, stacklevel=4)
+    L = _Line(flow, omega)
+    scale = 64 * lib.eps
+    if not L.rank_gap > scale:
+        raise SingularCaseError("degenerate-orbit-conditions",
+                                "the period-1 conditions do not fix the orbit (their matrix "
+                                f"has a second zero singular value, {float(L.rank_gap):.2e} "
+                                "relative)")
+    if not L.a > 1e-6 * 1e-20 or not L.a > scale:
+        raise SingularCaseError("degenerate-forcing",
+                                "the forcing does not move the stop's mass: the impact phase "
+                                "is not fixed by the period-1 conditions")
+    return flow, L
+
+
+def _admissibility(flow, omega, z0, tau, vimp):
+    lib = flow.lib
+    if not vimp > 0:
+        return False, (f"impact velocity {float(vimp):.6g} <= 0: v{flow.perm[0] + 1}+ = "
+                       f"{float(-flow.r * vimp):.6g} is not negative, the mass would not move "
+                       "away from the stop")
+    T = 2 * lib.pi / omega
+    hit = flow.motion(flow.forcing(omega), z0, tau).first_impact(t_max=2 * T)
+    tol = 1e-9 if flow.la is NUMPY_LA else lib.eps ** 0.5
+    if hit.status == GRAZING:
+        return False, f"grazing contact with the stop at t = {float(hit.t):.9g} < 2 pi/omega"
+    if hit.status == IMPACT and hit.t < T * (1 - tol):
+        return False, (f"x{flow.perm[0] + 1}(t) reaches the stop at t = {float(hit.t):.9g} < "
+                       f"2 pi/omega = {float(T):.9g}: the orbit would penetrate the stop")
+    if hit.status != IMPACT:
+        return False, "numeric flow found no return to the stop"
+    return True, ""
+
+
+def period1_orbits(model, omega, *, digits=None, multipliers=True):
+    """Every period-1 one-impact orbit of ``model`` at omega (both branches).
+
+    An empty list when the line misses the unit circle (no orbit exists).
+    Inadmissible orbits come with ``admissible=False`` and the reason, never
+    silently analysed.  ``digits`` selects mpmath at that precision.
+    """
+    flow = LinearFlow.of(model)
+    omega_f = flow.check_omega(omega)
+    if digits is None:
+        return _orbits(model, omega_f, None, multipliers)
+    if not isinstance(digits, int) or isinstance(digits, bool) or not 16 <= digits <= 10000:
+        raise ParameterError("digits", digits, "an integer from 16 to 10000")
+    with mpmath.mp.workdps(digits):
+        w = mpmath.mpf(omega) if isinstance(omega, (mpmath.mpf, str)) else mpmath.mpf(omega_f)
+        return _orbits(model, w, digits, multipliers)
+
+
+def _orbits(model, omega, digits, want_multipliers):
+    flow, L = _line(model, omega, digits)
+    lib = flow.lib
+    if lib.fabs(L.ratio) > 1:
+        return []
+    ac = lib.acos(L.ratio)
+    sec = Section(flow.n, flow.perm)
+    T = 2 * lib.pi / omega
+    out = []
+    for branch, tau in (("+", L.phase + ac), ("-", L.phase - ac)):
+        tau = tau % (2 * lib.pi)
+        z0, w = L.point(tau)
+        z0[0] = flow.b                              # exact by construction; remove rounding
+        zT = L.Phi @ w + (z0 - w)
+        vimp = zT[flow.n]
+        y = tuple(sec.image(z0, 1, tau))            # z0 is already after the impact
+        y = (z0[flow.n],) + y[1:]
+        ok, why = _admissibility(flow, omega, z0, tau, vimp)
+        orb = Orbit(model, omega, branch, y, sec.names, vimp, ok, why, digits=digits)
+        if want_multipliers:
+            from ..codegen.jets import multipliers_at
+            lam = multipliers_at(model, omega, y, T, digits=digits)
+            orb = _with(orb, multipliers=lam,
+                        stable=bool(ok and max(abs(complex(z)) for z in lam) < 1))
+        out.append(orb)
+    return out
+
+
+def admissible_orbits(model, omega, *, digits=None, multipliers=True):
+    """The admissible period-1 orbits at omega, branch "+" first (empty when none)."""
+    orbits = period1_orbits(model, omega, digits=digits, multipliers=multipliers)
+    return sorted((o for o in orbits if o.admissible), key=lambda o: o.branch != "+")
+
+
+def existence_ratio(model, omega):
+    """rho of nu . (cos tau, sin tau) = rho: the orbit exists iff |rho| <= 1 (eq. 16 generalised)."""
+    flow = LinearFlow.of(model)
+    return float(_line(model, flow.check_omega(omega, warn=False), None)[1].ratio)
+
+
+def _with(obj, **kw):
+    import dataclasses
+    return dataclasses.replace(obj, **kw)
