@@ -98,8 +98,8 @@ def _matrix(field, value, n=None, diag_ok=False):
     if np.abs(a - a.T).max() > SYM_TOL * max(scale, 1e-300):
         i, j = np.unravel_index(np.argmax(np.abs(a - a.T)), a.shape)
         raise ParameterError(field, value, "a symmetric matrix",
-                             f"entry [{i + 1},{j + 1}] = {a[i, j]!r} but [{j + 1},{i + 1}] = "
-                             f"{a[j, i]!r}")
+                             f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r} but [{j + 1},{i + 1}] = "
+                             f"{float(a[j, i])!r}")
     return 0.5 * (a + a.T)
 
 

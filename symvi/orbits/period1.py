@@ -72,7 +72,7 @@ def _svd(la, G):
     """(U, s, Vt) of G, float or mpmath."""
     if la is NUMPY_LA:
         return np.linalg.svd(G)
-    U, s, V = mpmath.svd_r(mpmath.matrix(G.tolist()))
+    U, s, V = mpmath.svd_r(mpmath.matrix(G.tolist()), full_matrices=True)
     m, n = G.shape
     Ua = np.array([[U[i, j] for j in range(m)] for i in range(m)], dtype=object)
     Va = np.array([[V[i, j] for j in range(n)] for i in range(n)], dtype=object)

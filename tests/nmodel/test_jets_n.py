@@ -1,0 +1,144 @@
+"""Generated jets of N-mass structures against finite differences of the mpmath map
+at 40 digits, and the exact parameter derivatives against differences in the parameter."""
+import math
+import warnings
+
+import mpmath
+import numpy as np
+import pytest
+
+from symvi import Params, jet
+from symvi.codegen.jets import jacobian_at, jet_at, parameter_derivatives
+from symvi.errors import NearSingularWarning
+from symvi.maps.impact import poincare_map
+from symvi.orbits import period1_orbits
+
+from .models import ALL
+
+DPS = 40
+CASES = [("one", 0.9), ("paper-damped", 0.65), ("three", 0.95), ("four", 1.0)]
+
+
+def _orbit(name, w):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        return [o for o in period1_orbits(ALL[name], w) if o.admissible][0]
+
+
+def _P(model, w, y):
+    s = poincare_map(model, w, y, digits=DPS)
+    return [*s.y[:-1], s.tau_unwrapped]
+
+
+def _fd_jacobian(model, w, y, h):
+    n = len(y)
+    out = np.zeros((n, n))
+    with mpmath.mp.workdps(DPS):
+        y0 = [mpmath.mpf(v) for v in y]
+        for j in range(n):
+            yp, ym = list(y0), list(y0)
+            yp[j] += h
+            ym[j] -= h
+            a, b = _P(model, w, yp), _P(model, w, ym)
+            out[:, j] = [float((x - z) / (2 * h)) for x, z in zip(a, b)]
+    return out
+
+
+@pytest.mark.parametrize("name,w", CASES)
+def test_jacobian_against_fd_of_mpmath_map(name, w):
+    o = _orbit(name, w)
+    J = jet_at(ALL[name], w, o.y, 2 * math.pi / w, 1).jacobian
+    with mpmath.mp.workdps(DPS):
+        fd = _fd_jacobian(ALL[name], w, o.y, mpmath.mpf(10) ** -15)
+    assert np.abs(fd - J).max() < 1e-12 * np.abs(J).max()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name,w", [("three", 0.95), ("one", 0.9)])
+def test_second_and_third_derivatives_against_fd(name, w):
+    """d2 and d3 from differences of the generated Jacobian (mpmath, 40 digits) at
+    the perturbed points' own flight times."""
+    model = ALL[name]
+    o = _orbit(name, w)
+    jt = jet_at(model, w, o.y, 2 * math.pi / w, 3)
+    n = len(o.y)
+    with mpmath.mp.workdps(DPS):
+        h = mpmath.mpf(10) ** -9
+        y0 = [mpmath.mpf(v) for v in o.y]
+
+        def Jat(y):
+            return jacobian_at(model, w, y, poincare_map(model, w, y, digits=DPS).t, digits=DPS)
+        d2 = np.zeros((n, n, n))
+        d3 = np.zeros((n, n, n, n))
+        for k in range(n):
+            yp, ym = list(y0), list(y0)
+            yp[k] += h
+            ym[k] -= h
+            d2[:, :, k] = np.array((Jat(yp) - Jat(ym)) / (2 * h), dtype=float)
+        # one mixed third derivative slice: d/dy_k d/dy_l of J
+        for k in range(n):
+            for l in (0, n - 1):
+                pts = {}
+                for a in (1, -1):
+                    for b in (1, -1):
+                        y = list(y0)
+                        y[k] += a * h
+                        y[l] += b * h
+                        pts[a, b] = Jat(y)
+                d3[:, :, k, l] = np.array((pts[1, 1] - pts[1, -1] - pts[-1, 1] + pts[-1, -1])
+                                          / (4 * h * h), dtype=float)
+    assert np.abs(d2 - jt.d2).max() < 1e-10 * np.abs(jt.d2).max()
+    for l in (0, n - 1):
+        assert np.abs(d3[:, :, :, l] - jt.d3[:, :, :, l]).max() < 1e-7 * np.abs(jt.d3).max()
+
+
+NAMES = ["omega", "gap", "restitution", "mass[1]", "stiffness[1,2]", "damping[2,2]",
+         "forcing[1]"]
+
+
+@pytest.mark.parametrize("pname", NAMES)
+def test_parameter_derivatives_against_fd(pname):
+    """dP/dp and dJ/dp at fixed y (exact: generated slots + Frechet derivative of e^{At})
+    against central differences in p of the mpmath map, on the damped 3-mass model."""
+    model, w = ALL["three"], 0.95
+    o = _orbit("three", w)
+    te = 2 * math.pi / w
+    pd = parameter_derivatives(model, w, o.y, te, pname, fixed_point=False)
+    h = 2.0 ** -24                       # exact in binary: the perturbed value is v +- h
+    if pname == "omega":
+        mp_, mm, wp, wm = model, model, w + h, w - h
+    else:
+        v = model.value(pname)
+        mp_, mm, wp, wm = model.with_(**{pname: v + h}), model.with_(**{pname: v - h}), w, w
+    with mpmath.mp.workdps(DPS):
+        y0 = [mpmath.mpf(v) for v in o.y]
+        a, b = _P(mp_, wp, y0), _P(mm, wm, y0)
+        dP = np.array([float((x - z) / (2 * h)) for x, z in zip(a, b)])
+        # Jacobian at fixed y with each model's own flight time
+        ta = poincare_map(mp_, wp, y0, digits=DPS).t
+        tb = poincare_map(mm, wm, y0, digits=DPS).t
+        Ja = jacobian_at(mp_, wp, y0, ta, digits=DPS)
+        Jb = jacobian_at(mm, wm, y0, tb, digits=DPS)
+        dJ = np.array((Ja - Jb) / (2 * h), dtype=float)
+    scale = max(np.abs(pd.dP).max(), 1e-3)
+    assert np.abs(dP - pd.dP).max() < 1e-9 * scale      # O(h^2) = 4e-15 truncation
+    assert np.abs(dJ - pd.dJ).max() < 1e-8 * max(np.abs(pd.dJ).max(), 1e-3)
+
+
+def test_paper_structure_equals_the_papers_own_generated_jets():
+    """N = 2 structure at the Luo-Xie preset == generated/order3 of the paper (to rounding)."""
+    p = Params(2, 5, 0, 1.5, 0.8)
+    w = 0.7369
+    o = [x for x in period1_orbits(ALL["paper"], w) if x.admissible][0]
+    new = jet_at(ALL["paper"], w, o.y, 2 * math.pi / w, 3)
+    old = jet(p, w, order=3)
+    for a, b in ((new.jacobian, old.jacobian), (new.d2, old.d2), (new.d3, old.d3),
+                 (new.dA, old.dA), (new.dP_domega, old.dP_domega)):
+        assert np.abs(a - b).max() < 1e-12 * max(1, np.abs(b).max())
+
+
+def test_mpmath_backend_of_generated_code_agrees():
+    o = _orbit("four", 1.0)
+    f = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2)
+    m = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2, digits=30)
+    assert np.abs(np.array(m.d2, dtype=float) - f.d2).max() < 1e-11 * np.abs(f.d2).max()
