@@ -10,7 +10,7 @@ import importlib
 import json
 import sys
 
-from ..errors import SymviError
+from ..errors import ParameterError, SymviError
 
 #: subcommand modules, in the order ``symvi --help`` lists them
 COMMANDS = ["orbit", "regenerate", "hopf", "simulate", "sweep", "run", "reproduce"]
@@ -23,23 +23,41 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(2)
 
 
-def add_params(parser, defaults=None):
-    """The five system parameters of eq. (4) as --mu-m --mu-k --f2 --b --r."""
+_PRESET_FLAGS = (("mu_m", "--mu-m", "mass ratio M2/M1 (> 0)"),
+                 ("mu_k", "--mu-k", "stiffness ratio K2/K1 (> 0)"),
+                 ("f2", "--f2", "force share on mass 2, P2/(P1+P2)"),
+                 ("b", "--b", "gap to the stop"),
+                 ("r", "--r", "coefficient of restitution (0 < r <= 1)"))
+
+
+def add_params(parser, defaults=None, model=False):
+    """The five system parameters of eq. (4) as --mu-m --mu-k --f2 --b --r; with
+    ``model``, ``--model FILE`` (a model file) as the alternative to all five."""
     d = defaults or {}
-    parser.add_argument("--mu-m", type=float, required="mu_m" not in d, default=d.get("mu_m"),
-                        help="mass ratio M2/M1 (> 0)")
-    parser.add_argument("--mu-k", type=float, required="mu_k" not in d, default=d.get("mu_k"),
-                        help="stiffness ratio K2/K1 (> 0)")
-    parser.add_argument("--f2", type=float, required="f2" not in d, default=d.get("f2"),
-                        help="force share on mass 2, P2/(P1+P2)")
-    parser.add_argument("--b", type=float, required="b" not in d, default=d.get("b"),
-                        help="gap to the stop")
-    parser.add_argument("--r", type=float, required="r" not in d, default=d.get("r"),
-                        help="coefficient of restitution (0 < r <= 1)")
+    for name, flag, help_ in _PRESET_FLAGS:
+        parser.add_argument(flag, type=float, required=name not in d and not model,
+                            default=d.get(name), help=help_)
+    if model:
+        parser.add_argument("--model", default=None, metavar="FILE",
+                            help="model file (TOML: [model] mass, stiffness, damping, forcing; "
+                                 "[stop] mass, gap, restitution), instead of the preset flags")
 
 
 def params_from(args):
+    """Params of the preset flags, or the Model of ``--model FILE`` (exit 2 on a mix-up)."""
     from ..params import Params
+    if getattr(args, "model", None) is not None:
+        given = [flag for name, flag, _ in _PRESET_FLAGS if getattr(args, name) is not None]
+        if given:
+            raise ParameterError("--model", args.model,
+                                 "either --model FILE or the preset flags, not both",
+                                 f"also given: {' '.join(given)}")
+        from ..model import load_model
+        return load_model(args.model)
+    missing = [flag for name, flag, _ in _PRESET_FLAGS if getattr(args, name) is None]
+    if missing:
+        raise ParameterError(missing[0], None, "a number (or give --model FILE)",
+                             f"missing: {' '.join(missing)}")
     return Params(args.mu_m, args.mu_k, args.f2, args.b, args.r)
 
 

@@ -4,7 +4,7 @@ from . import add_params, params_from, print_json
 
 def register(sub):
     p = sub.add_parser("orbit", help="period-1 one-impact orbits at one omega, eqs. (10)-(18)")
-    add_params(p)
+    add_params(p, model=True)
     p.add_argument("--omega", type=float, required=True, help="forcing frequency (> 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     return p
@@ -14,6 +14,9 @@ def run(args):
     from ..params import check_omega, modal
     from ..precision import auto_orbits
     params = params_from(args)
+    from ..model import Model
+    if isinstance(params, Model):
+        return _run_model(params, args)
     omega = check_omega(params, args.omega)
     # error estimates; mpmath recomputation where float64 gives < 8 digits
     autos = auto_orbits(params, omega)
@@ -26,6 +29,9 @@ def run(args):
                               "multipliers": a.estimate.multipliers.as_dict(),
                               "note": a.note}
             items.append(d)
+        for d, a in zip(items, autos):
+            d["y"] = [float(v) for v in a.orbit.y]
+            d["names"] = ["x1dot+", "x20", "x20dot", "tau0"]
         print_json({"params": params.as_dict(), "omega": omega, "orbits": items})
         return 0
     m = modal(params)
@@ -51,4 +57,38 @@ def run(args):
             print(f"       reason: {o.reason}")
         print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
               + (f"  [{a.note}]" if a.digits_used else ""))
+    return 0
+
+
+def _run_model(model, args):
+    """Any model (``--model FILE``): y in the section layout, with its names."""
+    from ..flow.linear import LinearFlow
+    from ..orbits import period1_orbits
+    flow = LinearFlow.of(model)
+    omega = flow.check_omega(args.omega)
+    orbits = period1_orbits(model, omega)
+    if args.json:
+        print_json({"model": model.as_dict(), "omega": omega,
+                    "orbits": [o.as_dict() for o in orbits]})
+        return 0
+    print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap {model.stop.gap:g}, "
+          f"r = {model.stop.restitution:g}{', damped' if model.damped else ''}   "
+          f"omega={omega:.10g}")
+    print("natural frequencies: " + " ".join(f"{float(w):.10g}" for w in flow.omegas))
+    if not orbits:
+        print("no period-1 one-impact orbit exists here (the period-1 conditions have no "
+              "solution on the unit circle)")
+        return 0
+    names = orbits[0].names
+    print(f"{'branch':6} " + " ".join(f"{n:>12}" for n in names)
+          + f" {'v_impact':>12} {'max|lambda|':>11}  status")
+    for o in orbits:
+        lam = max(abs(complex(z)) for z in o.multipliers)
+        status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
+        print(f"{o.branch:6} " + " ".join(f"{float(v):12.8f}" for v in o.y)
+              + f" {float(o.impact_velocity):12.8f} {lam:11.7f}  {status}")
+        print("       multipliers: " + ", ".join(
+            f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
+        if not o.admissible:
+            print(f"       reason: {o.reason}")
     return 0

@@ -47,3 +47,15 @@ def test_check_detects_hand_edit_and_skip_when_unchanged(tmp_path):
     p.write_text(p.read_text() + "\n# edited\n")
     r = run("--check")
     assert r.returncode == 1 and "order2.py" in r.stderr
+
+
+def test_impact_structures_fresh_and_regenerate_identically(tmp_path):
+    """generated/impact_n<N>_order<K>.py: fresh, and N = 1 regenerates bit for bit."""
+    from symvi._derivations import impact_jets as ij
+    assert ij.check(GEN) == []
+    written, man = ij.generate(tmp_path, ns=(1,), force=True)
+    committed = json.loads((GEN / ij.MANIFEST).read_text())
+    for f in written:
+        assert ij.file_hash(tmp_path / f) == committed["files"][f], f
+    first = (GEN / "impact_n3_order2.py").read_text().splitlines()[0]
+    assert "derivations/impact_jets.py" in first and "DO NOT EDIT" in first
