@@ -21,7 +21,7 @@ def test_orbit_json_contract():
             "reason", "multipliers", "stable"}
     assert {o["branch"] for o in obj["orbits"]} == {"+", "-"}
     for o in obj["orbits"]:
-        assert set(o) == keys | {"precision"}
+        assert set(o) == keys | {"precision", "y", "names"}   # issue 11 adds y, names
         assert o["precision"]["y"]["trusted"] and o["precision"]["y"]["digits"] >= 8
         assert len(o["multipliers"]) == 4 and all(len(z) == 2 for z in o["multipliers"])
 
