@@ -20,13 +20,17 @@ _KERNELS = {}
 
 def f64_kernel(order):
     """The numba-compiled ``f64(inp) -> flat tuple`` of generated order ``order``."""
-    if order not in _KERNELS:
-        mod = importlib.import_module(f"symvi._generated.order{order}")
+    return kernel_of(importlib.import_module(f"symvi._generated.order{order}"))
+
+
+def kernel_of(mod):
+    """The numba-compiled ``f64`` of any generated module (``_jet`` compiled as it is)."""
+    if mod.__name__ not in _KERNELS:
         # f64 calls _jet(inp, math.sin, math.cos, Q_F64); let it call the compiled body
         env = dict(vars(mod), _jet=nb.njit(cache=True)(mod._jet))
         f64 = types.FunctionType(mod.f64.__code__, env, "f64")
-        _KERNELS[order] = nb.njit(cache=True)(f64)
-    return _KERNELS[order]
+        _KERNELS[mod.__name__] = nb.njit(cache=True)(f64)
+    return _KERNELS[mod.__name__]
 
 
 # --------------------------------------------------------------------------- Lyapunov QR loop

@@ -110,7 +110,7 @@ def tangent_data(flow, forcing, te, tangent):
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
-    parts = [flow.phi(te, k).ravel() for k in range(order + 1)]
+    parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
     scal_p = []
     if order >= 2:

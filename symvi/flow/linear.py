@@ -299,6 +299,15 @@ class LinearFlow:
             e = e * self.lam ** k
         return self.la.real((self.W * e) @ self.Winv)
 
+    def phis(self, t, K):
+        """[Phi(t) A^k for k = 0..K], one exponential for all."""
+        e = self.la.exp(self.lam * t)
+        out = []
+        for _ in range(K + 1):
+            out.append(self.la.real((self.W * e) @ self.Winv))
+            e = e * self.lam
+        return out
+
     def motion(self, forcing, z0, tau):
         """The free flight from state z0 (stop-first order) at phase tau."""
         z0 = np.asarray(z0) if self.la is NUMPY_LA else self.la.arr(z0)

@@ -1,0 +1,99 @@
+"""Benchmark of the N-mass structures (issue 11): regeneration, Python and compiled
+jets of the damped 3-mass model, and the paper's model through its own chain and
+through the N = 2 structure, in the same run.
+
+    python benchmarks/bench_jets_n.py
+"""
+import math
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import numba as nb  # noqa: E402
+
+import symvi  # noqa: E402
+from bench_jets import md_table, median_time  # noqa: E402
+from symvi._compiled import kernel_of  # noqa: E402
+from symvi.codegen.jets import jet_at  # noqa: E402
+from symvi.codegen.layout import assemble, module  # noqa: E402
+from symvi.flow.linear import LinearFlow  # noqa: E402
+from symvi.model import Model, Stop  # noqa: E402
+from symvi.orbits import period1_orbits  # noqa: E402
+
+THREE = Model(mass=[1.0, 1.5, 0.8],
+              stiffness=[[1.0, -1.0, 0.0], [-1.0, 1.7, -0.7], [0.0, -0.7, 2.7]],
+              damping=[[0.015, -0.005, 0.0], [-0.005, 0.0235, -0.0035], [0.0, -0.0035, 0.0215]],
+              forcing=[1.0, 0.5, 0.0], stop=Stop(mass=2, gap=0.5, restitution=0.8))
+
+
+def compiled_loop(kernel):
+    @nb.njit
+    def loop(inp, n):
+        s = 0.0
+        for i in range(n):
+            for v in kernel((inp[0] + 1e-12 * i,) + inp[1:]):
+                s += v
+        return s
+    return loop
+
+
+def main():
+    from symvi._derivations import impact_jets as ij
+    rows = []
+    for n in (3, 4):
+        with tempfile.TemporaryDirectory() as d:
+            t = time.perf_counter()
+            ij.generate(d, ns=(n,), force=True)
+            rows.append((f"regenerate N = {n} (orders 1-3)", f"{time.perf_counter() - t:.1f} s",
+                         "<= 120 s (N = 4)"))
+    warnings.simplefilter("ignore")
+    w = 0.95
+    o = [x for x in period1_orbits(THREE, w) if x.admissible][0]
+    fl, T = LinearFlow.of(THREE), 2 * math.pi / w
+    F = fl.forcing(w)
+    m3, _ = module(3, 3)
+    inp = assemble(fl, F, o.y, T, 3)
+    t_f64 = median_time(lambda: m3.f64(inp), 200)
+    t_asm = median_time(lambda: assemble(fl, F, o.y, T, 3), 200)
+    t_jet = median_time(lambda: jet_at(THREE, w, o.y, T, 3), 100)
+    rows.append(("N = 3 damped, order-3 jet in Python (inputs + generated f64)",
+                 f"{(t_f64 + t_asm) * 1e6:.0f} µs (f64 {t_f64 * 1e6:.0f}, inputs "
+                 f"{t_asm * 1e6:.0f})", "<= 300 µs"))
+    rows.append(("N = 3 damped, `jet_at` order 3 (+ tensors, dy*/domega)",
+                 f"{t_jet * 1e6:.0f} µs", ""))
+    t = time.perf_counter()
+    k = kernel_of(m3)
+    loop = compiled_loop(k)
+    loop(inp, 2)
+    t_comp = time.perf_counter() - t
+    n = 20000
+    t_k = median_time(lambda: loop(inp, n), 1) / n
+    rows.append(("N = 3 damped, order-3 kernel compiled, in a numba loop",
+                 f"{t_k * 1e6:.2f} µs (first compile {t_comp:.0f} s, then cached)", "<= 5 µs"))
+    # the paper: its own chain (baseline) against the N = 2 structure, same run
+    p = symvi.Params(2, 5, 0, 1.5, 0.8)
+    pm = Model.luo_xie(2, 5, 0, 1.5, 0.8)
+    wp = 0.7369
+    op = [x for x in period1_orbits(pm, wp) if x.admissible][0]
+    t_old = median_time(lambda: symvi.jet(p, wp, 3), 100)
+    t_new = median_time(lambda: jet_at(pm, wp, op.y, 2 * math.pi / wp, 3), 100)
+    rows.append(("paper model, order-3 jet: paper chain `symvi.jet` (baseline)",
+                 f"{t_old * 1e6:.0f} µs", ""))
+    rows.append(("paper model, order-3 jet: N = 2 structure `jet_at`",
+                 f"{t_new * 1e6:.0f} µs ({t_new / t_old:.2f}x the baseline)", ""))
+    t_o_old = median_time(lambda: symvi.period1_orbits(p, wp), 100)
+    t_o_new = median_time(lambda: period1_orbits(pm, wp), 100)
+    rows.append(("paper model, both period-1 orbits with multipliers: paper chain (baseline)",
+                 f"{t_o_old * 1e6:.0f} µs", ""))
+    rows.append(("paper model, both period-1 orbits with multipliers: any-model chain",
+                 f"{t_o_new * 1e6:.0f} µs ({t_o_new / t_o_old:.2f}x the baseline)", ""))
+    print("\n".join(md_table(["what", "median", "target"], rows)))
+
+
+if __name__ == "__main__":
+    main()
