@@ -1,8 +1,11 @@
 """Long runs of the Poincaré map P, eqs. (26) and (31): impact sections and sweeps.
 
 The float64 path runs the compiled exact flow and first-impact finder of
-:mod:`symvi._fastflow`; :func:`simulate_mp` runs the same map through
-:func:`symvi.poincare.step` on mpmath, as an independent reference.
+:mod:`symvi._fastflow` for :class:`symvi.Params` (the paper's model) and of
+:mod:`symvi.flow.compiled` for any :class:`symvi.model.Model`, whose section
+points have the 2N components of :mod:`symvi.maps.section`;
+:func:`simulate_mp` runs the paper's map through :func:`symvi.poincare.step`
+on mpmath, as an independent reference.
 
 A run ends early, with a stop reason, on
 
@@ -35,8 +38,8 @@ class Simulation:
 
     params: object
     omega: float
-    y0: tuple                 # start point used (x1dot+, x2, x2dot, tau)
-    section: np.ndarray       # (n, 4): x1dot+, x2, x2dot, tau in [0, 2 pi)
+    y0: tuple                 # start point used (x1dot+, x2, x2dot, tau); 2N for a Model
+    section: np.ndarray       # (n, 4): x1dot+, x2, x2dot, tau in [0, 2 pi); (n, 2N) for a Model
     t: np.ndarray             # (n,) impact times since the start, transient included
     impact_velocity: np.ndarray   # (n,) x1dot- just before each stored impact
     stop: str                 # "completed", "grazing", "chatter", "sticking", "no-impact"
@@ -71,9 +74,17 @@ def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
     return int(value)
 
 
+def _is_model(params):
+    from .model import Model
+    return isinstance(params, Model)
+
+
 def fixed_point(params, omega):
     """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
-    from .orbit import admissible_orbits
+    if _is_model(params):
+        from .orbits import admissible_orbits
+    else:
+        from .orbit import admissible_orbits
     try:
         ok = admissible_orbits(params, omega, multipliers=False)
     except SingularCaseError:
@@ -93,8 +104,41 @@ def _check_start(y0):
     return (y[0], y[1], y[2], y[3] % (2 * math.pi))
 
 
+def _check_model_start(model, y0, name="y0"):
+    """A 2N section point (:mod:`symvi.maps.section`) that leaves the stop, tau mod 2 pi."""
+    from .maps import Section
+    names = Section.of(model).names
+    valid = f"{len(names)} finite numbers ({', '.join(names)})"
+    try:
+        y = tuple(float(v) for v in y0)
+    except (TypeError, ValueError):
+        raise ParameterError(name, y0, valid) from None
+    if len(y) != len(names) or not all(math.isfinite(v) for v in y):
+        raise ParameterError(name, y0, valid)
+    if not y[0] < 0:
+        raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
+    return y[:-1] + (y[-1] % (2 * math.pi),)
+
+
+def _perturbation(params, perturbation):
+    """The start offset for params: a Model takes 2N numbers, the default 1e-4 each."""
+    if not _is_model(params):
+        return perturbation
+    dim = params.dim
+    if perturbation is DEFAULT_PERTURBATION:
+        return (DEFAULT_PERTURBATION[0],) * dim
+    try:
+        d = tuple(float(v) for v in perturbation)
+    except (TypeError, ValueError):
+        d = ()
+    if len(d) != dim or not all(math.isfinite(v) for v in d):
+        raise ParameterError("perturbation", perturbation, f"{dim} finite numbers")
+    return d
+
+
 def start_point(params, omega, perturbation=DEFAULT_PERTURBATION):
     """Default start y* + perturbation, and y*; raises if no admissible orbit exists."""
+    perturbation = _perturbation(params, perturbation)
     ys = fixed_point(params, omega)
     if ys is None:
         raise SingularCaseError(
@@ -110,8 +154,11 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     ``y0`` defaults to the admissible period-1 orbit y* plus ``perturbation``
     (the paper starts from the "theoretical fixed point"; an exact fixed point
     would stay there).  The first ``transient`` images are dropped and the next
-    ``n_impacts`` stored.
+    ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
+    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).
     """
+    if _is_model(params):
+        return _simulate_model(params, omega, y0, n_impacts, transient, perturbation)
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
@@ -123,6 +170,24 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     code, sec, t, vimp, _ = ff.run(c, y0, n_impacts, transient)
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
                       ff.STOP_NAMES[code], transient, ys)
+
+
+def _simulate_model(model, omega, y0, n_impacts, transient, perturbation):
+    """:func:`simulate` for a Model, on :mod:`symvi.flow.compiled`."""
+    from .flow import compiled as cf
+    from .flow.linear import LinearFlow
+    omega = LinearFlow.of(model).check_omega(omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    perturbation = _perturbation(model, perturbation)
+    ys = fixed_point(model, omega)
+    if y0 is None:
+        y0, ys = start_point(model, omega, perturbation)
+    y0 = _check_model_start(model, y0)
+    c = cf.constants(model, omega)
+    code, sec, t, vimp, _ = cf.run(c, y0, n_impacts, transient)
+    return Simulation(model, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
+                      cf.STOP_NAMES[code], transient, ys)
 
 
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
@@ -165,10 +230,10 @@ class Sweep:
 
     params: object
     omegas: np.ndarray        # (m,)
-    section: np.ndarray       # (m, n, 4); rows past counts[i] are NaN
+    section: np.ndarray       # (m, n, 4), (m, n, 2N) for a Model; rows past counts[i] are NaN
     counts: np.ndarray        # (m,) points stored per omega
     stops: tuple              # stop reason per omega
-    starts: np.ndarray        # (m, 4) start points used
+    starts: np.ndarray        # (m, 4) start points used; (m, 2N) for a Model
     transient: int
     impacts_total: int        # map iterations requested (runs that stop early do fewer)
 
@@ -179,12 +244,13 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     Where no admissible orbit exists the nearest omega's start is reused; if
     none exists anywhere, raise.
     """
+    perturbation = _perturbation(params, perturbation)
     ys = [fixed_point(params, w) for w in omegas]
     have = [i for i, y in enumerate(ys) if y is not None]
     if not have:
         raise SingularCaseError("no-orbit", "no admissible period-1 orbit anywhere on the "
                                 "omega grid to start from")
-    starts = np.empty((len(omegas), 4))
+    starts = np.empty((len(omegas), params.dim if _is_model(params) else 4))
     for i in range(len(omegas)):
         j = min(have, key=lambda k: abs(k - i))
         starts[i] = np.add(ys[j], perturbation)
@@ -195,8 +261,12 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
           perturbation=DEFAULT_PERTURBATION, chunk=None, progress=None):
     """Independent runs at each omega in parallel (numba threads).
 
-    ``progress(done, total)`` is called after each chunk of omegas.
+    ``progress(done, total)`` is called after each chunk of omegas.  ``params``
+    is a :class:`symvi.Params` or any :class:`symvi.model.Model`.
     """
+    if _is_model(params):
+        return _sweep_model(params, omegas, n_impacts, transient, starts, perturbation, chunk,
+                            progress)
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
@@ -217,3 +287,37 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
             progress(hi, m)
     return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
                  _frozen(starts), transient, int(m * (n_impacts + transient)))
+
+
+def _sweep_model(model, omegas, n_impacts, transient, starts, perturbation, chunk, progress):
+    """:func:`sweep` for a Model, on :mod:`symvi.flow.compiled`."""
+    from .flow import compiled as cf
+    from .flow.linear import LinearFlow
+    flow = LinearFlow.of(model)
+    omegas = np.array([flow.check_omega(w, warn=False) for w in np.ravel(omegas)])
+    n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    if starts is None:
+        starts = sweep_starts(model, omegas, perturbation)
+    try:
+        rows = list(starts)
+    except TypeError:
+        raise ParameterError("starts", starts, f"{len(omegas)} start points") from None
+    if len(rows) != len(omegas):
+        raise ParameterError("starts", starts, f"{len(omegas)} start points, one per omega")
+    starts = np.array([_check_model_start(model, y, "starts") for y in rows])
+    m = len(omegas)
+    C = np.array([cf.constants(model, w) for w in omegas])
+    sec = np.full((m, n_impacts, model.dim), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
+    codes = np.zeros(m, dtype=np.int64)
+    chunk = chunk or max(1, m // 50)
+    for lo in range(0, m, chunk):
+        hi = min(m, lo + chunk)
+        cd, ct, s, _, _, _ = cf.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
+        sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
+        if progress is not None:
+            progress(hi, m)
+    return Sweep(model, _frozen(omegas), _frozen(sec), counts,
+                 tuple(STOP_NAMES[k] for k in codes), _frozen(starts), transient,
+                 int(m * (n_impacts + transient)))

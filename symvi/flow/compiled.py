@@ -1,0 +1,469 @@
+"""Compiled twin of :mod:`symvi.flow.linear` and :mod:`symvi.maps.impact` for any model:
+the exact modal flow, the first-impact finder, the map P and long runs.
+
+Modal form.  z(t) = Re(W (c * e^{lambda t})) + zp(t), c = W^-1 (z0 - zp(0)), as in
+:mod:`symvi.flow.linear`.  A is real, so its eigenvalues come in conjugate pairs
+whose terms are conjugate: only one of each pair is kept, with weight 2
+(``Re(a) + Re(conj a) = 2 Re(a)``); real (overdamped) eigenvalues keep weight 1.
+Along a flight only h = x_k - b and its derivatives are needed::
+
+    h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m x_p,k - b [m = 0],
+    d_j = W[0, j] c_j                (row 0 of W is x_k in the stop-first order);
+
+the full state is rebuilt only at the impact.
+
+Finder.  :func:`symvi._fastflow.first_impact` generalised.  For s >= 0,
+|h''(t + s)| <= M2(t) = sum_j w_j |d_j| |lambda_j|^2 e^{Re lambda_j t} + |X_k| omega^2
+(Re lambda_j <= 0: M, K positive definite, C semi-definite), and likewise
+M5(t) >= |h'''''(t + s)|.  With a horizon S and s in [0, S]
+
+    h''(t + s) <= K(S) = h2 + max(h3 S, 0) + max(h4, 0) S^2/2 + M5 S^3/6,
+
+so h(t + s) <= h + h1 s + min(K, M2) s^2/2 and no crossing occurs before the
+first root of that quadratic (capped at S).  The reference step of
+:meth:`symvi.flow.linear.Motion.first_impact` (K = M2(0) for every s) is one of
+these lower bounds, so the twin never steps further than is safe.  Grazing uses
+the reference's thresholds (eps_h, v_graze from the amplitudes at t = 0), and a
+local maximum of h stepped over within eps_h of the stop is reported as grazing,
+as the reference (smaller steps) would land on it.
+
+Kernels take the constants of one (model, omega) as one float64 array made by
+:func:`constants` (complex numbers as (re, im) pairs); section points are 2N
+vectors in the layout of :mod:`symvi.maps.section`.  Statuses, stop codes and
+chatter thresholds are those of :mod:`symvi._fastflow` (one owner).
+"""
+import math
+
+import numba as nb
+import numpy as np
+
+from .._fastflow import (CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, GRAZING, IMPACT,
+                         NO_IMPACT, STATUS_NAMES, STOP_CHATTER, STOP_GRAZING, STOP_NAMES,
+                         STOP_NO_IMPACT, STOP_NONFINITE, STOP_STICKING)
+from .linear import LinearFlow
+
+__all__ = ["constants", "size", "first_impact_from", "step", "run", "run_batch",
+           "IMPACT", "GRAZING", "NO_IMPACT", "STATUS_NAMES", "COMPLETED", "STOP_GRAZING",
+           "STOP_CHATTER", "STOP_STICKING", "STOP_NO_IMPACT", "STOP_NONFINITE", "STOP_NAMES",
+           "CHATTER_COUNT", "CHATTER_FLIGHT"]
+
+_EPS = 2.0 ** -52
+_TWO_PI = 2.0 * math.pi
+_MAX_STEPS = 1_000_000
+
+# header of the constants array; then, for a model of N masses (capacity 2N modes):
+#   modes   [_HDR, +6N)            (Re lambda_j, Im lambda_j, weight w_j)
+#   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
+#   W^-1    [ov, +8N^2)            W^-1[j, i] at ov + 2 (2N j + i)
+#   U, V    [ou, +2N)              steady-state amplitudes, stop-first order
+_NN, _NM, _OM, _B, _R, _TMAX, _UK, _VK, _XK, _LMAX = range(10)
+_HDR = 10
+
+
+def size(n):
+    """Length of the constants array of a model with n masses."""
+    return _HDR + 6 * n + 16 * n * n + 2 * n
+
+
+def _modes(lam):
+    """Indices and weights of the kept modes: one of each conjugate pair (weight 2),
+    every real eigenvalue (weight 1); all 2N with weight 1 if the pairing fails."""
+    keep, used = [], set()
+    for j, lj in enumerate(lam):
+        if j in used:
+            continue
+        if lj.imag == 0.0:
+            keep.append((j, 1.0))
+            continue
+        # partner: the closest conjugate among the rest
+        rest = [p for p in range(len(lam)) if p != j and p not in used]
+        if not rest:
+            break
+        p = min(rest, key=lambda q: abs(lam[q] - np.conj(lj)))
+        if abs(lam[p] - np.conj(lj)) > 1e-12 * max(abs(lj), 1e-300):
+            break
+        used.update((j, p))
+        keep.append((j if lj.imag > 0 else p, 2.0))
+    else:
+        if sum(w for _, w in keep) == len(lam):
+            return keep
+    return [(j, 1.0) for j in range(len(lam))]
+
+
+def constants(model, omega, t_max=None):
+    """Float64 constants of one (model, omega) for the kernels (layout in the source).
+
+    ``omega`` is validated by :meth:`LinearFlow.check_omega` (no warning here);
+    ``t_max`` (default 1000 forcing periods, as the reference finder) bounds one
+    flight.
+    """
+    flow = LinearFlow.of(model)
+    omega = flow.check_omega(omega, warn=False)
+    fo = flow.forcing(omega)
+    n = flow.n
+    dim = 2 * n
+    if t_max is None:
+        t_max = 2000 * math.pi / omega
+    keep = _modes(np.asarray(flow.lam, dtype=complex))
+    W = np.asarray(flow.W, dtype=complex)
+    Winv = np.asarray(flow.Winv, dtype=complex)
+    c = np.zeros(size(n))
+    U, V = np.asarray(fo.U, dtype=float), np.asarray(fo.V, dtype=float)
+    c[_NN], c[_NM], c[_OM] = n, len(keep), omega
+    c[_B], c[_R], c[_TMAX] = flow.b, flow.r, t_max
+    c[_UK], c[_VK], c[_XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
+    c[_LMAX] = max(max(abs(flow.lam)), omega)
+    ow = _HDR + 3 * dim
+    ov = ow + 2 * dim * dim
+    ou = ov + 2 * dim * dim
+    for q, (j, w) in enumerate(keep):
+        lj = complex(flow.lam[j])
+        c[_HDR + 3 * q:_HDR + 3 * q + 3] = (lj.real, lj.imag, w)
+        c[ow + 2 * dim * q:ow + 2 * dim * (q + 1)] = np.column_stack(
+            [W[:, j].real, W[:, j].imag]).ravel()
+        c[ov + 2 * dim * q:ov + 2 * dim * (q + 1)] = np.column_stack(
+            [Winv[j].real, Winv[j].imag]).ravel()
+    c[ou:ou + n], c[ou + n:ou + 2 * n] = U, V
+    return c
+
+
+# --------------------------------------------------------------------------- kernels
+@nb.njit(cache=True, inline="always")
+def _offsets(n):
+    dim = 2 * n
+    ow = _HDR + 3 * dim
+    ov = ow + 2 * dim * dim
+    return ow, ov, ov + 2 * dim * dim
+
+
+@nb.njit(cache=True)
+def _start(c, y, cc, d, w):
+    """Mode coefficients c_j = W^-1 (z0 - zp(0)) of the flight from section point y,
+    and per mode (d_j, w_j |d_j| |lambda_j|^2, w_j |d_j| |lambda_j|^5) into d; returns
+    tau.  ``w`` is scratch (2N)."""
+    n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
+    dim = 2 * n
+    ow, ov, ou = _offsets(n)
+    tau = y[dim - 1]
+    sp, cp = math.sin(tau), math.cos(tau)
+    # z0 = (b, y[1:n], y[0], y[n:2n-1]) in the stop-first order, minus zp(0)
+    for i in range(n):
+        U, V = c[ou + i], c[ou + n + i]
+        w[i] = (c[_B] if i == 0 else y[i]) - (U * sp + V * cp)
+        w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * (U * cp - V * sp)
+    for j in range(m):
+        ar, ai = 0.0, 0.0
+        for i in range(dim):
+            o = ov + 2 * (dim * j + i)
+            ar += c[o] * w[i]
+            ai += c[o + 1] * w[i]
+        cc[2 * j], cc[2 * j + 1] = ar, ai
+        o = ow + 2 * dim * j                    # W[0, j]
+        dr = c[o] * ar - c[o + 1] * ai
+        di = c[o] * ai + c[o + 1] * ar
+        lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
+        a = math.sqrt(dr * dr + di * di) * c[_HDR + 3 * j + 2]
+        l2 = lr * lr + li * li
+        d[4 * j], d[4 * j + 1] = dr, di
+        d[4 * j + 2] = a * l2
+        d[4 * j + 3] = a * l2 * l2 * math.sqrt(l2)
+    return tau
+
+
+@nb.njit(cache=True, inline="always")
+def _eval(c, d, m, tau, t):
+    """h = x_k - b, its first four derivatives, and the bounds M2(t), M5(t)."""
+    h = h1 = h2 = h3 = h4 = 0.0
+    M2 = M5 = 0.0
+    for j in range(m):
+        o = _HDR + 3 * j
+        lr, li, w = c[o], c[o + 1], c[o + 2]
+        ex = 1.0 if lr == 0.0 else math.exp(lr * t)
+        a = w * ex
+        cs, sn = a * math.cos(li * t), a * math.sin(li * t)
+        dr, di = d[4 * j], d[4 * j + 1]
+        er = dr * cs - di * sn                   # w_j d_j e^{lambda_j t}
+        ei = dr * sn + di * cs
+        h += er
+        er, ei = er * lr - ei * li, er * li + ei * lr
+        h1 += er
+        er, ei = er * lr - ei * li, er * li + ei * lr
+        h2 += er
+        er, ei = er * lr - ei * li, er * li + ei * lr
+        h3 += er
+        h4 += er * lr - ei * li
+        M2 += ex * d[4 * j + 2]
+        M5 += ex * d[4 * j + 3]
+    om = c[_OM]
+    ph = om * t + tau
+    sp, cp = math.sin(ph), math.cos(ph)
+    s0 = c[_UK] * sp + c[_VK] * cp
+    s1 = om * (c[_UK] * cp - c[_VK] * sp)
+    o2 = om * om
+    h += s0 - c[_B]
+    h1 += s1
+    h2 -= o2 * s0
+    h3 -= o2 * s1
+    h4 += o2 * o2 * s0
+    X = c[_XK]
+    return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
+
+
+@nb.njit(cache=True, inline="always")
+def _root(h, h1, K):
+    """First positive root of h + h1 s + K s^2/2 (h < 0), or inf if none."""
+    disc = h1 * h1 - 2.0 * K * h
+    if disc < 0.0:
+        return np.inf
+    den = h1 + math.sqrt(disc)
+    if den <= 0.0:
+        return np.inf
+    return -2.0 * h / den
+
+
+@nb.njit(cache=True)
+def _near_max(c, d, m, tau, ta, ha, da, tb, hb, db, L):
+    """Location of the max of h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it may
+    come within 1e-3 L of the stop; else -1.  Safeguarded Newton on h'."""
+    s = tb - ta
+    u = s * da / (da - db)            # linear h' between the ends
+    if max(ha + 0.5 * da * u, hb - 0.5 * db * (s - u)) < -1e-3 * L:
+        return -1.0
+    t = ta + u
+    for _ in range(60):
+        h, h1, h2, _, _, _, _ = _eval(c, d, m, tau, t)
+        if h1 > 0.0:
+            ta = t
+        else:
+            tb = t
+        tn = t - h1 / h2 if h2 < 0.0 else 0.5 * (ta + tb)
+        if not ta < tn < tb:
+            tn = 0.5 * (ta + tb)
+        if abs(tn - t) <= 4.0 * _EPS * t:
+            return tn
+        t = tn
+    return t
+
+
+@nb.njit(cache=True)
+def _first_impact(c, d, tau, t_max):
+    """First t > 0 with x_k(t) = b: the twin of :meth:`Motion.first_impact`.
+
+    Returns (status, t, x_k'' at t, steps); x_k'' at a contact separates grazing
+    (< 0) from sticking (> 0).
+    """
+    m = int(c[_NM])
+    amp = 0.0
+    for j in range(m):
+        amp += math.sqrt(d[4 * j] ** 2 + d[4 * j + 1] ** 2) * c[_HDR + 3 * j + 2]
+    L = amp + c[_XK] + abs(c[_B])
+    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, 0.0)
+    eps_h = 64.0 * _EPS * L
+    v_graze = 8.0 * math.sqrt(2.0 * M2 * eps_h)
+    if not h1 < 0.0:
+        return GRAZING, 0.0, h2, 0
+    t = -h1 / M2                      # vertex of the global bound: h < 0 up to here
+    S = 0.5 / c[_LMAX]                # first horizon; adapted below
+    tp, hp, dp = 0.0, h, h1
+    for n in range(1, _MAX_STEPS + 1):
+        h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, t)
+        if dp > 0.0 and h1 <= 0.0 and h < -eps_h:
+            # a local max of h was stepped over; the reference (smaller steps)
+            # lands within eps_h of a near-tangency and calls it grazing: so do we
+            tm = _near_max(c, d, m, tau, tp, hp, dp, t, h, h1, L)
+            if tm >= 0.0:
+                hm, _, hm2, _, _, _, _ = _eval(c, d, m, tau, tm)
+                if hm >= -eps_h:
+                    return GRAZING, tm, hm2, n
+        tp, hp, dp = t, h, h1
+        if h >= -eps_h:
+            if h1 <= v_graze:
+                return GRAZING, t, h2, n
+            for _ in range(3):        # Newton polish of a transversal root
+                dt = -h / h1
+                t += dt
+                h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, t)
+                if abs(dt) <= 4.0 * _EPS * t:
+                    break
+            return IMPACT, t, h2, n
+        if t > t_max or not math.isfinite(h):
+            return NO_IMPACT, t, h2, n
+        step = _root(h, h1, M2)       # the reference step (M2 decays with the motion)
+        g3 = max(h3, 0.0)
+        g4 = 0.5 * max(h4, 0.0)
+        for _ in range(3):            # S -> fixed point of S = root(K(S))
+            K = min(M2, h2 + S * (g3 + S * (g4 + S * M5 / 6.0)))
+            r = _root(h, h1, K)
+            step = max(step, min(S, r))
+            S = 4.0 * S if r == np.inf else math.sqrt(S * r)
+        t += step
+        S = max(S, 2.0 * step)
+    return NO_IMPACT, t, h2, _MAX_STEPS
+
+
+@nb.njit(cache=True)
+def _state(c, cc, tau, t, z):
+    """The full state z(t) (stop-first order) of the flight with coefficients cc."""
+    n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
+    dim = 2 * n
+    ow, ov, ou = _offsets(n)
+    for i in range(dim):
+        z[i] = 0.0
+    for j in range(m):
+        o = _HDR + 3 * j
+        lr, li, w = c[o], c[o + 1], c[o + 2]
+        a = w if lr == 0.0 else w * math.exp(lr * t)
+        cs, sn = a * math.cos(li * t), a * math.sin(li * t)
+        er = cc[2 * j] * cs - cc[2 * j + 1] * sn      # w_j c_j e^{lambda_j t}
+        ei = cc[2 * j] * sn + cc[2 * j + 1] * cs
+        for i in range(dim):
+            q = ow + 2 * (dim * j + i)
+            z[i] += c[q] * er - c[q + 1] * ei
+    ph = om * t + tau
+    sp, cp = math.sin(ph), math.cos(ph)
+    for i in range(n):
+        U, V = c[ou + i], c[ou + n + i]
+        z[i] += U * sp + V * cp
+        z[n + i] += om * (U * cp - V * sp)
+
+
+@nb.njit(cache=True)
+def _step_into(c, y, cc, d, z):
+    """One application of P on y, in place: y <- P(y), eq. (31) generalised.
+
+    Returns (status, t_e, v_k- at the contact, x_k'' there, finder steps).
+    """
+    n = int(c[_NN])
+    tau = _start(c, y, cc, d, z)
+    st, t, acc, steps = _first_impact(c, d, tau, c[_TMAX])
+    _state(c, cc, tau, t, z)
+    tau_u = tau + c[_OM] * t
+    y[0] = -c[_R] * z[n]                          # v_k+ = -r v_k-, eq. (2)
+    for i in range(1, n):
+        y[i] = z[i]
+        y[n + i - 1] = z[n + i]
+    y[2 * n - 1] = tau_u - _TWO_PI * math.floor(tau_u / _TWO_PI)
+    return st, t, z[n], acc, steps
+
+
+@nb.njit(cache=True)
+def _first_impact_from(c, y, t_max):
+    n = int(c[_NN])
+    cc = np.empty(4 * n)
+    d = np.empty(8 * n)
+    z = np.empty(2 * n)
+    tau = _start(c, y, cc, d, z)
+    st, t, acc, steps = _first_impact(c, d, tau, t_max)
+    _state(c, cc, tau, t, z)
+    return st, t, z, acc, steps
+
+
+def first_impact_from(c, y, t_max=None):
+    """The finder from section point y: (status, t, state z(t) stop-first, x_k'', steps)."""
+    c = np.ascontiguousarray(c, dtype=np.float64)
+    return _first_impact_from(c, np.ascontiguousarray(y, dtype=np.float64),
+                              c[_TMAX] if t_max is None else float(t_max))
+
+
+@nb.njit(cache=True)
+def _step(c, y):
+    n = int(c[_NN])
+    y = y.copy()
+    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(8 * n), np.empty(2 * n))
+    return st, t, y, vm, acc, steps
+
+
+def step(c, y):
+    """One application of P from y: (status, t_e, P(y) with tau in [0, 2 pi), v_k-,
+    x_k'' at the contact, finder steps)."""
+    return _step(np.ascontiguousarray(c, dtype=np.float64),
+                 np.ascontiguousarray(y, dtype=np.float64))
+
+
+@nb.njit(cache=True)
+def _run_into(c, y0, n_keep, transient, sec, times, vimp):
+    """Iterate P from y0: drop ``transient`` images, store the next ``n_keep``.
+
+    Returns (stop code, number stored, total finder steps).  Times are
+    cumulative from the start, transient included.
+    """
+    n = int(c[_NN])
+    dim = 2 * n
+    y = y0[:dim].copy()
+    cc, d, z = np.empty(4 * n), np.empty(8 * n), np.empty(dim)
+    T = 0.0
+    short = 0
+    t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
+    steps = 0
+    for k in range(transient + n_keep):
+        st, te, vm, acc, ns = _step_into(c, y, cc, d, z)
+        steps += ns
+        kept = k - transient
+        if st == NO_IMPACT:
+            return STOP_NO_IMPACT, max(kept, 0), steps
+        if st == GRAZING:
+            # x_k'' > 0 at a contact with ~zero speed: the stop holds the mass
+            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps
+        for i in range(dim):
+            if not math.isfinite(y[i]):
+                return STOP_NONFINITE, max(kept, 0), steps
+        T += te
+        short = short + 1 if te < t_chat else 0
+        if kept >= 0:
+            for i in range(dim):
+                sec[kept, i] = y[i]
+            times[kept] = T
+            vimp[kept] = vm
+        if short >= CHATTER_COUNT:
+            return STOP_CHATTER, max(kept + 1, 0), steps
+    return COMPLETED, n_keep, steps
+
+
+def run(c, y0, n_keep, transient=0):
+    """Python entry to the run loop: (code, section (n, 2N), t (n,), v_k- (n,), steps)."""
+    c = np.ascontiguousarray(c, dtype=np.float64)
+    dim = 2 * int(c[_NN])
+    sec = np.empty((n_keep, dim))
+    times = np.empty(n_keep)
+    vimp = np.empty(n_keep)
+    code, k, steps = _run_into(c, np.ascontiguousarray(y0, dtype=np.float64), n_keep, transient,
+                               sec, times, vimp)
+    return code, sec[:k], times[:k], vimp[:k], steps
+
+
+@nb.njit(cache=True, parallel=True)
+def _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps):
+    for i in nb.prange(C.shape[0]):
+        codes[i], counts[i], steps[i] = _run_into(C[i], Y0[i], n_keep, transient,
+                                                  sec[i], times[i], vimp[i])
+
+
+def run_batch(C, Y0, n_keep, transient=0):
+    """Many independent runs in parallel, one per row of C and Y0.
+
+    Rows may belong to models of different N: C is padded to the longest
+    constants array and Y0 to the widest section point (padding ignored).
+    Returns (codes (m,), counts (m,), section (m, n_keep, D), t (m, n_keep),
+    v_k- (m, n_keep), steps (m,)); D = Y0.shape[1]; entries past a run's
+    ``counts[i]`` rows or 2N columns are NaN.
+    """
+    C = np.ascontiguousarray(C, dtype=np.float64)
+    Y0 = np.ascontiguousarray(Y0, dtype=np.float64)
+    m = C.shape[0]
+    sec = np.full((m, n_keep, Y0.shape[1]), np.nan)
+    times = np.full((m, n_keep), np.nan)
+    vimp = np.full((m, n_keep), np.nan)
+    codes = np.empty(m, dtype=np.int64)
+    counts = np.empty(m, dtype=np.int64)
+    steps = np.empty(m, dtype=np.int64)
+    _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps)
+    return codes, counts, sec, times, vimp, steps
+
+
+def pack(rows):
+    """Stack constants arrays of possibly different N into one zero-padded 2-D array."""
+    width = max(len(r) for r in rows)
+    out = np.zeros((len(rows), width))
+    for i, r in enumerate(rows):
+        out[i, :len(r)] = r
+    return out
