@@ -25,6 +25,7 @@ from ._backend import FLOAT, MP
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
 from .params import Params, _finite, check_omega
 from .params import modal as _modal
+from .codegen.jets import eigenvalues as eigenvalues  # one owner, any size
 
 
 _LOADED = {}
@@ -137,15 +138,6 @@ def _orbit_inputs(params, orbit):
     m = _modal(params, lib)
     te = 2 * lib.pi / orbit.omega
     return _inputs(m, orbit.omega, lib.num(params.r), lib.num(params.b), orbit.y, te)
-
-
-def eigenvalues(J):
-    """Eigenvalues of a 4x4 Jacobian, sorted by modulus descending (float or mpmath)."""
-    if J.dtype == object:
-        ev = mpmath.eig(mpmath.matrix(J.tolist()), left=False, right=False)
-        return tuple(sorted(ev, key=lambda z: (-abs(z), -mpmath.im(z))))
-    ev = np.linalg.eigvals(J)
-    return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
 
 
 def multipliers_of(params, orbit):
