@@ -218,11 +218,92 @@ class HopfResult:
         return self.points[i]
 
     def as_dict(self):
-        return {"params": self.params.as_dict(),
+        return {**_system(self.params).as_dict(),
                 "interval": [self.omega_min, self.omega_max],
                 "points": [p.as_dict() for p in self.points],
                 "events": [e.as_dict() for e in self.events],
                 "samples": self.samples}
+
+
+# --------------------------------------------------------------------------- systems
+class _PaperSystem:
+    """The paper's model through its own chain (Params): eqs. (10)-(18), (33)-(38)."""
+
+    names = STATE_NAMES
+
+    def __init__(self, params):
+        self.params = params
+
+    def orbits(self, w):
+        from .orbit import period1_orbits
+        return period1_orbits(self.params, w)
+
+    def existence_ratio(self, w):
+        from .orbit import existence_ratio
+        return existence_ratio(self.params, w)
+
+    def undamped_frequencies(self):
+        from .params import modal
+        return tuple(modal(self.params).omegas)
+
+    def jet3(self, w, orbit):
+        from .jets import jet
+        return jet(self.params, w, order=3, orbit=orbit)
+
+    def accuracy(self, omega_c, branch, nf, jt):
+        from .precision import auto_hopf_point
+        return auto_hopf_point(self.params, omega_c, branch=branch, dmod=float(nf.dmod_dv),
+                               l1=float(nf.l1))
+
+    def as_dict(self):
+        return {"params": self.params.as_dict()}
+
+
+class _ModelSystem:
+    """Any model (symvi.model.Model): period-1 orbits and jets of the any-model layers."""
+
+    def __init__(self, model):
+        from .maps.section import Section
+        self.params = model
+        self.names = Section.of(model).names
+
+    def orbits(self, w):
+        from .orbits import period1_orbits
+        return period1_orbits(self.params, w)
+
+    def existence_ratio(self, w):
+        from .orbits import existence_ratio
+        return existence_ratio(self.params, w)
+
+    def undamped_frequencies(self):
+        """Frequencies of the modes with no damping: there forcing is resonant and
+        1 - cos(2 pi omega_j / omega) -> 0 makes the period-1 orbit non-isolated."""
+        from .flow.linear import LinearFlow
+        lam = LinearFlow.of(self.params).lam
+        return tuple(sorted(float(z.imag) for z in lam
+                            if z.imag > 0 and abs(z.real) <= 1e-12 * abs(z)))
+
+    def jet3(self, w, orbit):
+        from .codegen.jets import jet_at
+        return jet_at(self.params, w, orbit.y, 2 * math.pi / w, 3)
+
+    def accuracy(self, omega_c, branch, nf, jt):
+        from .precision import estimate_model_hopf
+        return estimate_model_hopf(self.params, omega_c, branch, nf, jt)
+
+    def as_dict(self):
+        return {"model": self.params.as_dict()}
+
+
+def _system(params):
+    """The adapter of hopf_points for the paper's Params or any Model."""
+    from .model import Model
+    if isinstance(params, Model):
+        return _ModelSystem(params)
+    from .params import Params
+    if not isinstance(params, Params):
+        raise ParameterError("params", params, "a symvi.Params or a symvi.model.Model")
+    return _PaperSystem(params)
 
 
 # --------------------------------------------------------------------------- sampling
@@ -232,19 +313,18 @@ _NONE, _INADM, _ADM, _SING = "none", "inadmissible", "admissible", "singular"
 class _Sampler:
     """Order-1 evaluations (orbits + multipliers), cached; both branches per call."""
 
-    def __init__(self, params):
-        self.params = params
+    def __init__(self, system):
+        self.sys = system
         self.cache = {}
 
     def orbits(self, w):
         w = float(w)
         hit = self.cache.get(w)
         if hit is None:
-            from .orbit import period1_orbits
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", NearSingularWarning)
                 try:
-                    hit = {o.branch: o for o in period1_orbits(self.params, w)}
+                    hit = {o.branch: o for o in self.sys.orbits(w)}
                 except SingularCaseError as exc:
                     hit = exc
             self.cache[w] = hit
@@ -273,9 +353,9 @@ def _match(la, lb):
 
 # --------------------------------------------------------------------------- scan
 class _Scan:
-    def __init__(self, params, a, b):
-        self.params, self.a, self.b = params, a, b
-        self.s = _Sampler(params)
+    def __init__(self, system, a, b):
+        self.sys, self.a, self.b = system, a, b
+        self.s = _Sampler(system)
         self.min_width = MIN_WIDTH * (b - a)
         self.delta = max(1e-10 * (b - a), 50 * XTOL)
         self.brackets = []     # (branch, kind, wl, wr, lam_l, lam_r)
@@ -291,11 +371,9 @@ class _Scan:
         kb, ob = self.s.state(br, wb)
         w = None
         if _SING not in (ka, kb) and _NONE in (ka, kb):
-            from .orbit import existence_ratio
-
             def f(w):
                 try:
-                    return abs(existence_ratio(self.params, w)) - 1
+                    return abs(self.sys.existence_ratio(w)) - 1
                 except SingularCaseError:
                     return math.nan
             w = _brent(f, wa, wb)
@@ -471,18 +549,19 @@ def _brent(f, a, b):
         return None
 
 
-def _lam_near(params, orbit_branch, w, target):
-    from .orbit import period1_orbits
+def _lam_near(system, orbit_branch, w, target):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        o = {x.branch: x for x in period1_orbits(params, w)}[orbit_branch]
+        o = {x.branch: x for x in system.orbits(w)}[orbit_branch]
     return min((complex(x) for x in o.multipliers), key=lambda x: abs(x - target))
 
 
 def dmod_along_branch(params, omega, branch, lam, h=BRANCH_H):
     """d|lambda1|/domega along the branch: Richardson-extrapolated central differences."""
+    system = params if isinstance(params, (_PaperSystem, _ModelSystem)) else _system(params)
+
     def m(w):
-        return abs(_lam_near(params, branch, w, lam))
+        return abs(_lam_near(system, branch, w, lam))
     d1 = (m(omega + h) - m(omega - h)) / (2 * h)
     d2 = (m(omega + 2 * h) - m(omega - 2 * h)) / (4 * h)
     return (4 * d1 - d2) / 3
@@ -490,13 +569,12 @@ def dmod_along_branch(params, omega, branch, lam, h=BRANCH_H):
 
 def hopf_point(params, omega_c, branch, *, sampler=None):
     """All of issue 4's quantities at a located Neimark–Sacker point (order-3 jet there)."""
-    from .jets import jet
-    from .orbit import period1_orbits
+    system = _system(params)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        orbit = {o.branch: o for o in period1_orbits(params, omega_c)}[branch]
-        j = jet(params, omega_c, order=3, orbit=orbit)
-        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=STATE_NAMES)
+        orbit = {o.branch: o for o in system.orbits(omega_c)}[branch]
+        j = system.jet3(omega_c, orbit)
+        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=system.names)
     lam = complex(nf.lam)
     others = tuple(sorted((complex(x) for i, x in enumerate(nf.multipliers)
                            if i not in (_index_of(nf, lam), _index_of(nf, lam.conjugate()))),
@@ -504,12 +582,11 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
     h1 = abs(abs(lam) - 1) < 1e-9 and abs(lam.imag) > 1e-9 and all(abs(z) < 1 for z in others)
     m, dist = resonance(lam)
     try:
-        dbranch = dmod_along_branch(params, omega_c, branch, lam)
+        dbranch = dmod_along_branch(system, omega_c, branch, lam)
     except (SymviError, KeyError):
-        dbranch = dmod_along_branch(params, omega_c, branch, lam, h=BRANCH_H / 20)
+        dbranch = dmod_along_branch(system, omega_c, branch, lam, h=BRANCH_H / 20)
     # error estimates; recomputed in mpmath when float64 gives < 8 digits
-    from .precision import auto_hopf_point
-    acc = auto_hopf_point(params, omega_c, branch=branch, dmod=float(nf.dmod_dv), l1=float(nf.l1))
+    acc = system.accuracy(omega_c, branch, nf, j)
     if acc.omega_c.recomputed and acc.trusted:
         omega_c = float(acc.omega_c)
     dmod = float(acc.dmod_domega) if acc.dmod_domega.recomputed and acc.dmod_domega.trusted \
@@ -529,8 +606,7 @@ def _index_of(nf, z):
     return min(range(len(nf.multipliers)), key=lambda i: abs(complex(nf.multipliers[i]) - z))
 
 
-def _check_interval(params, omega_min, omega_max):
-    from .params import modal
+def _check_interval(system, omega_min, omega_max):
     for name, w in (("omega_min", omega_min), ("omega_max", omega_max)):
         try:
             w = float(w)
@@ -541,8 +617,7 @@ def _check_interval(params, omega_min, omega_max):
     a, b = float(omega_min), float(omega_max)
     if not b > a:
         raise ParameterError("omega_max", omega_max, f"omega_max > omega_min = {a!r}")
-    m = modal(params)
-    for j, wj in enumerate(m.omegas, start=1):
+    for j, wj in enumerate(system.undamped_frequencies(), start=1):
         if a <= wj <= b:
             raise SingularCaseError(
                 "forcing-resonance",
@@ -559,11 +634,12 @@ def hopf_points(params, omega_min, omega_max):
     (real multipliers through +/-1, admissibility changes, orbit appearing or
     vanishing).  See the module docstring for why no crossing is missed.
     """
-    a, b = _check_interval(params, omega_min, omega_max)
-    scan = _Scan(params, a, b)
+    system = _system(params)
+    a, b = _check_interval(system, omega_min, omega_max)
+    scan = _Scan(system, a, b)
     # eq. (15) divides by 1 - cos(2 pi omega_j / omega): the orbit is not isolated at
     # omega = omega_j / n; those points cut the scan and are reported
-    sing = _singular_frequencies(params, a, b)
+    sing = _singular_frequencies(system, a, b)
     cuts = sorted(set(np.linspace(a, b, N_INITIAL + 1).tolist()) | {w for w, _ in sing})
     for w, what in sing:
         scan._event("singular", w, "", what)
@@ -598,11 +674,10 @@ def hopf_points(params, omega_min, omega_max):
                       events, len(scan.s.cache))
 
 
-def _singular_frequencies(params, a, b):
-    """The omega_j / n (n >= 1) inside (a, b): (omega, description)."""
-    from .params import modal
+def _singular_frequencies(system, a, b):
+    """The omega_j / n (n >= 1) of the undamped modes inside (a, b): (omega, description)."""
     out = []
-    for j, wj in enumerate(modal(params).omegas, start=1):
+    for j, wj in enumerate(system.undamped_frequencies(), start=1):
         n = max(1, math.ceil(wj / b))
         while wj / n > a:
             w = wj / n

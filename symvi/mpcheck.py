@@ -68,7 +68,8 @@ class MpCheck:
             return {"digits": c.digits, "omega_c": s(c.omega_c), "dmod_domega": s(c.dmod_domega),
                     "l1": s(c.l1), "lam": [s(mpmath.re(c.lam)), s(mpmath.im(c.lam))],
                     "y": [s(v) for v in c.y], "f1_paper": s(c.f1_paper), "f1_wan": s(c.f1_wan)}
-        return {"params": self.params.as_dict(), "branch": self.branch,
+        return {("model" if _is_model(self.params) else "params"): self.params.as_dict(),
+                "branch": self.branch,
                 "chain_a": chain(self.chain_a), "chain_b": chain(self.chain_b),
                 "agreement_digits": self.agreement}
 
@@ -84,9 +85,17 @@ def digits_of_agreement(a, b):
 
 
 # --------------------------------------------------------------------------- chain A
+def _is_model(params):
+    from .model import Model
+    return isinstance(params, Model)
+
+
 def _orbit_mp(params, omega, branch, digits):
-    """The period-1 orbit of ``branch`` at an mpf omega, at ``digits``."""
-    from .orbit import period1_orbits
+    """The period-1 orbit of ``branch`` at an mpf omega, at ``digits`` (Params or Model)."""
+    if _is_model(params):
+        from .orbits import period1_orbits
+    else:
+        from .orbit import period1_orbits
     orbs = {o.branch: o for o in period1_orbits(params, omega, digits=digits)}
     o = orbs.get(branch)
     if o is None or not o.admissible:
@@ -114,7 +123,11 @@ def chain_a(params, omega0, branch, digits, lam0):
         wc = mpmath.findroot(f, (w0, w0 + mpmath.mpf("1e-9")), solver="secant",
                              tol=mpmath.mpf(10) ** (-2 * digits + 4), maxsteps=60)
         o = _orbit_mp(params, wc, branch, digits)
-        j = jet(params, wc, order=3, digits=digits, orbit=o)
+        if _is_model(params):
+            from .codegen.jets import jet_at
+            j = jet_at(params, wc, o.y, 2 * mpmath.pi / wc, 3, digits=digits)
+        else:
+            j = jet(params, wc, order=3, digits=digits, orbit=o)
         nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, digits=digits)
         return ChainResult("A: orbit + generated jets + normal_form (mpmath)", digits, wc,
                            tuple(o.y), nf.lam, nf.dmod_dv, nf.l1, nf.c1,
@@ -125,19 +138,24 @@ def chain_a(params, omega0, branch, digits, lam0):
 class _MapFD:
     """Finite differences of the numeric map P in mpmath (no generated code)."""
 
-    def __init__(self, params, dps):
-        self.params, self.dps = params, dps
+    def __init__(self, params, dps, n=4):
+        self.params, self.dps, self.n = params, dps, n
 
     def P(self, w, y):
-        from .poincare import poincare_map
+        if _is_model(self.params):
+            from .maps.impact import poincare_map
+        else:
+            from .poincare import poincare_map
         s = poincare_map(self.params, w, y, digits=self.dps)
         if s.status != "impact":
             raise SingularCaseError("grazing", f"P is not smooth here (flight ends in {s.status})")
-        return [s.y[0], s.y[1], s.y[2], s.tau_unwrapped]
+        return [*s.y[:-1], s.tau_unwrapped]
 
     def residual(self, w, y):
         p = self.P(w, y)
-        return [p[0] - y[0], p[1] - y[1], p[2] - y[2], p[3] - y[3] - 2 * mpmath.pi]
+        r = [p[i] - y[i] for i in range(self.n)]
+        r[-1] -= 2 * mpmath.pi
+        return r
 
     def _h(self, order):
         # balance truncation h^4 (after Richardson) against rounding 10^-dps / h^order
@@ -146,7 +164,7 @@ class _MapFD:
     def _stencil(self, w, y, axes, h):
         """Central mixed difference d^k P / dy_axes at y (any repeated axes), step h."""
         k = len(axes)
-        acc = [mpmath.mpf(0)] * 4
+        acc = [mpmath.mpf(0)] * self.n
         for signs in itertools.product((1, -1), repeat=k):
             z = list(y)
             for s, a in zip(signs, axes):
@@ -155,7 +173,7 @@ class _MapFD:
             sg = 1
             for s in signs:
                 sg *= s
-            for i in range(4):
+            for i in range(self.n):
                 acc[i] += sg * p[i]
         return [v / (2 * h) ** k for v in acc]
 
@@ -168,8 +186,9 @@ class _MapFD:
         return [(4 * a - b) / 3 for a, b in zip(d1, d2)]
 
     def jacobian(self, w, y, richardson=True):
-        cols = [self.derivative(w, y, (j,), richardson) for j in range(4)]
-        return mpmath.matrix([[cols[j][i] for j in range(4)] for i in range(4)])
+        n = self.n
+        cols = [self.derivative(w, y, (j,), richardson) for j in range(n)]
+        return mpmath.matrix([[cols[j][i] for j in range(n)] for i in range(n)])
 
     def fixed_point(self, w, y0):
         """Newton on P(y) - y - (0, 0, 0, 2 pi)."""
@@ -179,22 +198,23 @@ class _MapFD:
             r = self.residual(w, y)
             if max(abs(v) for v in r) < tol:
                 return y
-            J = self.jacobian(w, y, richardson=False) - mpmath.eye(4)
+            J = self.jacobian(w, y, richardson=False) - mpmath.eye(self.n)
             dy = mpmath.lu_solve(J, mpmath.matrix(r))
-            y = [y[i] - dy[i] for i in range(4)]
+            y = [y[i] - dy[i] for i in range(self.n)]
         raise SingularCaseError("newton", "Newton on P(y) = y did not converge in chain B")
 
     def jets(self, w, y):
+        n = self.n
         A = self.jacobian(w, y)
-        d2 = [[[None] * 4 for _ in range(4)] for _ in range(4)]
-        d3 = [[[[None] * 4 for _ in range(4)] for _ in range(4)] for _ in range(4)]
-        for j, k in itertools.combinations_with_replacement(range(4), 2):
+        d2 = [[[None] * n for _ in range(n)] for _ in range(n)]
+        d3 = [[[[None] * n for _ in range(n)] for _ in range(n)] for _ in range(n)]
+        for j, k in itertools.combinations_with_replacement(range(n), 2):
             v = self.derivative(w, y, (j, k))
-            for i in range(4):
+            for i in range(n):
                 d2[i][j][k] = d2[i][k][j] = v[i]
-        for t in itertools.combinations_with_replacement(range(4), 3):
+        for t in itertools.combinations_with_replacement(range(n), 3):
             v = self.derivative(w, y, t)
-            for i in range(4):
+            for i in range(n):
                 for p in set(itertools.permutations(t)):
                     d3[i][p[0]][p[1]][p[2]] = v[i]
         return A, d2, d3
@@ -203,7 +223,7 @@ class _MapFD:
 def _critical(A, target):
     """(lambda1, q with ||q||_2 = 1, u = conj(p)^T with u q = 1): mpmath.eig, left and right."""
     E, EL, ER = mpmath.eig(A, left=True, right=True)
-    k = min(range(4), key=lambda i: abs(E[i] - target))
+    k = min(range(A.rows), key=lambda i: abs(E[i] - target))
     q = ER[:, k]
     q = q / mpmath.norm(q)
     u = EL[k, :]
@@ -215,15 +235,16 @@ def kuznetsov_l1(A, d2, d3, target):
     """c1, l1 by Kuznetsov's formula on mpmath matrices (independent of symvi.normal_form)."""
     lam, q, u = _critical(A, target)
     qb = q.conjugate()
+    n = A.rows
 
     def B(x, y):
-        return mpmath.matrix([sum(d2[i][j][k] * x[j] * y[k] for j in range(4) for k in range(4))
-                              for i in range(4)])
+        return mpmath.matrix([sum(d2[i][j][k] * x[j] * y[k] for j in range(n) for k in range(n))
+                              for i in range(n)])
 
     def C(x, y, z):
-        return mpmath.matrix([sum(d3[i][j][k][l] * x[j] * y[k] * z[l] for j in range(4)
-                                  for k in range(4) for l in range(4)) for i in range(4)])
-    I = mpmath.eye(4)
+        return mpmath.matrix([sum(d3[i][j][k][l] * x[j] * y[k] * z[l] for j in range(n)
+                                  for k in range(n) for l in range(n)) for i in range(n)])
+    I = mpmath.eye(n)
     h11 = mpmath.lu_solve(lam * mpmath.conj(lam) * I - A, B(q, qb))
     h20 = mpmath.lu_solve(lam * lam * I - A, B(q, q))
     c1 = (u * (C(q, q, qb) + 2 * B(q, h11) + B(qb, h20)))[0] / 2
@@ -234,7 +255,7 @@ def chain_b(params, omega0, branch, digits, lam0, y0):
     """Finite differences of P only, at ``digits`` (+30 guard digits for the differences)."""
     dps = digits + 30
     with mpmath.workdps(dps):
-        fd = _MapFD(params, dps)
+        fd = _MapFD(params, dps, len(y0))
         state = {"y": [mpmath.mpf(v) for v in y0], "lam": mpmath.mpc(lam0)}
 
         def lam1(w):

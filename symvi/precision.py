@@ -708,3 +708,124 @@ def auto(kind, params, omega, **kw):
     if kind == "hopf":
         return auto_hopf_point(params, omega, **kw)
     raise ParameterError("kind", kind, "'orbit' or 'hopf'")
+
+
+# --------------------------------------------------------------------------- any model
+def _model_inputs(model):
+    """The named parameters whose rounding can move a result: the nonzero entries."""
+    return [n for n in model.parameter_names()
+            if n not in ("mu_m", "mu_k", "f2", "b", "r") and model.value(n) != 0]
+
+
+def _model_hopf_at(model, w, branch, digits):
+    """(orbit, jet, normal form) at omega on ``branch``, float64 or mpmath."""
+    from .codegen.jets import jet_at
+    from .normal_form import normal_form
+    from .orbits import period1_orbits
+    o = {x.branch: x for x in period1_orbits(model, w, digits=digits)}.get(branch)
+    if o is None or not o.admissible:
+        raise SingularCaseError("no-admissible-orbit", f"branch {branch} is not admissible "
+                                f"at omega = {float(w):.12g}")
+    ctx = mpmath.mp.workdps(digits) if digits else _null()
+    with ctx:
+        T = 2 * mpmath.pi / w if digits else 2 * math.pi / w
+        jt = jet_at(model, w, o.y, T, 3, digits=digits)
+        nf = normal_form(jt.jacobian, jt.d2, jt.d3, jt.dA, **({"digits": digits} if digits
+                                                             else {}))
+    return o, jt, nf
+
+
+def _model_estimate(model, w, branch, nf, jt, digits):
+    """HopfEstimate of (v_c, d|lambda1|/dv, l1) from the conditions (see the module doc).
+
+    Input condition of v_c: exact, v_c' = -(d|lambda1|/dp) / (d|lambda1|/dv) for every
+    named parameter p (:func:`symvi.codegen.jets.parameter_derivatives` along the
+    fixed point); linear-algebra conditions as for the paper (:func:`_linear_condition`),
+    amplified near grazing.
+    """
+    from .codegen.jets import parameter_derivatives
+    eps = _eps(digits)
+    lin = _linear_condition(jt, nf, digits)
+    gf = _graze_factor(jt.y, jt.g_theta)
+    lin = {k: (v * gf if k in ("eig", "vec", "solve") else v) for k, v in lin.items()}
+    lam = complex(nf.lam)
+    p = np.array([complex(x) for x in nf.p])
+    q = np.array([complex(x) for x in nf.q])
+    dmod = float(nf.dmod_dv)
+    wf = float(w)
+    k_in, note = 1.0, ""
+    T = 2 * math.pi / wf
+    yf = tuple(float(v) for v in jt.y)
+    for name in _model_inputs(model):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", NearSingularWarning)
+                d = parameter_derivatives(model, wf, yf, T, name)
+        except SymviError as exc:
+            k_in, note = math.inf, f"{name}: {exc}"
+            break
+        dlam = np.vdot(p, np.asarray(d.dJ_branch, dtype=complex) @ q)
+        dmod_p = (lam.conjugate() * dlam).real / abs(lam)
+        k_in = max(k_in, abs(dmod_p / dmod) * abs(model.value(name)) / wf)
+    k_vc = max(k_in, lin["eig"] * C_EVAL / max(abs(dmod) * wf, 1e-300))
+    err_vc = eps * (C_EVAL + k_vc)
+    k_dm = max(k_in, lin["vec"] * lin["dmod_terms"] / max(abs(dmod), 1e-300))
+    k_l1 = max(k_in, (lin["solve"] + lin["vec"]) * lin["l1_terms"]
+               / max(abs(float(nf.l1)), 1e-300))
+    return HopfEstimate(_make("omega_c", w, err_vc, k_vc, digits, note),
+                        _make("dmod_domega", nf.dmod_dv, eps * (C_EVAL + k_dm), k_dm, digits,
+                              note),
+                        _make("l1", nf.l1, eps * (C_EVAL + k_l1), k_l1, digits, note), branch)
+
+
+def refine_model_omega_c(model, omega_c, branch, digits, max_iter=30):
+    """Newton polish of |lambda1(omega)| = 1 for any model at ``digits`` (mpmath), with
+    d|lambda1|/dv of eq. (A3) along the branch as the derivative."""
+    from . import normal_form as nfm
+    from .codegen.jets import jet_at
+    from .orbits import period1_orbits
+    eps = _eps(digits)
+    with mpmath.mp.workdps(digits + 10):
+        w, prev = mpmath.mpf(omega_c), None
+        for _ in range(max_iter):
+            o = {x.branch: x for x in period1_orbits(model, w, digits=digits + 10,
+                                                      multipliers=False)}[branch]
+            jt = jet_at(model, w, o.y, 2 * mpmath.pi / w, 2, digits=digits + 10)
+            e = nfm.eigen(jt.jacobian, digits=digits + 10)
+            _, dmod = nfm.dmod_A3(jt.jacobian, jt.dA, digits=digits + 10)
+            step = (abs(e.lam) - 1) / dmod
+            w = w - step
+            if abs(step) <= 4 * eps * abs(w) or (prev is not None and abs(step) >= prev / 2
+                                                 and abs(step) < 1e-11 * abs(w)):
+                break
+            prev = abs(step)
+        return +w
+
+
+def estimate_model_hopf(model, omega_c, branch, nf, jt, *, min_digits=MIN_DIGITS,
+                        max_digits=MAX_DIGITS):
+    """(v_c, d|lambda1|/dv, l1) of any model with at least ``min_digits`` trustworthy
+    digits each: the float64 estimate, else recomputed with mpmath at the digits the
+    condition asks for (v_c Newton-polished there), else untrusted."""
+    est = _model_estimate(model, omega_c, branch, nf, jt, None)
+    if est.digits >= min_digits:
+        return est
+    kappa = max(est.omega_c.condition, est.dmod_domega.condition, est.l1.condition)
+    if not math.isfinite(kappa):
+        return _untrust_hopf(est, est.omega_c.note or "infinite condition")
+    d, tried = max(30, _digits_needed(kappa, min_digits)), []
+    while d <= max_digits:
+        tried.append(d)
+        try:
+            w = refine_model_omega_c(model, omega_c, branch, d)
+            with mpmath.mp.workdps(d):
+                _, jt2, nf2 = _model_hopf_at(model, w, branch, d)
+                est2 = _model_estimate(model, w, branch, nf2, jt2, d)
+        except SingularCaseError as exc:
+            return _untrust_hopf(est, f"mpmath-{d}: {exc}")
+        if est2.digits >= min_digits:
+            note = f"float64 gave ~{est.digits:.1f} digits; recomputed with mpmath at {d} digits"
+            return HopfEstimate(_re(est2.omega_c, note), _re(est2.dmod_domega, note),
+                                _re(est2.l1, note), branch)
+        d = max(2 * d, _digits_needed(10 * kappa, min_digits))
+    return _untrust_hopf(est, f"fewer than {min_digits} digits even at mpmath {tried} digits")
