@@ -76,7 +76,7 @@ def multiplier_paths(omegas, multipliers, title="", omega_c=None):
 
 
 def sections(section, title="", fixed_point=None, projections=PROJECTIONS, marker_size=0.6,
-             highlight=None):
+             highlight=None, labels=LABELS):
     """Projected Poincaré sections, one panel per projection (figs. 5–9, 11–12).
 
     ``highlight`` = (start, stop) draws that slice of points in a second colour
@@ -93,15 +93,16 @@ def sections(section, title="", fixed_point=None, projections=PROJECTIONS, marke
                        rasterized=True)
         if fixed_point is not None:
             ax.plot(fixed_point[ix], fixed_point[iy], "+", color="tab:blue", ms=8)
-        ax.set_xlabel(LABELS[ix])
-        ax.set_ylabel(LABELS[iy])
+        ax.set_xlabel(labels[ix])
+        ax.set_ylabel(labels[iy])
     if title:
         fig.suptitle(title)
     fig.tight_layout()
     return fig
 
 
-def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kinds=None):
+def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kinds=None,
+                        labels=LABELS):
     """Section coordinate ``component`` of the stored points against omega.
 
     ``section`` is (m, n, 4) as in :class:`symvi.simulation.Sweep`.
@@ -115,7 +116,7 @@ def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kin
     ok = np.isfinite(Y)
     ax.scatter(X[ok], Y[ok], s=0.3, color="k", lw=0, rasterized=True)
     ax.set_xlabel(r"$\omega$")
-    ax.set_ylabel(LABELS[component])
+    ax.set_ylabel(labels[component])
     if title:
         ax.set_title(title)
     fig.tight_layout()

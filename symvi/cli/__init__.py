@@ -61,6 +61,49 @@ def params_from(args):
     return Params(args.mu_m, args.mu_k, args.f2, args.b, args.r)
 
 
+def describe(params):
+    """A one-line description of the preset parameters or of a model (titles, headers)."""
+    from ..model import Model
+    if isinstance(params, Model):
+        s = params.stop
+        return (f"N={params.n} stop on mass {s.mass} gap={s.gap:g} r={s.restitution:g}"
+                + (" damped" if params.damped else ""))
+    return (f"mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} b={params.b:g} "
+            f"r={params.r:g}")
+
+
+def check_omega(params, omega, name="omega", warn=True):
+    """A forcing frequency valid for the preset parameters or for a model."""
+    from ..model import Model
+    if isinstance(params, Model):
+        from ..flow.linear import LinearFlow
+        return LinearFlow.of(params).check_omega(omega, name, warn=warn)
+    from ..params import check_omega as paper_check
+    return paper_check(params, omega, name, warn=warn)
+
+
+def section_view(params):
+    """(labels, projections, names) of the section of the preset or of a model."""
+    from ..model import Model
+    if isinstance(params, Model):
+        from ..maps.section import Section
+        names = Section.of(params).names
+        d = len(names)
+        proj = ((1, 0), (d - 1, 0), (d // 2 + 1, 1)) if d >= 4 else ((1, 0),)
+        return names, proj, names
+    from ..figures import LABELS, PROJECTIONS
+    return LABELS, PROJECTIONS, ("x1dot+", "x20", "x20dot", "tau")
+
+
+def data_key(params):
+    """What an .npz output records of the system: the preset key, or the model file text."""
+    import numpy as np
+
+    from ..model import Model, dumps
+    return {"model": np.array(dumps(params))} if isinstance(params, Model) \
+        else {"params": np.array(params.key())}
+
+
 def print_json(obj):
     """Exactly one JSON object on stdout; NaN/inf are never emitted."""
     sys.stdout.write(json.dumps(obj, allow_nan=False) + "\n")

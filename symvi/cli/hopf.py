@@ -1,11 +1,11 @@
 """``symvi hopf``: every Neimark–Sacker point in an omega interval, with its normal form."""
-from . import add_params, params_from, print_json
+from . import add_params, describe, params_from, print_json
 
 
 def register(sub):
     p = sub.add_parser("hopf", help="Neimark-Sacker (Hopf) points in [omega-min, omega-max], "
                                     "(H1)-(H3), l1 and f1, eqs. (39)-(60)")
-    add_params(p)
+    add_params(p, model=True)
     p.add_argument("--omega-min", type=float, required=True, help="start of the interval (> 0)")
     p.add_argument("--omega-max", type=float, required=True, help="end of the interval")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -33,8 +33,8 @@ def run(args):
             d["mpcheck"] = c.as_dict()
         print_json(obj)
         return 0
-    print(f"params: mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} "
-          f"b={params.b:g} r={params.r:g}   omega in [{res.omega_min:g}, {res.omega_max:g}]"
+    print(f"{'model' if 'N=' in describe(params) else 'params'}: {describe(params)}   "
+          f"omega in [{res.omega_min:g}, {res.omega_max:g}]"
           f"   ({res.samples} orbit evaluations)")
     if not res.points:
         print("no complex pair of an admissible period-1 orbit crosses |lambda| = 1 here")
@@ -60,8 +60,9 @@ def run(args):
             print("  precision: " + "; ".join(
                 e.text() for e in (pt.precision.omega_c, pt.precision.dmod_domega,
                                    pt.precision.l1)))
-        print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
-              "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
+        if "N=" not in describe(params):       # the paper's own f1 (eq. 60): its model only
+            print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
+                  "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
         if pt.circle is not None:
             c = pt.circle
             side = "omega > omega_c" if c.side > 0 else "omega < omega_c"

@@ -1,17 +1,18 @@
 """``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
-from . import add_params, params_from, print_json
+from . import add_params, check_omega, data_key, describe, params_from, print_json, section_view
 
 
 def register(sub):
     p = sub.add_parser("sweep", help="bifurcation diagram over omega (parallel simulations)")
-    add_params(p)
+    add_params(p, model=True)
     p.add_argument("--omega-min", type=float, required=True)
     p.add_argument("--omega-max", type=float, required=True)
     p.add_argument("--steps", type=int, required=True, help="number of omega values (>= 2)")
     p.add_argument("--impacts", type=int, default=200, help="section points kept per omega")
     p.add_argument("--transient", type=int, default=2000, help="impacts dropped per omega")
-    p.add_argument("--component", type=int, default=0, choices=range(4),
-                   help="plotted coordinate: 0 x1dot+, 1 x2, 2 x2dot, 3 tau")
+    p.add_argument("--component", type=int, default=0,
+                   help="plotted section coordinate: 0 x1dot+, 1 x2, 2 x2dot, 3 tau for the "
+                        "preset; 0 .. 2N-1 in the section order for --model")
     p.add_argument("--out", required=True,
                    help="output: .npz (omegas, section (m,n,4), counts, stops) or .png/.pdf")
     p.add_argument("--plot", help="also draw the diagram to this .png/.pdf")
@@ -28,7 +29,10 @@ def run(args):
     from ..progress import Progress
     from ..simulation import sweep
     params = params_from(args)
-    from ..params import check_omega
+    labels, _, names = section_view(params)
+    if not 0 <= args.component < len(names):
+        raise ParameterError("--component", args.component,
+                             f"0 .. {len(names) - 1} ({', '.join(names)})")
     check_omega(params, args.omega_min, "--omega-min", warn=False)
     check_omega(params, args.omega_max, "--omega-max", warn=False)
     if not args.steps >= 2:
@@ -52,14 +56,14 @@ def run(args):
             with open(tmp, "wb") as fh:
                 np.savez(fh, omegas=res.omegas, section=res.section, counts=res.counts,
                          stops=np.array(res.stops), starts=res.starts,
-                         params=np.array(params.key()), transient=res.transient)
+                         transient=res.transient, names=np.array(names), **data_key(params))
     if figs:
         from .. import figures
-        title = (f"mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} b={params.b:g} "
-                 f"r={params.r:g}")
+        title = describe(params)
         for path in figs:
             fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,
-                                              component=args.component, title=title)
+                                              component=args.component, title=title,
+                                              labels=labels)
             figures.save(fig, path)
     stops = {s: res.stops.count(s) for s in sorted(set(res.stops))}
     print_json({"steps": len(omegas), "omega_min": args.omega_min, "omega_max": args.omega_max,

@@ -58,3 +58,49 @@ def test_model_and_preset_flags_are_exclusive(tmp_path):
     assert r.returncode == 2 and "--model" in r.stderr
     r = _run("orbit", "--omega", "1.0")
     assert r.returncode == 2 and "--mu-m" in r.stderr
+
+
+def test_hopf_json_for_a_model_file(tmp_path, capsys):
+    f = tmp_path / "m.toml"
+    f.write_text(dumps(THREE))
+    assert main(["hopf", "--model", str(f), "--omega-min", "0.99", "--omega-max", "1.02",
+                 "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["model"]["stop"]["mass"] == 2 and len(d["points"]) == 1
+    pt = d["points"][0]
+    assert abs(pt["omega_c"] - 0.99971142245776) < 1e-9 and pt["l1"] < 0
+    assert pt["orbit"]["names"][0] == "v2+"
+
+
+def test_simulate_and_sweep_with_a_model_file(tmp_path, capsys):
+    import numpy as np
+    f = tmp_path / "m.toml"
+    f.write_text(dumps(THREE))
+    out = tmp_path / "s.npz"
+    assert main(["simulate", "--model", str(f), "--omega", "0.95", "--impacts", "50",
+                 "--transient", "3000", "--out", str(out)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    z = np.load(out)
+    assert z["section"].shape == (50, 6) and list(z["names"])[0] == "v2+"
+    assert "[stop]" in str(z["model"]) and d["stop"] == "completed"
+    # the stable period-1 orbit at 0.95 (|lambda| = 0.966): the run converges onto it
+    from symvi.orbits import admissible_orbits
+    y = np.array(admissible_orbits(THREE, 0.95)[0].y)
+    assert np.abs(z["section"][-1] - y).max() < 1e-6
+    sw = tmp_path / "sw.npz"
+    assert main(["sweep", "--model", str(f), "--omega-min", "0.9", "--omega-max", "0.95",
+                 "--steps", "3", "--impacts", "10", "--transient", "100", "--out", str(sw),
+                 "--progress", "never"]) == 0
+    assert np.load(sw)["section"].shape == (3, 10, 6)
+
+
+@pytest.mark.parametrize("args,name", [(["--y0", "1", "2", "3"], "--y0"),
+                                       (["--component", "7"], "--component")])
+def test_model_shaped_arguments_are_checked(tmp_path, args, name):
+    f = tmp_path / "m.toml"
+    f.write_text(dumps(THREE))
+    cmd = ("simulate", "--omega", "0.95", "--out", str(tmp_path / "x.npz")) \
+        if name == "--y0" else ("sweep", "--omega-min", "0.9", "--omega-max", "0.95",
+                                "--steps", "3", "--out", str(tmp_path / "x.npz"))
+    r = _run(*cmd, "--model", str(f), *args)
+    assert r.returncode == 2 and name in r.stderr and len(r.stderr.strip().splitlines()) == 1
