@@ -381,33 +381,85 @@ def paper_scenes():
 
 
 # --------------------------------------------------------------------------- cache
-#: symvi modules each kind of output depends on (their sources enter the cache key)
-_COMMON = ("__init__", "scenes", "params", "_backend", "errors", "flow", "orbit", "jets")
-DEPS = {"multipliers": (),
-        "hopf": ("hopf", "normal_form"),
-        "section": ("simulation", "_fastflow", "diagnostics"),
-        "bifurcation": ("simulation", "_fastflow"),
-        "circle_check": ("circle_check", "simulation", "_fastflow", "hopf", "normal_form", "audit"),
-        "audit": ("audit", "audit_orbit", "hopf", "normal_form", "poincare", "circle_check",
-                  "simulation", "_fastflow"),
-        "numbers": ("audit", "hopf", "normal_form", "simulation", "_fastflow", "diagnostics"),
-        "mpcheck": ("mpcheck", "hopf", "normal_form", "poincare", "precision")}
+#: the modules each kind of output calls into; what they import, transitively, is
+#: found by :func:`module_closure` (so no dependency can be forgotten)
+ENTRY = {"multipliers": ("orbit",),
+         "hopf": ("hopf",),
+         "section": ("simulation", "diagnostics"),
+         "bifurcation": ("simulation",),
+         "circle_check": ("circle_check",),
+         "audit": ("audit",),
+         "numbers": ("audit", "diagnostics"),
+         "mpcheck": ("mpcheck",)}
 _SRC = {}
+_CLOSURE = {}
+
+
+def _module_file(pkg_dir, dotted):
+    """The source file of ``symvi.<dotted>`` (module or package), or None."""
+    base = os.path.join(pkg_dir, *dotted.split(".")) if dotted else pkg_dir
+    for f in (base + ".py", os.path.join(base, "__init__.py")):
+        if os.path.isfile(f):
+            return f
+    return None
+
+
+def module_closure(names):
+    """Every symvi module ``names`` import, transitively (ast of the sources, lazy
+    imports inside functions included), as sorted dotted names below ``symvi``."""
+    import ast
+    key = tuple(sorted(set(names)))
+    if key in _CLOSURE:
+        return _CLOSURE[key]
+    pkg = os.path.dirname(os.path.abspath(__file__))
+    seen, todo = set(), ["", *key]
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        f = _module_file(pkg, name)
+        if f is None:
+            continue
+        seen.add(name)
+        here = name if f.endswith("__init__.py") else name.rpartition(".")[0]
+        with open(f, "rb") as fh:
+            tree = ast.parse(fh.read())
+        for node in ast.walk(tree):
+            targets = []
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    parts = here.split(".") if here else []
+                    parts = parts[:len(parts) - (node.level - 1)] if node.level > 1 else parts
+                    base = ".".join(p for p in parts + ([node.module] if node.module else []) if p)
+                elif node.module and node.module.startswith("symvi"):
+                    base = node.module[len("symvi"):].lstrip(".")
+                else:
+                    continue
+                targets.append(base)
+                targets += [f"{base}.{a.name}" if base else a.name for a in node.names]
+            elif isinstance(node, ast.Import):
+                targets += [a.name[len("symvi"):].lstrip(".") for a in node.names
+                            if a.name.startswith("symvi")]
+            for t in targets:
+                if t.startswith("_generated") or t.startswith("_derivations"):
+                    continue                     # tracked by the generated manifests
+                parts = t.split(".")
+                for i in range(1, len(parts) + 1):   # parent packages run their __init__
+                    todo.append(".".join(parts[:i]))
+    _CLOSURE[key] = tuple(sorted(seen))
+    return _CLOSURE[key]
 
 
 def source_hash(modules):
-    """Hash of the sources of ``symvi.<module>`` for each name (absent modules count as absent)."""
-    key = tuple(sorted(set(modules)))
+    """Hash of the sources of the symvi modules ``modules`` import, transitively."""
+    key = module_closure(modules)
     if key not in _SRC:
         h = hashlib.sha256()
         pkg = os.path.dirname(os.path.abspath(__file__))
         for name in key:
             h.update(name.encode() + b"\0")
-            try:
-                with open(os.path.join(pkg, f"{name}.py"), "rb") as fh:
-                    h.update(fh.read())
-            except OSError:
-                h.update(b"<absent>")
+            with open(_module_file(pkg, name), "rb") as fh:
+                h.update(fh.read())
         _SRC[key] = h.hexdigest()[:16]
     return _SRC[key]
 
@@ -415,11 +467,12 @@ def source_hash(modules):
 def _generated_hash():
     """Input hash and file hashes of generated/ (from its manifest; imports no generated code)."""
     try:
-        text = (resources.files("symvi._generated") / "manifest.json").read_text(encoding="utf-8")
+        texts = [(resources.files("symvi._generated") / f).read_text(encoding="utf-8")
+                 for f in ("manifest.json", "impact_manifest.json")]
     except (FileNotFoundError, ModuleNotFoundError):
         return "no-manifest"
-    m = json.loads(text)
-    return hashlib.sha256(json.dumps([m.get("input_hash"), m.get("files")],
+    ms = [json.loads(t) for t in texts]
+    return hashlib.sha256(json.dumps([[m.get("input_hash"), m.get("files")] for m in ms],
                                      sort_keys=True).encode()).hexdigest()
 
 
@@ -431,7 +484,7 @@ def version_stamp():
     global _STAMP
     if _STAMP is None:
         from . import __version__
-        _STAMP = {"symvi": __version__, "source": source_hash(sum(DEPS.values(), _COMMON)),
+        _STAMP = {"symvi": __version__, "source": source_hash(sum(ENTRY.values(), ("scenes",))),
                   "generated": _generated_hash()[:16]}
     return _STAMP
 
@@ -444,7 +497,7 @@ def cache_key(scene, output, quick):
                if output.kind == "numbers" else None,
                "quick": bool(quick), "symvi": version_stamp()["symvi"],
                "generated": version_stamp()["generated"],
-               "source": source_hash(_COMMON + DEPS[output.kind])}
+               "source": source_hash(("scenes",) + ENTRY[output.kind])}
     return hashlib.sha256(json.dumps(payload, sort_keys=True, default=str).encode()).hexdigest()[:24]
 
 

@@ -127,3 +127,14 @@ def test_cache_hit_on_second_run(tmp_path):
     # presentation keys do not change the result's key
     s3 = parse_scene(GOOD.replace("steps = 20", "steps = 20\ntitle = 'x'"), "mult.toml")
     assert run_scene(s3, tmp_path)[0].source == "cache"
+
+
+def test_cache_keys_hash_every_module_an_output_imports():
+    """Issue 11: precision.py and _compiled.py (and the flow package) enter the keys."""
+    from symvi import scenes as sc
+    hopf = sc.module_closure(sc.ENTRY["hopf"])
+    for m in ("precision", "_compiled", "flow.modal2", "flow.linear", "normal_form", "jets"):
+        assert m in hopf, m
+    sec = sc.module_closure(sc.ENTRY["section"])
+    assert "_fastflow" in sec and "flow.compiled" in sec and "diagnostics" in sec
+    assert "audit" not in hopf        # only what is imported
