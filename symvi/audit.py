@@ -643,7 +643,7 @@ def _check_interval(params, row, quick):
 
 
 def _sim_counts(row, quick):
-    from .scenes import quick_counts
+    from .simulation import quick_counts
     return quick_counts(row, quick, default_impacts=2000, default_transient=row["transient"])
 
 

@@ -13,7 +13,6 @@ The tensors are raw derivatives in the paper's variable order
 Order K imports ``symvi._generated.order<K>`` only: a multiplier-only job never
 imports second- or third-order code.
 """
-import importlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -21,40 +20,13 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from ._backend import FLOAT, MP
+from ._backend import MP
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
 from .params import Params, _finite, check_omega
 from .params import modal as _modal
+from ._paper_eval import _evaluate, _gen, _inputs, _orbit_inputs  # noqa: F401
+from ._paper_eval import multipliers_of as multipliers_of
 from .codegen.jets import eigenvalues as eigenvalues  # one owner, any size
-
-
-_LOADED = {}
-
-
-def _gen(order):
-    """The generated module of ``order`` and its layout as numpy index arrays (cached)."""
-    if order not in _LOADED:
-        mod = importlib.import_module(f"symvi._generated.order{order}")
-        _LOADED[order] = (mod, [(k, np.asarray(v)) for k, v in mod.LAYOUT.items()])
-    return _LOADED[order]
-
-
-def _inputs(m, omega, r, b, y, te):
-    p = m.psi
-    return (p[0][0], p[0][1], p[1][0], p[1][1], m.omega1, m.omega2, m.F[0], m.F[1],
-            omega, r, b, y[0], y[1], y[2], y[3], te)
-
-
-def _evaluate(order, inp, mp):
-    """Flat generated values -> dict of numpy arrays (object arrays of mpf when ``mp``)."""
-    mod, layout = _gen(order)
-    if mp:
-        vals = mod.mp(inp)
-        flat = np.empty(len(vals), dtype=object)
-        flat[:] = vals
-    else:
-        flat = np.array(mod.f64(inp))
-    return {name: flat[idx] for name, idx in layout}
 
 
 def jacobian_at(params, omega, y, t_e, digits=None):
@@ -131,23 +103,6 @@ def compiled(order):
     from ._compiled import f64_kernel
     mod, _ = _gen(order)
     return CompiledJet(order, f64_kernel(order), tuple(mod.INPUTS), mod.LAYOUT)
-
-
-def _orbit_inputs(params, orbit):
-    lib = FLOAT if orbit.digits is None else MP
-    m = _modal(params, lib)
-    te = 2 * lib.pi / orbit.omega
-    return _inputs(m, orbit.omega, lib.num(params.r), lib.num(params.b), orbit.y, te)
-
-
-def multipliers_of(params, orbit):
-    """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit."""
-    if orbit.digits is None:
-        J = _evaluate(1, _orbit_inputs(params, orbit), False)["J"]
-        return eigenvalues(J)
-    with mpmath.mp.workdps(orbit.digits):
-        J = _evaluate(1, _orbit_inputs(params, orbit), True)["J"]
-        return eigenvalues(J)
 
 
 @dataclass(frozen=True)

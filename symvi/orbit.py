@@ -168,7 +168,7 @@ def _orbits(params, omega, lib, want_multipliers, digits):
         ok, why = _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d)
         orb = Orbit(branch, omega, v1p, x20, x20d, tau, vimp, aj, bj, ok, why, digits=digits)
         if want_multipliers:
-            from .jets import multipliers_of
+            from ._paper_eval import multipliers_of
             lam = multipliers_of(params, orb)
             orb = _replace(orb, multipliers=lam,
                            stable=bool(ok and max(abs(complex(l)) for l in lam) < 1))

@@ -657,20 +657,6 @@ def _need(module):
         raise
 
 
-def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):
-    """(impacts, transient, note): the counts a simulation uses, reduced in quick mode."""
-    n, tr = spec["impacts"], spec.get("transient", 0)
-    if not quick:
-        return n, tr, ""
-    qn = spec.get("quick_impacts") or min(n, default_impacts)
-    qt = spec.get("quick_transient")
-    qt = min(tr, default_transient) if qt is None else qt
-    if (qn, qt) == (n, tr):
-        return n, tr, ""
-    return qn, qt, (f"quick mode: {qn} impacts after a transient of {qt} "
-                    f"(full run: {n} after {tr})")
-
-
 def _multipliers(params, spec, quick, scene):
     import numpy as np
 
@@ -707,6 +693,7 @@ def _section(params, spec, quick, scene):
     import numpy as np
 
     from .simulation import DEFAULT_PERTURBATION, simulate
+    from .simulation import quick_counts
     n, tr, note = quick_counts(spec, quick)
     kw = {}
     if spec["perturbation"] is not None:

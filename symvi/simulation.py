@@ -321,3 +321,17 @@ def _sweep_model(model, omegas, n_impacts, transient, starts, perturbation, chun
     return Sweep(model, _frozen(omegas), _frozen(sec), counts,
                  tuple(STOP_NAMES[k] for k in codes), _frozen(starts), transient,
                  int(m * (n_impacts + transient)))
+
+
+def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):
+    """(impacts, transient, note): the counts a simulation uses, reduced in quick mode."""
+    n, tr = spec["impacts"], spec.get("transient", 0)
+    if not quick:
+        return n, tr, ""
+    qn = spec.get("quick_impacts") or min(n, default_impacts)
+    qt = spec.get("quick_transient")
+    qt = min(tr, default_transient) if qt is None else qt
+    if (qn, qt) == (n, tr):
+        return n, tr, ""
+    return qn, qt, (f"quick mode: {qn} impacts after a transient of {qt} "
+                    f"(full run: {n} after {tr})")
