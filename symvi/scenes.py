@@ -404,49 +404,60 @@ def _module_file(pkg_dir, dotted):
     return None
 
 
-def module_closure(names):
-    """Every symvi module ``names`` import, transitively (ast of the sources, lazy
-    imports inside functions included), as sorted dotted names below ``symvi``."""
+def module_imports(name):
+    """The symvi modules ``symvi.<name>`` imports directly (ast of its source, imports
+    inside functions included; parent packages, whose ``__init__`` runs, included)."""
     import ast
+    pkg = os.path.dirname(os.path.abspath(__file__))
+    f = _module_file(pkg, name)
+    if f is None:
+        return ()
+    here = name if f.endswith("__init__.py") else name.rpartition(".")[0]
+    with open(f, "rb") as fh:
+        tree = ast.parse(fh.read())
+    out = set()
+    for node in ast.walk(tree):
+        targets = []
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                parts = here.split(".") if here else []
+                parts = parts[:len(parts) - (node.level - 1)] if node.level > 1 else parts
+                base = ".".join(p for p in parts + ([node.module] if node.module else []) if p)
+            elif node.module and node.module.startswith("symvi"):
+                base = node.module[len("symvi"):].lstrip(".")
+            else:
+                continue
+            targets.append(base)
+            targets += [f"{base}.{a.name}" if base else a.name for a in node.names]
+        elif isinstance(node, ast.Import):
+            targets += [a.name[len("symvi"):].lstrip(".") for a in node.names
+                        if a.name.startswith("symvi")]
+        for t in targets:
+            if t.startswith("_generated") or t.startswith("_derivations"):
+                continue                     # tracked by the generated manifests
+            parts = t.split(".")
+            for i in range(1, len(parts) + 1):
+                m = ".".join(parts[:i])
+                if _module_file(pkg, m) is not None and m != name:
+                    out.add(m)
+    return tuple(sorted(out))
+
+
+def module_closure(names):
+    """Every symvi module ``names`` import, transitively, with the package's own
+    ``__init__`` (``""``), as sorted dotted names below ``symvi``."""
     key = tuple(sorted(set(names)))
     if key in _CLOSURE:
         return _CLOSURE[key]
-    pkg = os.path.dirname(os.path.abspath(__file__))
     seen, todo = set(), ["", *key]
     while todo:
         name = todo.pop()
         if name in seen:
             continue
-        f = _module_file(pkg, name)
-        if f is None:
-            continue
         seen.add(name)
-        here = name if f.endswith("__init__.py") else name.rpartition(".")[0]
-        with open(f, "rb") as fh:
-            tree = ast.parse(fh.read())
-        for node in ast.walk(tree):
-            targets = []
-            if isinstance(node, ast.ImportFrom):
-                if node.level:
-                    parts = here.split(".") if here else []
-                    parts = parts[:len(parts) - (node.level - 1)] if node.level > 1 else parts
-                    base = ".".join(p for p in parts + ([node.module] if node.module else []) if p)
-                elif node.module and node.module.startswith("symvi"):
-                    base = node.module[len("symvi"):].lstrip(".")
-                else:
-                    continue
-                targets.append(base)
-                targets += [f"{base}.{a.name}" if base else a.name for a in node.names]
-            elif isinstance(node, ast.Import):
-                targets += [a.name[len("symvi"):].lstrip(".") for a in node.names
-                            if a.name.startswith("symvi")]
-            for t in targets:
-                if t.startswith("_generated") or t.startswith("_derivations"):
-                    continue                     # tracked by the generated manifests
-                parts = t.split(".")
-                for i in range(1, len(parts) + 1):   # parent packages run their __init__
-                    todo.append(".".join(parts[:i]))
-    _CLOSURE[key] = tuple(sorted(seen))
+        todo += module_imports(name)
+    pkg = os.path.dirname(os.path.abspath(__file__))
+    _CLOSURE[key] = tuple(sorted(m for m in seen if _module_file(pkg, m) is not None))
     return _CLOSURE[key]
 
 
