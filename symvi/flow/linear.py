@@ -25,6 +25,7 @@ grazing, never stepped over.  Damped motion is covered by the same bound.
 Both backends (float64 through numpy, mpmath at the current precision) run
 this one implementation.
 """
+import cmath
 import functools
 import math
 import warnings
@@ -237,6 +238,7 @@ class LinearFlow:
                     f"dependent (condition {cond:.3g}): a mode is (close to) critically damped "
                     "and the modal form of the flow would lose all accuracy")
             self.Winv = la.inv(self.W)
+        self._forcing_cache = {}
         self.max_re_lambda = max(float(mpmath.re(x)) if la is MP_LA else float(x.real)
                                  for x in self.lam)
 
@@ -282,6 +284,17 @@ class LinearFlow:
 
     def forcing(self, omega):
         """U, V and their omega-derivatives at omega (no checks; see :meth:`check_omega`)."""
+        key = omega if self.la is NUMPY_LA else None
+        hit = self._forcing_cache.get(key) if key is not None else None
+        if hit is None:
+            hit = self._forcing(omega)
+            if key is not None:
+                if len(self._forcing_cache) > 256:
+                    self._forcing_cache.clear()
+                self._forcing_cache[key] = hit
+        return hit
+
+    def _forcing(self, omega):
         la, lib = self.la, self.lib
         w = lib.num(omega)
         i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
@@ -344,11 +357,13 @@ def _flow_mp(model, digits):
 def _resonance(model, w):
     """(relative distance to forcing resonance, index of the nearest undamped mode)."""
     flow = _flow_float(model)
+    j = int(np.argmin(np.abs(flow.omegas - w)))
+    if not model.damped:              # sigma_min(K~ - w^2 I) = min_j |omega_j^2 - w^2|
+        return float(np.min(np.abs(flow.omegas ** 2 - w * w))) / (2 * w * w), j
     L = np.linalg.cholesky(flow.M)
     Li = np.linalg.inv(L)
     Kt, Ct = Li @ flow.K @ Li.T, Li @ flow.C @ Li.T
     smin = np.linalg.svd(Kt - w * w * np.eye(flow.n) + 1j * w * Ct, compute_uv=False)[-1]
-    j = int(np.argmin(np.abs(flow.omegas - w)))
     return smin / (2 * w * w), j
 
 
@@ -369,7 +384,13 @@ class Motion:
         self.flow, self.forcing, self.tau, self.c = flow, forcing, tau, c
         la = flow.la
         self.d = flow.W[0] * c                    # x_k(t) = Re sum d_j e^{lambda_j t} + x_p,k
+        self.dv = flow.W[flow.n] * c              # v_k(t), likewise
         lib = flow.lib
+        self._U0, self._V0 = forcing.U[0], forcing.V[0]
+        if flow.la is NUMPY_LA:           # scalar Python is faster than numpy at this size
+            self._terms = [(complex(l), complex(a), complex(b))
+                           for l, a, b in zip(flow.lam, self.d, self.dv)]
+            self._U0, self._V0 = float(self._U0), float(self._V0)
         self.Xk = lib.sqrt(forcing.U[0] ** 2 + forcing.V[0] ** 2)
         ad = la.absv(self.d)
         al = la.absv(flow.lam)
@@ -383,9 +404,23 @@ class Motion:
         return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.lib)
 
     def h(self, t):
-        """(x_k(t) - b, x_k'(t)) of the stop's mass."""
-        z = self.state(t)
-        return z[0] - self.flow.b, z[self.flow.n]
+        """(x_k(t) - b, x_k'(t)) of the stop's mass (two rows of the flow only)."""
+        f = self.flow
+        om = self.forcing.omega
+        ph = om * t + self.tau
+        s, c = f.lib.sin(ph), f.lib.cos(ph)
+        if f.la is NUMPY_LA:
+            hh = hv = 0j
+            for lam, a, b in self._terms:
+                e = cmath.exp(lam * t)
+                hh += a * e
+                hv += b * e
+            return (hh.real + self._U0 * s + self._V0 * c - f.b,
+                    hv.real + om * (self._U0 * c - self._V0 * s))
+        e = f.la.exp(f.lam * t)
+        h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.b
+        hd = (self.dv @ e).real + om * (self._U0 * c - self._V0 * s)
+        return h, hd
 
     def first_impact(self, t_max=None, max_steps=100000):
         """First t > 0 with x_k(t) = b for a flight that leaves the stop (x_k' < 0)."""
@@ -397,27 +432,25 @@ class Motion:
         L = self.amp + self.Xk + lib.fabs(f.b)
         eps_h = 64 * lib.eps * L
         v_graze = 8 * lib.sqrt(2 * M2 * eps_h)
-        z = self.state(0 * t_max)
-        hd = z[f.n]
+        t0 = 0 * t_max
+        _, hd = self.h(t0)
         if not hd < 0:
-            return FirstImpact(GRAZING, 0 * t_max, z, 0)
+            return FirstImpact(GRAZING, t0, self.state(t0), 0)
         t = -hd / M2                    # vertex of the bound: h(t) <= -hd^2 / (2 M2) < 0
         for n in range(1, max_steps + 1):
-            z = self.state(t)
-            h, hd = z[0] - f.b, z[f.n]
+            h, hd = self.h(t)
             if h >= -eps_h:
                 if hd <= v_graze:
-                    return FirstImpact(GRAZING, t, z, n)
+                    return FirstImpact(GRAZING, t, self.state(t), n)
                 for _ in range(3):    # Newton polish of a transversal root
                     dt = -h / hd
                     t += dt
-                    z = self.state(t)
-                    h, hd = z[0] - f.b, z[f.n]
+                    h, hd = self.h(t)
                     if lib.fabs(dt) <= 4 * lib.eps * t:
                         break
-                return FirstImpact(IMPACT, t, z, n)
+                return FirstImpact(IMPACT, t, self.state(t), n)
             if t > t_max:
-                return FirstImpact(NO_IMPACT, t, z, n)
+                return FirstImpact(NO_IMPACT, t, self.state(t), n)
             # safe step: first positive root of h + hd s + M2 s^2/2 = 0 (stable form)
             t += -2 * h / (hd + lib.sqrt(hd * hd - 2 * M2 * h))
         return FirstImpact(NO_IMPACT, t, self.state(t), max_steps)
