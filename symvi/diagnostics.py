@@ -32,9 +32,21 @@ CHAOS_THRESHOLD = 1e-3
 CHAOS_SIGMAS = 4.0
 
 
+def _is_model(params):
+    from .model import Model
+    return isinstance(params, Model)
+
+
 def jacobian(params, omega, y, t_e=None):
     """DP at the section point y with flight time t_e, eqs. (36)–(38), tau unwrapped
-    (generated code, :func:`symvi.jets.jacobian_at`)."""
+    (generated code, :func:`symvi.jets.jacobian_at`; any model:
+    :func:`symvi.codegen.jets.jacobian_at`)."""
+    if _is_model(params):
+        from .codegen.jets import jacobian_at as model_jacobian
+        from .maps.impact import poincare_map
+        if t_e is None:
+            t_e = poincare_map(params, omega, y).t
+        return model_jacobian(params, omega, y, t_e)
     if t_e is None:
         t_e = ff.step(ff.constants(params, omega), *map(float, y))[1]
     return jacobian_at(params, omega, y, t_e)
@@ -66,19 +78,43 @@ def lyapunov(sim, n=None):
     k0 = 0 if n is None else max(0, len(sec) - 1 - int(n))
     te = np.diff(t)
     m = len(sec) - 1 - k0
-    # the compiled generated Jacobian (eqs. 36-38) and QR, one loop: ~1 µs per point
-    const = jet_inputs(sim.params, sim.omega, sec[0], te[0])[:11]
-    logs = qr_logs(const, sec[k0:-1], te[k0:])
+    if _is_model(sim.params):
+        logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
+    else:
+        # the compiled generated Jacobian (eqs. 36-38) and QR, one loop: ~1 µs per point
+        const = jet_inputs(sim.params, sim.omega, sec[0], te[0])[:11]
+        logs = qr_logs(const, sec[k0:-1], te[k0:])
     # columns of Q stay ordered by growth once converged: column 0 carries lambda_1
     blocks = [b[:, 0].mean() for b in np.array_split(logs, 10) if len(b)]
     err = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
     return Lyapunov(np.sort(logs.mean(axis=0))[::-1], m, float(np.mean(te[k0:])), err)
 
 
+def _qr_logs_model(model, omega, sec, te):
+    """log |R_k[i, i]| of the QR method for any model: the generated order-1 Jacobian
+    of the N-mass structure at each point (Python evaluator; ~30 µs a point for N = 3)."""
+    from .codegen.layout import assemble, module
+    from .flow.linear import LinearFlow
+    flow = LinearFlow.of(model)
+    F = flow.forcing(float(omega))
+    mod, layout = module(model.n, 1)
+    jidx = layout["J"]
+    d = sec.shape[1]
+    logs = np.empty((len(te), d))
+    Q = np.eye(d)
+    for k in range(len(te)):
+        J = np.array(mod.f64(assemble(flow, F, tuple(sec[k]), float(te[k]), 1)))[jidx]
+        Q, R = np.linalg.qr(J @ Q)
+        dg = np.diag(R)
+        logs[k] = np.log(np.abs(dg))
+        Q = Q * np.where(dg < 0, -1.0, 1.0)        # keep Q's columns continuous
+    return logs
+
+
 def _unwrapped(section, center):
     """Section points minus center, tau difference wrapped to (-pi, pi]."""
     X = np.asarray(section, dtype=float) - np.asarray(center, dtype=float)
-    X[:, 3] = (X[:, 3] + math.pi) % TWO_PI - math.pi
+    X[:, -1] = (X[:, -1] + math.pi) % TWO_PI - math.pi       # tau is the last coordinate
     return X
 
 
@@ -86,7 +122,7 @@ def circle_center(section):
     """Centroid of the points, tau averaged on the circle."""
     sec = np.asarray(section, dtype=float)
     c = sec.mean(axis=0)
-    c[3] = math.atan2(np.sin(sec[:, 3]).mean(), np.cos(sec[:, 3]).mean()) % TWO_PI
+    c[-1] = math.atan2(np.sin(sec[:, -1]).mean(), np.cos(sec[:, -1]).mean()) % TWO_PI
     return c
 
 
@@ -149,10 +185,10 @@ def branch_count(section, bins=36, min_points=12, separation=6.0):
 def period_of(section, max_period=64, tol=1e-7):
     """Smallest k with |y_{n+k} - y_n| <= tol * scale over the points, or None."""
     sec = np.asarray(section, dtype=float)
-    scale = max(1.0, float(np.abs(sec[:, :3]).max()))
+    scale = max(1.0, float(np.abs(sec[:, :-1]).max()))
     for k in range(1, min(max_period, len(sec) // 2) + 1):
         D = _unwrapped(sec[k:], 0) - _unwrapped(sec[:-k], 0)
-        D[:, 3] = (D[:, 3] + math.pi) % TWO_PI - math.pi
+        D[:, -1] = (D[:, -1] + math.pi) % TWO_PI - math.pi
         if np.abs(D).max() <= tol * scale:
             return k
     return None

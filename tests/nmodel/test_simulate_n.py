@@ -1,0 +1,60 @@
+"""Simulation of any model against the analysis: the normal form's invariant circle
+next to a Neimark–Sacker point of the damped 3-mass chain, and the Lyapunov spectrum
+against the volume identity."""
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from symvi import hopf_points
+from symvi.diagnostics import classify, lyapunov
+from symvi.errors import NearSingularWarning
+from symvi.simulation import simulate
+
+from .models import THREE
+
+
+@pytest.fixture(scope="module")
+def ns_point():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        return hopf_points(THREE, 0.99, 1.02).points[0]
+
+
+def _half_widths(sim):
+    d = np.array(sim.section) - np.array(sim.fixed_point)
+    d[:, -1] = (d[:, -1] + math.pi) % (2 * math.pi) - math.pi
+    return (d.max(axis=0) - d.min(axis=0)) / 2
+
+
+def test_simulated_circle_matches_the_normal_form(ns_point):
+    """l1 < 0, d|lambda|/dv > 0: a stable circle for omega > omega_c, of half-widths
+    2 rho |q_i| sqrt(mu).  The relative error is O(mu): it must shrink with mu."""
+    c = ns_point.circle
+    assert c.stable and c.side > 0
+    errs = []
+    for mu in (4e-4, 1e-4):
+        sim = simulate(THREE, ns_point.omega_c + mu, n_impacts=20000, transient=300000)
+        assert sim.stop == "completed"
+        ratio = _half_widths(sim) / np.array(c.half_widths(mu))
+        errs.append(np.abs(ratio - 1).max())
+    assert errs[1] < 0.03 and errs[0] < 0.1
+    assert errs[1] < errs[0] / 2
+
+
+def test_circle_classified_with_the_critical_rotation_number(ns_point):
+    sim = simulate(THREE, ns_point.omega_c + 3e-3, n_impacts=4000, transient=100000)
+    cl = classify(sim)
+    assert cl.kind == "invariant circle"
+    assert cl.rotation == pytest.approx(ns_point.theta_over_2pi, abs=5e-3)
+
+
+def test_lyapunov_sum_is_the_volume_contraction():
+    """Sum of the exponents = mean log |det DP| = 2 log r - tr(M^-1 C) <t_e> (+ O(1/n))."""
+    sim = simulate(THREE, 1.003, n_impacts=4000, transient=50000)
+    ly = lyapunov(sim)
+    trMC = float(np.trace(np.linalg.solve(THREE.mass, THREE.damping)))
+    expected = 2 * math.log(THREE.stop.restitution) - trMC * ly.mean_flight_time
+    assert ly.exponents.sum() == pytest.approx(expected, abs=2e-3)
+    assert abs(ly.largest) < 1e-3          # on an invariant circle
