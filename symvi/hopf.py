@@ -173,6 +173,7 @@ class HopfPoint:
         orb = self.orbit.as_dict()
         orb["omega"] = float(self.orbit.omega)
         num = lambda name: float(getattr(self, name)) if self.trusted(name) else None
+        paper_only_none = hasattr(self.orbit, "names")      # a Model's orbit
         return {
             "omega_c": num("omega_c"), "branch": self.branch,
             "multiplier": [self.multiplier.real, self.multiplier.imag],
@@ -182,7 +183,9 @@ class HopfPoint:
             "dmod_domega": num("dmod_domega"),
             "dmod_domega_branch": float(self.dmod_domega_branch),
             "l1": num("l1"), "c1": [self.c1.real, self.c1.imag],
-            "f1_paper": float(self.f1_paper), "f1_wan": float(self.f1_wan),
+            # eq. (60) is the paper's own reduction: reported for its model only
+            "f1_paper": None if paper_only_none else float(self.f1_paper),
+            "f1_wan": None if paper_only_none else float(self.f1_wan),
             "kind": self.kind, "h1": bool(self.h1), "h2": bool(self.h2), "h3": bool(self.h3),
             "nearest_resonance": {"m": int(m), "distance": float(dist)},
             "orbit": orb,

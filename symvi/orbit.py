@@ -186,29 +186,10 @@ def admissible_orbits(params, omega, *, digits=None, multipliers=True):
 
 
 def multiplier_path(params, omegas):
-    """Multipliers of the admissible orbit along omega (figs. 4, 10), eq. (36).
-
-    Returns (lam, labels, skipped): lam is (n, 4) complex, |.| descending, NaN
-    where no admissible orbit exists; labels name the branch used ("" where
-    none); skipped counts the frequencies without an orbit, by reason.
-    """
-    import numpy as np
-    lam = np.full((len(omegas), 4), np.nan + 1j * np.nan)
-    labels, skipped = [], {}
-    for i, w in enumerate(omegas):
-        try:
-            ok = admissible_orbits(params, float(w))
-        except SingularCaseError as exc:
-            ok, why = [], exc.kind
-        else:
-            why = "no admissible orbit"
-        if not ok:
-            skipped[why] = skipped.get(why, 0) + 1
-            labels.append("")
-            continue
-        lam[i] = [complex(z) for z in ok[0].multipliers]
-        labels.append(ok[0].branch + ("" if len(ok) == 1 else "(2 admissible)"))
-    return lam, labels, skipped
+    """Multipliers of the admissible orbit along omega (figs. 4, 10), eq. (36); see
+    :func:`symvi.orbits.multiplier_path` (which this calls with the paper's chain)."""
+    from .orbits.period1 import multiplier_path as path
+    return path(lambda w: admissible_orbits(params, w), omegas, 4)
 
 
 def _replace(obj, **kw):

@@ -90,6 +90,18 @@ def _figure(p, out_dir, cache, use_cache):
     return path, "drawn"
 
 
+def _section_view(params):
+    """Labels and projections of a model's section (the paper's defaults otherwise)."""
+    from .model import Model
+    if not isinstance(params, Model):
+        return {}
+    from .maps.section import Section
+    names = Section.of(params).names
+    d = len(names)
+    proj = ((1, 0), (d - 1, 0), (d // 2 + 1, 1)) if d >= 4 else ((1, 0),)
+    return {"labels": names, "projections": proj}
+
+
 def _draw(figures, p):
     import numpy as np
     a, kind, title = p.arrays, p.output.kind, _fig_title(p)
@@ -97,14 +109,17 @@ def _draw(figures, p):
         lam = np.asarray(a["multipliers"])
         ok = np.isfinite(lam[:, 0].real)
         return figures.multiplier_paths(np.asarray(a["omega"])[ok], lam[ok], title=title)
+    view = _section_view(p.scene.params_for(p.output))
     if kind == "section":
         hl = p.output.spec.get("highlight")
         fp = p.result.get("fixed_point")
         return figures.sections(a["section"], title=title, fixed_point=fp,
-                                highlight=None if hl is None else (int(hl[0]), int(hl[1])))
+                                highlight=None if hl is None else (int(hl[0]), int(hl[1])),
+                                **view)
     if kind == "bifurcation":
         return figures.bifurcation_diagram(a["omega"], a["section"], a["counts"],
-                                           component=p.output.spec["component"], title=title)
+                                           component=p.output.spec["component"], title=title,
+                                           **({"labels": view["labels"]} if view else {}))
     if kind == "circle_check":
         return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title)
     raise ValueError(kind)
@@ -298,8 +313,8 @@ def _hopf_table(r):
         L.append(f"| {_num(q['omega_c'], '.12f')} | {q['branch']} | "
                  f"{fmt(complex(*q['multiplier']))} | "
                  f"{q['theta_over_2pi']:.6f} | {_num(q['dmod_domega'], '.8g')} | "
-                 f"{q['dmod_domega_branch']:.8g} | {_num(q['l1'], '.6g')} | {q['f1_paper']:.6g} | "
-                 f"{q['f1_wan']:.6g} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
+                 f"{q['dmod_domega_branch']:.8g} | {_num(q['l1'], '.6g')} | {_na(q['f1_paper'])} | "
+                 f"{_na(q['f1_wan'])} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
     nm = pts[0].get("normalisation", {})
     L += ["", "Normalisation: " + "; ".join(f"{k}: {v}" for k, v in nm.items()), ""]
     if r.get("events"):
@@ -318,6 +333,11 @@ def _mpcheck_table(r):
         ag = r["agreement_digits"][q]
         L.append(f"| {q} | {a[q]} | {b[q]} | {ag['A-B']} | {ag['float-A']} |")
     return L + [""]
+
+
+def _na(x, spec=".6g"):
+    # eq. (60) belongs to the paper's model: "—" for any other model
+    return "—" if x is None else format(x, spec)
 
 
 def _num(x, spec):

@@ -224,8 +224,9 @@ def _table(tbl, spec, where, file):
     return out
 
 
-def _params(tbl, file):
-    """The [params] table: one set of the five keys, or named sub-tables of them."""
+def _params(tbl, file, folder=""):
+    """The [params] table: one set of the five keys (or ``model = "FILE.toml"``, a model
+    file relative to the scene), or named sub-tables of them."""
     from .params import Params
     if not isinstance(tbl, dict) or not tbl:
         raise SceneError(f"{file}: '[params]' must be a non-empty table")
@@ -237,6 +238,11 @@ def _params(tbl, file):
     out = {}
     for name, s in sets.items():
         where = "params" if name == "default" and not all(nested) else f"params.{name}"
+        if "model" in s:
+            spec = _table(s, {"model": Field("str")}, where, file)
+            from .model import load_model
+            out[name] = load_model(os.path.join(folder, spec["model"]))
+            continue
         vals = _table(s, {k: Field("number") for k in PARAM_KEYS}, where, file)
         try:
             out[name] = Params(**vals)
@@ -298,7 +304,8 @@ def parse_scene(text, source="<scene>"):
                                      description=Field("str", "")), "scene", file)
     if not _NAME.match(head["name"]):
         _fail(file, "scene.name", head["name"], "lower-case letters, digits, '-' and '_'")
-    params = _params(doc["params"], file)
+    folder = os.path.dirname(os.path.abspath(str(source))) if os.path.exists(str(source)) else ""
+    params = _params(doc["params"], file, folder)
     outs = doc["output"]
     if not isinstance(outs, list) or not outs:
         raise SceneError(f"{file}: 'output' must be one or more [[output]] tables")
@@ -331,6 +338,7 @@ def parse_scene(text, source="<scene>"):
             _fail(file, f"{where}.id", oid, "lower-case letters, digits, '-' and '_'")
         ids.add(oid)
         parsed.append(Output(i, kind, oid, pname, spec))
+    _check_kinds(file, params, parsed)
     return Scene(head["name"], head["title"], head["paper"], head["description"], params,
                  tuple(parsed), file, text)
 
@@ -354,6 +362,27 @@ def _rows(rows, params, where, file):
             _fail(file, f"{w}.params", spec["params"], "one of " + ", ".join(params))
         out.append(spec)
     return out
+
+
+#: output kinds that evaluate the paper's own formulas: the paper's parameters only
+PAPER_ONLY = ("circle_check", "audit", "numbers")
+
+
+def _check_kinds(file, params, outputs):
+    from .model import Model
+    for o in outputs:
+        if o.kind in PAPER_ONLY and isinstance(params[o.params_name], Model):
+            raise SceneError(f"{file}: output[{o.index}].kind = {o.kind!r} evaluates the paper's "
+                             "printed formulas and needs the paper's parameters (mu_m, mu_k, f2, "
+                             "b, r), not a model file")
+
+
+def with_model(scene, model, source="--model"):
+    """The scene with every parameter set replaced by ``model`` (``symvi run --model``)."""
+    import dataclasses
+    params = {name: model for name in scene.params}
+    _check_kinds(source, params, scene.outputs)
+    return dataclasses.replace(scene, params=params)
 
 
 def load_scene(path):
@@ -671,7 +700,11 @@ def _need(module):
 def _multipliers(params, spec, quick, scene):
     import numpy as np
 
-    from .orbit import multiplier_path
+    from .model import Model
+    if isinstance(params, Model):
+        from .orbits import multiplier_path
+    else:
+        from .orbit import multiplier_path
     om = np.linspace(spec["omega_min"], spec["omega_max"], spec["steps"])
     lam, branch, reasons = multiplier_path(params, om)
     mod = np.abs(lam)

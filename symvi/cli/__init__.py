@@ -86,11 +86,9 @@ def section_view(params):
     """(labels, projections, names) of the section of the preset or of a model."""
     from ..model import Model
     if isinstance(params, Model):
-        from ..maps.section import Section
-        names = Section.of(params).names
-        d = len(names)
-        proj = ((1, 0), (d - 1, 0), (d // 2 + 1, 1)) if d >= 4 else ((1, 0),)
-        return names, proj, names
+        from ..report import _section_view
+        v = _section_view(params)
+        return v["labels"], v["projections"], v["labels"]
     from ..figures import LABELS, PROJECTIONS
     return LABELS, PROJECTIONS, ("x1dot+", "x20", "x20dot", "tau")
 

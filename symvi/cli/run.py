@@ -8,6 +8,8 @@ def register(sub):
     p.add_argument("--out", required=True, help="output folder (report.md, figures, .cache/)")
     p.add_argument("--quick", action="store_true", help="fewer impacts (says so on each figure)")
     p.add_argument("--no-cache", action="store_true", help="recompute every part")
+    p.add_argument("--model", default=None, metavar="FILE",
+                   help="run the scene on this model file instead of its [params]")
     return p
 
 
@@ -15,6 +17,10 @@ def run(args):
     from ..report import build_report
     from ..scenes import load_scene
     scene = load_scene(args.scene)          # validates before anything is written
+    if args.model:
+        from ..model import load_model
+        from ..scenes import with_model
+        scene = with_model(scene, load_model(args.model), f"{args.scene} with --model")
     rep = build_report([scene], args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]), title=scene.title)
     n = len(rep.from_cache)

@@ -171,8 +171,11 @@ def _start(c, y, cc, d, w):
 
 
 @nb.njit(cache=True, inline="always")
-def _eval(c, d, m, tau, t):
-    """h = x_k - b, its first four derivatives, and the bounds M2(t), M5(t)."""
+def _eval(c, d, e, m, tau, t):
+    """h = x_k - b, its first four derivatives, and the bounds M2(t), M5(t).
+
+    Leaves w_j e^{lambda_j t} and (sin, cos) of the phase in ``e`` for :func:`_state`
+    (the finder's last evaluation is at the time it returns)."""
     h = h1 = h2 = h3 = h4 = 0.0
     M2 = M5 = 0.0
     for j in range(m):
@@ -181,6 +184,7 @@ def _eval(c, d, m, tau, t):
         ex = 1.0 if lr == 0.0 else math.exp(lr * t)
         a = w * ex
         cs, sn = a * math.cos(li * t), a * math.sin(li * t)
+        e[2 * j], e[2 * j + 1] = cs, sn
         dr, di = d[4 * j], d[4 * j + 1]
         er = dr * cs - di * sn                   # w_j d_j e^{lambda_j t}
         ei = dr * sn + di * cs
@@ -197,6 +201,7 @@ def _eval(c, d, m, tau, t):
     om = c[_OM]
     ph = om * t + tau
     sp, cp = math.sin(ph), math.cos(ph)
+    e[2 * m], e[2 * m + 1] = sp, cp
     s0 = c[_UK] * sp + c[_VK] * cp
     s1 = om * (c[_UK] * cp - c[_VK] * sp)
     o2 = om * om
@@ -222,7 +227,7 @@ def _root(h, h1, K):
 
 
 @nb.njit(cache=True)
-def _near_max(c, d, m, tau, ta, ha, da, tb, hb, db, L):
+def _near_max(c, d, e, m, tau, ta, ha, da, tb, hb, db, L):
     """Location of the max of h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it may
     come within 1e-3 L of the stop; else -1.  Safeguarded Newton on h'."""
     s = tb - ta
@@ -231,7 +236,7 @@ def _near_max(c, d, m, tau, ta, ha, da, tb, hb, db, L):
         return -1.0
     t = ta + u
     for _ in range(60):
-        h, h1, h2, _, _, _, _ = _eval(c, d, m, tau, t)
+        h, h1, h2, _, _, _, _ = _eval(c, d, e, m, tau, t)
         if h1 > 0.0:
             ta = t
         else:
@@ -246,7 +251,7 @@ def _near_max(c, d, m, tau, ta, ha, da, tb, hb, db, L):
 
 
 @nb.njit(cache=True)
-def _first_impact(c, d, tau, t_max):
+def _first_impact(c, d, e, tau, t_max):
     """First t > 0 with x_k(t) = b: the twin of :meth:`Motion.first_impact`.
 
     Returns (status, t, x_k'' at t, steps); x_k'' at a contact separates grazing
@@ -257,7 +262,7 @@ def _first_impact(c, d, tau, t_max):
     for j in range(m):
         amp += math.sqrt(d[4 * j] ** 2 + d[4 * j + 1] ** 2) * c[_HDR + 3 * j + 2]
     L = amp + c[_XK] + abs(c[_B])
-    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, 0.0)
+    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, 0.0)
     eps_h = 64.0 * _EPS * L
     v_graze = 8.0 * math.sqrt(2.0 * M2 * eps_h)
     if not h1 < 0.0:
@@ -266,13 +271,13 @@ def _first_impact(c, d, tau, t_max):
     S = 0.5 / c[_LMAX]                # first horizon; adapted below
     tp, hp, dp = 0.0, h, h1
     for n in range(1, _MAX_STEPS + 1):
-        h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, t)
+        h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
         if dp > 0.0 and h1 <= 0.0 and h < -eps_h:
             # a local max of h was stepped over; the reference (smaller steps)
             # lands within eps_h of a near-tangency and calls it grazing: so do we
-            tm = _near_max(c, d, m, tau, tp, hp, dp, t, h, h1, L)
+            tm = _near_max(c, d, e, m, tau, tp, hp, dp, t, h, h1, L)
             if tm >= 0.0:
-                hm, _, hm2, _, _, _, _ = _eval(c, d, m, tau, tm)
+                hm, _, hm2, _, _, _, _ = _eval(c, d, e, m, tau, tm)
                 if hm >= -eps_h:
                     return GRAZING, tm, hm2, n
         tp, hp, dp = t, h, h1
@@ -282,7 +287,7 @@ def _first_impact(c, d, tau, t_max):
             for _ in range(3):        # Newton polish of a transversal root
                 dt = -h / h1
                 t += dt
-                h, h1, h2, h3, h4, M2, M5 = _eval(c, d, m, tau, t)
+                h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
                 if abs(dt) <= 4.0 * _EPS * t:
                     break
             return IMPACT, t, h2, n
@@ -298,29 +303,27 @@ def _first_impact(c, d, tau, t_max):
             S = 4.0 * S if r == np.inf else math.sqrt(S * r)
         t += step
         S = max(S, 2.0 * step)
+    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
     return NO_IMPACT, t, h2, _MAX_STEPS
 
 
 @nb.njit(cache=True)
-def _state(c, cc, tau, t, z):
-    """The full state z(t) (stop-first order) of the flight with coefficients cc."""
+def _state(c, cc, e, z):
+    """The full state z(t) (stop-first order) of the flight with coefficients cc,
+    at the time of the last :func:`_eval` (its factors ``e``)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
     ow, ov, ou = _offsets(n)
     for i in range(dim):
         z[i] = 0.0
     for j in range(m):
-        o = _HDR + 3 * j
-        lr, li, w = c[o], c[o + 1], c[o + 2]
-        a = w if lr == 0.0 else w * math.exp(lr * t)
-        cs, sn = a * math.cos(li * t), a * math.sin(li * t)
+        cs, sn = e[2 * j], e[2 * j + 1]
         er = cc[2 * j] * cs - cc[2 * j + 1] * sn      # w_j c_j e^{lambda_j t}
         ei = cc[2 * j] * sn + cc[2 * j + 1] * cs
         for i in range(dim):
             q = ow + 2 * (dim * j + i)
             z[i] += c[q] * er - c[q + 1] * ei
-    ph = om * t + tau
-    sp, cp = math.sin(ph), math.cos(ph)
+    sp, cp = e[2 * m], e[2 * m + 1]
     for i in range(n):
         U, V = c[ou + i], c[ou + n + i]
         z[i] += U * sp + V * cp
@@ -328,15 +331,15 @@ def _state(c, cc, tau, t, z):
 
 
 @nb.njit(cache=True)
-def _step_into(c, y, cc, d, z):
+def _step_into(c, y, cc, d, e, z):
     """One application of P on y, in place: y <- P(y), eq. (31) generalised.
 
     Returns (status, t_e, v_k- at the contact, x_k'' there, finder steps).
     """
     n = int(c[_NN])
     tau = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, tau, c[_TMAX])
-    _state(c, cc, tau, t, z)
+    st, t, acc, steps = _first_impact(c, d, e, tau, c[_TMAX])
+    _state(c, cc, e, z)
     tau_u = tau + c[_OM] * t
     y[0] = -c[_R] * z[n]                          # v_k+ = -r v_k-, eq. (2)
     for i in range(1, n):
@@ -352,9 +355,10 @@ def _first_impact_from(c, y, t_max):
     cc = np.empty(4 * n)
     d = np.empty(8 * n)
     z = np.empty(2 * n)
+    e = np.empty(4 * n + 2)
     tau = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, tau, t_max)
-    _state(c, cc, tau, t, z)
+    st, t, acc, steps = _first_impact(c, d, e, tau, t_max)
+    _state(c, cc, e, z)
     return st, t, z, acc, steps
 
 
@@ -369,7 +373,8 @@ def first_impact_from(c, y, t_max=None):
 def _step(c, y):
     n = int(c[_NN])
     y = y.copy()
-    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(8 * n), np.empty(2 * n))
+    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(8 * n),
+                                       np.empty(4 * n + 2), np.empty(2 * n))
     return st, t, y, vm, acc, steps
 
 
@@ -390,13 +395,13 @@ def _run_into(c, y0, n_keep, transient, sec, times, vimp):
     n = int(c[_NN])
     dim = 2 * n
     y = y0[:dim].copy()
-    cc, d, z = np.empty(4 * n), np.empty(8 * n), np.empty(dim)
+    cc, d, e, z = np.empty(4 * n), np.empty(8 * n), np.empty(4 * n + 2), np.empty(dim)
     T = 0.0
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
     steps = 0
     for k in range(transient + n_keep):
-        st, te, vm, acc, ns = _step_into(c, y, cc, d, z)
+        st, te, vm, acc, ns = _step_into(c, y, cc, d, e, z)
         steps += ns
         kept = k - transient
         if st == NO_IMPACT:

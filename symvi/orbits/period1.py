@@ -239,6 +239,39 @@ def admissible_orbits(model, omega, *, digits=None, multipliers=True):
     return sorted((o for o in orbits if o.admissible), key=lambda o: o.branch != "+")
 
 
+def multiplier_path(admissible, omegas, dim=None):
+    """Multipliers of the admissible orbit along omega (figs. 4, 10 of the paper).
+
+    ``admissible`` is a Model (its admissible period-1 orbits are used) or a function
+    omega -> admissible orbits (branch "+" first).  Returns (lam, labels, skipped):
+    lam is (n, dim) complex, |.| descending, NaN where no admissible orbit exists;
+    labels name the branch used ("" where none); skipped counts the frequencies
+    without an orbit, by reason.
+    """
+    if not callable(admissible):
+        model = admissible
+        dim = model.dim
+
+        def admissible(w):
+            return admissible_orbits(model, w)
+    lam = np.full((len(omegas), dim), np.nan + 1j * np.nan)
+    labels, skipped = [], {}
+    for i, w in enumerate(omegas):
+        try:
+            ok = admissible(float(w))
+        except SingularCaseError as exc:
+            ok, why = [], exc.kind
+        else:
+            why = "no admissible orbit"
+        if not ok:
+            skipped[why] = skipped.get(why, 0) + 1
+            labels.append("")
+            continue
+        lam[i] = [complex(z) for z in ok[0].multipliers]
+        labels.append(ok[0].branch + ("" if len(ok) == 1 else "(2 admissible)"))
+    return lam, labels, skipped
+
+
 def existence_ratio(model, omega):
     """rho of nu . (cos tau, sin tau) = rho: the orbit exists iff |rho| <= 1 (eq. 16 generalised)."""
     flow = LinearFlow.of(model)
