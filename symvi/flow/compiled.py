@@ -138,9 +138,10 @@ def _offsets(n):
 
 @nb.njit(cache=True)
 def _start(c, y, cc, d, w):
-    """Mode coefficients c_j = W^-1 (z0 - zp(0)) of the flight from section point y,
-    and per mode (d_j, w_j |d_j| |lambda_j|^2, w_j |d_j| |lambda_j|^5) into d; returns
-    tau.  ``w`` is scratch (2N)."""
+    """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from
+    section point y into cc; per mode, into d (12 floats): w_j d_j lambda_j^k for
+    k = 0..4 (re, im), then w_j |d_j| |lambda_j|^2 and w_j |d_j| |lambda_j|^5.
+    Returns (tau, sum_j w_j |d_j|).  ``w`` is scratch (2N)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
     ow, ov, ou = _offsets(n)
@@ -151,53 +152,58 @@ def _start(c, y, cc, d, w):
         U, V = c[ou + i], c[ou + n + i]
         w[i] = (c[_B] if i == 0 else y[i]) - (U * sp + V * cp)
         w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * (U * cp - V * sp)
+    amp = 0.0
     for j in range(m):
+        lr, li, wt = c[_HDR + 3 * j], c[_HDR + 3 * j + 1], c[_HDR + 3 * j + 2]
         ar, ai = 0.0, 0.0
         for i in range(dim):
             o = ov + 2 * (dim * j + i)
             ar += c[o] * w[i]
             ai += c[o + 1] * w[i]
+        ar, ai = wt * ar, wt * ai               # the weight is 1 or 2: exact
         cc[2 * j], cc[2 * j + 1] = ar, ai
         o = ow + 2 * dim * j                    # W[0, j]
         dr = c[o] * ar - c[o + 1] * ai
         di = c[o] * ai + c[o + 1] * ar
-        lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
-        a = math.sqrt(dr * dr + di * di) * c[_HDR + 3 * j + 2]
+        q = 12 * j
+        for k in range(5):
+            d[q + 2 * k], d[q + 2 * k + 1] = dr, di
+            dr, di = dr * lr - di * li, dr * li + di * lr
+        a = math.sqrt(d[q] * d[q] + d[q + 1] * d[q + 1])
+        amp += a
         l2 = lr * lr + li * li
-        d[4 * j], d[4 * j + 1] = dr, di
-        d[4 * j + 2] = a * l2
-        d[4 * j + 3] = a * l2 * l2 * math.sqrt(l2)
-    return tau
+        d[q + 10] = a * l2
+        d[q + 11] = a * l2 * l2 * math.sqrt(l2)
+    return tau, amp
 
 
 @nb.njit(cache=True, inline="always")
 def _eval(c, d, e, m, tau, t):
     """h = x_k - b, its first four derivatives, and the bounds M2(t), M5(t).
 
-    Leaves w_j e^{lambda_j t} and (sin, cos) of the phase in ``e`` for :func:`_state`
+    Leaves e^{lambda_j t} and (sin, cos) of the phase in ``e`` for :func:`_state`
     (the finder's last evaluation is at the time it returns)."""
     h = h1 = h2 = h3 = h4 = 0.0
     M2 = M5 = 0.0
     for j in range(m):
-        o = _HDR + 3 * j
-        lr, li, w = c[o], c[o + 1], c[o + 2]
-        ex = 1.0 if lr == 0.0 else math.exp(lr * t)
-        a = w * ex
-        cs, sn = a * math.cos(li * t), a * math.sin(li * t)
+        lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
+        q = 12 * j
+        cs, sn = math.cos(li * t), math.sin(li * t)
+        if lr == 0.0:                            # undamped mode: no decay
+            M2 += d[q + 10]
+            M5 += d[q + 11]
+        else:
+            ex = math.exp(lr * t)
+            cs, sn = ex * cs, ex * sn
+            M2 += ex * d[q + 10]
+            M5 += ex * d[q + 11]
         e[2 * j], e[2 * j + 1] = cs, sn
-        dr, di = d[4 * j], d[4 * j + 1]
-        er = dr * cs - di * sn                   # w_j d_j e^{lambda_j t}
-        ei = dr * sn + di * cs
-        h += er
-        er, ei = er * lr - ei * li, er * li + ei * lr
-        h1 += er
-        er, ei = er * lr - ei * li, er * li + ei * lr
-        h2 += er
-        er, ei = er * lr - ei * li, er * li + ei * lr
-        h3 += er
-        h4 += er * lr - ei * li
-        M2 += ex * d[4 * j + 2]
-        M5 += ex * d[4 * j + 3]
+        # Re(w_j d_j lambda_j^k e^{lambda_j t})
+        h += d[q] * cs - d[q + 1] * sn
+        h1 += d[q + 2] * cs - d[q + 3] * sn
+        h2 += d[q + 4] * cs - d[q + 5] * sn
+        h3 += d[q + 6] * cs - d[q + 7] * sn
+        h4 += d[q + 8] * cs - d[q + 9] * sn
     om = c[_OM]
     ph = om * t + tau
     sp, cp = math.sin(ph), math.cos(ph)
@@ -251,16 +257,13 @@ def _near_max(c, d, e, m, tau, ta, ha, da, tb, hb, db, L):
 
 
 @nb.njit(cache=True)
-def _first_impact(c, d, e, tau, t_max):
+def _first_impact(c, d, e, tau, amp, t_max):
     """First t > 0 with x_k(t) = b: the twin of :meth:`Motion.first_impact`.
 
     Returns (status, t, x_k'' at t, steps); x_k'' at a contact separates grazing
     (< 0) from sticking (> 0).
     """
     m = int(c[_NM])
-    amp = 0.0
-    for j in range(m):
-        amp += math.sqrt(d[4 * j] ** 2 + d[4 * j + 1] ** 2) * c[_HDR + 3 * j + 2]
     L = amp + c[_XK] + abs(c[_B])
     h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, 0.0)
     eps_h = 64.0 * _EPS * L
@@ -337,8 +340,8 @@ def _step_into(c, y, cc, d, e, z):
     Returns (status, t_e, v_k- at the contact, x_k'' there, finder steps).
     """
     n = int(c[_NN])
-    tau = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, e, tau, c[_TMAX])
+    tau, amp = _start(c, y, cc, d, z)
+    st, t, acc, steps = _first_impact(c, d, e, tau, amp, c[_TMAX])
     _state(c, cc, e, z)
     tau_u = tau + c[_OM] * t
     y[0] = -c[_R] * z[n]                          # v_k+ = -r v_k-, eq. (2)
@@ -353,11 +356,11 @@ def _step_into(c, y, cc, d, e, z):
 def _first_impact_from(c, y, t_max):
     n = int(c[_NN])
     cc = np.empty(4 * n)
-    d = np.empty(8 * n)
+    d = np.empty(24 * n)
     z = np.empty(2 * n)
     e = np.empty(4 * n + 2)
-    tau = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, e, tau, t_max)
+    tau, amp = _start(c, y, cc, d, z)
+    st, t, acc, steps = _first_impact(c, d, e, tau, amp, t_max)
     _state(c, cc, e, z)
     return st, t, z, acc, steps
 
@@ -373,7 +376,7 @@ def first_impact_from(c, y, t_max=None):
 def _step(c, y):
     n = int(c[_NN])
     y = y.copy()
-    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(8 * n),
+    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(24 * n),
                                        np.empty(4 * n + 2), np.empty(2 * n))
     return st, t, y, vm, acc, steps
 
@@ -395,7 +398,7 @@ def _run_into(c, y0, n_keep, transient, sec, times, vimp):
     n = int(c[_NN])
     dim = 2 * n
     y = y0[:dim].copy()
-    cc, d, e, z = np.empty(4 * n), np.empty(8 * n), np.empty(4 * n + 2), np.empty(dim)
+    cc, d, e, z = np.empty(4 * n), np.empty(24 * n), np.empty(4 * n + 2), np.empty(dim)
     T = 0.0
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
