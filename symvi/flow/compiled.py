@@ -42,7 +42,7 @@ from .._fastflow import (CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, GRAZING, IMPA
                          STOP_NO_IMPACT, STOP_NONFINITE, STOP_STICKING)
 from .linear import LinearFlow
 
-__all__ = ["constants", "size", "first_impact_from", "step", "run", "run_batch",
+__all__ = ["constants", "size", "pack", "first_impact_from", "step", "run", "run_batch",
            "IMPACT", "GRAZING", "NO_IMPACT", "STATUS_NAMES", "COMPLETED", "STOP_GRAZING",
            "STOP_CHATTER", "STOP_STICKING", "STOP_NO_IMPACT", "STOP_NONFINITE", "STOP_NAMES",
            "CHATTER_COUNT", "CHATTER_FLIGHT"]
@@ -56,8 +56,8 @@ _MAX_STEPS = 1_000_000
 #   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
 #   W^-1    [ov, +8N^2)            W^-1[j, i] at ov + 2 (2N j + i)
 #   U, V    [ou, +2N)              steady-state amplitudes, stop-first order
-_NN, _NM, _OM, _B, _R, _TMAX, _UK, _VK, _XK, _LMAX = range(10)
-_HDR = 10
+_NN, _NM, _OM, _B, _R, _TMAX, _UK, _VK, _XK, _LMAX, _GROW = range(11)
+_HDR = 11
 
 
 def size(n):
@@ -113,6 +113,9 @@ def constants(model, omega, t_max=None):
     c[_B], c[_R], c[_TMAX] = flow.b, flow.r, t_max
     c[_UK], c[_VK], c[_XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
     c[_LMAX] = max(max(abs(flow.lam)), omega)
+    # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
+    # the bounds M2, M5 by its growth over a flight (> t_max only by a last step)
+    c[_GROW] = math.exp(max(0.0, float(np.max(flow.lam.real))) * 4 * t_max)
     ow = _HDR + 3 * dim
     ov = ow + 2 * dim * dim
     ou = ov + 2 * dim * dim
@@ -140,7 +143,8 @@ def _offsets(n):
 def _start(c, y, cc, d, w):
     """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from
     section point y into cc; per mode, into d (12 floats): w_j d_j lambda_j^k for
-    k = 0..4 (re, im), then w_j |d_j| |lambda_j|^2 and w_j |d_j| |lambda_j|^5.
+    k = 0..4 (re, im), then w_j |d_j| |lambda_j|^2 and w_j |d_j| |lambda_j|^5 (times
+    the growth factor of the header, 1 when every Re lambda <= 0).
     Returns (tau, sum_j w_j |d_j|).  ``w`` is scratch (2N)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
@@ -172,8 +176,8 @@ def _start(c, y, cc, d, w):
         a = math.sqrt(d[q] * d[q] + d[q + 1] * d[q + 1])
         amp += a
         l2 = lr * lr + li * li
-        d[q + 10] = a * l2
-        d[q + 11] = a * l2 * l2 * math.sqrt(l2)
+        d[q + 10] = a * l2 * c[_GROW]
+        d[q + 11] = a * l2 * l2 * math.sqrt(l2) * c[_GROW]
     return tau, amp
 
 

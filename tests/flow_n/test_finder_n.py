@@ -65,10 +65,10 @@ def _check_dense(model, omega, n, seed):
 
 @pytest.mark.parametrize("model, omega", CASES, ids=["N1", "N3", "N4"])
 def test_finder_agrees_with_dense_sampling(model, omega):
-    """600 random and near-grazing states per model: every reported impact is a
+    """300 random and near-grazing states per model: every reported impact is a
     root of h, none is later than the dense-sampling first crossing, grazing and
     no-impact answers have no crossing before them."""
-    _check_dense(model, omega, 600, 2024)
+    _check_dense(model, omega, 300, 2024)
 
 
 @pytest.mark.slow

@@ -51,9 +51,9 @@ def test_conjugate_pairs_kept_once():
         c = cf.constants(model, 1.1)
         m = int(c[1])
         assert m == kept
-        w = c[10:10 + 3 * m].reshape(m, 3)[:, 2]
+        w = c[11:11 + 3 * m].reshape(m, 3)[:, 2]
         assert w.sum() == 2 * model.n
-    w = cf.constants(OVER, 1.1)[10:19].reshape(3, 3)
+    w = cf.constants(OVER, 1.1)[11:20].reshape(3, 3)
     assert sorted(w[:, 2]) == [1.0, 1.0, 2.0] and (w[w[:, 2] == 1.0, 1] == 0).all()
 
 
@@ -62,6 +62,21 @@ def test_pairing_fallback_is_all_modes():
     lam = np.array([1j, -1j, 2j, -1.5j])
     assert cf._modes(lam) == [(j, 1.0) for j in range(4)]
     assert cf._modes(np.array([1j, -2.0, -1j, -3.0])) == [(0, 2.0), (1, 1.0), (3, 1.0)]
+
+
+def test_all_modes_fallback_gives_the_same_map(monkeypatch):
+    """Kept with weight 1 each (the fallback when pairing fails), all 2N modes give
+    the same map as the paired form."""
+    rng = np.random.default_rng(2)
+    ys = random_states(FOUR, 20, rng)
+    paired = [cf.step(cf.constants(FOUR, 1.3), y) for y in ys]
+    monkeypatch.setattr(cf, "_modes", lambda lam: [(j, 1.0) for j in range(len(lam))])
+    c = cf.constants(FOUR, 1.3)
+    assert int(c[1]) == 8
+    for y, p in zip(ys, paired):
+        q = cf.step(c, y)
+        assert q[0] == p[0] and abs(q[1] - p[1]) < 1e-12 * max(1, p[1])
+        assert np.abs(_wrap(q[2] - p[2])).max() < 1e-11
 
 
 def test_constants_checks_omega():
