@@ -255,8 +255,9 @@ class _PaperSystem:
 
     def accuracy(self, omega_c, branch, nf, jt):
         from .precision import auto_hopf_point
+        # the jet and normal form just computed are the base point: computed once
         return auto_hopf_point(self.params, omega_c, branch=branch, dmod=float(nf.dmod_dv),
-                               l1=float(nf.l1))
+                               l1=float(nf.l1), base=(jt, nf))
 
     def as_dict(self):
         return {"params": self.params.as_dict()}

@@ -547,13 +547,16 @@ def refine_omega_c(params, omega_c, *, digits=None, branch=None, tol_digits=None
         return w
 
 
-def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None, l1=None):
+def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None, l1=None,
+                        base=None):
     """Error estimates of (v_c, d|lambda1|/dv, l1) at a computed Hopf point.
 
     ``omega_c`` is the located root of |lambda1| = 1 (float64 or mpf at
     ``digits``).  The residual |lambda1(omega_c)| - 1 over d|lambda1|/dv is added
     to the error of omega_c (a root finder that stopped early shows up here).
     ``dmod``/``l1``, if given, are the values to attach (else recomputed here).
+    ``base`` = (jet, normal form) already computed at ``omega_c`` (float64) by the
+    caller: then nothing at the base point is computed again.
     """
     from .jets import select_orbit
     with warnings.catch_warnings():
@@ -564,7 +567,11 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
         ctx = mpmath.mp.workdps(digits) if digits else _null()
         with ctx:
             w = mpmath.mpf(omega_c) if digits else float(omega_c)
-            resid, dm, l, (jt, e) = _hopf_quantities(params, w, branch, digits)
+            if base is not None and digits is None:
+                jt, e = base
+                resid, dm, l = abs(e.lam) - 1, e.dmod_dv, e.l1
+            else:
+                resid, dm, l, (jt, e) = _hopf_quantities(params, w, branch, digits)
             dmod = dm if dmod is None else dmod
             l1 = l if l1 is None else l1
 
@@ -652,7 +659,7 @@ def _linear_condition(jt, e, digits):
 
 
 def auto_hopf_point(params, omega_c, *, branch=None, dmod=None, l1=None,
-                    min_digits=MIN_DIGITS, max_digits=MAX_DIGITS, refine=None):
+                    min_digits=MIN_DIGITS, max_digits=MAX_DIGITS, refine=None, base=None):
     """(v_c, d|lambda1|/dv, l1) with at least ``min_digits`` trustworthy digits each.
 
     Starts from the float64 values (``omega_c`` and optionally ``dmod``, ``l1``
@@ -665,7 +672,7 @@ def auto_hopf_point(params, omega_c, *, branch=None, dmod=None, l1=None,
     from .jets import select_orbit
     if branch is None:
         branch = select_orbit(params, float(omega_c)).branch
-    est = estimate_hopf_point(params, omega_c, branch=branch, dmod=dmod, l1=l1)
+    est = estimate_hopf_point(params, omega_c, branch=branch, dmod=dmod, l1=l1, base=base)
     if est.digits >= min_digits:
         return est
     kappa = max(est.omega_c.condition, est.dmod_domega.condition, est.l1.condition)
