@@ -1,6 +1,6 @@
-"""Benchmark of the N-mass structures (issue 11): regeneration, Python and compiled
-jets of the damped 3-mass model, and the paper's model through its own chain and
-through the N = 2 structure, in the same run.
+"""Benchmark of any model (issue 11): regeneration, Python and compiled jets and
+`hopf_points` of the damped 3-mass model, and the paper's model through its own
+chain (the baseline) and through the any-model chain, in the same run.
 
     python benchmarks/bench_jets_n.py
 """
@@ -92,6 +92,18 @@ def main():
                  f"{t_o_old * 1e6:.0f} µs", ""))
     rows.append(("paper model, both period-1 orbits with multipliers: any-model chain",
                  f"{t_o_new * 1e6:.0f} µs ({t_o_new / t_o_old:.2f}x the baseline)", ""))
+    # hopf_points: the N = 3 chain (two NS points), the paper's model both ways
+    from symvi import hopf_points
+    hopf_points(THREE, 0.99, 1.06)
+    t_h3 = median_time(lambda: hopf_points(THREE, 0.99, 1.06), 1, reps=9)
+    rows.append(("N = 3 damped, `hopf_points` on [0.99, 1.06] (two NS points, normal forms, "
+                 "precision estimates)", f"{t_h3 * 1e3:.0f} ms", "<= 300 ms"))
+    t_hp = median_time(lambda: hopf_points(p, 0.70, 0.76), 1, reps=9)
+    t_hm = median_time(lambda: hopf_points(pm, 0.70, 0.76), 1, reps=9)
+    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: paper chain (baseline)",
+                 f"{t_hp * 1e3:.1f} ms", ""))
+    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: any-model chain",
+                 f"{t_hm * 1e3:.1f} ms ({t_hm / t_hp:.2f}x the baseline)", ""))
     print("\n".join(md_table(["what", "median", "target"], rows)))
 
 

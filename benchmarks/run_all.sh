@@ -9,4 +9,5 @@ python benchmarks/bench_simulate.py
 python benchmarks/bench_accuracy.py
 python benchmarks/bench_ceiling.py
 python benchmarks/bench_jets_n.py > benchmarks/results_jets_n.md
+python benchmarks/bench_simulate_n.py > benchmarks/results_simulate_n.md
 python benchmarks/stress.py
