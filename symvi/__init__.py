@@ -9,6 +9,9 @@ from .errors import NearSingularWarning as NearSingularWarning
 from .errors import ParameterError as ParameterError
 from .errors import SingularCaseError as SingularCaseError
 from .errors import SymviError as SymviError
+from .model import Model as Model
+from .model import Stop as Stop
+from .model import load_model as load_model
 from .orbit import Orbit as Orbit
 from .orbit import period1_orbits as period1_orbits
 from .params import Params as Params

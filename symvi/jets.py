@@ -14,14 +14,13 @@ Order K imports ``symvi._generated.order<K>`` only: a multiplier-only job never
 imports second- or third-order code.
 """
 import math
-import warnings
 from dataclasses import dataclass
 
 import mpmath
 import numpy as np
 
 from ._backend import MP
-from .errors import NearSingularWarning, ParameterError, SingularCaseError
+from .errors import ParameterError, SingularCaseError
 from .params import Params, _finite, check_omega
 from .params import modal as _modal
 from ._paper_eval import _evaluate, _gen, _inputs, _orbit_inputs  # noqa: F401
@@ -199,27 +198,8 @@ def _jet(params, orbit, order, mp):
 
 
 def _solve(M, v, mp):
-    if mp:
-        x = mpmath.lu_solve(mpmath.matrix(M.tolist()), mpmath.matrix(list(v)))
-        out = np.empty(len(v), dtype=object)
-        out[:] = [x[i] for i in range(len(v))]
-        return out
-    # I - J is singular iff a multiplier is 1 (fold).  Cheap, scale-free screen first:
-    # Hadamard's ratio |det M| / prod ||row_i|| lies in [0, 1] and is small only near singular.
-    had = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
-    if not had > 1e-6:
-        lam = np.linalg.eigvals(np.eye(4) - M)
-        if np.abs(lam).max() > 1e8:
-            raise SingularCaseError("near-singular-map", f"the Jacobian has a multiplier of "
-                                    f"modulus {np.abs(lam).max():.3g}: the orbit is close to "
-                                    "grazing and dy*/domega cannot be resolved")
-        gap = np.abs(1 - lam).min()
-        if not gap >= 1e-10:
-            raise SingularCaseError("multiplier-one", "a multiplier equals 1: the fixed point "
-                                    "does not move smoothly with omega (fold), dy*/domega is "
-                                    "undefined")
-        if gap < 1e-6:
-            warnings.warn(f"a multiplier is within {gap:.1e} of 1 (near a fold): F11 = dA "
-                          f"loses about {-np.log10(gap):.0f} digits", NearSingularWarning,
-                          stacklevel=4)
-    return np.linalg.solve(M, v)
+    """(I - J)^{-1} v for M = I - J, with the fold checks of
+    :func:`symvi.codegen.jets.fixed_point_motion` (one owner)."""
+    from .codegen.jets import fixed_point_motion
+    n = M.shape[0]
+    return fixed_point_motion(np.eye(n, dtype=M.dtype) - M, v, mp)

@@ -19,3 +19,12 @@ def test_import_is_light():
             "'symvi._generated.order1', 'symvi._generated.order3') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_model_api_is_public_and_import_stays_light():
+    """symvi.Model, symvi.Stop, symvi.load_model (issue 11); still no numba on import."""
+    code = ("import sys, symvi; m = symvi.Model(mass=[1.0], stiffness=[[1.0]], forcing=[1.0], "
+            "stop=symvi.Stop(mass=1, gap=0.2, restitution=0.8)); "
+            "print(m.n, callable(symvi.load_model), 'numba' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "1 True False"

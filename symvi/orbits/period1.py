@@ -19,7 +19,6 @@ the gradient of x_k(0) in (cos tau, sin tau) on the fixed-point set, so that
 tau = arg(nu) +- arccos(rho): "+" and "-" as the paper's tau0 = phi +- arccos(alpha b / rho)
 (its alpha = (1 - r) w1 w2 D is negative in its sign convention, D < 0).
 """
-import math
 import warnings
 from dataclasses import dataclass, field
 
