@@ -143,7 +143,7 @@ class HopfPoint:
     dlam_domega: complex
     c1: complex
     l1: float
-    f1_paper: float
+    f1_paper: float            # None for a Model (the paper's eq. (60) only)
     f1_wan: float
     wan_a: float
     orbit: object
@@ -173,7 +173,7 @@ class HopfPoint:
         orb = self.orbit.as_dict()
         orb["omega"] = float(self.orbit.omega)
         num = lambda name: float(getattr(self, name)) if self.trusted(name) else None
-        paper_only_none = hasattr(self.orbit, "names")      # a Model's orbit
+        paper_only_none = self.f1_paper is None      # a Model: eq. (60) not computed
         return {
             "omega_c": num("omega_c"), "branch": self.branch,
             "multiplier": [self.multiplier.real, self.multiplier.imag],
@@ -233,6 +233,7 @@ class _PaperSystem:
     """The paper's model through its own chain (Params): eqs. (10)-(18), (33)-(38)."""
 
     names = STATE_NAMES
+    paper = True               # the paper's own reduction, eq. (60), is reported
 
     def __init__(self, params):
         self.params = params
@@ -265,6 +266,8 @@ class _PaperSystem:
 
 class _ModelSystem:
     """Any model (symvi.model.Model): period-1 orbits and jets of the any-model layers."""
+
+    paper = False              # eq. (60) belongs to the paper's model
 
     def __init__(self, model):
         from .maps.section import Section
@@ -578,7 +581,8 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         warnings.simplefilter("ignore", NearSingularWarning)
         orbit = {o.branch: o for o in system.orbits(omega_c)}[branch]
         j = system.jet3(omega_c, orbit)
-        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=system.names)
+        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=system.names,
+                         paper=system.paper)
     lam = complex(nf.lam)
     others = tuple(sorted((complex(x) for i, x in enumerate(nf.multipliers)
                            if i not in (_index_of(nf, lam), _index_of(nf, lam.conjugate()))),
@@ -602,8 +606,12 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         h2=bool(dist > H2_TOL), nearest_resonance=(m, float(dist)),
         dmod_domega=dmod, dmod_domega_branch=float(dbranch),
         dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=l1,
-        f1_paper=float(nf.f1_printed), f1_wan=float(nf.f1_wan), wan_a=float(nf.wan_a),
+        f1_paper=_opt(nf.f1_printed), f1_wan=_opt(nf.f1_wan), wan_a=_opt(nf.wan_a),
         orbit=orbit, circle=nf.circle, normal_form=nf, precision=acc)
+
+
+def _opt(x):
+    return None if x is None else float(x)
 
 
 def _index_of(nf, z):

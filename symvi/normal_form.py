@@ -767,13 +767,14 @@ class NormalForm:
         return self.theta / (2 * math.pi) if self.digits is None else self.theta / (2 * mpmath.pi)
 
 
-def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None):
+def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, paper=True):
     """Neimark–Sacker normal form of a map with jet (A, d2, d3) and F11 = dA, eqs. (39)–(60).
 
     Computes Kuznetsov's c1, l1; the paper's reduction (P, G, H, W_ij, g_ij,
     f1 by eq. (60) printed and corrected); Wan's a; (A1)–(A3) when ``dA`` is
     given, and then the predicted circle.  ``digits`` (or mpmath inputs)
-    selects the mpmath backend.  Raises SingularCaseError near lambda^m = 1
+    selects the mpmath backend.  ``paper=False`` skips the paper's own reduction
+    (its f1 of eq. (60), Wan's a): only l1, c1 and the circle are computed.  Raises SingularCaseError near lambda^m = 1
     (m = 1..3, where the formulas divide by zero) and warns for m = 4, 5.
     """
     bk = backend(digits, A, d2, d3, dA)
@@ -799,7 +800,7 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None):
                           f"lambda^{m} = 1: (H2) nearly fails, the cubic normal form is not "
                           "valid in a small neighbourhood", NearSingularWarning, stacklevel=2)
         c1, l1, h11, h20 = _kuznetsov(bk, A, d2, d3, e)
-        paper, _ = _paper(bk, A, d2, d3, e)
+        red = _paper(bk, A, d2, d3, e)[0] if paper else None
         dlam = dmod = circle = None
         if dA is not None:
             dlam, dmod = _dmod(e, bk.arr(dA))
@@ -807,7 +808,7 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None):
                 circle = Circle(float(l1), float(dmod), tuple(float(abs(x)) for x in e.q),
                                 **({"names": tuple(names)} if names else {}))
         return NormalForm(lam=lam, theta=bk.arg(lam), multipliers=e.values, q=e.q, p=e.p,
-                          c1=c1, l1=l1, wan_a=paper.wan_a, f1_wan=paper.f1_wan,
-                          f1_printed=paper.f1_printed, resonance=(m, dist), dlam_dv=dlam,
-                          dmod_dv=dmod, paper=paper, h11=h11, h20=h20, backend=bk.name,
+                          c1=c1, l1=l1, wan_a=red and red.wan_a, f1_wan=red and red.f1_wan,
+                          f1_printed=red and red.f1_printed, resonance=(m, dist), dlam_dv=dlam,
+                          dmod_dv=dmod, paper=red, h11=h11, h20=h20, backend=bk.name,
                           digits=bk.digits, circle=circle)

@@ -60,7 +60,7 @@ def run(args):
             print("  precision: " + "; ".join(
                 e.text() for e in (pt.precision.omega_c, pt.precision.dmod_domega,
                                    pt.precision.l1)))
-        if "N=" not in describe(params):       # the paper's own f1 (eq. 60): its model only
+        if pt.f1_paper is not None:            # the paper's own f1 (eq. 60): its model only
             print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
                   "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
         if pt.circle is not None:
