@@ -12,6 +12,7 @@ Raw derivatives in the section's variable order (:class:`symvi.maps.Section`):
 Order K imports ``impact_n<N>_order<K>`` only: a multiplier-only job never
 imports second- or third-order code.
 """
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -20,6 +21,7 @@ import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..flow.linear import LinearFlow
+from ..model import Model
 from .layout import assemble, module
 
 
@@ -47,13 +49,30 @@ def eigenvalues(J):
 
 def _at(model, omega, digits):
     flow = LinearFlow.of(model, digits)
+    LinearFlow.of(model).check_omega(float(omega), warn=False)
     if digits is None:
         return flow, flow.forcing(float(omega))
     return flow, flow.forcing(mpmath.mpf(omega))
 
 
+def _checked(model, y, te):
+    """(y, te) validated: 2N finite numbers in the section layout, te > 0."""
+    from ..maps.section import Section
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model")
+    y = Section.of(model).check(y)
+    try:
+        ok = math.isfinite(float(te)) and float(te) > 0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ParameterError("te", te, "a finite flight time > 0")
+    return y, te
+
+
 def jacobian_at(model, omega, y, te, *, digits=None):
     """DP at a section point y whose flight to the next impact lasts te (any point)."""
+    y, te = _checked(model, y, te)
     if digits is None:
         flow, F = _at(model, omega, None)
         return evaluate(flow, F, tuple(float(v) for v in y), float(te), 1)["J"]
@@ -97,6 +116,7 @@ def jet_at(model, omega, y, te, order=3, *, digits=None):
     """The jet of P at a fixed point y (flight time te) of ``model``; see :class:`Jet`."""
     if order not in (1, 2, 3):
         raise ParameterError("order", order, "1, 2 or 3")
+    y, te = _checked(model, y, te)
     if digits is None:
         flow, F = _at(model, omega, None)
         return _jet(flow, F, tuple(float(v) for v in y), float(te), order, False)
@@ -147,6 +167,7 @@ def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point
     With ``fixed_point`` (y a fixed point, te its period) the motion of the fixed
     point and the derivative of the Jacobian along it are added.
     """
+    y, te = _checked(model, y, te)
     tangent = None if name == "omega" else model.tangent(name)
     ctx = mpmath.mp.workdps(digits) if digits else _Null()
     with ctx:

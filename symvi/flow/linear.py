@@ -244,6 +244,9 @@ class LinearFlow:
 
     @classmethod
     def of(cls, model, digits=None):
+        from ..model import Model
+        if not isinstance(model, Model):
+            raise ParameterError("model", model, "a symvi.Model")
         if digits is None:
             return _flow_float(model)
         with mpmath.mp.workdps(digits):

@@ -38,6 +38,8 @@ def step(flow, forcing, y, t_max=None):
 
 def poincare_map(model, omega, y, *, digits=None, t_max=None):
     """P(y; omega) of ``model`` on float64 or (``digits``) mpmath; inspect ``status``."""
+    LinearFlow.of(model)                      # validates the model
+    y = Section.of(model).check(y)
     if digits is None:
         flow = LinearFlow.of(model)
         omega = flow.check_omega(omega, warn=False)

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ParameterError
+
 TWO_PI = 2 * math.pi
 
 
@@ -35,6 +37,18 @@ class Section:
         """Stable names of the components of y, with 1-based mass numbers."""
         k, rest = self.perm[0] + 1, [j + 1 for j in self.perm[1:]]
         return (f"v{k}+", *(f"x{j}" for j in rest), *(f"v{j}" for j in rest), "tau")
+
+    def check(self, y, name="y"):
+        """y as a tuple (values kept, e.g. mpf), or ParameterError naming ``name``."""
+        valid = f"{self.dim} finite numbers ({', '.join(self.names)})"
+        try:
+            vals = tuple(y)
+            ok = len(vals) == self.dim and all(math.isfinite(float(v)) for v in vals)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError(name, y, valid)
+        return vals
 
     def state(self, y, b):
         """(z0, tau): the flow state (stop-first order) just after the impact at y."""
