@@ -89,6 +89,12 @@ def multipliers_at(model, omega, y, te, *, digits=None):
         return eigenvalues(jacobian_at(model, omega, y, te, digits=digits))
 
 
+def multipliers_of(flow, forcing, y, te):
+    """Eigenvalues of DP at y for a flow and forcing already at hand (no checks: the
+    period-1 solver's own call, in the flow's backend and precision)."""
+    return eigenvalues(evaluate(flow, forcing, y, te, 1)["J"])
+
+
 @dataclass(frozen=True)
 class Jet:
     """Jet of the impact map at a fixed point y* (flight time te), see the module docstring.

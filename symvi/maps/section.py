@@ -6,6 +6,7 @@ of eq. (9).  The flow works in the stop-first order of
 :attr:`symvi.flow.linear.LinearFlow.perm`, in which y is simply
 (v_0+, x_1..x_{N-1}, v_1..v_{N-1}, tau).
 """
+import functools
 import math
 from dataclasses import dataclass
 
@@ -25,14 +26,13 @@ class Section:
 
     @classmethod
     def of(cls, model):
-        k = model.stop.mass - 1
-        return cls(model.n, (k,) + tuple(j for j in range(model.n) if j != k))
+        return _section_of(model)
 
     @property
     def dim(self):
         return 2 * self.n
 
-    @property
+    @functools.cached_property
     def names(self):
         """Stable names of the components of y, with 1-based mass numbers."""
         k, rest = self.perm[0] + 1, [j + 1 for j in self.perm[1:]]
@@ -73,3 +73,9 @@ class Section:
         for i, j in enumerate(self.perm):
             x[j], v[j] = z[i], z[n + i]
         return x, v
+
+
+@functools.lru_cache(maxsize=256)
+def _section_of(model):
+    k = model.stop.mass - 1
+    return Section(model.n, (k,) + tuple(j for j in range(model.n) if j != k))

@@ -133,7 +133,7 @@ class Model:
     field and its valid range.
     """
 
-    __slots__ = ("_M", "_K", "_C", "_P", "_stop", "_preset", "_arrays")
+    __slots__ = ("_M", "_K", "_C", "_P", "_stop", "_preset", "_arrays", "_hash")
 
     def __init__(self, *, mass, stiffness, forcing, stop, damping=None, _preset=None):
         if not isinstance(stop, Stop):
@@ -164,6 +164,7 @@ class Model:
         object.__setattr__(self, "_stop", stop)
         object.__setattr__(self, "_preset", _preset)
         object.__setattr__(self, "_arrays", {})
+        object.__setattr__(self, "_hash", hash(self.key()))     # hashed on every cache lookup
 
     def __setattr__(self, name, value):
         raise AttributeError("symvi.Model is immutable; use model.with_(...)")
@@ -232,7 +233,7 @@ class Model:
         return isinstance(other, Model) and self.key() == other.key()
 
     def __hash__(self):
-        return hash(self.key())
+        return self._hash
 
     def __repr__(self):
         if self._preset is not None:

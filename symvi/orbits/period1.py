@@ -86,7 +86,7 @@ class _Line:
         n2 = 2 * flow.n
         self.flow, self.omega = flow, omega
         T = 2 * lib.pi / omega
-        F = flow.forcing(omega)
+        F = self.forcing = flow.forcing(omega)
         self.Phi = flow.phi(T)
         self.Pc = np.concatenate([F.V, omega * F.U])
         self.Ps = np.concatenate([F.U, -omega * F.V])
@@ -224,8 +224,8 @@ def _orbits(model, omega, digits, want_multipliers):
         ok, why = _admissibility(flow, omega, z0, tau, vimp)
         orb = Orbit(model, omega, branch, y, sec.names, vimp, ok, why, digits=digits)
         if want_multipliers:
-            from ..codegen.jets import multipliers_at
-            lam = multipliers_at(model, omega, y, T, digits=digits)
+            from ..codegen.jets import multipliers_of
+            lam = multipliers_of(flow, L.forcing, y, T)
             orb = _with(orb, multipliers=lam,
                         stable=bool(ok and max(abs(complex(z)) for z in lam) < 1))
         out.append(orb)
