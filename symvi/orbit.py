@@ -1,7 +1,7 @@
 """Period-1 one-impact orbits, eqs. (10)–(18), derived from conditions (10).
 
 Derivation (ours; the printed eqs. (11)–(16) are audited separately in
-:mod:`symvi.audit`).  With xi_j = a_j cos w_j t + b_j sin w_j t + A_j sin(omega t + tau)
+:mod:`symvi.paper.audit`).  With xi_j = a_j cos w_j t + b_j sin w_j t + A_j sin(omega t + tau)
 and T = 2 pi / omega, c_j = cos w_j T, s_j = sin w_j T:
 
 * x(T) = x(0) (both components, psi invertible) gives xi_j(T) = xi_j(0), i.e.

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from . import scenes as sc
 from ._io import write_text
-from .audit import NOTES, fmt
+from .paper.audit import NOTES, fmt
 
 _FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check")
 

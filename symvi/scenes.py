@@ -416,9 +416,9 @@ ENTRY = {"multipliers": ("orbit",),
          "hopf": ("hopf",),
          "section": ("simulation", "diagnostics"),
          "bifurcation": ("simulation",),
-         "circle_check": ("circle_check",),
-         "audit": ("audit",),
-         "numbers": ("audit", "diagnostics"),
+         "circle_check": ("paper.circle_check",),
+         "audit": ("paper.audit",),
+         "numbers": ("paper.audit", "diagnostics"),
          "mpcheck": ("mpcheck",)}
 _SRC = {}
 _CLOSURE = {}
@@ -786,18 +786,18 @@ def _bifurcation(params, spec, quick, scene):
 
 
 def _circle_check(params, spec, quick, scene):
-    cc = _need("circle_check")
-    from . import audit
+    cc = _need("paper.circle_check")
+    from .paper import audit
     return audit.circle_check(cc, params, spec, quick)
 
 
 def _audit(params, spec, quick, scene):
-    from . import audit
+    from .paper import audit
     return audit.formula_audit(params, spec), {}
 
 
 def _numbers(params, spec, quick, scene):
-    from . import audit
+    from .paper import audit
     return audit.numbers_table(spec["row"], scene.params, quick), {}
 
 

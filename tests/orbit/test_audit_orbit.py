@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from symvi import Params, period1_orbits
-from symvi import audit_orbit as au
+from symvi.paper import audit_orbit as au
 from symvi.flow import motion_from
 from symvi.params import modal
 

@@ -7,7 +7,7 @@
 * :func:`formula_audit` evaluates each printed formula *as printed* beside an
   independent route to the same quantity, at one parameter set:
 
-  - eqs. (11)–(16) and (21)–(24) through :mod:`symvi.audit_orbit` against
+  - eqs. (11)–(16) and (21)–(24) through :mod:`symvi.paper.audit_orbit` against
     :func:`symvi.period1_orbits` and :func:`symvi.flow.motion_from`;
   - eqs. (37)–(38): the impact condition g of eq. (27) and the maps f~ of
     eq. (26) are written out literally from eqs. (21)–(29), differentiated by
@@ -35,7 +35,7 @@ import warnings
 
 import numpy as np
 
-from .errors import NearSingularWarning, SymviError
+from ..errors import NearSingularWarning, SymviError
 
 NAMES = ("x1dot+", "x20", "x20dot", "tau")
 
@@ -84,9 +84,9 @@ def _row(eq, what, printed, value, *, tol, evidence, corrected="", matters="", w
 # --------------------------------------------------------------------------- orbit formulas
 def _orbit_rows(params, omega, omin, omax):
     from . import audit_orbit as ao
-    from .flow import motion_from
-    from .orbit import existence_ratio, period1_orbits
-    from .params import Params, modal
+    from ..flow import motion_from
+    from ..orbit import existence_ratio, period1_orbits
+    from ..params import Params, modal
     rows = []
     orbits = period1_orbits(params, omega, multipliers=False)
     if not orbits:
@@ -177,8 +177,8 @@ def _orbit_rows(params, omega, omin, omax):
 def _gtilde(params, omega, orb, dX, dth):
     """g of eq. (27) and f~ of eq. (26), written out literally from eqs. (21)–(29)."""
     from . import audit_orbit as ao
-    from .flow import forcing_amplitudes
-    from .params import modal
+    from ..flow import forcing_amplitudes
+    from ..params import modal
     m = modal(params)
     p = m.psi
     A = forcing_amplitudes(m, omega)
@@ -199,8 +199,8 @@ def _gtilde(params, omega, orb, dX, dth):
 
 
 def _implicit_rows(params, omega, orb):
-    from .jets import jet
-    from .poincare import fd_jacobian
+    from ..jets import jet
+    from ..poincare import fd_jacobian
     h = 1e-5
     z = np.zeros(4)
 
@@ -266,8 +266,8 @@ def _W(Wd, z, cubic=True, printed=False):
 
 def _nf_rows(params, pt, circle_evidence):
     """Eqs. (46), (54), (60), (A2)–(A17) at the Hopf point ``pt``."""
-    from .jets import jet
-    from .normal_form import appendix_printed, f1_eq60, transform_jet
+    from ..jets import jet
+    from ..normal_form import appendix_printed, f1_eq60, transform_jet
     nf = pt.normal_form
     red = nf.paper
     j = jet(params, pt.omega_c, order=3, orbit=pt.orbit)
@@ -455,7 +455,7 @@ def _nf_rows(params, pt, circle_evidence):
 
 
 def _dlam_branch(params, pt, h=1e-4):
-    from .orbit import period1_orbits
+    from ..orbit import period1_orbits
 
     def lam(w):
         with warnings.catch_warnings():
@@ -469,7 +469,7 @@ def _dlam_branch(params, pt, h=1e-4):
 
 
 def _first_hopf(params, omin, omax):
-    from .hopf import hopf_points
+    from ..hopf import hopf_points
     pts = [p for p in hopf_points(params, omin, omax).points if p.normal_form is not None]
     return pts[0] if pts else None
 
@@ -539,7 +539,7 @@ _HOPF_MEMO = {}
 def _hopf_cached(params, omin, omax):
     key = (params.key(), omin, omax)
     if key not in _HOPF_MEMO:
-        from .hopf import hopf_points
+        from ..hopf import hopf_points
         _HOPF_MEMO[key] = hopf_points(params, omin, omax)
     return _HOPF_MEMO[key]
 
@@ -610,7 +610,7 @@ def _check_f1(params, row, quick):
 
 
 def _check_interval(params, row, quick):
-    from .orbit import multiplier_path
+    from ..orbit import multiplier_path
     a, b = row["printed"]
     res = _hopf_cached(params, row["omega_min"], row["omega_max"])
     inside = [p for p in res.points if a <= p.omega_c <= b]
@@ -643,13 +643,13 @@ def _check_interval(params, row, quick):
 
 
 def _sim_counts(row, quick):
-    from .simulation import quick_counts
+    from ..simulation import quick_counts
     return quick_counts(row, quick, default_impacts=2000, default_transient=row["transient"])
 
 
 def _classify_at(params, omega, n, tr, pert):
-    from .diagnostics import classify
-    from .simulation import simulate
+    from ..diagnostics import classify
+    from ..simulation import simulate
     kw = {"perturbation": tuple(pert)} if pert else {}
     sim = simulate(params, omega, n_impacts=n, transient=tr, **kw)
     return sim, classify(sim)
@@ -690,8 +690,8 @@ def _check_attractor(params, row, quick):
 
 
 def _check_onset(params, row, quick):
-    from .diagnostics import branch_count
-    from .simulation import sweep
+    from ..diagnostics import branch_count
+    from ..simulation import sweep
     steps = row["steps"]
     tr = row["transient"]
     if quick:
@@ -724,7 +724,7 @@ def _check_onset(params, row, quick):
 
 
 def _check_escape(params, row, quick):
-    from .simulation import fixed_point, simulate
+    from ..simulation import fixed_point, simulate
     ys = fixed_point(params, row["omega"])
     if ys is None:
         return "not checkable", None, "no admissible period-1 orbit to start from"
@@ -772,7 +772,7 @@ def numbers_table(rows, paramsets, quick=False):
 
 # --------------------------------------------------------------------------- circle check
 def circle_check(cc, params, spec, quick):
-    """Measured vs predicted circle half-widths for v = v_c + mu (:mod:`symvi.circle_check`)."""
+    """Measured vs predicted circle half-widths for v = v_c + mu (:mod:`symvi.paper.circle_check`)."""
     pt = cc.hopf_point(params, spec["omega_min"], spec["omega_max"])
     mus = spec["mu"] or [4e-4, 2e-4, 1e-4, 5e-5]
     note = ""

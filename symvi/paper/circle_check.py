@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fastflow as ff
-from .errors import SingularCaseError
-from .params import check_omega
-from .simulation import fixed_point
+from .. import _fastflow as ff
+from ..errors import SingularCaseError
+from ..params import check_omega
+from ..simulation import fixed_point
 
 NAMES = ("x1dot+", "x2", "x2dot", "tau")
 
@@ -163,7 +163,7 @@ class CircleCheck:
 def check(params, point, mus, **measure_kw):
     """Compare the circle of ``point`` (``.omega_c`` and ``.circle.half_widths(mu)``,
     as from :func:`symvi.hopf.hopf_points`) with simulation at v_c + mu."""
-    from .errors import SingularCaseError
+    from ..errors import SingularCaseError
     mus = np.asarray(mus, dtype=float)
     if not point.circle.stable:
         raise SingularCaseError("repelling-circle", f"the circle born at omega_c = "
@@ -187,7 +187,7 @@ def _printed_scale(point):
 
 def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.hopf)."""
-    from .hopf import hopf_points
+    from ..hopf import hopf_points
     pts = [h for h in hopf_points(params, omega_min, omega_max) if h.circle is not None]
     if not pts:
         raise SingularCaseError("no-hopf", f"no Hopf point in [{omega_min}, {omega_max}]")
