@@ -413,6 +413,7 @@ def _graze_factor(y, g_theta):
 
 
 def _make(name, value, err, kappa, digits, note, recomputed=False):
+    err = float(err)
     trusted = math.isfinite(err) and err < 1
     if not trusted and not note:
         note = f"estimated relative error {err:.1e}"
@@ -836,3 +837,125 @@ def estimate_model_hopf(model, omega_c, branch, nf, jt, *, min_digits=MIN_DIGITS
                                 _re(est2.l1, note), branch)
         d = max(2 * d, _digits_needed(10 * kappa, min_digits))
     return _untrust_hopf(est, f"fewer than {min_digits} digits even at mpmath {tried} digits")
+
+
+def estimate_model_orbit(model, orbit, *, reuse=None):
+    """Error estimate of a period-1 orbit of any model: y* and multipliers.
+
+    Input condition, exact: dy*/dp = (I - J)^{-1} dP/dp and, for each multiplier,
+    d lambda/dp = u^H (dJ/dp along the orbit) v / u^H v, for every named parameter
+    p and omega (:func:`symvi.codegen.jets.parameter_derivatives`); no perturbed
+    re-solves.  Linear algebra: the eigenvalue condition numbers, amplified near
+    grazing (eq. (37) divides by dg/d(dtheta)).  ``reuse``: an earlier estimate of
+    the same orbit whose (precision independent) condition numbers are taken over.
+    """
+    from .codegen.jets import jet_at, parameter_derivatives
+    digits = orbit.digits
+    eps = _eps(digits)
+    w = float(orbit.omega)
+    T = 2 * math.pi / w
+    yf = tuple(float(v) for v in orbit.y)
+    lam = list(orbit.multipliers)
+    lamc = np.array([complex(z) for z in lam])
+    notes = []
+    if reuse is not None:
+        kin_y, kin_l = dict(reuse.input_condition), dict(reuse.input_condition_multipliers)
+        g_theta, eig_conds = reuse.g_theta, reuse.eig_condition
+    else:
+        kin_y, kin_l = {}, {}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NearSingularWarning)
+            try:
+                jt = jet_at(model, w, yf, T, 1)
+                J, g_theta = jt.jacobian, float(abs(jt.g_theta))
+            except SingularCaseError as exc:
+                J, g_theta = None, 0.0
+                notes.append(str(exc))
+            if J is not None:
+                vals, V = np.linalg.eig(J)
+                U = np.linalg.inv(V)                       # rows: left eigenvectors, U V = I
+                order = [int(np.argmin(np.abs(vals - z))) for z in lamc]
+                ynorm = max(np.abs(yf).max(), 1e-300)
+                for name in ["omega"] + _model_inputs(model):
+                    v = w if name == "omega" else abs(model.value(name))
+                    try:
+                        d = parameter_derivatives(model, w, yf, T, name)
+                    except SymviError as exc:
+                        kin_y[name] = kin_l[name] = math.inf
+                        notes.append(f"{name}: {exc}")
+                        continue
+                    kin_y[name] = float(np.abs(d.dy).max()) * v / ynorm
+                    dJ = np.asarray(d.dJ_branch, dtype=float)
+                    dl = [abs(U[k] @ dJ @ V[:, k]) for k in order]
+                    kin_l[name] = max(x * v / max(abs(z), 1e-300) for x, z in zip(dl, lamc))
+                _, conds = _mp_eig_condition(J)
+                eig_conds = tuple(conds[k] for k in order)
+            else:
+                eig_conds = ()
+    ky = max(kin_y.values(), default=math.inf if not kin_y and reuse is None and notes else 0.0)
+    gf = _graze_factor(orbit.y, g_theta) if g_theta else math.inf
+    # rounding of the solve itself: the steady-state terms ~ 1/|omega_j - omega| near
+    # forcing resonance cancel in y* (the input condition cannot see that), and the
+    # equilibrated period-1 system may be ill-conditioned (1 - cos -> 0)
+    ky = max(ky, _model_solve_condition(model, w, yf))
+    err_y = eps * (C_EVAL + ky)            # y* comes from the solve, not from the jet
+    if eig_conds:
+        kl = max(max(kin_l.values(), default=0.0), max(eig_conds) * C_EVAL * gf)
+    else:
+        kl = math.inf
+    err_l = eps * (C_EVAL + kl)
+    note = "; ".join(notes[:2])
+    return OrbitEstimate(_make("y*", list(orbit.y), err_y, ky, digits, note),
+                         _make("multipliers", lam, err_l, kl, digits, note),
+                         g_theta, eig_conds, kin_y, kin_l)
+
+
+def _model_solve_condition(model, w, y):
+    """4 max(largest steady-state term / |y*|, cond(equilibrated period-1 system)).
+
+    Calibrated against a 40-digit reference on the paper's model: the float64 error
+    of y* is 1.0-1.2 eps x the larger of the two near forcing resonance and near
+    1 - cos -> 0 (tests/precision/test_model_precision.py); 4 is the safety factor."""
+    from .orbits.period1 import _line
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        flow, L = _line(model, w, None)
+    F = L.forcing
+    big = max(float(np.abs(F.U).max()), float(np.abs(F.V).max())) * max(1.0, w)
+    cancel = max(1.0, big / max(float(np.abs(y[:-1]).max()), 1e-300))
+    return 4 * max(cancel, float(L.sigma[0] / L.sigma[-1]))
+
+
+def auto_model_orbits(model, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
+    """Every period-1 orbit of ``model`` at omega with at least ``min_digits``
+    trustworthy digits: float64 when its estimate allows, else mpmath at the digits
+    the condition asks for; untrusted (value None) past ``max_digits``."""
+    from .orbits import period1_orbits
+    out = []
+    for o in period1_orbits(model, omega):
+        est = estimate_model_orbit(model, o)
+        if _enough(o, est, min_digits):
+            out.append(AutoOrbit(o, est, None, "float64"))
+            continue
+        kappa = max(est.y.condition, est.multipliers.condition)
+        if not math.isfinite(kappa):
+            out.append(AutoOrbit(o, _untrust(est, est.y.note or "infinite condition"), None,
+                                 "untrusted"))
+            continue
+        d, done = max(30, _digits_needed(kappa, min_digits)), None
+        while d <= max_digits and done is None:
+            o2 = {x.branch: x for x in period1_orbits(model, omega, digits=d)}.get(o.branch)
+            if o2 is None:
+                break
+            est2 = estimate_model_orbit(model, o2, reuse=est)
+            if _enough(o2, est2, min_digits):
+                note = (f"float64 gave ~{est.y.digits:.1f} digits; recomputed with mpmath at "
+                        f"{d} digits")
+                done = AutoOrbit(o2, OrbitEstimate(_re(est2.y, note), _re(est2.multipliers, note),
+                                                   est2.g_theta, est2.eig_condition,
+                                                   est2.input_condition,
+                                                   est2.input_condition_multipliers), d, note)
+            d *= 2
+        out.append(done or AutoOrbit(o, _untrust(est, f"fewer than {min_digits} digits up to "
+                                                      f"mpmath {max_digits}"), None, "untrusted"))
+    return out

@@ -63,13 +63,20 @@ def run(args):
 def _run_model(model, args):
     """Any model (``--model FILE``): y in the section layout, with its names."""
     from ..flow.linear import LinearFlow
-    from ..orbits import period1_orbits
+    from ..precision import auto_model_orbits
     flow = LinearFlow.of(model)
     omega = flow.check_omega(args.omega)
-    orbits = period1_orbits(model, omega)
+    # error estimates; mpmath recomputation where float64 gives < 8 digits
+    autos = auto_model_orbits(model, omega)
+    orbits = [a.orbit for a in autos]
     if args.json:
-        print_json({"model": model.as_dict(), "omega": omega,
-                    "orbits": [o.as_dict() for o in orbits]})
+        items = []
+        for a in autos:
+            d = a.orbit.as_dict()
+            d["precision"] = {"y": a.estimate.y.as_dict(),
+                              "multipliers": a.estimate.multipliers.as_dict(), "note": a.note}
+            items.append(d)
+        print_json({"model": model.as_dict(), "omega": omega, "orbits": items})
         return 0
     print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap {model.stop.gap:g}, "
           f"r = {model.stop.restitution:g}{', damped' if model.damped else ''}   "
@@ -82,7 +89,8 @@ def _run_model(model, args):
     names = orbits[0].names
     print(f"{'branch':6} " + " ".join(f"{n:>12}" for n in names)
           + f" {'v_impact':>12} {'max|lambda|':>11}  status")
-    for o in orbits:
+    for a in autos:
+        o = a.orbit
         lam = max(abs(complex(z)) for z in o.multipliers)
         status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
         print(f"{o.branch:6} " + " ".join(f"{float(v):12.8f}" for v in o.y)
@@ -91,4 +99,6 @@ def _run_model(model, args):
             f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
         if not o.admissible:
             print(f"       reason: {o.reason}")
+        print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
+              + (f"  [{a.note}]" if a.digits_used else ""))
     return 0

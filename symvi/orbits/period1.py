@@ -104,14 +104,20 @@ class _Line:
         G[n2, n2 + 1] = self.Ps[0]
         if la is not NUMPY_LA:
             G[G == 0] = mpmath.mpf(0)
-        U, s, Vt = _svd(la, G)
+        # equilibrate the columns: near forcing resonance (U, V) ~ 1 / |omega_j - omega|
+        # dwarfs the I - E Phi block, and the rank test must not read that as degeneracy
+        D = np.array([lib.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
+                     dtype=G.dtype)
+        U, s, Vt = _svd(la, G / D)
         self.sigma = s
-        self.null = Vt[-1]
+        self.null = Vt[-1] / D
+        # share of the (unit, equilibrated) kernel vector in the (cos, sin) directions
+        self.phase_share = Vt[-1][n2] ** 2 + Vt[-1][n2 + 1] ** 2
         self.rank_gap = s[-1] / s[0]
         r = n2 + 1
 
         def solve(rhs):
-            return Vt[:r].T @ ((U.T @ rhs)[:r] / s[:r])
+            return (Vt[:r].T @ ((U.T @ rhs)[:r] / s[:r])) / D
 
         e = np.zeros(n2 + 1, dtype=G.dtype)
         if la is not NUMPY_LA:
@@ -160,7 +166,7 @@ def _line(model, omega, digits):
                                 "the period-1 conditions do not fix the orbit (their matrix "
                                 f"has a second zero singular value, {float(L.rank_gap):.2e} "
                                 "relative)")
-    if not L.a > 1e-6 * 1e-20 or not L.a > scale:
+    if not L.phase_share > scale:
         raise SingularCaseError("degenerate-forcing",
                                 "the forcing does not move the stop's mass: the impact phase "
                                 "is not fixed by the period-1 conditions")
