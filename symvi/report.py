@@ -121,7 +121,8 @@ def _draw(figures, p):
                                            component=p.output.spec["component"], title=title,
                                            **({"labels": view["labels"]} if view else {}))
     if kind == "circle_check":
-        return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title)
+        return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title,
+                                     **({"names": view["labels"]} if view else {}))
     raise ValueError(kind)
 
 

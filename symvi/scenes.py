@@ -365,7 +365,7 @@ def _rows(rows, params, where, file):
 
 
 #: output kinds that evaluate the paper's own formulas: the paper's parameters only
-PAPER_ONLY = ("circle_check", "audit", "numbers")
+PAPER_ONLY = ("audit", "numbers")
 
 
 def _check_kinds(file, params, outputs):
@@ -416,7 +416,7 @@ ENTRY = {"multipliers": ("orbit",),
          "hopf": ("hopf",),
          "section": ("simulation", "diagnostics"),
          "bifurcation": ("simulation",),
-         "circle_check": ("paper.circle_check",),
+         "circle_check": ("circle_check",),
          "audit": ("paper.audit",),
          "numbers": ("paper.audit", "diagnostics"),
          "mpcheck": ("mpcheck",)}
@@ -786,9 +786,7 @@ def _bifurcation(params, spec, quick, scene):
 
 
 def _circle_check(params, spec, quick, scene):
-    cc = _need("paper.circle_check")
-    from .paper import audit
-    return audit.circle_check(cc, params, spec, quick)
+    return _need("circle_check").study(params, spec, quick)
 
 
 def _audit(params, spec, quick, scene):

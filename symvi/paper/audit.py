@@ -477,7 +477,7 @@ def _first_hopf(params, omin, omax):
 def _circle_evidence(params, pt, f1_printed):
     """Measured circle half-width at one mu against the corrected and printed (60)."""
     try:
-        from .circle_check import measure
+        from ..circle_check import measure
     except ModuleNotFoundError:
         return "circle check not available"
     if pt.circle is None:
@@ -771,24 +771,3 @@ def numbers_table(rows, paramsets, quick=False):
 
 
 # --------------------------------------------------------------------------- circle check
-def circle_check(cc, params, spec, quick):
-    """Measured vs predicted circle half-widths for v = v_c + mu (:mod:`symvi.paper.circle_check`)."""
-    pt = cc.hopf_point(params, spec["omega_min"], spec["omega_max"])
-    mus = spec["mu"] or [4e-4, 2e-4, 1e-4, 5e-5]
-    note = ""
-    if quick and spec.get("quick", True) and len(mus) > 3:
-        note = f"quick mode: {3} of {len(mus)} values of μ"
-        mus = sorted(mus, reverse=True)[:3]
-    mus = [abs(m) * pt.circle.side for m in mus]
-    c = cc.check(params, pt, [abs(m) for m in mus]) if pt.circle.side > 0 else \
-        cc.check(params, pt, mus)
-    d = c.as_dict()
-    k_pred = np.asarray(pt.circle.half_widths(1.0))
-    d.update({"quick_note": note, "predicted_coefficients": k_pred.tolist(),
-              "measured_coefficients": np.asarray(c.measured_coefficients).tolist(),
-              "f1_paper": pt.f1_paper, "f1_wan": pt.f1_wan, "l1": pt.l1,
-              "dmod_domega": pt.dmod_domega,
-              "printed_eq60_factor": math.sqrt(pt.f1_wan / pt.f1_paper)
-              if pt.f1_paper > 0 and pt.f1_wan > 0 else None})
-    return d, {"mu": np.abs(np.asarray(c.mu)), "measured": np.asarray(c.measured),
-               "predicted": np.asarray(c.predicted)}

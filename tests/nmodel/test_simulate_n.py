@@ -58,3 +58,13 @@ def test_lyapunov_sum_is_the_volume_contraction():
     expected = 2 * math.log(THREE.stop.restitution) - trMC * ly.mean_flight_time
     assert ly.exponents.sum() == pytest.approx(expected, abs=2e-3)
     assert abs(ly.largest) < 1e-3          # on an invariant circle
+
+
+def test_circle_check_study_on_a_model(ns_point):
+    """symvi.circle_check (bracketed measurement) on the 3-mass chain: O(mu) error."""
+    from symvi import circle_check as cc
+    r = cc.check(THREE, ns_point, [4e-4, 2e-4, 1e-4])
+    assert all(r.converged) and r.names[0] == "v2+"
+    assert np.abs(r.rel_error[-1]).max() < 0.02
+    assert 0.7 < r.error_slope < 1.3
+    assert r.printed_scale is None           # eq. (60) is the paper's

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from symvi.paper import circle_check as cc
+from symvi import circle_check as cc
 
 from ..conftest import EX1
 

@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _fastflow as ff
-from ..errors import SingularCaseError
-from ..params import check_omega
-from ..simulation import fixed_point
+from . import _fastflow as ff
+from .errors import SingularCaseError
+from .params import check_omega
+from .simulation import fixed_point
 
 NAMES = ("x1dot+", "x2", "x2dot", "tau")
 
@@ -44,7 +44,7 @@ class Measurement:
 
 def _half_widths(sec, tau0):
     d = sec.copy()
-    d[:, 3] = (d[:, 3] - tau0 + math.pi) % (2 * math.pi) - math.pi
+    d[:, -1] = (d[:, -1] - tau0 + math.pi) % (2 * math.pi) - math.pi   # tau: last coordinate
     return (d.max(axis=0) - d.min(axis=0)) / 2
 
 
@@ -57,22 +57,23 @@ def measure(params, omega, *, block=4000, rtol=1e-4, max_impacts=4_000_000, kick
     Raises SingularCaseError when a run leaves by grazing/chatter or no
     period-1 orbit exists.
     """
-    omega = check_omega(params, omega)
+    kernels = _kernels(params)
+    omega = _check_omega(params, omega)
     ys = fixed_point(params, omega)
     if ys is None:
         raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at omega = {omega!r}")
     ys = np.array(ys)
-    c = ff.constants(params, omega)
+    c = kernels.constants(params, omega)
     used = 0
 
     def advance(y):
         nonlocal used
-        code, sec, _, _, _ = ff.run(c, y, block)
+        code, sec, _, _, _ = kernels.run(c, y, block)
         used += block
-        if code != ff.COMPLETED:
-            raise SingularCaseError("circle-lost", f"run stopped ({ff.STOP_NAMES[code]}) at "
+        if code != kernels.COMPLETED:
+            raise SingularCaseError("circle-lost", f"run stopped ({kernels.STOP_NAMES[code]}) at "
                                     f"omega = {omega!r} while measuring the circle")
-        return sec[-1], _half_widths(sec, ys[3])
+        return sec[-1], _half_widths(sec, ys[-1])
 
     # inside: grow from y* until a block hardly changes the size
     y_in, hw_in = advance(ys + kick)
@@ -99,6 +100,32 @@ def measure(params, omega, *, block=4000, rtol=1e-4, max_impacts=4_000_000, kick
                        tuple(ys))
 
 
+def _kernels(params):
+    """The compiled simulator of the paper's chain (Params) or of any model."""
+    from .model import Model
+    if isinstance(params, Model):
+        from .flow import compiled
+        return compiled
+    return ff
+
+
+def _check_omega(params, omega):
+    from .model import Model
+    if isinstance(params, Model):
+        from .flow.linear import LinearFlow
+        return LinearFlow.of(params).check_omega(omega)
+    return check_omega(params, omega)
+
+
+def names_of(params):
+    """Names of the section coordinates (the paper's, or a model's section layout)."""
+    from .model import Model
+    if isinstance(params, Model):
+        from .maps.section import Section
+        return Section.of(params).names
+    return NAMES
+
+
 @dataclass(frozen=True)
 class CircleCheck:
     """Measured against predicted half-widths for v = v_c + mu (one row per mu)."""
@@ -110,6 +137,7 @@ class CircleCheck:
     spread: np.ndarray        # (k, 4) convergence bracket of the measurement
     converged: tuple
     printed_scale: object = None  # radius(eq. (60) as printed) / radius(standard f1), or None
+    names: tuple = NAMES      # the section coordinates (2N of them for a model)
 
     @property
     def predicted_printed(self):
@@ -131,16 +159,16 @@ class CircleCheck:
     def measured_coefficients(self):
         """Half-width / sqrt(mu) extrapolated to mu -> 0 (linear fit in mu), (4,)."""
         k = self.measured / np.sqrt(np.abs(self.mu))[:, None]
-        return np.array([np.polyfit(self.mu, k[:, i], 1)[1] for i in range(4)])
+        return np.array([np.polyfit(self.mu, k[:, i], 1)[1] for i in range(k.shape[1])])
 
     def table(self):
         """Plain-text table: mu, measured, predicted and relative error per variable."""
         head = f"{'mu':>9}  " + "  ".join(f"{n + ' sim':>12} {n + ' nf':>12} {'rel.err':>9}"
-                                          for n in NAMES)
+                                          for n in self.names)
         rows = [f"omega_c = {self.omega_c:.10g}", head]
         for i, mu in enumerate(self.mu):
             cells = "  ".join(f"{self.measured[i, k]:12.6e} {self.predicted[i, k]:12.6e} "
-                              f"{self.rel_error[i, k]:+9.2e}" for k in range(4))
+                              f"{self.rel_error[i, k]:+9.2e}" for k in range(len(self.names)))
             rows.append(f"{mu:9.2e}  {cells}")
         rows.append(f"log-log slope of max |rel.err| vs mu: {self.error_slope:.2f} "
                     "(1 expected for an O(mu) error)")
@@ -157,13 +185,13 @@ class CircleCheck:
                 "rel_error": self.rel_error.tolist(), "spread": self.spread.tolist(),
                 "converged": list(self.converged), "error_slope": self.error_slope,
                 "printed_scale": self.printed_scale,
-                "variables": list(NAMES)}
+                "variables": list(self.names)}
 
 
 def check(params, point, mus, **measure_kw):
     """Compare the circle of ``point`` (``.omega_c`` and ``.circle.half_widths(mu)``,
     as from :func:`symvi.hopf.hopf_points`) with simulation at v_c + mu."""
-    from ..errors import SingularCaseError
+    from .errors import SingularCaseError
     mus = np.asarray(mus, dtype=float)
     if not point.circle.stable:
         raise SingularCaseError("repelling-circle", f"the circle born at omega_c = "
@@ -173,7 +201,7 @@ def check(params, point, mus, **measure_kw):
     pred = np.array([point.circle.half_widths(mu) for mu in mus])
     return CircleCheck(float(point.omega_c), mus, np.array([m.half_widths for m in meas]), pred,
                        np.array([m.spread for m in meas]), tuple(m.converged for m in meas),
-                       _printed_scale(point))
+                       _printed_scale(point), tuple(names_of(params)))
 
 
 def _printed_scale(point):
@@ -187,8 +215,32 @@ def _printed_scale(point):
 
 def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.hopf)."""
-    from ..hopf import hopf_points
+    from .hopf import hopf_points
     pts = [h for h in hopf_points(params, omega_min, omega_max) if h.circle is not None]
     if not pts:
         raise SingularCaseError("no-hopf", f"no Hopf point in [{omega_min}, {omega_max}]")
     return pts[0]
+
+
+def study(params, spec, quick):
+    """The ``circle_check`` scene output: measured vs predicted half-widths at
+    v = v_c + mu for the first Hopf point with a circle in the scene's interval.
+    For the paper's model also the radius eq. (60) as printed would give."""
+    pt = hopf_point(params, spec["omega_min"], spec["omega_max"])
+    mus = spec["mu"] or [4e-4, 2e-4, 1e-4, 5e-5]
+    note = ""
+    if quick and spec.get("quick", True) and len(mus) > 3:
+        note = f"quick mode: {3} of {len(mus)} values of μ"
+        mus = sorted(mus, reverse=True)[:3]
+    mus = [abs(m) * pt.circle.side for m in mus]
+    c = check(params, pt, [abs(m) for m in mus]) if pt.circle.side > 0 else check(params, pt, mus)
+    d = c.as_dict()
+    k_pred = np.asarray(pt.circle.half_widths(1.0))
+    paper = pt.f1_paper is not None and pt.f1_paper > 0 and pt.f1_wan > 0
+    d.update({"quick_note": note, "predicted_coefficients": k_pred.tolist(),
+              "measured_coefficients": np.asarray(c.measured_coefficients).tolist(),
+              "f1_paper": pt.f1_paper, "f1_wan": pt.f1_wan, "l1": pt.l1,
+              "dmod_domega": pt.dmod_domega,
+              "printed_eq60_factor": math.sqrt(pt.f1_wan / pt.f1_paper) if paper else None})
+    return d, {"mu": np.abs(np.asarray(c.mu)), "measured": np.asarray(c.measured),
+               "predicted": np.asarray(c.predicted)}
