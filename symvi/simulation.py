@@ -198,6 +198,8 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     """
     import mpmath
 
+    if _is_model(params):
+        return _simulate_model_mp(params, omega, y0, n_impacts, digits)
     from ._backend import MP
     from .params import modal as _modal
     from .poincare import step
@@ -222,6 +224,35 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
             vimp.append(float(s.impact_velocity))
     return Simulation(params, omega, y0, _frozen(np.array(out).reshape(-1, 4)), _frozen(times),
                       _frozen(vimp), stop, 0, fixed_point(params, omega))
+
+
+def _simulate_model_mp(model, omega, y0, n_impacts, digits):
+    """:func:`simulate_mp` for a Model: :func:`symvi.maps.impact.step` on mpmath."""
+    import mpmath
+
+    from .flow.linear import LinearFlow
+    from .maps.impact import step
+    omega = LinearFlow.of(model).check_omega(omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    y0 = _check_model_start(model, y0)
+    out, times, vimp = [], [], []
+    stop = "completed"
+    flow = LinearFlow.of(model, digits)
+    with mpmath.mp.workdps(digits):
+        F = flow.forcing(mpmath.mpf(omega))
+        y = np.array([mpmath.mpf(v) for v in y0], dtype=object)
+        T = mpmath.mpf(0)
+        for _ in range(n_impacts):
+            s = step(flow, F, y)
+            if s.status != "impact":
+                stop = s.status
+                break
+            y, T = np.array(s.y, dtype=object), T + s.t
+            out.append([float(v) for v in y])
+            times.append(float(T))
+            vimp.append(float(s.impact_velocity))
+    return Simulation(model, omega, y0, _frozen(np.array(out).reshape(-1, model.dim)),
+                      _frozen(times), _frozen(vimp), stop, 0, fixed_point(model, omega))
 
 
 @dataclass(frozen=True)
