@@ -106,8 +106,11 @@ class _Line:
             G[G == 0] = mpmath.mpf(0)
         # equilibrate the columns: near forcing resonance (U, V) ~ 1 / |omega_j - omega|
         # dwarfs the I - E Phi block, and the rank test must not read that as degeneracy
-        D = np.array([lib.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
-                     dtype=G.dtype)
+        if la is NUMPY_LA:
+            D = np.linalg.norm(G, axis=0)
+        else:
+            D = np.array([lib.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
+                         dtype=object)
         U, s, Vt = _svd(la, G / D)
         self.sigma = s
         self.null = Vt[-1] / D
