@@ -800,7 +800,7 @@ def refine_model_omega_c(model, omega_c, branch, digits, max_iter=30):
                                                       multipliers=False)}[branch]
             jt = jet_at(model, w, o.y, 2 * mpmath.pi / w, 2, digits=digits + 10)
             e = nfm.eigen(jt.jacobian, digits=digits + 10)
-            _, dmod = nfm.dmod_A3(jt.jacobian, jt.dA, digits=digits + 10)
+            _, dmod = nfm._dmod(e, jt.dA)               # eq. (A3) on the same eigen-solve
             step = (abs(e.lam) - 1) / dmod
             w = w - step
             if abs(step) <= 4 * eps * abs(w) or (prev is not None and abs(step) >= prev / 2
