@@ -6,6 +6,7 @@ import math
 import warnings
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
@@ -99,6 +100,7 @@ def test_jacobian_at_transient_points_against_differences(model, omega, seed):
     assert np.abs(fd - J).max() < 1e-5 * max(1.0, np.abs(J).max())
 
 
+@pytest.mark.slow
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(models(), st.floats(0.3, 1.5), st.floats(0.5, 1.5))
 def test_hopf_points_of_random_models(model, a, width):
