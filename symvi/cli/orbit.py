@@ -22,13 +22,7 @@ def run(args):
     autos = auto_orbits(params, omega)
     orbits = [a.orbit for a in autos]
     if args.json:
-        items = []
-        for a in autos:
-            d = a.orbit.as_dict()
-            d["precision"] = {"y": a.estimate.y.as_dict(),
-                              "multipliers": a.estimate.multipliers.as_dict(),
-                              "note": a.note}
-            items.append(d)
+        items = _json_items(autos)
         for d, a in zip(items, autos):
             d["y"] = [float(v) for v in a.orbit.y]
             d["names"] = ["x1dot+", "x20", "x20dot", "tau0"]
@@ -70,13 +64,7 @@ def _run_model(model, args):
     autos = auto_model_orbits(model, omega)
     orbits = [a.orbit for a in autos]
     if args.json:
-        items = []
-        for a in autos:
-            d = a.orbit.as_dict()
-            d["precision"] = {"y": a.estimate.y.as_dict(),
-                              "multipliers": a.estimate.multipliers.as_dict(), "note": a.note}
-            items.append(d)
-        print_json({"model": model.as_dict(), "omega": omega, "orbits": items})
+        print_json({"model": model.as_dict(), "omega": omega, "orbits": _json_items(autos)})
         return 0
     print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap {model.stop.gap:g}, "
           f"r = {model.stop.restitution:g}{', damped' if model.damped else ''}   "
@@ -102,3 +90,14 @@ def _run_model(model, args):
         print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
               + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
+
+
+def _json_items(autos):
+    """Each orbit's JSON with its precision estimate (one shape for both chains)."""
+    items = []
+    for a in autos:
+        d = a.orbit.as_dict()
+        d["precision"] = {"y": a.estimate.y.as_dict(),
+                          "multipliers": a.estimate.multipliers.as_dict(), "note": a.note}
+        items.append(d)
+    return items
