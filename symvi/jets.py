@@ -171,6 +171,12 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
         raise ParameterError("order", order, "1, 2 or 3")
     if orbit is None:
         orbit = select_orbit(params, omega, branch, digits)
+    from .model import Model
+    if isinstance(params, Model):         # any model: the jet of its N-mass structure
+        from .codegen.jets import jet_at
+        w = orbit.omega
+        T = 2 * (mpmath.pi if digits else math.pi) / w
+        return jet_at(params, w, orbit.y, T, order, digits=digits)
     if digits is None:
         return _jet(params, orbit, order, False)
     with mpmath.mp.workdps(digits):

@@ -148,7 +148,12 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
     negative: no orbit exists).  Inadmissible orbits are returned with
     ``admissible=False`` and a reason, never silently analysed.  ``digits``
     selects mpmath at that precision.  ``multipliers=False`` skips the Jacobian.
+    A :class:`symvi.Model` is solved by :func:`symvi.orbits.period1_orbits`.
     """
+    from .model import Model
+    if isinstance(params, Model):
+        from .orbits import period1_orbits as any_model
+        return any_model(params, omega, digits=digits, multipliers=multipliers)
     omega_f = check_omega(params, omega)
     if digits is not None:
         if not isinstance(digits, int) or digits < 16 or digits > 10000:

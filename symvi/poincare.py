@@ -37,9 +37,14 @@ def poincare_map(params, omega, y, *, digits=None):
     """P(y; omega), eq. (31), on float64 or (``digits``) mpmath.
 
     Raises nothing for a flight that grazes or never returns; inspect
-    ``MapStep.status``.
+    ``MapStep.status``.  A :class:`symvi.Model` goes to :func:`symvi.maps.impact.poincare_map`.
     """
     import mpmath
+
+    from .model import Model
+    if isinstance(params, Model):
+        from .maps.impact import poincare_map as any_model
+        return any_model(params, omega, y, digits=digits)
     if digits is None:
         return step(_modal(params), omega, params.b, params.r, tuple(map(float, y)))
     with mpmath.mp.workdps(digits):

@@ -97,3 +97,21 @@ def test_forcing_resonance_is_refused():
     w1 = float(LinearFlow.of(model).omegas[0])
     with pytest.raises(SingularCaseError, match="forcing-resonance"):
         period1_orbits(model, w1)
+
+
+def test_top_level_functions_take_a_model():
+    """symvi.period1_orbits, symvi.poincare_map, symvi.jet, symvi.hopf_points and
+    symvi.simulate accept a Model as well as the paper's Params."""
+    import symvi
+    model = ALL["three"]
+    o = [x for x in symvi.period1_orbits(model, 0.95) if x.admissible][0]
+    assert o.names[0] == "v2+"
+    s = symvi.poincare_map(model, 0.95, o.y)
+    assert abs(s.t - 2 * math.pi / 0.95) < 1e-9
+    j = symvi.jet(model, 0.95, 2)
+    assert np.allclose(j.jacobian, jet_at_orbit(model, o))
+
+
+def jet_at_orbit(model, o):
+    from symvi.codegen.jets import jet_at
+    return jet_at(model, o.omega, o.y, 2 * math.pi / o.omega, 1).jacobian
