@@ -194,6 +194,9 @@ def multiplier_path(params, omegas):
     """Multipliers of the admissible orbit along omega (figs. 4, 10), eq. (36); see
     :func:`symvi.orbits.multiplier_path` (which this calls with the paper's chain)."""
     from .orbits.period1 import multiplier_path as path
+    from .model import Model
+    if isinstance(params, Model):
+        return path(params, omegas)
     return path(lambda w: admissible_orbits(params, w), omegas, 4)
 
 

@@ -700,11 +700,7 @@ def _need(module):
 def _multipliers(params, spec, quick, scene):
     import numpy as np
 
-    from .model import Model
-    if isinstance(params, Model):
-        from .orbits import multiplier_path
-    else:
-        from .orbit import multiplier_path
+    from .orbit import multiplier_path
     om = np.linspace(spec["omega_min"], spec["omega_max"], spec["steps"])
     lam, branch, reasons = multiplier_path(params, om)
     mod = np.abs(lam)
