@@ -58,7 +58,7 @@ def measure(params, omega, *, block=4000, rtol=1e-4, max_impacts=4_000_000, kick
     period-1 orbit exists.
     """
     kernels = _kernels(params)
-    omega = _check_omega(params, omega)
+    omega = check_omega(params, omega)
     ys = fixed_point(params, omega)
     if ys is None:
         raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at omega = {omega!r}")
@@ -107,14 +107,6 @@ def _kernels(params):
         from .flow import compiled
         return compiled
     return ff
-
-
-def _check_omega(params, omega):
-    from .model import Model
-    if isinstance(params, Model):
-        from .flow.linear import LinearFlow
-        return LinearFlow.of(params).check_omega(omega)
-    return check_omega(params, omega)
 
 
 def names_of(params):

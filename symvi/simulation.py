@@ -107,14 +107,9 @@ def _check_start(y0):
 def _check_model_start(model, y0, name="y0"):
     """A 2N section point (:mod:`symvi.maps.section`) that leaves the stop, tau mod 2 pi."""
     from .maps import Section
-    names = Section.of(model).names
-    valid = f"{len(names)} finite numbers ({', '.join(names)})"
-    try:
-        y = tuple(float(v) for v in y0)
-    except (TypeError, ValueError):
-        raise ParameterError(name, y0, valid) from None
-    if len(y) != len(names) or not all(math.isfinite(v) for v in y):
-        raise ParameterError(name, y0, valid)
+    sec = Section.of(model)
+    y = tuple(float(v) for v in sec.check(y0, name))
+    names = sec.names
     if not y[0] < 0:
         raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
     return y[:-1] + (y[-1] % (2 * math.pi),)

@@ -72,16 +72,6 @@ def describe(params):
             f"r={params.r:g}")
 
 
-def check_omega(params, omega, name="omega", warn=True):
-    """A forcing frequency valid for the preset parameters or for a model."""
-    from ..model import Model
-    if isinstance(params, Model):
-        from ..flow.linear import LinearFlow
-        return LinearFlow.of(params).check_omega(omega, name, warn=warn)
-    from ..params import check_omega as paper_check
-    return paper_check(params, omega, name, warn=warn)
-
-
 def section_view(params):
     """(labels, projections, names) of the section of the preset or of a model."""
     from ..model import Model

@@ -1,5 +1,5 @@
 """``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
-from . import add_params, check_omega, data_key, describe, params_from, print_json, section_view
+from . import add_params, data_key, describe, params_from, print_json, section_view
 
 
 def register(sub):
@@ -29,6 +29,7 @@ def run(args):
     from ..progress import Progress
     from ..simulation import sweep
     params = params_from(args)
+    from ..params import check_omega
     labels, _, names = section_view(params)
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,

@@ -91,7 +91,7 @@ def tangent_data(flow, forcing, te, tangent):
     def perm(a):
         return la.arr(np.asarray(a)[np.ix_(p, p)] if np.ndim(a) == 2 else np.asarray(a)[p])
     dM, dK, dC, dP = perm(tangent.dM), perm(tangent.dK), perm(tangent.dC), perm(tangent.dP)
-    Minv = la.inv(flow.M)
+    Minv = flow.Minv
     dMinv = -(Minv @ dM @ Minv)
     Z = la.arr(np.zeros((n, n)))
     dA = np.block([[Z, Z], [-(dMinv @ flow.K + Minv @ dK), -(dMinv @ flow.C + Minv @ dC)]])

@@ -95,10 +95,6 @@ class _NumpyLA:
     def absv(x):
         return np.abs(x)
 
-    @staticmethod
-    def sigma_min(A):
-        return np.linalg.svd(A, compute_uv=False)[-1]
-
 
 class _MpLA:
     """mpmath linear algebra at the current ``mpmath.mp.dps``, on numpy object arrays."""
@@ -166,10 +162,6 @@ class _MpLA:
     def absv(x):
         return np.vectorize(lambda v: abs(v), otypes=[object])(x)
 
-    def sigma_min(self, A):
-        s = mpmath.svd_c(self._m(A), compute_uv=False)
-        return min(s[i] for i in range(len(s)))
-
 
 NUMPY_LA = _NumpyLA()
 MP_LA = _MpLA()
@@ -215,7 +207,7 @@ class LinearFlow:
         self.P = la.arr(np.asarray(model.forcing)[p])
         self.b = lib.num(model.stop.gap)
         self.r = lib.num(model.stop.restitution)
-        Minv = la.inv(M)
+        Minv = self.Minv = la.inv(M)
         Z, I = np.zeros((n, n)), np.eye(n)
         self.A = np.block([[la.arr(Z), la.arr(I)], [-(Minv @ K), -(Minv @ C)]])
         # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
@@ -239,8 +231,6 @@ class LinearFlow:
                     "and the modal form of the flow would lose all accuracy")
             self.Winv = la.inv(self.W)
         self._forcing_cache = {}
-        self.max_re_lambda = max(float(mpmath.re(x)) if la is MP_LA else float(x.real)
-                                 for x in self.lam)
 
     @classmethod
     def of(cls, model, digits=None):
@@ -255,6 +245,13 @@ class LinearFlow:
     @property
     def lib(self):
         return self.la.lib
+
+    @functools.cached_property
+    def mass_scaled(self):
+        """(K~, C~) = L^-1 (K, C) L^-T with M = L L^T (float64): the resonance measure."""
+        Li = np.linalg.inv(np.linalg.cholesky(np.asarray(self.M, dtype=float)))
+        return (Li @ np.asarray(self.K, dtype=float) @ Li.T,
+                Li @ np.asarray(self.C, dtype=float) @ Li.T)
 
     # ---- forcing ---------------------------------------------------------------
     def check_omega(self, omega, name="omega", warn=True):
@@ -308,12 +305,9 @@ class LinearFlow:
         return Forcing(w, re(X), im(X), re(dX), im(dX))
 
     # ---- the homogeneous part --------------------------------------------------
-    def phi(self, t, k=0):
-        """Phi(t) A^k = Re(W diag(lambda^k e^{lambda t}) W^-1), real 2N x 2N."""
-        e = self.la.exp(self.lam * t)
-        if k:
-            e = e * self.lam ** k
-        return self.la.real((self.W * e) @ self.Winv)
+    def phi(self, t):
+        """Phi(t) = e^{A t}, real 2N x 2N."""
+        return self.phis(t, 0)[0]
 
     def phis(self, t, K):
         """[Phi(t) A^k for k = 0..K], one exponential for all."""
@@ -363,9 +357,7 @@ def _resonance(model, w):
     j = int(np.argmin(np.abs(flow.omegas - w)))
     if not model.damped:              # sigma_min(K~ - w^2 I) = min_j |omega_j^2 - w^2|
         return float(np.min(np.abs(flow.omegas ** 2 - w * w))) / (2 * w * w), j
-    L = np.linalg.cholesky(flow.M)
-    Li = np.linalg.inv(L)
-    Kt, Ct = Li @ flow.K @ Li.T, Li @ flow.C @ Li.T
+    Kt, Ct = flow.mass_scaled
     smin = np.linalg.svd(Kt - w * w * np.eye(flow.n) + 1j * w * Ct, compute_uv=False)[-1]
     return smin / (2 * w * w), j
 

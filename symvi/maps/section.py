@@ -14,9 +14,6 @@ import numpy as np
 
 from ..errors import ParameterError
 
-TWO_PI = 2 * math.pi
-
-
 @dataclass(frozen=True)
 class Section:
     """Section layout of one model: names, and conversions to and from the flow state."""
@@ -60,19 +57,14 @@ class Section:
         z[n + 1:] = y[n:2 * n - 1]
         return z, y[2 * n - 1]
 
+    def point(self, z, tau):
+        """y of a flow state z on the section (the inverse of :meth:`state`)."""
+        n = self.n
+        return (z[n], *z[1:n], *z[n + 1:2 * n], tau)
+
     def image(self, z, r, tau):
         """y after an impact in state z (x_k = b): v_k+ = -r v_k-, eq. (2)."""
-        n = self.n
-        return (-r * z[n], *z[1:n], *z[n + 1:2 * n], tau)
-
-    def masses(self, y, b):
-        """Positions and velocities (x, v) in mass order from a section point."""
-        z, _ = self.state(y, b)
-        n = self.n
-        x, v = [None] * n, [None] * n
-        for i, j in enumerate(self.perm):
-            x[j], v[j] = z[i], z[n + i]
-        return x, v
+        return (-r * z[self.n],) + self.point(z, tau)[1:]
 
 
 @functools.lru_cache(maxsize=256)

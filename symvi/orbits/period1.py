@@ -176,14 +176,14 @@ def _line(model, omega, digits):
     return flow, L
 
 
-def _admissibility(flow, omega, z0, tau, vimp):
+def _admissibility(flow, forcing, omega, z0, tau, vimp):
     lib = flow.lib
     if not vimp > 0:
         return False, (f"impact velocity {float(vimp):.6g} <= 0: v{flow.perm[0] + 1}+ = "
                        f"{float(-flow.r * vimp):.6g} is not negative, the mass would not move "
                        "away from the stop")
     T = 2 * lib.pi / omega
-    hit = flow.motion(flow.forcing(omega), z0, tau).first_impact(t_max=2 * T)
+    hit = flow.motion(forcing, z0, tau).first_impact(t_max=2 * T)
     tol = 1e-9 if flow.la is NUMPY_LA else lib.eps ** 0.5
     if hit.status == GRAZING:
         return False, f"grazing contact with the stop at t = {float(hit.t):.9g} < 2 pi/omega"
@@ -228,9 +228,8 @@ def _orbits(model, omega, digits, want_multipliers):
         z0[0] = flow.b                              # exact by construction; remove rounding
         zT = L.Phi @ w + (z0 - w)
         vimp = zT[flow.n]
-        y = tuple(sec.image(z0, 1, tau))            # z0 is already after the impact
-        y = (z0[flow.n],) + y[1:]
-        ok, why = _admissibility(flow, omega, z0, tau, vimp)
+        y = sec.point(z0, tau)                      # z0 is already after the impact
+        ok, why = _admissibility(flow, L.forcing, omega, z0, tau, vimp)
         orb = Orbit(model, omega, branch, y, sec.names, vimp, ok, why, digits=digits)
         if want_multipliers:
             from ..codegen.jets import multipliers_of
