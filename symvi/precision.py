@@ -439,13 +439,23 @@ def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
     Inadmissible orbits are returned with their float64 estimate only.
     """
     from .orbit import period1_orbits
+    return _auto_orbits(
+        period1_orbits(params, omega),
+        lambda o, reuse: estimate_orbit(params, o, reuse=reuse),
+        lambda branch, d: _orbit_on(params, omega, branch, d, True, admissible=False),
+        min_digits, max_digits)
+
+
+def _auto_orbits(orbits, estimate, recompute, min_digits, max_digits):
+    """Each orbit with its estimate, recomputed at higher precision where needed
+    (``estimate(orbit, reuse)``, ``recompute(branch, digits)``; any chain)."""
     out = []
-    for o in period1_orbits(params, omega):
-        est = estimate_orbit(params, o)
+    for o in orbits:
+        est = estimate(o, None)
         if _enough(o, est, min_digits):
             out.append(AutoOrbit(o, est, None, "float64"))
             continue
-        out.append(_escalate_orbit(params, omega, o, est, min_digits, max_digits))
+        out.append(_escalate_orbit(o, est, estimate, recompute, min_digits, max_digits))
     return out
 
 
@@ -455,18 +465,21 @@ def _enough(o, est, min_digits):
                                            est.multipliers.digits >= min_digits)
 
 
-def _escalate_orbit(params, omega, o, est, min_digits, max_digits):
+def _escalate_orbit(o, est, estimate, recompute, min_digits, max_digits):
     kappa = max(est.y.condition, est.multipliers.condition)
+    if not math.isfinite(kappa):
+        msg = est.y.note or est.multipliers.note or "infinite condition"
+        return AutoOrbit(o, _untrust(est, msg), None, "untrusted: " + msg)
     d = max(30, _digits_needed(kappa, min_digits))
     tried = []
     while d <= max_digits:
         tried.append(d)
         try:
-            o2 = _orbit_on(params, omega, o.branch, d, True, admissible=False)
+            o2 = recompute(o.branch, d)
         except SingularCaseError as exc:
             return AutoOrbit(o, _untrust(est, f"mpmath-{d}: {exc}"), None,
                              f"untrusted: {exc}")
-        est2 = estimate_orbit(params, o2, reuse=est)
+        est2 = estimate(o2, est)
         if _enough(o2, est2, min_digits):
             note = (f"float64 gave ~{est.y.digits:.1f} digits; recomputed with mpmath at "
                     f"{d} digits (~{est2.y.digits:.1f} digits)")
@@ -931,31 +944,12 @@ def auto_model_orbits(model, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIG
     trustworthy digits: float64 when its estimate allows, else mpmath at the digits
     the condition asks for; untrusted (value None) past ``max_digits``."""
     from .orbits import period1_orbits
-    out = []
-    for o in period1_orbits(model, omega):
-        est = estimate_model_orbit(model, o)
-        if _enough(o, est, min_digits):
-            out.append(AutoOrbit(o, est, None, "float64"))
-            continue
-        kappa = max(est.y.condition, est.multipliers.condition)
-        if not math.isfinite(kappa):
-            out.append(AutoOrbit(o, _untrust(est, est.y.note or "infinite condition"), None,
-                                 "untrusted"))
-            continue
-        d, done = max(30, _digits_needed(kappa, min_digits)), None
-        while d <= max_digits and done is None:
-            o2 = {x.branch: x for x in period1_orbits(model, omega, digits=d)}.get(o.branch)
-            if o2 is None:
-                break
-            est2 = estimate_model_orbit(model, o2, reuse=est)
-            if _enough(o2, est2, min_digits):
-                note = (f"float64 gave ~{est.y.digits:.1f} digits; recomputed with mpmath at "
-                        f"{d} digits")
-                done = AutoOrbit(o2, OrbitEstimate(_re(est2.y, note), _re(est2.multipliers, note),
-                                                   est2.g_theta, est2.eig_condition,
-                                                   est2.input_condition,
-                                                   est2.input_condition_multipliers), d, note)
-            d *= 2
-        out.append(done or AutoOrbit(o, _untrust(est, f"fewer than {min_digits} digits up to "
-                                                      f"mpmath {max_digits}"), None, "untrusted"))
-    return out
+
+    def recompute(branch, d):
+        o = {x.branch: x for x in period1_orbits(model, omega, digits=d)}.get(branch)
+        if o is None:
+            raise SingularCaseError("no-orbit", "the branch does not exist here")
+        return o
+    return _auto_orbits(period1_orbits(model, omega),
+                        lambda o, reuse: estimate_model_orbit(model, o, reuse=reuse),
+                        recompute, min_digits, max_digits)
