@@ -24,7 +24,7 @@ import numpy as np
 
 from . import _fastflow as ff
 from .errors import SingularCaseError
-from .params import check_omega
+from .flow import check_omega
 from .simulation import fixed_point
 
 NAMES = ("x1dot+", "x2", "x2dot", "tau")

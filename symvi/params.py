@@ -138,13 +138,8 @@ def check_omega(params, omega, name="omega", warn=True):
     """Validate a forcing frequency: finite, > 0 and not at a natural frequency.
 
     Exact resonance omega = omega_j makes A_j of eq. (7) infinite and is refused;
-    within a relative 1e-4 a NearSingularWarning is issued.  A :class:`symvi.Model`
-    is checked by :meth:`symvi.flow.linear.LinearFlow.check_omega`.
+    within a relative 1e-4 a NearSingularWarning is issued.
     """
-    from .model import Model
-    if isinstance(params, Model):
-        from .flow.linear import LinearFlow
-        return LinearFlow.of(params).check_omega(omega, name, warn=warn)
     w = _finite(name, omega)
     if not w > 0:
         raise ParameterError(name, omega, f"{name} > 0 ({OMEGA_RANGE[0]:g} <= {name} <= "

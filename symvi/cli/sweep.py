@@ -29,7 +29,7 @@ def run(args):
     from ..progress import Progress
     from ..simulation import sweep
     params = params_from(args)
-    from ..params import check_omega
+    from ..flow import check_omega
     labels, _, names = section_view(params)
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,

@@ -13,3 +13,14 @@ from .modal2 import Motion as Motion
 from .modal2 import first_impact as first_impact
 from .modal2 import forcing_amplitudes as forcing_amplitudes
 from .modal2 import motion_from as motion_from
+
+
+def check_omega(system, omega, name="omega", warn=True):
+    """A valid forcing frequency for the paper's ``Params`` (:func:`symvi.params.check_omega`)
+    or any ``Model`` (:meth:`symvi.flow.linear.LinearFlow.check_omega`)."""
+    from ..model import Model
+    if isinstance(system, Model):
+        from .linear import LinearFlow
+        return LinearFlow.of(system).check_omega(omega, name, warn=warn)
+    from ..params import check_omega as paper_check
+    return paper_check(system, omega, name, warn=warn)
