@@ -184,6 +184,17 @@ class Forcing:
         s, c = lib.sin(phase), lib.cos(phase)
         return np.concatenate([self.U * s + self.V * c, self.omega * (self.U * c - self.V * s)])
 
+    def zp_phase(self, phase, lib):
+        """d zp / d phi at phase phi."""
+        s, c = lib.sin(phase), lib.cos(phase)
+        return np.concatenate([self.U * c - self.V * s, -self.omega * (self.U * s + self.V * c)])
+
+    def zp_omega(self, phase, lib):
+        """d zp / d omega at fixed phase (U, V and the velocity's factor omega move)."""
+        s, c = lib.sin(phase), lib.cos(phase)
+        return np.concatenate([self.dU * s + self.dV * c,
+                               self.U * c - self.V * s + self.omega * (self.dU * c - self.dV * s)])
+
 
 class LinearFlow:
     """The exact flow of one model in one backend (see the module docstring).
@@ -317,6 +328,17 @@ class LinearFlow:
             out.append(self.la.real((self.W * e) @ self.Winv))
             e = e * self.lam
         return out
+
+    def flight(self, forcing, z0, tau, t):
+        """z(t) of the flight from z0 at phase tau and its first derivatives (variational
+        equations, exact): (z, dz/dz0 = Phi(t), dz/dtau, dz/dt)."""
+        lib = self.lib
+        Phi = self.phi(t)
+        ph = tau + forcing.omega * t
+        zpt, dzpt = forcing.zp(ph, lib), forcing.zp_phase(ph, lib)
+        hom = Phi @ (z0 - forcing.zp(tau, lib))
+        return (hom + zpt, Phi, dzpt - Phi @ forcing.zp_phase(tau, lib),
+                self.A @ hom + forcing.omega * dzpt)
 
     def motion(self, forcing, z0, tau):
         """The free flight from state z0 (stop-first order) at phase tau."""

@@ -1,0 +1,405 @@
+"""Orbits with p impacts in n forcing periods (n-p orbits) of any model, by multiple shooting.
+
+Unknowns u = (y_0, ..., y_{p-1}, t_1, ..., t_p): the section points just after
+each impact (layout of :class:`symvi.maps.Section`, tau not reduced mod 2 pi)
+and the flight times.  Through the exact flow z(t; y) of :mod:`symvi.flow.linear`
+(eq. (19) generalised), with k the stop's mass::
+
+    g_i = x_k(t_{i+1}; y_i) - b = 0                        impact condition, eq. (26)
+    h_i = R(z(t_{i+1}; y_i)) - y_{i+1} = 0                 impact law, eq. (2);
+          y_p = y_0 + 2 pi n e_tau                         n forcing periods in all
+
+p (2N + 1) equations in as many unknowns.  With the times as unknowns the
+system stays regular where an orbit grazes (there the impact map P itself is
+singular, eq. (30)), so a branch can be followed up to and through grazing and
+the grazing point located as a regular zero.  Eliminating each time gives the
+Jacobian of one impact map, DP_i = dh/dy - dh/dt (dg/dt)^-1 dg/dy (the implicit
+function theorem of eq. (30)); their product is the monodromy matrix whose
+eigenvalues are the multipliers.  Second and third derivatives come from the
+generated jets at each impact, composed by the chain rule (:func:`compose`).
+"""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..codegen.layout import tangent_data
+from ..errors import ParameterError, SingularCaseError, SymviError
+from ..flow.linear import GRAZING, IMPACT, LinearFlow
+from ..maps.section import Section
+
+#: Newton: relative size of the last correction at convergence, and iteration limit
+NEWTON_TOL = 1e-11
+NEWTON_MAXIT = 30
+
+
+class ConvergenceError(SymviError):
+    """Newton did not converge; ``residual`` is the smallest residual reached."""
+
+    def __init__(self, message, residual):
+        self.residual = residual
+        super().__init__(message)
+
+
+# --------------------------------------------------------------------------- the system
+class Problem:
+    """G(u; lam) = 0 of the n-p orbits of ``model``, continued in ``param`` (or none).
+
+    ``omega`` is the forcing frequency when ``param`` is not "omega".
+    """
+
+    def __init__(self, model, n, p, omega=None, param=None):
+        _check_np(n, p)
+        self.model, self.n_periods, self.p, self.param = model, int(n), int(p), param
+        self.omega = omega
+        self.sec = Section.of(model)
+        N = model.n
+        self.N, self.d = N, 2 * N
+        # y[:2N-1] = z0[idx] just after an impact (v_k+, x_j, v_j for j != k)
+        self.idx = np.array([N, *range(1, N), *range(N + 1, 2 * N)])
+        if param is not None and param != "omega":
+            model.value(param)            # names the parameter or raises ParameterError
+
+    @property
+    def size(self):
+        return self.p * (self.d + 1)
+
+    def at(self, lam):
+        """(model, omega) at parameter value lam (validated: ParameterError/SingularCaseError)."""
+        if self.param is None:
+            model, omega = self.model, self.omega
+        elif self.param == "omega":
+            model, omega = self.model, lam
+        else:
+            model, omega = self.model.with_(**{self.param: float(lam)}), self.omega
+        flow = LinearFlow.of(model)
+        omega = flow.check_omega(omega, warn=False)
+        return model, flow, flow.forcing(omega)
+
+    def split(self, u):
+        d, p = self.d, self.p
+        return u[:p * d].reshape(p, d), u[p * d:]
+
+    def flights(self, u, lam):
+        """Per impact: (z0, tau, z(t), Phi, dz/dtau, dz/dt) and the (model, flow, forcing)."""
+        model, flow, F = self.at(lam)
+        Y, T = self.split(u)
+        out = []
+        for i in range(self.p):
+            z0, tau = self.sec.state(Y[i], flow.b)
+            out.append((z0, tau) + flow.flight(F, z0, tau, T[i]))
+        return out, (model, flow, F)
+
+    def evaluate(self, u, lam, jac=True, dparam=False):
+        """(G, dG/du, dG/dlam) at (u, lam); the derivatives are None when not asked for."""
+        fl, (model, flow, F) = self.flights(u, lam)
+        d, p, idx, w = self.d, self.p, self.idx, F.omega
+        Y, T = self.split(u)
+        m = self.size
+        G = np.empty(m)
+        sgn = np.ones(d - 1)
+        sgn[0] = -flow.r
+        Gu = np.zeros((m, m)) if jac else None
+        for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+            j = (i + 1) % p
+            target = Y[j].copy()
+            if j == 0:
+                target[-1] += 2 * math.pi * self.n_periods
+            G[i * d:i * d + d - 1] = sgn * z[idx] - target[:-1]
+            G[i * d + d - 1] = tau + w * T[i] - target[-1]
+            G[p * d + i] = z[0] - flow.b
+            if jac:
+                dzdy = np.empty((d, d))
+                dzdy[:, :d - 1] = Phi[:, idx]
+                dzdy[:, d - 1] = dzt
+                r0 = slice(i * d, i * d + d)
+                Gu[r0.start:r0.start + d - 1, i * d:i * d + d] = sgn[:, None] * dzdy[idx]
+                Gu[r0.start + d - 1, i * d + d - 1] = 1.0
+                Gu[r0, j * d:j * d + d] -= np.eye(d)
+                Gu[r0.start:r0.start + d - 1, p * d + i] = sgn * dzdt[idx]
+                Gu[r0.start + d - 1, p * d + i] = w
+                Gu[p * d + i, i * d:i * d + d] = dzdy[0]
+                Gu[p * d + i, p * d + i] = dzdt[0]
+        Gl = self._dparam(fl, model, flow, F, T) if dparam else None
+        return G, Gu, Gl
+
+    def _dparam(self, fl, model, flow, F, T):
+        """dG/dlam at fixed u, exact (omega: dU, dV; any other name: model.tangent)."""
+        d, p, idx, lib = self.d, self.p, self.idx, flow.lib
+        out = np.zeros(self.size)
+        if self.param == "omega":
+            for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+                ph = tau + F.omega * T[i]
+                dz = F.zp_omega(ph, lib) + T[i] * F.zp_phase(ph, lib) - Phi @ F.zp_omega(tau, lib)
+                out[i * d:i * d + d - 1] = dz[idx]
+                out[i * d] *= -flow.r
+                out[i * d + d - 1] = T[i]
+                out[p * d + i] = dz[0]
+            return out
+        tan = model.tangent(self.param)
+        for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+            pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
+            dF = type(F)(F.omega, pU, pV, None, None)
+            ph = tau + F.omega * T[i]
+            dz0 = np.zeros(d)
+            dz0[0] = pb
+            dz = pE0 @ (z0 - F.zp(tau, lib)) + Phi @ (dz0 - dF.zp(tau, lib)) + dF.zp(ph, lib)
+            out[i * d:i * d + d - 1] = dz[idx]
+            out[i * d] = -flow.r * dz[idx[0]] - pr * z[idx[0]]
+            out[p * d + i] = dz[0] - pb
+        return out
+
+    def monodromy(self, u, Gu):
+        """The map Jacobians DP_i (eq. (30): the time eliminated) and their product."""
+        d, p = self.d, self.p
+        mats = []
+        for i in range(p):
+            r0, c0, ct = i * d, i * d, p * d + i
+            dhdy = Gu[r0:r0 + d, c0:c0 + d] + (np.eye(d) if p == 1 else 0)  # minus y_{i+1}
+            dhdt = Gu[r0:r0 + d, ct]
+            dgdy, dgdt = Gu[ct, c0:c0 + d], Gu[ct, ct]
+            if dgdt == 0:
+                raise SingularCaseError("grazing", "the impact velocity is zero: the impact "
+                                        "map's Jacobian (eq. (30)) does not exist")
+            mats.append(dhdy - np.outer(dhdt, dgdy) / dgdt)
+        M = mats[0]
+        for D in mats[1:]:
+            M = D @ M
+        return mats, M
+
+
+def _check_np(n, p):
+    for name, v in (("n", n), ("p", p)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 64:
+            raise ParameterError(name, v, "an integer from 1 to 64")
+
+
+def newton(problem, u, lam, *, tol=NEWTON_TOL, maxit=NEWTON_MAXIT):
+    """Solve G(u; lam) = 0 from u; the converged u, or ConvergenceError with the residual."""
+    u = np.array(u, dtype=float)
+    best = math.inf
+    for _ in range(maxit):
+        G, Gu, _ = problem.evaluate(u, lam)
+        res = float(np.max(np.abs(G)))
+        best = min(best, res)
+        if not np.all(np.isfinite(Gu)):
+            break
+        try:
+            du = np.linalg.solve(Gu, -G)
+        except np.linalg.LinAlgError:
+            raise ConvergenceError(f"the shooting Jacobian is singular at residual {res:.3g} "
+                                   "(a fold or a non-isolated orbit)", res) from None
+        # damp steps that would make a flight time non-positive
+        T = problem.split(u)[1]
+        dT = problem.split(du)[1]
+        a = 1.0
+        while np.any(T + a * dT <= 0) and a > 1e-3:
+            a /= 2
+        u = u + a * du
+        if a == 1.0 and np.max(np.abs(du)) <= tol * (1 + np.max(np.abs(u))):
+            G = problem.evaluate(u, lam, jac=False)[0]
+            res = float(np.max(np.abs(G)))
+            if res <= 1e3 * tol * (1 + np.max(np.abs(u))):
+                return u
+            best = min(best, res)
+    raise ConvergenceError(f"Newton did not converge in {maxit} iterations: the smallest "
+                           f"residual |G| reached was {best:.3g}", best)
+
+
+# --------------------------------------------------------------------------- the orbit
+@dataclass(frozen=True)
+class PeriodicOrbit:
+    """An n-p orbit: p impacts in n forcing periods.
+
+    ``points[i]`` is the section point just after impact i (tau in [0, 2 pi)),
+    ``times[i]`` the flight from it to the next impact, ``impact_velocities[i]``
+    the stop mass's velocity just before that impact (> 0 on the physical branch).
+    """
+
+    model: object = field(repr=False)
+    omega: float
+    n: int
+    p: int
+    points: tuple
+    times: tuple
+    impact_velocities: tuple
+    names: tuple
+    multipliers: tuple
+    stable: bool
+    admissible: bool
+    reason: str
+    residual: float
+    u: np.ndarray = field(repr=False, default=None)
+
+    @property
+    def y(self):
+        return self.points[0]
+
+    def jet(self, order=3):
+        """(A, d2, d3) of P^p at points[0] from the generated jets, composed (d3 None for 2)."""
+        from ..codegen.jets import evaluate
+        flow = LinearFlow.of(self.model)
+        F = flow.forcing(self.omega)
+        Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
+        jets = []
+        for i in range(self.p):
+            v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
+            jets.append((v["J"], v["d2"], v.get("d3") if order >= 3 else None))
+        return compose(jets)
+
+    def as_dict(self):
+        return {"n": self.n, "p": self.p, "omega": self.omega,
+                "y": [float(v) for v in self.y], "names": list(self.names),
+                "points": [[float(v) for v in y] for y in self.points],
+                "times": [float(t) for t in self.times],
+                "impact_velocities": [float(v) for v in self.impact_velocities],
+                "multipliers": [[z.real, z.imag] for z in self.multipliers],
+                "stable": bool(self.stable), "admissible": bool(self.admissible),
+                "reason": self.reason, "residual": self.residual}
+
+
+def compose(jets):
+    """Jet of F_{p-1} o ... o F_0 from the jets (J, d2, d3) of each map at its point (chain
+    rule to third order; d2, d3 full symmetric derivative tensors)."""
+    J, B, C = jets[0]
+    for Jg, Bg, Cg in jets[1:]:
+        B2 = None if B is None else (np.einsum("abc,bi,cj->aij", Bg, J, J)
+                                     + np.einsum("ab,bij->aij", Jg, B))
+        C2 = None
+        if C is not None and Cg is not None:
+            BJ = np.einsum("abc,bij,ck->aijk", Bg, B, J)
+            C2 = (np.einsum("abcd,bi,cj,dk->aijk", Cg, J, J, J) + BJ
+                  + BJ.transpose(0, 1, 3, 2) + BJ.transpose(0, 3, 2, 1)
+                  + np.einsum("ab,bijk->aijk", Jg, C))
+        J, B, C = Jg @ J, B2, C2
+    return J, B, C
+
+
+def eigenvalues(M):
+    ev = np.linalg.eigvals(M)
+    return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
+
+
+def orbit_of(problem, u, lam, Gu=None, admissibility=True):
+    """The :class:`PeriodicOrbit` at a solution u of ``problem`` at lam."""
+    if Gu is None:
+        G, Gu, _ = problem.evaluate(u, lam)
+    else:
+        G = problem.evaluate(u, lam, jac=False)[0]
+    fl, (model, flow, F) = problem.flights(u, lam)
+    Y, T = problem.split(u)
+    _, M = problem.monodromy(u, Gu)
+    mult = eigenvalues(M)
+    vimp = tuple(float(f[2][problem.N]) for f in fl)
+    ok, why = admissible(problem, fl, flow, F, T) if admissibility else (True, "")
+    two_pi = 2 * math.pi
+    pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
+    return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
+                         tuple(float(t) for t in T), vimp, problem.sec.names, mult,
+                         bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
+                         np.array(u, dtype=float))
+
+
+def admissible(problem, fl, flow, F, T):
+    """(ok, reason): every post-impact velocity negative, every flight free of the stop."""
+    N, k = problem.N, flow.perm[0] + 1
+    for i, (z0, tau, z, *_rest) in enumerate(fl):
+        if not T[i] > 0:
+            return False, f"flight {i + 1} has a non-positive duration t = {T[i]:.6g}"
+        if not z[N] > 0:
+            return False, (f"impact {i + 1}: velocity v{k}- = {z[N]:.6g} <= 0, so v{k}+ = "
+                           f"{-flow.r * z[N]:.6g} is not negative (the mass would not leave the stop)")
+        if not z0[N] < 0:
+            return False, f"after impact {i}: v{k}+ = {z0[N]:.6g} is not negative"
+        hit = flow.motion(F, z0, tau).first_impact(t_max=T[i] * (1 + 1e-6))
+        if hit.status == GRAZING and hit.t < T[i] * (1 - 1e-9):
+            return False, f"flight {i + 1} grazes the stop at t = {float(hit.t):.9g}"
+        if hit.status == IMPACT and hit.t < T[i] * (1 - 1e-9):
+            return False, (f"flight {i + 1}: x{k}(t) reaches the stop at t = {float(hit.t):.9g} "
+                           f"< {T[i]:.9g}, the orbit would penetrate the stop")
+    return True, ""
+
+
+# --------------------------------------------------------------------------- the solver
+def _fixed(model, fixed):
+    """(model with the fixed parameters set, omega) from ``**fixed``."""
+    fixed = dict(fixed)
+    if "omega" not in fixed:
+        raise ParameterError("omega", None, "a forcing frequency: pass omega=...")
+    omega = fixed.pop("omega")
+    if fixed:
+        model = model.with_(**fixed)
+    return model, omega
+
+
+def periodic_orbit(model, *, n, p, guess, **fixed):
+    """The n-p orbit of ``model`` (p impacts in n forcing periods) near ``guess``.
+
+    ``fixed`` sets omega (required) and any other named parameter.  ``guess`` is
+    a section point y (the other p - 1 impacts follow from the map), a
+    sequence of p section points, a :class:`PeriodicOrbit`, or a simulation
+    result of :func:`symvi.simulate` (its last p impacts).  Newton on the
+    shooting system of the module docstring; ConvergenceError (with the residual
+    reached) when it does not converge, never an orbit that is not one.
+    """
+    from ..model import Model
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model")
+    model, omega = _fixed(model, fixed)
+    problem = Problem(model, n, p, omega=omega)
+    u0 = initial_guess(problem, guess)
+    u = newton(problem, u0, None)
+    return orbit_of(problem, u, None)
+
+
+def initial_guess(problem, guess):
+    """The unknown vector u from a guess (see :func:`periodic_orbit`)."""
+    from ..maps.impact import step
+    d, p = problem.d, problem.p
+    model, flow, F = problem.at(None)
+    if isinstance(guess, PeriodicOrbit):
+        pts = [np.array(y, dtype=float) for y in guess.points]
+        if len(pts) != p:
+            raise ParameterError("guess", f"a {guess.n}-{guess.p} orbit",
+                                 f"an orbit with p = {p} impacts")
+    elif hasattr(guess, "section"):             # a simulation result
+        sec = np.asarray(guess.section, dtype=float)
+        if sec.ndim != 2 or sec.shape[0] < p or sec.shape[1] != d:
+            raise ParameterError("guess", "simulation", f"at least p = {p} recorded impacts")
+        pts = list(sec[-p:])
+    else:
+        arr = np.asarray(guess, dtype=float) if not isinstance(guess, str) else None
+        if arr is None or arr.ndim not in (1, 2) or arr.shape[-1] != d:
+            raise ParameterError("guess", guess, f"a section point of {d} numbers "
+                                 f"({', '.join(problem.sec.names)}) or {p} of them")
+        pts = [arr] if arr.ndim == 1 else list(arr)
+        if len(pts) not in (1, p):
+            raise ParameterError("guess", f"{len(pts)} points", f"1 or p = {p} section points")
+    # flight times (and the missing points) from the map itself
+    T, Y = [], [np.array(pts[0], dtype=float)]
+    cur = Y[0]
+    for i in range(p):
+        s = step(flow, F, cur)
+        if s.status != IMPACT:
+            raise ConvergenceError(f"the guess does not lead to an impact ({s.status}) "
+                                   f"at impact {i + 1}", math.inf)
+        T.append(float(s.t))
+        nxt = np.array(s.y, dtype=float)
+        nxt[-1] = cur[-1] + F.omega * s.t          # tau unwrapped
+        if i + 1 < p:
+            if len(pts) == p:
+                nxt = np.array(pts[i + 1], dtype=float)
+                nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * s.t)
+            Y.append(nxt)
+        cur = nxt
+    u = np.concatenate([np.concatenate(Y), T])
+    # the total time fixes n: rescale the guess's times to n periods if they are close
+    return u
+
+
+def _unwrap(tau, near):
+    return tau + 2 * math.pi * round((near - tau) / (2 * math.pi))
+
+
+__all__ = ["ConvergenceError", "PeriodicOrbit", "Problem", "compose", "newton",
+           "orbit_of", "periodic_orbit"]
