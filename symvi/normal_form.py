@@ -812,3 +812,55 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, pape
                           f1_printed=red and red.f1_printed, resonance=(m, dist), dlam_dv=dlam,
                           dmod_dv=dmod, paper=red, h11=h11, h20=h20, backend=bk.name,
                           digits=bk.digits, circle=circle)
+
+
+# --------------------------------------------------------------------------- fold and flip
+@dataclass(frozen=True)
+class RealCritical:
+    """A real critical multiplier mu (= +1 or -1) of A with its paired eigenvectors:
+    A q = mu q, ||q||_2 = 1, largest |q_k| positive; A^T p = mu p, <p, q> = 1.
+    ``p`` is the row of V^-1 belonging to mu's own column of V (explicit pairing).
+    ``gap`` is the distance from mu to the other multipliers."""
+
+    mu: float
+    q: np.ndarray
+    p: np.ndarray
+    gap: float
+
+
+def real_critical(A, target):
+    """The multiplier of A nearest ``target`` (+1 fold, -1 flip) and its eigenvectors."""
+    A = np.asarray(A, dtype=float)
+    vals, V = np.linalg.eig(A)
+    k = int(np.argmin(np.abs(vals - target)))
+    q = V[:, k].real.copy()
+    u = np.linalg.inv(V)[k].real
+    j = int(np.argmax(np.abs(q)))
+    q /= np.linalg.norm(q) * np.sign(q[j])
+    p = u / np.dot(u, q)
+    others = np.delete(vals, k)
+    gap = float(np.min(np.abs(others - vals[k]))) if len(others) else math.inf
+    return RealCritical(float(vals[k].real), q, p, gap)
+
+
+def fold_coefficient(A, d2):
+    """Quadratic coefficient a = <p, B(q, q)> / 2 of the fold normal form
+    eta -> eta + a eta^2 + ... (Kuznetsov, Elements, Sec. 5.4 for maps); q, p of
+    :func:`real_critical` at +1.  a != 0: a nondegenerate fold."""
+    e = real_critical(A, 1.0)
+    return float(np.dot(e.p, _B(_symmetrise(np.asarray(d2, float)), e.q, e.q)) / 2), e
+
+
+def flip_coefficient(A, d2, d3):
+    """Period-doubling coefficient of eta -> -eta + c eta^3 + ... (Kuznetsov, Elements,
+    Sec. 5.4): c = <p, C(q,q,q)>/6 + <p, B(q, (I - A)^-1 B(q, q))>/2, q, p of
+    :func:`real_critical` at -1.  c > 0: supercritical (the period-2 orbit is born
+    stable within the centre manifold, on the side where the fixed point is unstable);
+    c < 0: subcritical.  For x -> -x + a x^2 + b x^3 it is b + a^2."""
+    A = np.asarray(A, dtype=float)
+    d2, d3 = _symmetrise(np.asarray(d2, float)), _symmetrise(np.asarray(d3, float))
+    e = real_critical(A, -1.0)
+    Bqq = _B(d2, e.q, e.q)
+    h = np.linalg.solve(np.eye(A.shape[0]) - A, Bqq)
+    c = np.dot(e.p, _C(d3, e.q, e.q, e.q)) / 6 + np.dot(e.p, _B(d2, e.q, h)) / 2
+    return float(c), e

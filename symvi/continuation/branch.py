@@ -1,0 +1,367 @@
+"""Pseudo-arclength continuation of n-p orbits in any named parameter (Keller's method).
+
+X = (u, lam) with u the shooting unknowns of :mod:`symvi.orbits.periodic`.  From a
+point X_j with unit tangent t_j (the kernel of [G_u G_lam], oriented by the
+previous one), the predictor is X_j + h t_j and the corrector Newton on
+
+    G(X) = 0,    t_j . (X - X_j) = h,
+
+whose Jacobian [[G_u, G_lam], [t_j^T]] stays regular at a fold, so the branch
+turns around it.  The step h adapts to the corrector's iteration count and to
+the turning angle of the tangent.  Test functions are evaluated at each point;
+a sign change brackets a special point, located by Brent's method along the
+arclength (each trial point corrected on the hyperplane t_j . (X - X_j) = s),
+see :mod:`symvi.continuation.special`.
+"""
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
+                               newton, orbit_of)
+
+#: corrector: iteration limit and relative step tolerance
+CORR_MAXIT = 8
+CORR_TOL = 1e-11
+#: largest cosine drop between consecutive tangents accepted (else the step is halved)
+MIN_COS = 0.95
+#: relative gap left at a forcing resonance where an omega branch is cut
+RESONANCE_GAP = 1e-6
+#: |1 - e^{i omega_j T}| below which a one-impact branch of an undamped model is cut
+ISOLATION_CUT = 1e-5
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """One point of a branch: the parameter value and the orbit there."""
+
+    value: float
+    orbit: PeriodicOrbit = field(repr=False)
+
+    @property
+    def y(self):
+        return self.orbit.y
+
+    @property
+    def multipliers(self):
+        return self.orbit.multipliers
+
+    @property
+    def stable(self):
+        return self.orbit.stable
+
+    @property
+    def admissible(self):
+        return self.orbit.admissible
+
+    def as_dict(self):
+        return {"value": self.value, "y": [float(v) for v in self.orbit.y],
+                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
+                "stable": bool(self.orbit.stable), "admissible": bool(self.orbit.admissible)}
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """A located special point: ``kind`` is fold, flip, ns, grazing, admissibility,
+    or R3/R4 (strong resonance); ``coefficients`` its normal-form numbers."""
+
+    kind: str
+    value: float
+    orbit: PeriodicOrbit = field(repr=False)
+    coefficients: dict
+    detail: str
+    index: int = 0              # the branch point after which it lies
+
+    def as_dict(self):
+        return {"kind": self.kind, "value": self.value,
+                "y": [float(v) for v in self.orbit.y],
+                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
+                "coefficients": {k: (float(v) if isinstance(v, (int, float, np.floating))
+                                     else v) for k, v in self.coefficients.items()},
+                "detail": self.detail}
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A continued branch of n-p orbits: points in arclength order, special points
+    located on it, and why it ended."""
+
+    param: str
+    n: int
+    p: int
+    points: tuple
+    special: tuple
+    end: str
+    notes: tuple = ()
+    problem: Problem = field(repr=False, default=None)
+    states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
+
+    def __len__(self):
+        return len(self.points)
+
+    @property
+    def values(self):
+        return np.array([pt.value for pt in self.points])
+
+    def as_dict(self):
+        return {"param": self.param, "orbit": f"{self.n}-{self.p}",
+                "points": [pt.as_dict() for pt in self.points],
+                "special": [s.as_dict() for s in self.special],
+                "end": self.end, "notes": list(self.notes)}
+
+
+# --------------------------------------------------------------------------- entry point
+def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p=1,
+                    h=None, h_max=None, max_points=5000, locate=True, **fixed):
+    """Continue an n-p orbit of ``model`` in the named parameter ``param`` from ``start``
+    towards ``stop`` (the interval between them bounds the branch).
+
+    The first orbit is ``orbit`` (a :class:`PeriodicOrbit` or a period-1
+    :class:`symvi.orbits.Orbit`), or the solution near ``guess``, or else the
+    first admissible period-1 orbit at ``start``.  ``fixed`` sets the other
+    parameters, omega included when it is not ``param``.  Returns a
+    :class:`Branch`; see the module docstring.
+    """
+    from .special import Tracker
+    problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed)
+    lo, hi = sorted((float(start), float(stop)))
+    if not hi > lo:
+        raise ParameterError("stop", stop, f"a value != start = {start!r}")
+    lo, hi, cut = _resonance_bounds(problem, float(start), lo, hi)
+    span = hi - lo
+    # arclength mixes the parameter and the orbit (whose size sets the scale)
+    h_max = float(h_max) if h_max is not None else span / 25 + 0.05
+    h = float(h) if h is not None else min(h_max, span / 100)
+    direction = 1.0 if float(stop) > float(start) else -1.0
+    return _run(problem, X0, direction, lo, hi, h, h_max, max_points, cut,
+                Tracker(problem) if locate else None)
+
+
+def _start(model, param, start, stop, orbit, guess, n, p, fixed):
+    from ..model import Model
+    from ..orbits.period1 import Orbit
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model")
+    for name, v in (("start", start), ("stop", stop)):
+        try:
+            ok = math.isfinite(float(v))
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError(name, v, "a finite real number")
+    fixed = dict(fixed)
+    if param == "omega":
+        if "omega" in fixed:
+            raise ParameterError("omega", fixed["omega"], "not fixed: it is the continued "
+                                 "parameter")
+        omega = None
+    else:
+        if param not in model.parameter_names() and not _indexed(model, param):
+            raise ParameterError("param", param, "omega or a named parameter of the model: "
+                                 + ", ".join(model.parameter_names()))
+        if "omega" not in fixed:
+            raise ParameterError("omega", None, f"a fixed forcing frequency when continuing "
+                                 f"in {param} (--set omega=...)")
+        omega = fixed.pop("omega")
+        if param in fixed:
+            raise ParameterError(param, fixed[param], "not fixed: it is the continued parameter")
+    if fixed:
+        model = model.with_(**fixed)
+    if param != "omega":
+        model = model.with_(**{param: float(start)})
+    if isinstance(orbit, PeriodicOrbit):
+        n, p = orbit.n, orbit.p
+    problem = Problem(model, n, p, omega=omega, param=param)
+    lam0 = float(start)
+    problem.at(lam0)                                # validates the start
+    if isinstance(orbit, Orbit):
+        guess = orbit.y
+    elif isinstance(orbit, PeriodicOrbit):
+        guess = orbit
+    if guess is None:
+        if (n, p) != (1, 1):
+            raise ParameterError("guess", None, f"a guess for a {n}-{p} orbit (a section "
+                                 "point, a simulation or an orbit)")
+        from ..orbits.period1 import admissible_orbits
+        m, flow, F = problem.at(lam0)
+        orbs = admissible_orbits(m, float(F.omega), multipliers=False)
+        if not orbs:
+            raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at "
+                                    f"{param} = {lam0!r}")
+        guess = orbs[0].y
+    fix = Problem(problem.model, n, p, omega=lam0 if param == "omega" else omega)
+    u0 = newton(fix, initial_guess(fix, guess), None)
+    return problem, np.append(u0, lam0)
+
+
+def _indexed(model, name):
+    try:
+        model.value(name)
+        return True
+    except SymviError:
+        return False
+
+
+def _resonance_bounds(problem, start, lo, hi):
+    """An omega interval cut short of the undamped natural frequencies on either side of
+    ``start`` (the steady-state response is infinite there): (lo, hi, cut or None)."""
+    if problem.param != "omega" or problem.model.damped:
+        return lo, hi, None
+    from ..flow.linear import LinearFlow
+    cut = None
+    for w in (float(w) for w in LinearFlow.of(problem.model).omegas):
+        if start < w < hi:
+            hi, cut = w * (1 - RESONANCE_GAP), w
+        elif lo < w < start:
+            lo, cut = w * (1 + RESONANCE_GAP), w
+    return lo, hi, cut
+
+
+# --------------------------------------------------------------------------- the loop
+def _tangent(Gu, Gl, t_prev):
+    m = Gu.shape[0]
+    A = np.empty((m + 1, m + 1))
+    A[:m, :m], A[:m, m], A[m] = Gu, Gl, t_prev
+    rhs = np.zeros(m + 1)
+    rhs[m] = 1.0
+    t = np.linalg.solve(A, rhs)
+    return t / np.linalg.norm(t)
+
+
+def correct(problem, Xp, t, c):
+    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
+    X = Xp.copy()
+    m = problem.size
+    A = np.empty((m + 1, m + 1))
+    for it in range(1, CORR_MAXIT + 1):
+        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
+        A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
+        F = np.append(G, np.dot(t, X) - c)
+        try:
+            dX = np.linalg.solve(A, -F)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(dX)):
+            return None
+        X = X + dX
+        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
+            G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
+            if np.max(np.abs(G)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
+                return X, Gu, Gl, it
+            return None
+    return None
+
+
+def _run(problem, X, direction, lo, hi, h, h_max, max_points, cut, tracker):
+    m = problem.size
+    G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
+    e = np.zeros(m + 1)
+    e[m] = direction
+    t = _tangent(Gu, Gl, e)
+    h_min = 1e-9 * (hi - lo)
+    scale0 = 1 + np.max(np.abs(X[:m]))
+    states, points = [X], [BranchPoint(float(X[m]), orbit_of(problem, X[:m], X[m], Gu))]
+    if tracker:
+        tracker.start(X, t, Gu, points[0])
+    end, notes = "", []
+    while len(points) < max_points:
+        Xp = X + h * t
+        lam = Xp[m]
+        if lam > hi or lam < lo:                   # land exactly on the bound
+            bound = hi if lam > hi else lo
+            if abs(X[m] - bound) <= 1e-12 * (1 + abs(bound)):
+                end = f"reached {problem.param} = {bound:.12g}"
+                break
+            h = (bound - X[m]) / t[m]
+            res = _on_value(problem, X + h * t, bound)
+            if res is None:
+                h = h / 2
+                if h < h_min:
+                    end = "the corrector failed at the parameter bound"
+                    break
+                continue
+            Xn, Gu, Gl = res
+        else:
+            try:
+                res = correct(problem, Xp, t, np.dot(t, X) + h)
+            except SymviError as exc:
+                res, why = None, str(exc)
+            else:
+                why = "the corrector did not converge"
+            if res is None:
+                h /= 2
+                if h < h_min:
+                    end = f"step below {h_min:.2g}: {why}"
+                    break
+                continue
+            Xn, Gu, Gl, its = res
+        tn = _tangent(Gu, Gl, t)
+        if np.dot(tn, t) < MIN_COS and h > h_min:
+            h /= 2
+            continue
+        pt = BranchPoint(float(Xn[m]), orbit_of(problem, Xn[:m], Xn[m], Gu))
+        if tracker:
+            tracker.step(X, t, Xn, tn, Gu, pt, len(points))
+        X, t = Xn, tn
+        states.append(X)
+        points.append(pt)
+        if len(res) == 4:
+            # the step may grow with the orbit's size (towards a resonance it diverges)
+            cap = h_max * (1 + np.max(np.abs(X[:m]))) / scale0
+            its = res[3]
+            h = min(cap, h * (1.5 if its <= 2 else 1.0 if its <= 4 else 0.6))
+        why = _not_isolated(problem, X)
+        if why:
+            end = why
+            break
+        if abs(X[m] - hi) <= 1e-12 * (1 + abs(hi)) or abs(X[m] - lo) <= 1e-12 * (1 + abs(lo)):
+            if len(points) > 1:
+                end = f"reached {problem.param} = {X[m]:.12g}"
+                break
+    else:
+        end = f"max_points = {max_points} reached"
+    if cut and abs(X[m] - cut) <= 1e-2 * cut:
+        end = (f"forcing resonance: the branch is cut at omega = {X[m]:.12g}, next to the "
+               f"natural frequency {cut:.12g} of an undamped mode (the steady-state response "
+               f"is infinite there)" + (f"; {end}" if not end.startswith("reached") else ""))
+    if problem.model.conservative:
+        notes.append("conservative model (r = 1, no damping): the map preserves volume, "
+                     "multipliers lie on the unit circle over whole intervals; no "
+                     "Neimark-Sacker point is sought")
+    special = tuple(tracker.special) if tracker else ()
+    return Branch(problem.param, problem.n_periods, problem.p, tuple(points), special, end,
+                  tuple(notes), problem, tuple(states))
+
+
+def _not_isolated(problem, X):
+    """A reason to cut a one-impact branch where an undamped mode's period divides the
+    orbit's: |1 - e^{i omega_j T}| -> 0 (eq. (15): 1 - cos(2 pi omega_j / omega) = 0), the
+    orbit is not isolated there and its amplitude diverges."""
+    if problem.p != 1 or problem.model.damped:
+        return ""
+    model, flow, F = problem.at(X[-1])
+    if model.damped:
+        return ""
+    T = float(X[problem.d])
+    d = np.abs(2 * np.sin(np.asarray(flow.omegas, dtype=float) * T / 2))
+    j = int(np.argmin(d))
+    if d[j] < ISOLATION_CUT:
+        return (f"not isolated: |1 - exp(i omega_{j + 1} T)| = {d[j]:.2g} at {problem.param} = "
+                f"{X[-1]:.12g} (T = {T:.12g}, omega_{j + 1} = {float(flow.omegas[j]):.12g}): an "
+                "undamped mode's period divides the orbit's, the orbit's amplitude diverges "
+                "(1 - cos(2 pi omega_j / omega) -> 0 in eq. (15)); the branch is cut")
+    return ""
+
+
+def _on_value(problem, Xp, lam):
+    """Solve G(u; lam) = 0 at a fixed parameter value (the last point, on the bound)."""
+    m = problem.size
+    try:
+        u = newton(problem, Xp[:m], lam)
+        G, Gu, Gl = problem.evaluate(u, lam, dparam=True)
+    except SymviError:
+        return None
+    return np.append(u, lam), Gu, Gl

@@ -1,0 +1,268 @@
+"""Test functions along a branch, and the location and normal forms of its special points.
+
+At each point, with mu_i the multipliers (eigenvalues of the monodromy matrix)
+and t the unit tangent of :mod:`symvi.continuation.branch`:
+
+* fold:  psi = t_lam, the parameter component of the tangent (the branch turns);
+* flip:  psi = prod_i (mu_i + 1) = det(M + I);
+* NS:    psi = prod_{i<j} (mu_i mu_j - 1) = det(M (.) M - I), the bialternate product
+  (also zero at a neutral saddle, mu_i mu_j = 1 with both real: discarded on location);
+* grazing, first kind: the velocity of each impact, v_k- (-> 0: the mass arrives at the
+  stop with zero velocity);
+* grazing, second kind: the largest interior maximum of x_k(t) - b over each flight
+  (-> 0: the flight touches the stop with zero velocity), evaluated only where the
+  orbit's admissibility changes.
+
+A sign change between two points is located by Brent's method in the arclength s,
+each trial point corrected on the hyperplane t_a . (X - X_a) = s, to |ds| <= 1e-14 (s).
+Coefficients (all with ||q||_2 = 1 and <p, q> = 1, p the adjoint vector paired with
+q explicitly, :func:`symvi.normal_form.real_critical`):
+
+* fold: a = <p, B(q, q)> / 2 of eta -> eta + a eta^2;
+* flip: c of eta -> -eta + c eta^3 (c > 0 supercritical), :func:`symvi.normal_form.flip_coefficient`;
+* NS: l1 = Re(e^{-i theta} c1) (Kuznetsov), :func:`symvi.normal_form.normal_form`.
+
+B, C are the second and third derivatives of P^p from the generated jets, composed.
+"""
+import math
+import warnings
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from ..errors import NearSingularWarning, SymviError
+from ..normal_form import flip_coefficient, fold_coefficient, normal_form
+from ..orbits.periodic import orbit_of
+from .branch import SpecialPoint, _tangent, correct
+
+#: strong resonances reported beside an NS point when |lambda^m - 1| is below this
+STRONG_RESONANCE_NEAR = 1e-2
+
+
+def _sign_change(a, b):
+    return a is not None and b is not None and (a > 0) != (b > 0) and a != b
+
+
+class Tracker:
+    """Evaluates the test functions point by point and locates their zeros."""
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.special = []
+        self.prev = None
+
+    # ---- test functions -----------------------------------------------------------
+    def _conservative(self, lam):
+        return self.problem.at(lam)[0].conservative
+
+    def psi(self, X, t, orbit):
+        mu = np.array(orbit.multipliers)
+        out = {"fold": float(t[-1]), "flip": float(np.prod(mu + 1).real)}
+        if not self._conservative(X[-1]):
+            iu = np.triu_indices(len(mu), 1)
+            out["ns"] = float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
+        for i, v in enumerate(orbit.impact_velocities):
+            out[f"v{i}"] = v
+        return out
+
+    def start(self, X, t, Gu, pt):
+        self.prev = (X, t, self.psi(X, t, pt.orbit), pt)
+
+    def step(self, Xa, ta, Xb, tb, Gu, pt, index):
+        pa, pta = self.prev[2], self.prev[3]
+        pb = self.psi(Xb, tb, pt.orbit)
+        self.prev = (Xb, tb, pb, pt)
+        graze = False
+        for key in pa:
+            if key.startswith("v") and _sign_change(pa[key], pb.get(key)):
+                graze = True
+                self._try(key, Xa, ta, Xb, index)
+        # through a grazing impact the map's Jacobian has a pole (eq. (30)): the
+        # multiplier test functions change sign there without a bifurcation
+        for kind in ("fold",) if graze else ("fold", "flip", "ns"):
+            if _sign_change(pa.get(kind), pb.get(kind)):
+                self._try(kind, Xa, ta, Xb, index)
+        if pta.admissible != pt.admissible and not graze:
+            bad = Xb if pta.admissible else Xa
+            self._try("interior", Xa, ta, Xb, index, bad=bad,
+                      why=(pt if pta.admissible else pta).orbit.reason)
+
+    # ---- location -----------------------------------------------------------------
+    def _try(self, kind, Xa, ta, Xb, index, **kw):
+        try:
+            sp = self._locate(kind, Xa, ta, Xb, index, **kw)
+        except (SymviError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
+            lam = 0.5 * (Xa[-1] + Xb[-1])
+            orbit = orbit_of(self.problem, Xb[:-1], Xb[-1])
+            sp = SpecialPoint("unlocated", float(lam), orbit, {},
+                              f"a {kind} test function changes sign between "
+                              f"{Xa[-1]:.12g} and {Xb[-1]:.12g}, but locating it failed: {exc}",
+                              index)
+        if sp is not None:
+            self.special.append(sp)
+
+    def _point(self, Xa, ta, Xb, s):
+        m = self.problem.size
+        sb = float(np.dot(ta, Xb - Xa))
+        Xp = Xa + (s / sb) * (Xb - Xa)
+        res = correct(self.problem, Xp, ta, float(np.dot(ta, Xa)) + s)
+        if res is None:
+            raise RuntimeError(f"the corrector failed at arclength {s:.3g}")
+        X, Gu, Gl, _ = res
+        return X, _tangent(Gu, Gl, ta), Gu, m
+
+    def _root(self, f, Xa, ta, Xb):
+        sb = float(np.dot(ta, Xb - Xa))
+        cache = {}
+
+        def g(s):
+            X, t, Gu, m = self._point(Xa, ta, Xb, s)
+            cache[s] = (X, t, Gu)
+            return f(X, t, Gu)
+        s = brentq(g, 0.0, sb, xtol=1e-14 * max(1.0, abs(sb)), rtol=8.9e-16)
+        if s not in cache:
+            g(s)
+        return cache[s]
+
+    def _orbit(self, X, Gu, admissibility=True):
+        m = self.problem.size
+        return orbit_of(self.problem, X[:m], X[m], Gu, admissibility=admissibility)
+
+    def _locate(self, kind, Xa, ta, Xb, index, bad=None, why=""):
+        pr, m = self.problem, self.problem.size
+        if kind == "fold":
+            X, t, Gu = self._root(lambda X, t, Gu: t[-1], Xa, ta, Xb)
+            orbit = self._orbit(X, Gu)
+            A, d2, _ = orbit.jet(2)
+            a, e = fold_coefficient(A, d2)
+            return SpecialPoint("fold", float(X[m]), orbit,
+                                {"a": a, "multiplier": e.mu, "gap": e.gap},
+                                "a multiplier through +1: the branch turns (saddle-node); "
+                                f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
+                                "<p,q> = 1)", index)
+        if kind == "flip":
+            X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
+            orbit = self._orbit(X, Gu)
+            A, d2, d3 = orbit.jet(3)
+            c, e = flip_coefficient(A, d2, d3)
+            crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
+            return SpecialPoint("flip", float(X[m]), orbit,
+                                {"c": c, "multiplier": e.mu, "gap": e.gap},
+                                f"a multiplier through -1: period doubling to a "
+                                f"{2 * pr.n_periods}-{2 * pr.p} orbit, {crit} doubled orbit "
+                                f"(eta -> -eta + c eta^3, c = {c:.6g}, ||q|| = 1, <p,q> = 1)",
+                                index)
+        if kind == "ns":
+            X, t, Gu = self._root(lambda X, t, Gu: self._bialt(X, Gu), Xa, ta, Xb)
+            orbit = self._orbit(X, Gu)
+            mu = np.array(orbit.multipliers)
+            crit = min(mu, key=lambda z: abs(abs(z) - 1))
+            if abs(crit.imag) <= 1e-8:
+                return None                       # a neutral saddle, not a bifurcation
+            return self._ns(X, orbit, index, Xa, Xb)
+        if kind.startswith("v"):
+            i = int(kind[1:])
+            X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i), Xa, ta, Xb)
+            orbit = self._orbit(X, Gu, admissibility=False)
+            return SpecialPoint("grazing", float(X[m]), orbit,
+                                {"impact": i + 1, "impact_velocity": self._vimp(X, i)},
+                                f"impact {i + 1} of the orbit arrives with zero velocity "
+                                "(grazing impact): the impact velocity changes sign and the "
+                                "orbit is not admissible beyond", index)
+        # admissibility lost inside a flight: locate the interior tangency
+        i, val, tm = self._worst_flight(bad)
+        if val is None or val < -1e-9:
+            lam = 0.5 * (Xa[-1] + Xb[-1])
+            return SpecialPoint("admissibility", float(lam), self._orbit(bad, None),
+                                {}, f"the orbit's admissibility changes between "
+                                f"{Xa[-1]:.12g} and {Xb[-1]:.12g}: {why}", index)
+        X, t, Gu = self._root(lambda X, t, Gu: self._interior(X, i)[0], Xa, ta, Xb)
+        h, tm = self._interior(X, i)
+        orbit = self._orbit(X, Gu, admissibility=False)
+        return SpecialPoint("grazing", float(X[m]), orbit,
+                            {"flight": i + 1, "t": tm, "duration": orbit.times[i]},
+                            f"flight {i + 1} touches the stop with zero velocity at t = "
+                            f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
+                            "orbit penetrates the stop beyond", index)
+
+    def _ns(self, X, orbit, index, Xa, Xb):
+        m = self.problem.size
+        A, d2, d3 = orbit.jet(3)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NearSingularWarning)
+            nf = normal_form(A, d2, d3, paper=False)
+        # explicit pairing check: p is the adjoint vector of lambda1 itself
+        res = float(np.linalg.norm(A.T @ nf.p - np.conj(nf.lam) * nf.p))
+        pq = complex(np.vdot(nf.p, nf.q))
+        if res > 1e-6 * np.linalg.norm(A) * np.linalg.norm(nf.p) or abs(pq - 1) > 1e-8:
+            raise RuntimeError(f"adjoint eigenvector not paired with q (residual {res:.2g})")
+        mod_a = self._crit_mod(Xa)
+        mod_b = self._crit_mod(Xb)
+        dmod = (mod_b - mod_a) / (Xb[-1] - Xa[-1])
+        mres, dist = nf.resonance
+        l1 = float(nf.l1)
+        kind = "supercritical (l1 < 0: a stable invariant circle)" if l1 < 0 else \
+            "subcritical (l1 > 0: an unstable invariant circle)"
+        detail = (f"a complex pair through |lambda| = 1 at theta/2pi = "
+                  f"{float(nf.theta) / (2 * math.pi):.9g}: Neimark-Sacker, {kind}")
+        if mres <= 4 and float(dist) < STRONG_RESONANCE_NEAR:
+            detail += f"; close to the strong resonance R{mres} (|lambda^{mres} - 1| = " \
+                      f"{float(dist):.2g})"
+        return SpecialPoint("ns", float(X[m]), orbit,
+                            {"l1": l1, "theta": float(nf.theta),
+                             "c1_re": float(complex(nf.c1).real),
+                             "c1_im": float(complex(nf.c1).imag),
+                             "dmod_dparam": dmod, "adjoint_residual": res,
+                             "normalisation": "||q||_2 = 1, <p,q> = 1, l1 = Re(e^{-i theta} c1)"},
+                            detail, index)
+
+    # ---- scalar functions of a point ----------------------------------------------
+    def _mono(self, X, Gu):
+        return self.problem.monodromy(X[:-1], Gu)[1]
+
+    def _mu_prod(self, X, Gu, sign):
+        return float(np.linalg.det(self._mono(X, Gu) + sign * np.eye(self.problem.d)))
+
+    def _bialt(self, X, Gu):
+        mu = np.linalg.eigvals(self._mono(X, Gu))
+        iu = np.triu_indices(len(mu), 1)
+        return float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
+
+    def _crit_mod(self, X):
+        G, Gu, _ = self.problem.evaluate(X[:-1], X[-1])
+        mu = np.linalg.eigvals(self._mono(X, Gu))
+        cands = [z for z in mu if abs(z.imag) > 1e-12] or list(mu)
+        return float(abs(min(cands, key=lambda z: abs(abs(z) - 1))))
+
+    def _vimp(self, X, i):
+        fl, _ = self.problem.flights(X[:-1], X[-1])
+        return float(fl[i][2][self.problem.N])
+
+    def _interior(self, X, i):
+        """(max over the interior of flight i of x_k(t) - b, where): its local maxima only."""
+        pr = self.problem
+        fl, (model, flow, F) = pr.flights(X[:-1], X[-1])
+        z0, tau = fl[i][0], fl[i][1]
+        T = float(pr.split(X[:-1])[1][i])
+        mo = flow.motion(F, z0, tau)
+        fast = max(float(np.max(np.abs(flow.lam))), float(F.omega))
+        k = int(min(20000, max(400, 20 * T * fast / (2 * math.pi))))
+        ts = np.linspace(0.0, T, k + 1)
+        hs = np.array([mo.h(t)[0] for t in ts])
+        best, where = None, None
+        for j in range(1, k):
+            if hs[j] >= hs[j - 1] and hs[j] >= hs[j + 1]:
+                r = minimize_scalar(lambda t: -mo.h(t)[0], bounds=(ts[j - 1], ts[j + 1]),
+                                    method="bounded", options={"xatol": 1e-13 * T})
+                v = -float(r.fun)
+                if best is None or v > best:
+                    best, where = v, float(r.x)
+        return (best if best is not None else -math.inf), where
+
+    def _worst_flight(self, X):
+        best = (None, None, None)
+        for i in range(self.problem.p):
+            v, t = self._interior(X, i)
+            if math.isfinite(v) and (best[1] is None or v > best[1]):
+                best = (i, v, t)
+        return best
