@@ -98,6 +98,7 @@ class Branch:
     notes: tuple = ()
     problem: Problem = field(repr=False, default=None)
     states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
+    bounds: tuple = (None, None)
 
     def __len__(self):
         return len(self.points)
@@ -135,9 +136,58 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     # arclength mixes the parameter and the orbit (whose size sets the scale)
     h_max = float(h_max) if h_max is not None else span / 25 + 0.05
     h = float(h) if h is not None else min(h_max, span / 100)
-    direction = 1.0 if float(stop) > float(start) else -1.0
-    return _run(problem, X0, direction, lo, hi, h, h_max, max_points, cut,
+    e = np.zeros(problem.size + 1)
+    e[-1] = 1.0 if float(stop) > float(start) else -1.0
+    return _run(problem, X0, e, lo, hi, h, h_max, max_points, cut,
                 Tracker(problem) if locate else None)
+
+
+def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, locate=True):
+    """The period-doubled branch (2n-2p orbits) born at a located flip point of ``branch``,
+    continued within the branch's parameter bounds, away from the flip.
+
+    At the flip the doubled system G2(u2; lam) = 0 (the n-p orbit traversed twice) has a
+    one-dimensional kernel phi of dG2/du2 (the multiplier -1 of P^p is +1 of P^2p); the
+    doubled branch leaves tangent to (phi, 0).  The first point solves G2 = 0 on the
+    hyperplane (phi, 0) . (X - X*) = h, phi taken orthogonal to the primary branch.
+    """
+    if not isinstance(special, SpecialPoint) or special.kind != "flip":
+        raise ParameterError("special", getattr(special, "kind", special), "a flip point of "
+                             "the branch (kind 'flip')")
+    pr, lam = branch.problem, special.value
+    Y, T = pr.split(special.orbit.u)
+    Y2 = Y.copy()
+    Y2[:, -1] += 2 * math.pi * pr.n_periods
+    u2 = np.concatenate([Y.ravel(), Y2.ravel(), T, T])
+    pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.param)
+    m2 = pr2.size
+    G, Gu, Gl = pr2.evaluate(u2, lam, dparam=True)
+    phi = np.linalg.svd(Gu)[2][-1]
+    # the primary branch's tangent, doubled, and phi made orthogonal to it
+    _, Gu1, Gl1 = pr.evaluate(special.orbit.u, lam, dparam=True)
+    t1 = np.linalg.svd(np.column_stack([Gu1, Gl1]))[2][-1]
+    tY, tT = pr.split(t1[:-1])
+    t2 = np.concatenate([tY.ravel(), tY.ravel(), tT, tT, [t1[-1]]])
+    t2 /= np.linalg.norm(t2)
+    e = np.append(phi, 0.0)
+    e -= np.dot(e, t2) * t2
+    e /= np.linalg.norm(e)
+    X0 = np.append(u2, lam)
+    lo, hi = branch.bounds
+    step = h if h is not None else 1e-3 * (1 + np.max(np.abs(u2)))
+    for _ in range(12):
+        res = correct(pr2, X0 + step * e, e, np.dot(e, X0) + step)
+        if res is not None and abs(res[0][-1] - lam) > 1e-14 * (1 + abs(lam)):
+            break
+        step *= 2
+    else:
+        raise ConvergenceError("no period-doubled orbit found next to the flip point at "
+                               f"{pr.param} = {lam:.12g}", math.inf)
+    from .special import Tracker
+    X1 = res[0]
+    hh = h_max if h_max is not None else (hi - lo) / 25 + 0.05
+    return _run(pr2, X1, e, lo, hi, min(hh, (hi - lo) / 100), hh, max_points, None,
+                Tracker(pr2) if locate else None)
 
 
 def _start(model, param, start, stop, orbit, guess, n, p, fixed):
@@ -255,11 +305,10 @@ def correct(problem, Xp, t, c):
     return None
 
 
-def _run(problem, X, direction, lo, hi, h, h_max, max_points, cut, tracker):
+def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker):
+    """Continue from X, the first tangent oriented along e, within lo <= lam <= hi."""
     m = problem.size
     G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
-    e = np.zeros(m + 1)
-    e[m] = direction
     t = _tangent(Gu, Gl, e)
     h_min = 1e-9 * (hi - lo)
     scale0 = 1 + np.max(np.abs(X[:m]))
@@ -333,7 +382,7 @@ def _run(problem, X, direction, lo, hi, h, h_max, max_points, cut, tracker):
                      "Neimark-Sacker point is sought")
     special = tuple(tracker.special) if tracker else ()
     return Branch(problem.param, problem.n_periods, problem.p, tuple(points), special, end,
-                  tuple(notes), problem, tuple(states))
+                  tuple(notes), problem, tuple(states), (lo, hi))
 
 
 def _not_isolated(problem, X):

@@ -352,6 +352,37 @@ def periodic_orbit(model, *, n, p, guess, **fixed):
     return orbit_of(problem, u, None)
 
 
+def detect_period(sim, p_max=16, tol=1e-6):
+    """(n, p) of the periodic attractor a simulation has converged to: the smallest p with
+    y_{-1} = y_{-1-p} (tau mod 2 pi) to ``tol``, n from the time between them; None if none."""
+    sec, t = np.asarray(sim.section, dtype=float), np.asarray(sim.t, dtype=float)
+    two_pi = 2 * math.pi
+    scale = 1 + np.max(np.abs(sec[-1, :-1]))
+    for p in range(1, min(p_max, len(sec) - 1) + 1):
+        a, b = sec[-1], sec[-1 - p]
+        dtau = abs((a[-1] - b[-1] + math.pi) % two_pi - math.pi)
+        if np.max(np.abs(a[:-1] - b[:-1])) <= tol * scale and dtau <= tol:
+            n = (t[-1] - t[-1 - p]) * sim.omega / two_pi
+            if abs(n - round(n)) <= 1e-4 and round(n) >= 1:
+                return int(round(n)), p
+    return None
+
+
+def from_simulation(sim, *, p_max=16, tol=1e-6):
+    """The n-p orbit a simulation (:func:`symvi.simulate` of a Model) has converged to,
+    refined by Newton; ConvergenceError when the run has not settled on a periodic orbit."""
+    from ..model import Model
+    if not isinstance(sim.params, Model):
+        raise ParameterError("sim", "a paper-preset simulation", "a simulation of a "
+                             "symvi.Model (use Model.luo_xie for the paper's model)")
+    found = detect_period(sim, p_max, tol)
+    if found is None:
+        raise ConvergenceError(f"the simulation has not settled on a periodic orbit of at "
+                               f"most {p_max} impacts (to {tol:g})", math.inf)
+    n, p = found
+    return periodic_orbit(sim.params, n=n, p=p, guess=sim, omega=sim.omega)
+
+
 def initial_guess(problem, guess):
     """The unknown vector u from a guess (see :func:`periodic_orbit`)."""
     from ..maps.impact import step
@@ -401,5 +432,5 @@ def _unwrap(tau, near):
     return tau + 2 * math.pi * round((near - tau) / (2 * math.pi))
 
 
-__all__ = ["ConvergenceError", "PeriodicOrbit", "Problem", "compose", "newton",
-           "orbit_of", "periodic_orbit"]
+__all__ = ["ConvergenceError", "PeriodicOrbit", "Problem", "compose", "detect_period",
+           "from_simulation", "newton", "orbit_of", "periodic_orbit"]
