@@ -145,3 +145,43 @@ def circle_loglog(mu, measured, predicted=None, names=LABELS, title=""):
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     return fig
+
+
+#: marker and colour of each special-point kind on a branch plot
+_SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o", "tab:green"),
+                  "grazing": ("v", "tab:purple"), "admissibility": ("x", "tab:gray"),
+                  "unlocated": ("x", "k")}
+
+
+def branches(items, param, component=0, ylabel=None, title="", ax=None):
+    """Continued branches: section coordinate ``component`` of each impact point against the
+    parameter; stable solid, unstable dashed, inadmissible dotted grey; special points
+    marked and labelled.  ``items`` are :class:`symvi.continuation.Branch` objects."""
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(7, 4.2))
+    for br in items:
+        lam = np.array([pt.value for pt in br.points])
+        Y = np.array([[y[component] for y in pt.orbit.points] for pt in br.points])
+        stab = np.array([pt.stable for pt in br.points])
+        adm = np.array([pt.admissible for pt in br.points])
+        for j in range(Y.shape[1]):
+            for mask, style in ((adm & stab, dict(ls="-", color="k", lw=1.4)),
+                                (adm & ~stab, dict(ls="--", color="k", lw=1.0)),
+                                (~adm, dict(ls=":", color="0.6", lw=0.8))):
+                ax.plot(lam, np.where(mask, Y[:, j], np.nan), **style)
+        for sp in br.special:
+            mk, col = _SPECIAL_STYLE.get(sp.kind, ("*", "k"))
+            for y in sp.orbit.points:
+                ax.plot(sp.value, y[component], mk, color=col, ms=6, mfc="none")
+            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G"}.get(
+                sp.kind, sp.kind), (sp.value, sp.orbit.points[0][component]),
+                textcoords="offset points", xytext=(4, 4), fontsize=7, color=col)
+    ax.set_xlabel(param if param != "omega" else r"$\omega$")
+    ax.set_ylabel(ylabel or f"y[{component}]")
+    if title:
+        ax.set_title(title, fontsize=9)
+    if own:
+        fig.tight_layout()
+        return fig
+    return ax

@@ -13,7 +13,8 @@ import sys
 from ..errors import ParameterError, SymviError
 
 #: subcommand modules, in the order ``symvi --help`` lists them
-COMMANDS = ["orbit", "regenerate", "hopf", "simulate", "sweep", "run", "reproduce"]
+COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "simulate", "sweep", "run",
+            "reproduce"]
 
 
 class _Parser(argparse.ArgumentParser):

@@ -77,6 +77,7 @@ class SpecialPoint:
 
     def as_dict(self):
         return {"kind": self.kind, "value": self.value,
+                "admissible": bool(self.orbit.admissible),
                 "y": [float(v) for v in self.orbit.y],
                 "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
                 "coefficients": {k: (float(v) if isinstance(v, (int, float, np.floating))
@@ -116,14 +117,16 @@ class Branch:
 
 # --------------------------------------------------------------------------- entry point
 def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p=1,
-                    h=None, h_max=None, max_points=5000, locate=True, **fixed):
+                    h=None, h_max=None, max_points=5000, locate=True, through=False, **fixed):
     """Continue an n-p orbit of ``model`` in the named parameter ``param`` from ``start``
     towards ``stop`` (the interval between them bounds the branch).
 
     The first orbit is ``orbit`` (a :class:`PeriodicOrbit` or a period-1
     :class:`symvi.orbits.Orbit`), or the solution near ``guess``, or else the
     first admissible period-1 orbit at ``start``.  ``fixed`` sets the other
-    parameters, omega included when it is not ``param``.  Returns a
+    parameters, omega included when it is not ``param``.  The branch ends where its
+    orbit stops being admissible (the grazing point located), unless ``through``:
+    then it is followed on, its points marked inadmissible.  Returns a
     :class:`Branch`; see the module docstring.
     """
     from .special import Tracker
@@ -139,10 +142,11 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     e = np.zeros(problem.size + 1)
     e[-1] = 1.0 if float(stop) > float(start) else -1.0
     return _run(problem, X0, e, lo, hi, h, h_max, max_points, cut,
-                Tracker(problem) if locate else None)
+                Tracker(problem) if locate else None, through)
 
 
-def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, locate=True):
+def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, locate=True,
+                   through=False):
     """The period-doubled branch (2n-2p orbits) born at a located flip point of ``branch``,
     continued within the branch's parameter bounds, away from the flip.
 
@@ -187,7 +191,7 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     X1 = res[0]
     hh = h_max if h_max is not None else (hi - lo) / 25 + 0.05
     return _run(pr2, X1, e, lo, hi, min(hh, (hi - lo) / 100), hh, max_points, None,
-                Tracker(pr2) if locate else None)
+                Tracker(pr2) if locate else None, through)
 
 
 def _start(model, param, start, stop, orbit, guess, n, p, fixed):
@@ -305,7 +309,7 @@ def correct(problem, Xp, t, c):
     return None
 
 
-def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker):
+def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker, through=True):
     """Continue from X, the first tangent oriented along e, within lo <= lam <= hi."""
     m = problem.size
     G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
@@ -365,6 +369,10 @@ def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker):
         why = _not_isolated(problem, X)
         if why:
             end = why
+            break
+        if not through and points[-2].admissible and not pt.admissible:
+            end = (f"the orbit stops being admissible near {problem.param} = {pt.value:.12g} "
+                   f"({pt.orbit.reason}); the point beyond is kept, marked inadmissible")
             break
         if abs(X[m] - hi) <= 1e-12 * (1 + abs(hi)) or abs(X[m] - lo) <= 1e-12 * (1 + abs(lo)):
             if len(points) > 1:
