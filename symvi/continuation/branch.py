@@ -290,8 +290,9 @@ def correct(problem, Xp, t, c):
     X = Xp.copy()
     m = problem.size
     A = np.empty((m + 1, m + 1))
+    problem.at(X[m])                      # validates the predicted parameter value once
     for it in range(1, CORR_MAXIT + 1):
-        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
+        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
         A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
         F = np.append(G, np.dot(t, X) - c)
         try:
@@ -302,7 +303,8 @@ def correct(problem, Xp, t, c):
             return None
         X = X + dX
         if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
-            G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
+            # the residual is checked at the final X; the derivatives, O(|dX|) away, are kept
+            G = problem.evaluate(X[:m], X[m], jac=False, check=False)[0]
             if np.max(np.abs(G)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
                 return X, Gu, Gl, it
             return None

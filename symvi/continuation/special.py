@@ -53,7 +53,7 @@ class Tracker:
 
     # ---- test functions -----------------------------------------------------------
     def _conservative(self, lam):
-        return self.problem.at(lam)[0].conservative
+        return self.problem.at(lam, check=False)[0].conservative
 
     def psi(self, X, t, orbit):
         mu = np.array(orbit.multipliers)

@@ -52,6 +52,8 @@ class Problem:
         _check_np(n, p)
         self.model, self.n_periods, self.p, self.param = model, int(n), int(p), param
         self.omega = omega
+        self._flow = None
+        self._last = None
         self.sec = Section.of(model)
         N = model.n
         self.N, self.d = N, 2 * N
@@ -64,35 +66,45 @@ class Problem:
     def size(self):
         return self.p * (self.d + 1)
 
-    def at(self, lam):
-        """(model, omega) at parameter value lam (validated: ParameterError/SingularCaseError)."""
+    def at(self, lam, check=True):
+        """(model, flow, forcing) at parameter value lam; ``check`` validates omega
+        (ParameterError / SingularCaseError at a forcing resonance)."""
         if self.param is None:
             model, omega = self.model, self.omega
         elif self.param == "omega":
             model, omega = self.model, lam
         else:
             model, omega = self.model.with_(**{self.param: float(lam)}), self.omega
-        flow = LinearFlow.of(model)
-        omega = flow.check_omega(omega, warn=False)
+        if model is self.model:
+            flow = self._flow
+            if flow is None:
+                flow = self._flow = LinearFlow.of(model)
+        else:
+            flow = LinearFlow.of(model)
+        omega = flow.check_omega(omega, warn=False) if check else float(omega)
         return model, flow, flow.forcing(omega)
 
     def split(self, u):
         d, p = self.d, self.p
         return u[:p * d].reshape(p, d), u[p * d:]
 
-    def flights(self, u, lam):
+    def flights(self, u, lam, check=True):
         """Per impact: (z0, tau, z(t), Phi, dz/dtau, dz/dt) and the (model, flow, forcing)."""
-        model, flow, F = self.at(lam)
+        key = (np.asarray(u, dtype=float).tobytes(), lam)
+        if self._last is not None and self._last[0] == key:   # a point is asked for twice
+            return self._last[1]
+        model, flow, F = self.at(lam, check)
         Y, T = self.split(u)
         out = []
         for i in range(self.p):
             z0, tau = self.sec.state(Y[i], flow.b)
             out.append((z0, tau) + flow.flight(F, z0, tau, T[i]))
+        self._last = (key, (out, (model, flow, F)))
         return out, (model, flow, F)
 
-    def evaluate(self, u, lam, jac=True, dparam=False):
+    def evaluate(self, u, lam, jac=True, dparam=False, check=True):
         """(G, dG/du, dG/dlam) at (u, lam); the derivatives are None when not asked for."""
-        fl, (model, flow, F) = self.flights(u, lam)
+        fl, (model, flow, F) = self.flights(u, lam, check)
         d, p, idx, w = self.d, self.p, self.idx, F.omega
         Y, T = self.split(u)
         m = self.size
@@ -178,8 +190,9 @@ def newton(problem, u, lam, *, tol=NEWTON_TOL, maxit=NEWTON_MAXIT):
     """Solve G(u; lam) = 0 from u; the converged u, or ConvergenceError with the residual."""
     u = np.array(u, dtype=float)
     best = math.inf
+    problem.at(lam)                      # validates the parameters once
     for _ in range(maxit):
-        G, Gu, _ = problem.evaluate(u, lam)
+        G, Gu, _ = problem.evaluate(u, lam, check=False)
         res = float(np.max(np.abs(G)))
         best = min(best, res)
         if not np.all(np.isfinite(Gu)):
@@ -197,7 +210,7 @@ def newton(problem, u, lam, *, tol=NEWTON_TOL, maxit=NEWTON_MAXIT):
             a /= 2
         u = u + a * du
         if a == 1.0 and np.max(np.abs(du)) <= tol * (1 + np.max(np.abs(u))):
-            G = problem.evaluate(u, lam, jac=False)[0]
+            G = problem.evaluate(u, lam, jac=False, check=False)[0]
             res = float(np.max(np.abs(G)))
             if res <= 1e3 * tol * (1 + np.max(np.abs(u))):
                 return u
@@ -285,8 +298,8 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     if Gu is None:
         G, Gu, _ = problem.evaluate(u, lam)
     else:
-        G = problem.evaluate(u, lam, jac=False)[0]
-    fl, (model, flow, F) = problem.flights(u, lam)
+        G = problem.evaluate(u, lam, jac=False, check=False)[0]
+    fl, (model, flow, F) = problem.flights(u, lam, check=False)
     Y, T = problem.split(u)
     _, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
@@ -356,6 +369,8 @@ def detect_period(sim, p_max=16, tol=1e-6):
     """(n, p) of the periodic attractor a simulation has converged to: the smallest p with
     y_{-1} = y_{-1-p} (tau mod 2 pi) to ``tol``, n from the time between them; None if none."""
     sec, t = np.asarray(sim.section, dtype=float), np.asarray(sim.t, dtype=float)
+    if sec.ndim != 2 or len(sec) < 2:
+        return None
     two_pi = 2 * math.pi
     scale = 1 + np.max(np.abs(sec[-1, :-1]))
     for p in range(1, min(p_max, len(sec) - 1) + 1):
