@@ -11,3 +11,4 @@ python benchmarks/bench_ceiling.py
 python benchmarks/bench_jets_n.py > benchmarks/results_jets_n.md
 python benchmarks/bench_simulate_n.py > benchmarks/results_simulate_n.md
 python benchmarks/stress.py
+python benchmarks/bench_continue.py > benchmarks/results_continue.md
