@@ -1,0 +1,79 @@
+"""``symvi continue``: the JSON contract, plots, starts from a simulation, one-line errors."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+from symvi.cli import main
+from symvi.model import dumps
+
+from ..continuation.models import ONE_DAMPED
+
+PRESET = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
+
+
+def _run(*args):
+    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
+
+
+def test_json_contract_and_plot(tmp_path, capsys):
+    png = tmp_path / "b.png"
+    assert main(["continue", *PRESET, "--param", "omega", "--from", "1.3", "--to", "1.1",
+                 "--json", "--plot", str(png)]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["param"] == "omega"
+    pt = d["points"][0]
+    assert set(pt) >= {"value", "y", "multipliers", "stable", "admissible"}
+    assert len(pt["y"]) == 4 and len(pt["multipliers"]) == 4
+    kinds = {s["kind"] for s in d["special"]}
+    assert {"flip", "ns"} <= kinds
+    for s in d["special"]:
+        assert set(s) >= {"kind", "value", "y", "multipliers", "coefficients", "detail"}
+    ns = [s for s in d["special"] if s["kind"] == "ns"][0]
+    assert abs(ns["value"] - 1.12405893783818) < 1e-9 and ns["coefficients"]["l1"] < 0
+    assert png.stat().st_size > 10000
+
+
+def test_model_file_other_parameter_and_switch(tmp_path, capsys):
+    f = tmp_path / "one.toml"
+    f.write_text(dumps(ONE_DAMPED))
+    assert main(["continue", "--model", str(f), "--param", "omega", "--from", "2.0",
+                 "--to", "3.0", "--switch", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    orbits = [b["orbit"] for b in d["branches"]]
+    assert orbits[0] == "1-1" and "2-2" in orbits
+    assert main(["continue", "--model", str(f), "--param", "restitution", "--from", "0.8",
+                 "--to", "0.6", "--set", "omega=2.5", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["param"] == "restitution" and d["points"][-1]["value"] <= 0.8
+
+
+def test_from_section_starts_on_the_simulated_orbit(tmp_path, capsys):
+    f = tmp_path / "one.toml"
+    f.write_text(dumps(ONE_DAMPED))
+    npz = tmp_path / "s.npz"
+    assert main(["simulate", "--model", str(f), "--omega", "2.69", "--impacts", "200",
+                 "--transient", "3000", "--out", str(npz)]) == 0
+    capsys.readouterr()
+    assert main(["continue", "--model", str(f), "--param", "omega", "--from", "2.66",
+                 "--to", "2.72", "--from-section", str(npz), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert all(b["orbit"] == "2-2" for b in d["branches"])
+    sec = np.load(npz)["section"]
+    start = [p for p in d["points"] if abs(p["value"] - 2.69) < 1e-12][0]
+    assert min(np.max(np.abs(np.array(start["y"]) - s)) for s in sec[-2:]) < 1e-8
+
+
+def test_errors_are_one_line_exit_2(tmp_path):
+    bad = [["--param", "nonsense", "--from", "1", "--to", "2", "--set", "omega=1"],
+           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--orbit", "x-1"],
+           ["--param", "b", "--from", "1.4", "--to", "1.6"],
+           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--set", "b"],
+           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--from-section",
+            str(tmp_path / "missing.npz")]]
+    for args in bad:
+        r = _run("continue", *PRESET, *args)
+        assert r.returncode == 2, (args, r.stderr)
+        assert r.stderr.count("\n") == 1 and r.stderr.startswith("symvi: error:"), r.stderr
+        assert "Traceback" not in r.stderr
