@@ -102,7 +102,7 @@ def sections(section, title="", fixed_point=None, projections=PROJECTIONS, marke
 
 
 def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kinds=None,
-                        labels=LABELS):
+                        labels=LABELS, curves=None):
     """Section coordinate ``component`` of the stored points against omega.
 
     ``section`` is (m, n, 4) as in :class:`symvi.simulation.Sweep`.
@@ -115,6 +115,13 @@ def bifurcation_diagram(omegas, section, counts=None, component=0, title="", kin
     Y = sec[:, :, component].ravel()
     ok = np.isfinite(Y)
     ax.scatter(X[ok], Y[ok], s=0.3, color="k", lw=0, rasterized=True)
+    if curves:                     # continued branches over the brute-force diagram
+        branches(curves, "omega", ax=ax)
+        ax.set_xlim(om.min(), om.max())
+        if ok.any():               # keep the diagram's scale; branches may run far off
+            lo, hi = Y[ok].min(), Y[ok].max()
+            pad = 0.15 * (hi - lo) + 1e-3 * (1 + abs(hi))
+            ax.set_ylim(lo - pad, hi + pad)
     ax.set_xlabel(r"$\omega$")
     ax.set_ylabel(labels[component])
     if title:
@@ -153,32 +160,32 @@ _SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o
                   "unlocated": ("x", "k")}
 
 
-def branches(items, param, component=0, ylabel=None, title="", ax=None):
-    """Continued branches: section coordinate ``component`` of each impact point against the
-    parameter; stable solid, unstable dashed, inadmissible dotted grey; special points
-    marked and labelled.  ``items`` are :class:`symvi.continuation.Branch` objects."""
+def branches(curves, param, ylabel=None, title="", ax=None):
+    """Continued branches (the plain data of :meth:`symvi.continuation.Branch.curve`):
+    each impact point's coordinate against the parameter; stable solid, unstable
+    dashed, inadmissible dotted grey; special points marked and labelled."""
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(7, 4.2))
-    for br in items:
-        lam = np.array([pt.value for pt in br.points])
-        Y = np.array([[y[component] for y in pt.orbit.points] for pt in br.points])
-        stab = np.array([pt.stable for pt in br.points])
-        adm = np.array([pt.admissible for pt in br.points])
+    for c in curves:
+        lam = np.asarray(c["values"], dtype=float)
+        Y = np.asarray(c["Y"], dtype=float).reshape(len(lam), -1)
+        stab = np.asarray(c["stable"], dtype=bool)
+        adm = np.asarray(c["admissible"], dtype=bool)
         for j in range(Y.shape[1]):
-            for mask, style in ((adm & stab, dict(ls="-", color="k", lw=1.4)),
-                                (adm & ~stab, dict(ls="--", color="k", lw=1.0)),
+            for mask, style in ((adm & stab, dict(ls="-", color="tab:blue", lw=1.4)),
+                                (adm & ~stab, dict(ls="--", color="tab:blue", lw=1.0)),
                                 (~adm, dict(ls=":", color="0.6", lw=0.8))):
                 ax.plot(lam, np.where(mask, Y[:, j], np.nan), **style)
-        for sp in br.special:
-            mk, col = _SPECIAL_STYLE.get(sp.kind, ("*", "k"))
-            for y in sp.orbit.points:
-                ax.plot(sp.value, y[component], mk, color=col, ms=6, mfc="none")
-            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G"}.get(
-                sp.kind, sp.kind), (sp.value, sp.orbit.points[0][component]),
-                textcoords="offset points", xytext=(4, 4), fontsize=7, color=col)
+        for kind, value, ys in c["special"]:
+            mk, col = _SPECIAL_STYLE.get(kind, ("*", "k"))
+            for y in ys:
+                ax.plot(value, y, mk, color=col, ms=6, mfc="none")
+            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G"}.get(kind, kind),
+                        (value, ys[0]), textcoords="offset points", xytext=(4, 4), fontsize=7,
+                        color=col)
     ax.set_xlabel(param if param != "omega" else r"$\omega$")
-    ax.set_ylabel(ylabel or f"y[{component}]")
+    ax.set_ylabel(ylabel or "")
     if title:
         ax.set_title(title, fontsize=9)
     if own:

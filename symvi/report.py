@@ -119,6 +119,7 @@ def _draw(figures, p):
     if kind == "bifurcation":
         return figures.bifurcation_diagram(a["omega"], a["section"], a["counts"],
                                            component=p.output.spec["component"], title=title,
+                                           curves=p.result.get("curves"),
                                            **({"labels": view["labels"]} if view else {}))
     if kind == "circle_check":
         return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title,
@@ -293,6 +294,15 @@ def _part(p):
     elif k == "bifurcation":
         L += [f"{r['steps']} frequencies, {r['impacts']} points each after {r['transient']}; run "
               f"stops: {r['stops']}.", ""]
+        if r.get("special") is not None:
+            L += ["Continued branches (stable solid, unstable dashed, inadmissible dotted) and "
+                  "their special points, located by `symvi continue`:", "",
+                  "| orbit | kind | omega | coefficients | admissible |", "|---|---|---|---|---|"]
+            L += [f"| {s['orbit']} | {s['kind']} | {s['value']:.12g} | "
+                  + ", ".join(f"{k} = {v:.6g}" for k, v in s["coefficients"].items()
+                              if k in ("l1", "c", "a", "theta"))
+                  + f" | {'yes' if s['admissible'] else 'no'} |" for s in r["special"]]
+            L += [""]
     elif k == "circle_check":
         L += _circle_table(r)
     elif k == "mpcheck":

@@ -111,7 +111,8 @@ KINDS = {
                         transient=Field("int", 2000, check=_int_range(0, 10_000_000)),
                         quick_steps=Field("int", None, check=_int_range(2, 100_000)),
                         quick_transient=Field("int", None, check=_int_range(0, 10_000_000)),
-                        component=Field("int", 0, check=_int_range(0, 3))),
+                        component=Field("int", 0, check=_int_range(0, 3)),
+                        branches=Field("bool", False)),
     # measured vs predicted circle size for v = v_c + mu
     "circle_check": dict(omega_min=_OMEGA, omega_max=_OMEGA,
                          mu=Field("numbers", None),
@@ -415,7 +416,7 @@ def paper_scenes():
 ENTRY = {"multipliers": ("orbit",),
          "hopf": ("hopf",),
          "section": ("simulation", "diagnostics"),
-         "bifurcation": ("simulation",),
+         "bifurcation": ("simulation", "continuation"),
          "circle_check": ("circle_check",),
          "audit": ("paper.audit",),
          "numbers": ("paper.audit", "diagnostics"),
@@ -774,9 +775,23 @@ def _bifurcation(params, spec, quick, scene):
     stops = {}
     for s in sw.stops:
         stops[s] = stops.get(s, 0) + 1
-    return ({"omega": [spec["omega_min"], spec["omega_max"]], "steps": steps, "transient": tr,
-             "impacts": spec["impacts"], "stops": stops, "quick_note": note,
-             "impacts_total": sw.impacts_total},
+    res = {"omega": [spec["omega_min"], spec["omega_max"]], "steps": steps, "transient": tr,
+           "impacts": spec["impacts"], "stops": stops, "quick_note": note,
+           "impacts_total": sw.impacts_total}
+    if spec["branches"]:
+        # the continued branches and their special points, drawn over the diagram
+        from .continuation import period1_branches
+        from .model import Model
+        model = params if isinstance(params, Model) else Model.luo_xie(
+            params.mu_m, params.mu_k, params.f2, params.b, params.r)
+        brs = period1_branches(model, spec["omega_min"], spec["omega_max"])
+        res["curves"] = [b.curve(spec["component"]) for b in brs]
+        res["special"] = [{"orbit": f"{b.n}-{b.p}", "kind": sp.kind, "value": sp.value,
+                           "coefficients": {k: v for k, v in sp.coefficients.items()
+                                            if isinstance(v, float)},
+                           "admissible": bool(sp.orbit.admissible), "detail": sp.detail}
+                          for b in brs for sp in b.special]
+    return (res,
             {"omega": np.asarray(sw.omegas), "section": np.asarray(sw.section),
              "counts": np.asarray(sw.counts)})
 

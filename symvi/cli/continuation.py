@@ -91,7 +91,7 @@ def _section_start(path, model, n, p):
 def run(args):
     import warnings
 
-    from ..continuation import continue_branch, switch_at_flip
+    from ..continuation import continue_branch, same_branch, switch_at_flip
     from ..errors import NearSingularWarning, ParameterError
     from ..orbits.periodic import detect_period
     model = _model(args)
@@ -104,7 +104,6 @@ def run(args):
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
     lo, hi = sorted((args.start, args.stop))
-    starts = []                      # (start value, stop values, guess)
     if args.start_omega is not None:
         if args.param != "omega":
             raise ParameterError("--start-omega", args.start_omega, "only with --param omega "
@@ -170,7 +169,7 @@ def run(args):
                 br = continue_branch(model, args.param, a, stop, guess=guess, n=n, p=p,
                                      max_points=args.max_points, through=args.through,
                                      **fixed)
-                if not any(_same(br, other) for other in branches):
+                if not any(same_branch(br, other) for other in branches):
                     branches.append(br)
         if args.switch:
             for br in list(branches):
@@ -185,7 +184,7 @@ def run(args):
     if args.plot:
         from .. import figures
         names = branches[0].points[0].orbit.names
-        fig = figures.branches(branches, args.param, 0, ylabel=names[0],
+        fig = figures.branches([b.curve(0) for b in branches], args.param, ylabel=names[0],
                                title=f"{describe(model)}  ({args.param} continuation)")
         figures.save(fig, args.plot)
     if args.json:
@@ -206,19 +205,6 @@ def run(args):
     if args.plot:
         print(f"\nplot: {args.plot}")
     return 0
-
-
-def _same(a, b):
-    """Whether branch a retraces b (the two period-1 orbits at A joined through a fold)."""
-    import numpy as np
-    if (a.n, a.p) != (b.n, b.p):
-        return False
-    end = a.points[-1]
-    for pt in b.points:
-        if abs(pt.value - end.value) <= 1e-9 * (1 + abs(end.value)) and \
-                np.allclose(pt.y, end.y, atol=1e-7):
-            return True
-    return False
 
 
 def _as_json(param, branches, plot):

@@ -16,6 +16,9 @@ def register(sub):
     p.add_argument("--out", required=True,
                    help="output: .npz (omegas, section (m,n,4), counts, stops) or .png/.pdf")
     p.add_argument("--plot", help="also draw the diagram to this .png/.pdf")
+    p.add_argument("--branches", action="store_true",
+                   help="overlay the continued period-1 branches (stable solid, unstable "
+                        "dashed), their period-doubled branches and special points")
     p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
                    help="progress bar on stderr (auto: when stderr is a terminal)")
     return p
@@ -58,16 +61,28 @@ def run(args):
                 np.savez(fh, omegas=res.omegas, section=res.section, counts=res.counts,
                          stops=np.array(res.stops), starts=res.starts,
                          transient=res.transient, names=np.array(names), **data_key(params))
+    curves, special = None, []
+    if args.branches:
+        from ..continuation import period1_branches
+        from ..model import Model
+        model = params if isinstance(params, Model) else Model.luo_xie(
+            params.mu_m, params.mu_k, params.f2, params.b, params.r)
+        brs = period1_branches(model, args.omega_min, args.omega_max)
+        curves = [b.curve(args.component) for b in brs]
+        special = [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special]
     if figs:
         from .. import figures
         title = describe(params)
         for path in figs:
             fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,
                                               component=args.component, title=title,
-                                              labels=labels)
+                                              labels=labels, curves=curves)
             figures.save(fig, path)
     stops = {s: res.stops.count(s) for s in sorted(set(res.stops))}
-    print_json({"steps": len(omegas), "omega_min": args.omega_min, "omega_max": args.omega_max,
-                "impacts": args.impacts, "transient": args.transient, "stops": stops,
-                "outputs": [p for p in (data, *figs) if p]})
+    out = {"steps": len(omegas), "omega_min": args.omega_min, "omega_max": args.omega_max,
+           "impacts": args.impacts, "transient": args.transient, "stops": stops,
+           "outputs": [p for p in (data, *figs) if p]}
+    if args.branches:
+        out["special"] = special
+    print_json(out)
     return 0

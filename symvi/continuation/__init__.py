@@ -1,6 +1,8 @@
 """Continuation of n-p orbits in any named parameter, with their special points located."""
-from .branch import Branch as Branch
-from .branch import BranchPoint as BranchPoint
-from .branch import SpecialPoint as SpecialPoint
+from .points import Branch as Branch
+from .points import BranchPoint as BranchPoint
+from .points import SpecialPoint as SpecialPoint
 from .branch import continue_branch as continue_branch
 from .branch import switch_at_flip as switch_at_flip
+from .branch import period1_branches as period1_branches
+from .branch import same_branch as same_branch

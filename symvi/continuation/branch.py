@@ -14,105 +14,21 @@ arclength (each trial point corrected on the hyperplane t_j . (X - X_j) = s),
 see :mod:`symvi.continuation.special`.
 """
 import math
-import warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from ..errors import ParameterError, SingularCaseError, SymviError
 from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
                                newton, orbit_of)
+from .points import Branch, BranchPoint, SpecialPoint, correct, tangent
+from .special import Tracker
 
-#: corrector: iteration limit and relative step tolerance
-CORR_MAXIT = 8
-CORR_TOL = 1e-11
 #: largest cosine drop between consecutive tangents accepted (else the step is halved)
 MIN_COS = 0.95
 #: relative gap left at a forcing resonance where an omega branch is cut
 RESONANCE_GAP = 1e-6
 #: |1 - e^{i omega_j T}| below which a one-impact branch of an undamped model is cut
 ISOLATION_CUT = 1e-5
-
-
-@dataclass(frozen=True)
-class BranchPoint:
-    """One point of a branch: the parameter value and the orbit there."""
-
-    value: float
-    orbit: PeriodicOrbit = field(repr=False)
-
-    @property
-    def y(self):
-        return self.orbit.y
-
-    @property
-    def multipliers(self):
-        return self.orbit.multipliers
-
-    @property
-    def stable(self):
-        return self.orbit.stable
-
-    @property
-    def admissible(self):
-        return self.orbit.admissible
-
-    def as_dict(self):
-        return {"value": self.value, "y": [float(v) for v in self.orbit.y],
-                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
-                "stable": bool(self.orbit.stable), "admissible": bool(self.orbit.admissible)}
-
-
-@dataclass(frozen=True)
-class SpecialPoint:
-    """A located special point: ``kind`` is fold, flip, ns, grazing, admissibility,
-    or R3/R4 (strong resonance); ``coefficients`` its normal-form numbers."""
-
-    kind: str
-    value: float
-    orbit: PeriodicOrbit = field(repr=False)
-    coefficients: dict
-    detail: str
-    index: int = 0              # the branch point after which it lies
-
-    def as_dict(self):
-        return {"kind": self.kind, "value": self.value,
-                "admissible": bool(self.orbit.admissible),
-                "y": [float(v) for v in self.orbit.y],
-                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
-                "coefficients": {k: (float(v) if isinstance(v, (int, float, np.floating))
-                                     else v) for k, v in self.coefficients.items()},
-                "detail": self.detail}
-
-
-@dataclass(frozen=True)
-class Branch:
-    """A continued branch of n-p orbits: points in arclength order, special points
-    located on it, and why it ended."""
-
-    param: str
-    n: int
-    p: int
-    points: tuple
-    special: tuple
-    end: str
-    notes: tuple = ()
-    problem: Problem = field(repr=False, default=None)
-    states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
-    bounds: tuple = (None, None)
-
-    def __len__(self):
-        return len(self.points)
-
-    @property
-    def values(self):
-        return np.array([pt.value for pt in self.points])
-
-    def as_dict(self):
-        return {"param": self.param, "orbit": f"{self.n}-{self.p}",
-                "points": [pt.as_dict() for pt in self.points],
-                "special": [s.as_dict() for s in self.special],
-                "end": self.end, "notes": list(self.notes)}
 
 
 # --------------------------------------------------------------------------- entry point
@@ -129,7 +45,6 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     then it is followed on, its points marked inadmissible.  Returns a
     :class:`Branch`; see the module docstring.
     """
-    from .special import Tracker
     problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed)
     lo, hi = sorted((float(start), float(stop)))
     if not hi > lo:
@@ -164,7 +79,6 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     Y2[:, -1] += 2 * math.pi * pr.n_periods
     u2 = np.concatenate([Y.ravel(), Y2.ravel(), T, T])
     pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.param)
-    m2 = pr2.size
     G, Gu, Gl = pr2.evaluate(u2, lam, dparam=True)
     phi = np.linalg.svd(Gu)[2][-1]
     # the primary branch's tangent, doubled, and phi made orthogonal to it
@@ -187,7 +101,6 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     else:
         raise ConvergenceError("no period-doubled orbit found next to the flip point at "
                                f"{pr.param} = {lam:.12g}", math.inf)
-    from .special import Tracker
     X1 = res[0]
     hh = h_max if h_max is not None else (hi - lo) / 25 + 0.05
     return _run(pr2, X1, e, lo, hi, min(hh, (hi - lo) / 100), hh, max_points, None,
@@ -275,47 +188,11 @@ def _resonance_bounds(problem, start, lo, hi):
 
 
 # --------------------------------------------------------------------------- the loop
-def _tangent(Gu, Gl, t_prev):
-    m = Gu.shape[0]
-    A = np.empty((m + 1, m + 1))
-    A[:m, :m], A[:m, m], A[m] = Gu, Gl, t_prev
-    rhs = np.zeros(m + 1)
-    rhs[m] = 1.0
-    t = np.linalg.solve(A, rhs)
-    return t / np.linalg.norm(t)
-
-
-def correct(problem, Xp, t, c):
-    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
-    X = Xp.copy()
-    m = problem.size
-    A = np.empty((m + 1, m + 1))
-    problem.at(X[m])                      # validates the predicted parameter value once
-    for it in range(1, CORR_MAXIT + 1):
-        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
-        A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
-        F = np.append(G, np.dot(t, X) - c)
-        try:
-            dX = np.linalg.solve(A, -F)
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(dX)):
-            return None
-        X = X + dX
-        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
-            # the residual is checked at the final X; the derivatives, O(|dX|) away, are kept
-            G = problem.evaluate(X[:m], X[m], jac=False, check=False)[0]
-            if np.max(np.abs(G)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
-                return X, Gu, Gl, it
-            return None
-    return None
-
-
 def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker, through=True):
     """Continue from X, the first tangent oriented along e, within lo <= lam <= hi."""
     m = problem.size
     G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
-    t = _tangent(Gu, Gl, e)
+    t = tangent(Gu, Gl, e)
     h_min = 1e-9 * (hi - lo)
     scale0 = 1 + np.max(np.abs(X[:m]))
     states, points = [X], [BranchPoint(float(X[m]), orbit_of(problem, X[:m], X[m], Gu))]
@@ -353,7 +230,7 @@ def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker, through=True
                     break
                 continue
             Xn, Gu, Gl, its = res
-        tn = _tangent(Gu, Gl, t)
+        tn = tangent(Gu, Gl, t)
         if np.dot(tn, t) < MIN_COS and h > h_min:
             h /= 2
             continue
@@ -424,3 +301,41 @@ def _on_value(problem, Xp, lam):
     except SymviError:
         return None
     return np.append(u, lam), Gu, Gl
+
+
+def same_branch(a, b):
+    """Whether branch a retraces b (e.g. the two period-1 orbits at A joined by a fold)."""
+    if (a.n, a.p) != (b.n, b.p):
+        return False
+    end = a.points[-1]
+    return any(abs(pt.value - end.value) <= 1e-9 * (1 + abs(end.value))
+               and np.allclose(pt.y, end.y, atol=1e-7) for pt in b.points)
+
+
+def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=5000):
+    """The period-1 branches over [omega_min, omega_max] started from the admissible
+    period-1 orbits at both ends (duplicates dropped), and with ``switch`` the
+    period-doubled branch of each flip: what a bifurcation diagram overlays."""
+    from ..orbits.period1 import admissible_orbits
+    out = []
+    for a, b in ((omega_max, omega_min), (omega_min, omega_max)):
+        try:
+            orbits = admissible_orbits(model, a, multipliers=False)
+        except SymviError:
+            continue
+        for o in orbits:
+            try:
+                br = continue_branch(model, "omega", a, b, guess=o.y, max_points=max_points)
+            except SymviError:
+                continue
+            if not any(same_branch(br, x) or same_branch(x, br) for x in out):
+                out.append(br)
+    if switch:
+        for br in list(out):
+            for sp in br.special:
+                if sp.kind == "flip" and sp.orbit.admissible:
+                    try:
+                        out.append(switch_at_flip(br, sp, max_points=max_points))
+                    except SymviError:
+                        pass
+    return out

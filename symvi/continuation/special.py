@@ -33,7 +33,7 @@ from scipy.optimize import brentq, minimize_scalar
 from ..errors import NearSingularWarning, SymviError
 from ..normal_form import flip_coefficient, fold_coefficient, normal_form
 from ..orbits.periodic import orbit_of
-from .branch import SpecialPoint, _tangent, correct
+from .points import SpecialPoint, correct, tangent
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -109,7 +109,7 @@ class Tracker:
         if res is None:
             raise RuntimeError(f"the corrector failed at arclength {s:.3g}")
         X, Gu, Gl, _ = res
-        return X, _tangent(Gu, Gl, ta), Gu, m
+        return X, tangent(Gu, Gl, ta), Gu, m
 
     def _root(self, f, Xa, ta, Xb):
         sb = float(np.dot(ta, Xb - Xa))

@@ -1,0 +1,138 @@
+"""What a branch is made of (points, special points, the branch) and the corrector that
+computes its points: the pseudo-arclength step of :mod:`symvi.continuation.branch`."""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..orbits.periodic import PeriodicOrbit, Problem
+
+#: corrector: iteration limit and relative step tolerance
+CORR_MAXIT = 8
+CORR_TOL = 1e-11
+
+
+@dataclass(frozen=True)
+class BranchPoint:
+    """One point of a branch: the parameter value and the orbit there."""
+
+    value: float
+    orbit: PeriodicOrbit = field(repr=False)
+
+    @property
+    def y(self):
+        return self.orbit.y
+
+    @property
+    def multipliers(self):
+        return self.orbit.multipliers
+
+    @property
+    def stable(self):
+        return self.orbit.stable
+
+    @property
+    def admissible(self):
+        return self.orbit.admissible
+
+    def as_dict(self):
+        return {"value": self.value, "y": [float(v) for v in self.orbit.y],
+                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
+                "stable": bool(self.orbit.stable), "admissible": bool(self.orbit.admissible)}
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """A located special point: ``kind`` is fold, flip, ns, grazing, admissibility,
+    or R3/R4 (strong resonance); ``coefficients`` its normal-form numbers."""
+
+    kind: str
+    value: float
+    orbit: PeriodicOrbit = field(repr=False)
+    coefficients: dict
+    detail: str
+    index: int = 0              # the branch point after which it lies
+
+    def as_dict(self):
+        return {"kind": self.kind, "value": self.value,
+                "admissible": bool(self.orbit.admissible),
+                "y": [float(v) for v in self.orbit.y],
+                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
+                "coefficients": {k: (float(v) if isinstance(v, (int, float, np.floating))
+                                     else v) for k, v in self.coefficients.items()},
+                "detail": self.detail}
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A continued branch of n-p orbits: points in arclength order, special points
+    located on it, and why it ended."""
+
+    param: str
+    n: int
+    p: int
+    points: tuple
+    special: tuple
+    end: str
+    notes: tuple = ()
+    problem: Problem = field(repr=False, default=None)
+    states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
+    bounds: tuple = (None, None)
+
+    def __len__(self):
+        return len(self.points)
+
+    @property
+    def values(self):
+        return np.array([pt.value for pt in self.points])
+
+    def curve(self, component=0):
+        """Plain data for a figure: values, the section coordinate ``component`` of each
+        impact point (points x p), stability, admissibility and the special points."""
+        return {"values": [pt.value for pt in self.points],
+                "Y": [[y[component] for y in pt.orbit.points] for pt in self.points],
+                "stable": [bool(pt.stable) for pt in self.points],
+                "admissible": [bool(pt.admissible) for pt in self.points],
+                "special": [(sp.kind, sp.value, [y[component] for y in sp.orbit.points])
+                            for sp in self.special]}
+
+    def as_dict(self):
+        return {"param": self.param, "orbit": f"{self.n}-{self.p}",
+                "points": [pt.as_dict() for pt in self.points],
+                "special": [s.as_dict() for s in self.special],
+                "end": self.end, "notes": list(self.notes)}
+
+
+def tangent(Gu, Gl, t_prev):
+    m = Gu.shape[0]
+    A = np.empty((m + 1, m + 1))
+    A[:m, :m], A[:m, m], A[m] = Gu, Gl, t_prev
+    rhs = np.zeros(m + 1)
+    rhs[m] = 1.0
+    t = np.linalg.solve(A, rhs)
+    return t / np.linalg.norm(t)
+
+
+def correct(problem, Xp, t, c):
+    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
+    X = Xp.copy()
+    m = problem.size
+    A = np.empty((m + 1, m + 1))
+    problem.at(X[m])                      # validates the predicted parameter value once
+    for it in range(1, CORR_MAXIT + 1):
+        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
+        A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
+        F = np.append(G, np.dot(t, X) - c)
+        try:
+            dX = np.linalg.solve(A, -F)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(dX)):
+            return None
+        X = X + dX
+        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
+            # the residual is checked at the final X; the derivatives, O(|dX|) away, are kept
+            G = problem.evaluate(X[:m], X[m], jac=False, check=False)[0]
+            if np.max(np.abs(G)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
+                return X, Gu, Gl, it
+            return None
+    return None
