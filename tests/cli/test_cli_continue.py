@@ -5,6 +5,8 @@ import sys
 
 import numpy as np
 
+import symvi
+
 from symvi.cli import main
 from symvi.model import dumps
 
@@ -77,3 +79,18 @@ def test_errors_are_one_line_exit_2(tmp_path):
         assert r.returncode == 2, (args, r.stderr)
         assert r.stderr.count("\n") == 1 and r.stderr.startswith("symvi: error:"), r.stderr
         assert "Traceback" not in r.stderr
+
+
+def test_sweep_overlays_the_branches(tmp_path, capsys):
+    png = tmp_path / "bif.png"
+    assert main(["sweep", *PRESET, "--omega-min", "0.70", "--omega-max", "0.76", "--steps", "12",
+                 "--impacts", "20", "--transient", "200", "--out", str(png), "--branches",
+                 "--progress", "never"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    got = {(s["kind"], s["orbit"]): s["value"] for s in d["special"]}
+    res = symvi.hopf_points(symvi.Model.luo_xie(2, 5, 0, 1.5, 0.8), 0.70, 0.76)
+    flip = [e.omega for e in res.events if e.kind == "multiplier-1"]
+    assert abs(got[("flip", "1-1")] - flip[0]) < 1e-10
+    assert abs(got[("ns", "1-1")] - res.points[0].omega_c) < 1e-10
+    assert ("flip", "2-2") in got or ("grazing", "2-2") in got     # the doubled branch
+    assert png.stat().st_size > 10000
