@@ -121,3 +121,19 @@ def test_parameter_derivative_is_exact():
         fd = (pr.evaluate(po.u, lam + h, jac=False)[0]
               - pr.evaluate(po.u, lam - h, jac=False)[0]) / (2 * h)
         assert np.max(np.abs(Gl - fd)) < 1e-7 * (1 + np.max(np.abs(Gl))), name
+
+
+@pytest.mark.parametrize("omega, y0, expect", [(0.7, (-0.614, 5.15), (1, 2)),
+                                               (0.65, (-2.55, 3.20), (1, 3))])
+def test_multi_impact_orbits_from_simulation(omega, y0, expect):
+    from .models import LIGHT
+    sim = symvi.simulate(LIGHT, omega, y0=y0, n_impacts=300, transient=3000)
+    po = from_simulation(sim)
+    assert (po.n, po.p) == expect
+    assert po.admissible and po.stable and po.residual < 1e-10
+    assert np.max(np.abs(np.array(po.points) - sim.section[-po.p:])) < 1e-8
+    y = po.points[0]
+    for _ in range(po.p):
+        y = poincare_map(LIGHT, omega, y).y
+    assert np.max(np.abs(np.array(y[:-1]) - np.array(po.points[0][:-1]))) < 1e-10
+    assert sum(po.times) == pytest.approx(po.n * 2 * math.pi / omega, rel=1e-12)
