@@ -37,6 +37,8 @@ from .points import SpecialPoint, correct, tangent
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
+#: distance to the other multipliers below which a critical +-1 is called double
+DOUBLE_GAP = 1e-4
 
 
 def _sign_change(a, b):
@@ -61,6 +63,11 @@ class Tracker:
         if not self._conservative(X[-1]):
             iu = np.triu_indices(len(mu), 1)
             out["ns"] = float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
+        else:
+            # multipliers on the unit circle move along it: the strong resonances
+            # lambda^3 = 1, lambda^4 = 1 are met at isolated points (codim 1 here)
+            for m in (3, 4):
+                out[f"R{m}"] = _unit_circle_resonance(mu, m)
         for i, v in enumerate(orbit.impact_velocities):
             out[f"v{i}"] = v
         return out
@@ -79,7 +86,7 @@ class Tracker:
                 self._try(key, Xa, ta, Xb, index)
         # through a grazing impact the map's Jacobian has a pole (eq. (30)): the
         # multiplier test functions change sign there without a bifurcation
-        for kind in ("fold",) if graze else ("fold", "flip", "ns"):
+        for kind in ("fold",) if graze else ("fold", "flip", "ns", "R3", "R4"):
             if _sign_change(pa.get(kind), pb.get(kind)):
                 self._try(kind, Xa, ta, Xb, index)
         if pta.admissible != pt.admissible and not graze:
@@ -135,17 +142,23 @@ class Tracker:
             orbit = self._orbit(X, Gu)
             A, d2, _ = orbit.jet(2)
             a, e = fold_coefficient(A, d2)
+            note = (f"; +1 is a double multiplier (gap {e.gap:.1e}): the one-dimensional "
+                    "normal form does not apply" if e.gap < DOUBLE_GAP else "")
             return SpecialPoint("fold", float(X[m]), orbit,
                                 {"a": a, "multiplier": e.mu, "gap": e.gap},
                                 "a multiplier through +1: the branch turns (saddle-node); "
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
-                                "<p,q> = 1)", index)
+                                "<p,q> = 1)" + note, index)
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
             A, d2, d3 = orbit.jet(3)
             c, e = flip_coefficient(A, d2, d3)
             crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
+            if e.gap < DOUBLE_GAP:
+                crit = (f"degenerate: -1 is a double multiplier (gap {e.gap:.1e}, a collision "
+                        "of two multipliers at -1), so the one-dimensional flip normal form and "
+                        "its c do not decide the")
             return SpecialPoint("flip", float(X[m]), orbit,
                                 {"c": c, "multiplier": e.mu, "gap": e.gap},
                                 f"a multiplier through -1: period doubling to a "
@@ -160,6 +173,20 @@ class Tracker:
             if abs(crit.imag) <= 1e-8:
                 return None                       # a neutral saddle, not a bifurcation
             return self._ns(X, orbit, index, Xa, Xb)
+        if kind in ("R3", "R4"):
+            m_ = int(kind[1])
+            X, t, Gu = self._root(
+                lambda X, t, Gu: _unit_circle_resonance(
+                    np.linalg.eigvals(self._mono(X, Gu)), m_), Xa, ta, Xb)
+            orbit = self._orbit(X, Gu)
+            mu = min(orbit.multipliers, key=lambda z: abs(z ** m_ - 1) if z.imag > 0 else 9)
+            if abs(mu ** m_ - 1) > 1e-6:          # lambda^m = -1: a weak resonance 1:2m
+                return None
+            return SpecialPoint(kind, float(X[m]), orbit,
+                                {"theta": float(np.angle(mu)), "distance": float(abs(mu ** m_ - 1))},
+                                f"a multiplier on the unit circle passes e^(2 pi i/{m_}): the "
+                                f"strong resonance 1:{m_} met on the branch of a conservative "
+                                "model (its multipliers move along the unit circle)", index)
         if kind.startswith("v"):
             i = int(kind[1:])
             X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i), Xa, ta, Xb)
@@ -266,3 +293,12 @@ class Tracker:
             if math.isfinite(v) and (best[1] is None or v > best[1]):
                 best = (i, v, t)
         return best
+
+
+def _unit_circle_resonance(mu, m):
+    """prod of Im(lambda^m) over the multipliers on the unit circle with Im > 0 (None when
+    there are none): it changes sign where one of them passes e^{2 pi i k/m}."""
+    on = [z for z in mu if abs(abs(z) - 1) < 1e-6 and z.imag > 1e-8]
+    if not on:
+        return None
+    return float(np.prod([(z ** m).imag for z in on]))

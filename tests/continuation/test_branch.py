@@ -137,9 +137,18 @@ def test_forcing_resonance_cuts_the_branch_cleanly():
 
 def test_conservative_model_is_said_and_seeks_no_ns():
     cons = Model.luo_xie(2, 5, 0, 1.5, 1.0)
-    br = continue_branch(cons, "omega", 1.3, 1.1, through=True)
+    br = continue_branch(cons, "omega", 1.3, 1.0, through=True)
     assert any("conservative" in n for n in br.notes)
     assert not _kinds(br, "ns")
+    # the multipliers move along the unit circle: the strong resonances met are located
+    for kind, m in (("R3", 3), ("R4", 4)):
+        pts = _kinds(br, kind)
+        assert pts, kind
+        for s in pts:
+            assert min(abs(z ** m - 1) for z in s.orbit.multipliers) < 1e-9
+    # a -1 reached by two multipliers colliding is not called a plain flip
+    for s in _kinds(br, "flip"):
+        assert s.coefficients["gap"] > 1e-4 or "degenerate" in s.detail
     for pt in br.points[:20]:
         assert abs(np.prod(np.array(pt.multipliers)).real - 1) < 1e-9
 
