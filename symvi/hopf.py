@@ -9,6 +9,16 @@ sweep in omega meets: a real multiplier through +1 or -1, the orbit becoming
 admissible or inadmissible (grazing, or impact velocity through 0), the orbit
 appearing or vanishing (eq. 16), and singular frequencies.
 
+A natural frequency omega_j of an undamped mode strictly inside the interval
+makes the forcing amplitude of eq. (7) infinite: the branches are cut there,
+scanned on both sides up to a relative distance ``RESONANCE_GAP`` and a
+``forcing-resonance`` event is recorded (an end within half that gap is refused).
+A conservative model (r = 1 and no damping: det DP = r^2 exp(-tr(M^-1 C) T) = 1)
+has multipliers on the unit circle over whole intervals and no Neimark–Sacker
+point: none is sought, a ``conservative`` event spans the interval, and the
+real multipliers through +/-1 (det(J -/+ I) changing sign) are still reported.
+(H3) is claimed only for a resolvably nonzero crossing speed (:attr:`HopfPoint.detail`).
+
 How the scan avoids missing a crossing
 --------------------------------------
 The interval is cut into segments; a segment [a, b] is *certified* from its
@@ -34,7 +44,10 @@ The crossing itself is located with Brent's method on |lambda(omega)|^2 - 1
 (the multiplier nearest the bracket's linear prediction), on det(J -/+ I)
 for real multipliers through +/-1, on the existence ratio of eq. (16) for the
 orbit's end, and on the impact velocity, or by bisection of the admissibility
-test for grazing.  All to ``XTOL`` in omega.
+test for grazing.  All to ``XTOL`` in omega.  A root of |lambda|^2 - 1 where
+||lambda|^2 - 1| still exceeds ``NS_RESIDUAL`` was a jump between two complex
+pairs (near a collision off the circle, as for a nearly conservative map): that
+bracket is certified again, finer, and reported ``unresolved`` below ``MIN_WIDTH``.
 
 The paper's numbers (Sec. 4) beside ours
 -----------------------------------------
@@ -86,6 +99,20 @@ BRANCH_H = 1e-5
 H2_TOL = 1e-6
 #: cap on orbit evaluations per scan: past it no segment is split further (never hang)
 MAX_SAMPLES = 20000
+#: a located NS root is accepted only when ||lambda1|^2 - 1| there is below this (a jump
+#: between two pairs, e.g. colliding off the circle, also changes the sign)
+NS_RESIDUAL = 1e-6
+#: (H3) is decided only when |d|lambda1|/domega| * omega_c exceeds this and its estimated
+#: relative error is below H3_REL_ERR: a crossing of zero speed is not a crossing
+H3_TOL = 1e-8
+H3_REL_ERR = 0.1
+#: an omega_j inside the interval cuts the scan this far (relative) on either side: well
+#: above the flow's refusal (1e-10), where the forcing amplitude is still ~ 1 / gap
+RESONANCE_GAP = 1e-6
+CONSERVATIVE = ("r = 1 and no damping: the map preserves volume (det DP = 1); multipliers "
+                "lie on the unit circle over whole intervals and a Neimark-Sacker bifurcation "
+                "(H3) cannot occur; no Neimark-Sacker point is reported (real multipliers "
+                "through +1 or -1 still are)")
 SAFETY = 2.0
 STATE_NAMES = ("x1dot+", "x20", "x20dot", "tau")
 
@@ -96,7 +123,8 @@ class Event:
     """Something a sweep in omega meets (not a Hopf point)."""
 
     kind: str        # multiplier+1, multiplier-1, becomes-admissible, becomes-inadmissible,
-    #                  orbit-appears, orbit-vanishes, singular, unresolved
+    #                  orbit-appears, orbit-vanishes, singular, forcing-resonance,
+    #                  conservative, unresolved, ns-unanalysable
     omega: float
     branch: str
     detail: str = ""
@@ -110,11 +138,21 @@ class Event:
         return d
 
 
-def _Unresolved(br, lo, hi):
+_FLIPPING = ("the orbit's state (admissible, inadmissible, absent) changes faster than the "
+             f"scan resolves within {MAX_SAMPLES} orbit evaluations; events there may be missed")
+
+
+_SWITCH = ("|lambda| - 1 changes sign by a jump between two complex pairs (pairs colliding "
+           "off the unit circle, as near a conservative map), not by a crossing; a crossing "
+           "there may be missed")
+
+
+def _Unresolved(br, lo, hi, why=None):
     return Event("unresolved", 0.5 * (lo + hi), br,
                  f"multipliers within reach of the unit circle on [{lo:.12g}, {hi:.12g}] could "
                  "not be resolved (tangency, multipliers at +1 or a near-singular map); a "
-                 "crossing there may be missed", (lo, hi))
+                 "crossing there may be missed" if why is None else
+                 f"on [{lo:.12g}, {hi:.12g}] {why}", (lo, hi))
 
 
 @dataclass(frozen=True)
@@ -163,9 +201,36 @@ class HopfPoint:
         return "supercritical" if self.l1 < 0 else "subcritical"
 
     @property
+    def crossing_resolved(self):
+        """Whether d|lambda1|/domega is resolvably nonzero (see :attr:`detail`): a zero-speed
+        touch of |lambda1| = 1, e.g. of a nearly conservative map, is no transversal crossing."""
+        return not self.detail
+
+    @property
     def h3(self):
-        """(H3) as the paper states it: d|lambda1|/dv > 0 at v_c."""
-        return self.dmod_domega > 0
+        """(H3) as the paper states it: d|lambda1|/dv > 0 at v_c, and resolvably so."""
+        return self.crossing_resolved and self.dmod_domega > 0
+
+    @property
+    def detail(self):
+        """Why (H3) cannot be decided here, or '' when the crossing speed is resolved:
+        trusted, |d|lambda1|/domega| * omega_c > H3_TOL, estimated relative error below
+        H3_REL_ERR, and the same sign along the branch."""
+        d, why = self.dmod_domega, ""
+        est = None if self.precision is None else self.precision.dmod_domega
+        if not self.trusted("dmod_domega") or not math.isfinite(d):
+            why = "it cannot be trusted at any precision"
+        elif abs(d) * abs(self.omega_c) <= H3_TOL:
+            why = f"|d|lambda1|/domega| * omega_c <= {H3_TOL:g}"
+        elif est is not None and not est.rel_err < H3_REL_ERR:
+            why = f"its estimated relative error {est.rel_err:.1e} is not below {H3_REL_ERR:g}"
+        elif not d * self.dmod_domega_branch > 0:
+            why = f"along the branch it is {self.dmod_domega_branch:.3g}, of another sign"
+        if not why:
+            return ""
+        return (f"(H3) not decided: d|lambda1|/domega = {d:.3g} is not resolvably nonzero "
+                f"({why}); |lambda1| reaches 1 with no resolved speed, not a transversal "
+                "crossing")
 
     def as_dict(self):
         m, dist = self.nearest_resonance
@@ -186,6 +251,7 @@ class HopfPoint:
             "f1_paper": None if paper_only_none else float(self.f1_paper),
             "f1_wan": None if paper_only_none else float(self.f1_wan),
             "kind": self.kind, "h1": bool(self.h1), "h2": bool(self.h2), "h3": bool(self.h3),
+            "crossing_resolved": bool(self.crossing_resolved), "detail": self.detail,
             "nearest_resonance": {"m": int(m), "distance": float(dist)},
             "orbit": orb,
             "circle": None if self.circle is None else self.circle.as_dict(),
@@ -209,6 +275,7 @@ class HopfResult:
     points: tuple
     events: tuple
     samples: int
+    conservative: bool = False    # r = 1, no damping: no NS point is sought (CONSERVATIVE)
 
     def __iter__(self):
         return iter(self.points)
@@ -224,7 +291,9 @@ class HopfResult:
                 "interval": [self.omega_min, self.omega_max],
                 "points": [p.as_dict() for p in self.points],
                 "events": [e.as_dict() for e in self.events],
-                "samples": self.samples}
+                "samples": self.samples,
+                "conservative": self.conservative,
+                "statement": CONSERVATIVE if self.conservative else None}
 
 
 # --------------------------------------------------------------------------- systems
@@ -236,6 +305,8 @@ class _PaperSystem:
 
     def __init__(self, params):
         self.params = params
+        # Params has no damping: r = 1 alone makes the map volume preserving
+        self.conservative = params.r == 1.0
 
     def orbits(self, w):
         from .orbit import period1_orbits
@@ -272,6 +343,7 @@ class _ModelSystem:
         from .maps.section import Section
         self.params = model
         self.names = Section.of(model).names
+        self.conservative = model.conservative       # r = 1 and C = 0 exactly
 
     def orbits(self, w):
         from .orbits import period1_orbits
@@ -377,10 +449,13 @@ class _Scan:
         w = None
         if _SING not in (ka, kb) and _NONE in (ka, kb):
             def f(w):
-                try:
-                    return abs(self.sys.existence_ratio(w)) - 1
-                except SingularCaseError:
-                    return math.nan
+                with warnings.catch_warnings():
+                    # next to a cut at omega_j the forcing is expectedly near-singular
+                    warnings.simplefilter("ignore", NearSingularWarning)
+                    try:
+                        return abs(self.sys.existence_ratio(w)) - 1
+                    except SingularCaseError:
+                        return math.nan
             w = _brent(f, wa, wb)
             why = "|alpha b / rho| of eq. (16) reaches 1: the two branches merge (fold)"
         elif {ka, kb} == {_ADM, _INADM}:
@@ -423,16 +498,18 @@ class _Scan:
         self._event(kind, w, br, why)
         return w
 
-    def _unresolved(self, br, wa, wb):
-        """Record a segment the certification could not resolve (merged with its neighbours)."""
+    def _unresolved(self, br, wa, wb, why=None):
+        """Record a segment the certification could not resolve (merged with its neighbours
+        of the same reason)."""
         for i, e in enumerate(self.events):
-            if e.kind == "unresolved" and e.branch == br:
+            if e.kind == "unresolved" and e.branch == br and \
+                    e.detail == _Unresolved(br, *e.span, why).detail:
                 lo, hi = e.span
                 if wa <= hi + self.min_width and wb >= lo - self.min_width:
                     lo, hi = min(lo, wa), max(hi, wb)
-                    self.events[i] = _Unresolved(br, lo, hi)
+                    self.events[i] = _Unresolved(br, lo, hi, why)
                     return
-        self.events.append(_Unresolved(br, wa, wb))
+        self.events.append(_Unresolved(br, wa, wb, why))
 
     # ---- certification -----------------------------------------------------
     def certify(self, br, wa, wb, edges=(False, False)):
@@ -447,6 +524,10 @@ class _Scan:
             ka, oa = self.s.state(br, wa)
             kb, ob = self.s.state(br, wb)
             if ka != kb:
+                if len(self.s.cache) >= MAX_SAMPLES:
+                    # states flipping faster than resolvable (never hang): say so
+                    self._unresolved(br, wa, wb, _FLIPPING)
+                    continue
                 w = self._transition(br, wa, wb, ka, kb)
                 # keep scanning the inner parts, a safe distance from the boundary
                 left, right = w - self.delta, w + self.delta
@@ -475,6 +556,8 @@ class _Scan:
 
     def _accept(self, br, ws, orbits, edges):
         """Certify one segment from its ends and midpoint (see the module docstring)."""
+        if self.sys.conservative:
+            return self._accept_conservative(br, ws, orbits, edges)
         wa, wm, wb = ws
         la = [complex(x) for x in orbits[0].multipliers]
         lm = _match(la, [complex(x) for x in orbits[1].multipliers])
@@ -517,6 +600,43 @@ class _Scan:
         self.brackets.extend(found)
         return True
 
+    def _accept_conservative(self, br, ws, orbits, edges):
+        """Certify one segment of a conservative model from det(J -/+ I) at its three samples.
+
+        det DP = 1: multipliers on the unit circle stay on it over whole intervals, so
+        |lambda| - 1 certifies nothing (its sign is rounding noise).  They leave the
+        circle through +1 or -1, where a pair meets and splits into mu, 1/mu and
+        det(J -/+ I) = prod(lambda -/+ 1) changes sign: the polyline test of the module
+        docstring, applied to these two scalars (a complex pair never yields a bracket).
+        """
+        found = []
+        for kind, sgn in (("multiplier+1", 1.0), ("multiplier-1", -1.0)):
+            ls = [[complex(x) for x in o.multipliers] for o in orbits]
+            g = [float(np.prod([x - sgn for x in l]).real) for l in ls]
+            # 1e-12: rounding of a product of 2N factors of size 1 + |lambda|
+            noise = 1e-12 * max(float(np.prod([1 + abs(x) for x in l])) for l in ls)
+            tol = SAFETY * abs(g[1] - 0.5 * (g[0] + g[2])) + noise
+            sides = [x > 0 for x in g]
+            if sides[0] == sides[1] == sides[2]:
+                dist = [abs(x) for x in g]
+                if min(dist) > tol:
+                    continue
+                # towards a located boundary (a fold: the pair at +1) a monotone approach is fine
+                if (edges[1] and dist[0] > dist[1] > dist[2]) or \
+                        (edges[0] and dist[0] < dist[1] < dist[2]):
+                    continue
+                return False
+            if sides[0] != sides[1] and sides[1] != sides[2]:
+                return False                     # two crossings: split
+            i = 0 if sides[0] != sides[1] else 1
+            rest = g[2] if i == 0 else g[0]
+            if abs(rest) <= tol or abs(g[i + 1] - g[i]) <= tol:
+                return False
+            z0, z1 = (min(l, key=lambda x: abs(x - sgn)) for l in (ls[i], ls[i + 1]))
+            found.append((br, kind, ws[i], ws[i + 1], z0, z1))
+        self.brackets.extend(found)
+        return True
+
     # ---- root finding ------------------------------------------------------
     def locate(self, bracket):
         br, kind, w0, w1, z0, z1 = bracket
@@ -540,7 +660,10 @@ class _Scan:
             def f(w):
                 _, ls = mults(w)
                 return float(np.prod([x - sgn for x in ls]).real)
-        return brentq(f, w0, w1, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
+        w = brentq(f, w0, w1, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
+        if kind == "ns" and not abs(f(w)) < NS_RESIDUAL:
+            return None        # the sign change was a jump between two pairs, not a crossing
+        return w
 
 
 def _brent(f, a, b):
@@ -635,6 +758,10 @@ def _index_of(nf, z):
 
 
 def _check_interval(system, omega_min, omega_max):
+    """Validated (a, b).  An end closer than RESONANCE_GAP / 2 (relative) to a natural
+    frequency omega_j is refused: the response is infinite there (half the gap, so that
+    an end at omega_j (1 +/- RESONANCE_GAP), where a cut scan stops, is accepted).  An
+    omega_j further inside is cut instead (:func:`hopf_points`)."""
     for name, w in (("omega_min", omega_min), ("omega_max", omega_max)):
         try:
             w = float(w)
@@ -646,11 +773,14 @@ def _check_interval(system, omega_min, omega_max):
     if not b > a:
         raise ParameterError("omega_max", omega_max, f"omega_max > omega_min = {a!r}")
     for j, wj in enumerate(system.undamped_frequencies(), start=1):
-        if a <= wj <= b:
-            raise SingularCaseError(
-                "forcing-resonance",
-                f"the interval [{a}, {b}] contains the natural frequency omega_{j} = "
-                f"{wj:.12g}, where the forcing amplitude of eq. (7) is infinite; split it there")
+        for name, w in (("omega_min", a), ("omega_max", b)):
+            if abs(w - wj) < 0.5 * RESONANCE_GAP * wj:
+                raise SingularCaseError(
+                    "forcing-resonance",
+                    f"{name} = {w!r} is at the natural frequency omega_{j} = {wj:.12g} "
+                    f"(relative distance < {0.5 * RESONANCE_GAP:g}), where the forcing amplitude "
+                    f"of eq. (7) is infinite; move that end away from it (an omega_{j} strictly "
+                    "inside the interval is cut there and reported)")
     return a, b
 
 
@@ -660,28 +790,48 @@ def hopf_points(params, omega_min, omega_max):
     Returns a :class:`HopfResult`: ``points`` (each a :class:`HopfPoint` with
     the normal form and the predicted circle) sorted by omega, and ``events``
     (real multipliers through +/-1, admissibility changes, orbit appearing or
-    vanishing).  See the module docstring for why no crossing is missed.
+    vanishing, natural frequencies where the branches are cut).  See the module
+    docstring for why no crossing is missed.  A conservative model (r = 1, no
+    damping) has no Neimark–Sacker point: ``conservative`` is set, an event of that
+    kind spans the interval and only the other events are reported.
     """
     system = _system(params)
     a, b = _check_interval(system, omega_min, omega_max)
     scan = _Scan(system, a, b)
     # eq. (15) divides by 1 - cos(2 pi omega_j / omega): the orbit is not isolated at
-    # omega = omega_j / n; those points cut the scan and are reported
-    sing = _singular_frequencies(system, a, b)
-    cuts = sorted(set(np.linspace(a, b, N_INITIAL + 1).tolist()) | {w for w, _ in sing})
-    for w, what in sing:
+    # omega = omega_j / n; those points cut the scan and are reported.  At n = 1 the
+    # forcing of eq. (7) itself is infinite: cut wider (RESONANCE_GAP)
+    gaps = {}
+    for w, what in _singular_frequencies(system, a, b):
         scan._event("singular", w, "", what)
-    sset = {w for w, _ in sing}
+        gaps[w] = _sing_gap(w)
+    for w, what in _resonant_frequencies(system, a, b):
+        scan._event("forcing-resonance", w, "", what)
+        gaps[w] = RESONANCE_GAP * w
+    # a uniform cut inside a gap would start a segment there, unflagged: drop it
+    grid = [w for w in np.linspace(a, b, N_INITIAL + 1).tolist()
+            if w in (a, b) or all(abs(w - c) > 2 * g for c, g in gaps.items())]
+    cuts = sorted(set(grid) | set(gaps))
     for br in ("+", "-"):
         for wa, wb in zip(cuts[:-1], cuts[1:]):
-            ea, eb = wa in sset, wb in sset
-            lo = wa + _sing_gap(wa) if ea else wa
-            hi = wb - _sing_gap(wb) if eb else wb
+            ea, eb = wa in gaps, wb in gaps
+            lo = wa + gaps[wa] if ea else wa
+            hi = wb - gaps[wb] if eb else wb
             if hi > lo:
                 scan.certify(br, lo, hi, (ea, eb))
     points, seen = [], []
-    for br_ in scan.brackets:
+    i = 0
+    while i < len(scan.brackets):
+        br_ = scan.brackets[i]
+        i += 1
         w = scan.locate(br_)
+        if w is None:
+            # no root: certify the bracket's half anew, finer (brackets are appended)
+            if br_[3] - br_[2] > scan.min_width and len(scan.s.cache) < MAX_SAMPLES:
+                scan.certify(br_[0], br_[2], br_[3])
+            else:
+                scan._unresolved(br_[0], br_[2], br_[3], _SWITCH)
+            continue
         if br_[1] == "ns":
             if any(br == br_[0] and abs(w - x) < 1e-9 * (b - a) for br, x in seen):
                 continue
@@ -697,9 +847,20 @@ def hopf_points(params, omega_min, omega_max):
             scan._event(br_[1], w, br_[0], "real multiplier through "
                         + ("+1 (fold / saddle-node)" if br_[1] == "multiplier+1"
                            else "-1 (flip / period doubling)"))
+    if system.conservative:
+        # said once, over the whole interval; no "ns" bracket was formed
+        scan.events.append(Event("conservative", a, "", CONSERVATIVE, (a, b)))
     events = tuple(sorted(_dedupe(scan.events), key=lambda e: (e.omega, e.branch)))
     return HopfResult(params, a, b, tuple(sorted(points, key=lambda p: (p.omega_c, p.branch))),
-                      events, len(scan.s.cache))
+                      events, len(scan.s.cache), bool(system.conservative))
+
+
+def _resonant_frequencies(system, a, b):
+    """The natural frequencies omega_j of undamped modes strictly inside (a, b), eq. (7)."""
+    return [(wj, f"natural frequency omega_{j} of an undamped mode: the forcing amplitude of "
+                 f"eq. (7) and the steady-state response are infinite; the branches are cut "
+                 f"here and scanned on both sides up to a relative distance {RESONANCE_GAP:g}")
+            for j, wj in enumerate(system.undamped_frequencies(), start=1) if a < wj < b]
 
 
 def _singular_frequencies(system, a, b):

@@ -18,7 +18,7 @@ def register(sub):
 
 def run(args):
     from ..errors import ParameterError
-    from ..hopf import hopf_points
+    from ..hopf import CONSERVATIVE, hopf_points
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
@@ -36,7 +36,9 @@ def run(args):
     print(f"{'model' if 'N=' in describe(params) else 'params'}: {describe(params)}   "
           f"omega in [{res.omega_min:g}, {res.omega_max:g}]"
           f"   ({res.samples} orbit evaluations)")
-    if not res.points:
+    if res.conservative:
+        print("conservative model: " + CONSERVATIVE)
+    elif not res.points:
         print("no complex pair of an admissible period-1 orbit crosses |lambda| = 1 here")
     for i, pt in enumerate(res.points):
         lam = pt.multiplier
@@ -50,9 +52,10 @@ def run(args):
         print("  other          = " + ", ".join(f"{z.real:+.8f}{z.imag:+.8f}i"
                                                  for z in pt.other_multipliers))
         m, dist = pt.nearest_resonance
+        h3 = ("yes" if pt.h3 else "NO (stability regained as omega increases)"
+              if pt.crossing_resolved else "NO (crossing speed not resolved, see below)")
         print(f"  (H1) {'yes' if pt.h1 else 'NO '}   (H2) {'yes' if pt.h2 else 'NO '} "
-              f"(nearest lambda^{m} = 1 at distance {dist:.3e})   (H3) "
-              f"{'yes' if pt.h3 else 'NO (stability regained as omega increases)'}")
+              f"(nearest lambda^{m} = 1 at distance {dist:.3e})   (H3) {h3}")
         print(f"  d|lambda1|/domega = {val('dmod_domega')} (eqs. A1-A3)   "
               f"{pt.dmod_domega_branch:.12g} (along the branch)")
         print(f"  l1 = {val('l1')}  (Kuznetsov, ||q|| = 1, <p,q> = 1)  -> {pt.kind}")
@@ -74,6 +77,9 @@ def run(args):
             kind = "strong resonance" if m <= 4 else "resonance"
             print(f"  caution: (H2) fails, lambda1^{m} = 1 ({kind} 1:{m}); l1, f1 and the circle "
                   "above assume (H2) and need not describe the dynamics here")
+        if not pt.crossing_resolved:
+            print(f"  caution: {pt.detail}; the kind and the circle above assume a transversal "
+                  "crossing")
         if not pt.h1:
             print("  caution: (H1) fails, another multiplier lies on or outside the unit circle: "
                   "a circle on the centre manifold is not attracting in all directions")
@@ -86,5 +92,8 @@ def run(args):
         print("\nevents:")
         for e in res.events:
             br = f"branch {e.branch}" if e.branch else "        "
+            if e.kind == "conservative":      # a statement over the whole interval
+                print(f"  omega in [{e.span[0]:.13g}, {e.span[1]:.13g}]  {e.kind}: see above")
+                continue
             print(f"  omega = {e.omega:.13g}  {br}  {e.kind}: {e.detail}")
     return 0

@@ -162,7 +162,7 @@ def test_sweep_bad_input_leaves_folder(tmp_path, bad):
 @pytest.mark.parametrize("bad", [
     ["--omega-min", "nan"], ["--omega-max", "inf"], ["--omega-min", "0.8", "--omega-max", "0.7"],
     ["--omega-min", "-1"], ["--omega-min", "abc"], ["--r", "0"], ["--mu-k", "-2"],
-    ["--omega-min", "0.85", "--omega-max", "0.9"],        # contains omega_1 = 0.8805
+    ["--omega-min", "0.85", "--omega-max", "0.8804857344718374"],   # ends at omega_1
 ])
 def test_hopf_bad_input(bad):
     base = dict(EX1, **{"--omega-min": "0.70", "--omega-max": "0.76"})
