@@ -780,17 +780,12 @@ def _bifurcation(params, spec, quick, scene):
            "impacts_total": sw.impacts_total}
     if spec["branches"]:
         # the continued branches and their special points, drawn over the diagram
-        from .continuation import period1_branches
-        from .model import Model
-        model = params if isinstance(params, Model) else Model.luo_xie(
-            params.mu_m, params.mu_k, params.f2, params.b, params.r)
-        brs = period1_branches(model, spec["omega_min"], spec["omega_max"])
-        res["curves"] = [b.curve(spec["component"]) for b in brs]
-        res["special"] = [{"orbit": f"{b.n}-{b.p}", "kind": sp.kind, "value": sp.value,
-                           "coefficients": {k: v for k, v in sp.coefficients.items()
-                                            if isinstance(v, float)},
-                           "admissible": bool(sp.orbit.admissible), "detail": sp.detail}
-                          for b in brs for sp in b.special]
+        from .continuation import diagram_branches
+        res["curves"], special = diagram_branches(params, spec["omega_min"],
+                                                  spec["omega_max"], spec["component"])
+        res["special"] = [{k: s[k] for k in ("orbit", "kind", "value", "admissible", "detail")}
+                          | {"coefficients": {k: v for k, v in s["coefficients"].items()
+                                              if isinstance(v, float)}} for s in special]
     return (res,
             {"omega": np.asarray(sw.omegas), "section": np.asarray(sw.section),
              "counts": np.asarray(sw.counts)})

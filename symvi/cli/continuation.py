@@ -61,16 +61,8 @@ def _sets(items):
     return out
 
 
-def _model(args):
-    from ..model import Model
-    params = params_from(args)
-    if isinstance(params, Model):
-        return params
-    return Model.luo_xie(params.mu_m, params.mu_k, params.f2, params.b, params.r)
-
-
-def _section_start(path, model, n, p):
-    """(simulation-like object, omega) from an npz written by ``symvi simulate``."""
+def _section_start(path, model):
+    """A simulation-like object (section, t, omega, params) from an npz of ``symvi simulate``."""
     import numpy as np
 
     from ..errors import ParameterError
@@ -93,8 +85,9 @@ def run(args):
 
     from ..continuation import continue_branch, same_branch, switch_at_flip
     from ..errors import NearSingularWarning, ParameterError
+    from ..model import Model
     from ..orbits.periodic import detect_period
-    model = _model(args)
+    model = Model.of(params_from(args))
     n, p = _orbit_spec(args.orbit)
     fixed = _sets(args.sets)
     if args.param in fixed:
@@ -115,7 +108,7 @@ def run(args):
         a, stops = args.start, (args.stop,)
     guesses = [None]
     if args.from_section:
-        sim = _section_start(args.from_section, model, n, p)
+        sim = _section_start(args.from_section, model)
         if args.param == "omega":
             a = sim.omega
             stops = (lo, hi)
@@ -133,32 +126,28 @@ def run(args):
                                  f"{found[1]}")
         n, p = found
         guesses = [sim.section[-p:]]
-    elif (n, p) != (1, 1):
-        from ..simulation import simulate
-        at = model if args.param == "omega" else model.with_(**{args.param: a})
+    else:
+        # the model and omega at the start, with the --set values
+        others = {k: v for k, v in fixed.items() if k != "omega"}
+        at = model.with_(**others) if others else model
+        if args.param != "omega":
+            at = at.with_(**{args.param: a})
         w = a if args.param == "omega" else fixed.get("omega")
         if w is None:
             raise ParameterError("omega", None, "--set omega=VALUE when --param is not omega")
-        at = at.with_(**{k: v for k, v in fixed.items() if k != "omega"}) if \
-            len(fixed) > (args.param != "omega") else at
-        sim = simulate(at, w, n_impacts=400, transient=4000)
-        if detect_period(sim) != (n, p):
-            raise ParameterError("--orbit", args.orbit, f"an orbit the simulation at "
-                                 f"{args.param} = {a} settles on (give --from-section)")
-        guesses = [sim.section[-p:]]
-    else:
-        from ..orbits.period1 import admissible_orbits
-        at = model.with_(**{k: v for k, v in fixed.items() if k != "omega"}) if \
-            any(k != "omega" for k in fixed) else model
-        if args.param != "omega":
-            at = at.with_(**{args.param: a})
-            if "omega" not in fixed:
-                raise ParameterError("omega", None, "--set omega=VALUE when --param is not omega")
-        w = a if args.param == "omega" else fixed["omega"]
-        guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
-        if not guesses:
-            raise ParameterError("--from", a, f"a value where an admissible period-1 orbit "
-                                 f"exists (none at {args.param} = {a})")
+        if (n, p) != (1, 1):
+            from ..simulation import simulate
+            sim = simulate(at, w, n_impacts=400, transient=4000)
+            if detect_period(sim) != (n, p):
+                raise ParameterError("--orbit", args.orbit, f"an orbit the simulation at "
+                                     f"{args.param} = {a} settles on (give --from-section)")
+            guesses = [sim.section[-p:]]
+        else:
+            from ..orbits.period1 import admissible_orbits
+            guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
+            if not guesses:
+                raise ParameterError("--from", a, f"a value where an admissible period-1 "
+                                     f"orbit exists (none at {args.param} = {a})")
     branches = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)

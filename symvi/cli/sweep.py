@@ -63,13 +63,9 @@ def run(args):
                          transient=res.transient, names=np.array(names), **data_key(params))
     curves, special = None, []
     if args.branches:
-        from ..continuation import period1_branches
-        from ..model import Model
-        model = params if isinstance(params, Model) else Model.luo_xie(
-            params.mu_m, params.mu_k, params.f2, params.b, params.r)
-        brs = period1_branches(model, args.omega_min, args.omega_max)
-        curves = [b.curve(args.component) for b in brs]
-        special = [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special]
+        from ..continuation import diagram_branches
+        curves, special = diagram_branches(params, args.omega_min, args.omega_max,
+                                           args.component)
     if figs:
         from .. import figures
         title = describe(params)

@@ -6,3 +6,4 @@ from .branch import continue_branch as continue_branch
 from .branch import switch_at_flip as switch_at_flip
 from .branch import period1_branches as period1_branches
 from .branch import same_branch as same_branch
+from .branch import diagram_branches as diagram_branches

@@ -50,10 +50,7 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     if not hi > lo:
         raise ParameterError("stop", stop, f"a value != start = {start!r}")
     lo, hi, cut = _resonance_bounds(problem, float(start), lo, hi)
-    span = hi - lo
-    # arclength mixes the parameter and the orbit (whose size sets the scale)
-    h_max = float(h_max) if h_max is not None else span / 25 + 0.05
-    h = float(h) if h is not None else min(h_max, span / 100)
+    h, h_max = _steps(lo, hi, h, h_max)
     e = np.zeros(problem.size + 1)
     e[-1] = 1.0 if float(stop) > float(start) else -1.0
     return _run(problem, X0, e, lo, hi, h, h_max, max_points, cut,
@@ -101,10 +98,16 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     else:
         raise ConvergenceError("no period-doubled orbit found next to the flip point at "
                                f"{pr.param} = {lam:.12g}", math.inf)
-    X1 = res[0]
-    hh = h_max if h_max is not None else (hi - lo) / 25 + 0.05
-    return _run(pr2, X1, e, lo, hi, min(hh, (hi - lo) / 100), hh, max_points, None,
+    h, h_max = _steps(lo, hi, None, h_max)
+    return _run(pr2, res[0], e, lo, hi, h, h_max, max_points, None,
                 Tracker(pr2) if locate else None, through)
+
+
+def _steps(lo, hi, h, h_max):
+    """(first step, largest step) in arclength, which mixes the parameter and the orbit
+    (whose size sets the scale, hence the absolute part of the default largest step)."""
+    h_max = float(h_max) if h_max is not None else (hi - lo) / 25 + 0.05
+    return (float(h) if h is not None else min(h_max, (hi - lo) / 100)), h_max
 
 
 def _start(model, param, start, stop, orbit, guess, n, p, fixed):
@@ -126,7 +129,7 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
                                  "parameter")
         omega = None
     else:
-        if param not in model.parameter_names() and not _indexed(model, param):
+        if not _indexed(model, param):
             raise ParameterError("param", param, "omega or a named parameter of the model: "
                                  + ", ".join(model.parameter_names()))
         if "omega" not in fixed:
@@ -278,7 +281,7 @@ def _not_isolated(problem, X):
     orbit is not isolated there and its amplitude diverges."""
     if problem.p != 1 or problem.model.damped:
         return ""
-    model, flow, F = problem.at(X[-1])
+    model, flow, F = problem.at(X[-1], check=False)
     if model.damped:
         return ""
     T = float(X[problem.d])
@@ -339,3 +342,12 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
                     except SymviError:
                         pass
     return out
+
+
+def diagram_branches(system, omega_min, omega_max, component=0):
+    """What a bifurcation diagram over omega overlays, for a Model or the paper's Params:
+    (curves of :meth:`Branch.curve`, special points as dicts with the orbit's n-p)."""
+    from ..model import Model
+    brs = period1_branches(Model.of(system), omega_min, omega_max)
+    return ([b.curve(component) for b in brs],
+            [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special])

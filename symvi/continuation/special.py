@@ -54,13 +54,14 @@ class Tracker:
         self.prev = None
 
     # ---- test functions -----------------------------------------------------------
-    def _conservative(self, lam):
-        return self.problem.at(lam, check=False)[0].conservative
+    def _conservative(self, X):
+        # the model of the point's flights (cached by the problem: no second model built)
+        return self.problem.flights(X[:-1], X[-1], check=False)[1][0].conservative
 
     def psi(self, X, t, orbit):
         mu = np.array(orbit.multipliers)
         out = {"fold": float(t[-1]), "flip": float(np.prod(mu + 1).real)}
-        if not self._conservative(X[-1]):
+        if not self._conservative(X):
             iu = np.triu_indices(len(mu), 1)
             out["ns"] = float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
         else:

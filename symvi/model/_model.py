@@ -264,6 +264,12 @@ class Model:
                    forcing=[1.0 - p.f2, p.f2], stop=Stop(mass=1, gap=p.b, restitution=p.r),
                    _preset={"name": "luo_xie", **p.as_dict()})
 
+    @classmethod
+    def of(cls, system):
+        """``system`` itself when it is a Model, else the preset of the paper's
+        :class:`symvi.Params` (what a Model-only analysis takes from the preset flags)."""
+        return system if isinstance(system, cls) else cls.luo_xie(**system.as_dict())
+
     # ---- named parameters ------------------------------------------------------
     def parameter_names(self):
         """Every named scalar of this model (``omega`` excluded), in a stable order."""

@@ -438,9 +438,7 @@ def initial_guess(problem, guess):
                 nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * s.t)
             Y.append(nxt)
         cur = nxt
-    u = np.concatenate([np.concatenate(Y), T])
-    # the total time fixes n: rescale the guess's times to n periods if they are close
-    return u
+    return np.concatenate([np.concatenate(Y), T])
 
 
 def _unwrap(tau, near):
