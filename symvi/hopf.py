@@ -85,6 +85,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from .flow.linear import RESONANCE_CUT
 from .normal_form import normal_form, resonance
 
 #: the crossing is located to this absolute tolerance in omega (plus 4 eps relative)
@@ -106,9 +107,8 @@ NS_RESIDUAL = 1e-6
 #: relative error is below H3_REL_ERR: a crossing of zero speed is not a crossing
 H3_TOL = 1e-8
 H3_REL_ERR = 0.1
-#: an omega_j inside the interval cuts the scan this far (relative) on either side: well
-#: above the flow's refusal (1e-10), where the forcing amplitude is still ~ 1 / gap
-RESONANCE_GAP = 1e-6
+#: an omega_j inside the interval cuts the scan this far (relative) on either side
+RESONANCE_GAP = RESONANCE_CUT
 CONSERVATIVE = ("r = 1 and no damping: the map preserves volume (det DP = 1); multipliers "
                 "lie on the unit circle over whole intervals and a Neimark-Sacker bifurcation "
                 "(H3) cannot occur; no Neimark-Sacker point is reported (real multipliers "

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError, SingularCaseError, SymviError
+from ..flow.linear import RESONANCE_CUT, LinearFlow
 from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
                                newton, orbit_of)
 from .points import Branch, BranchPoint, SpecialPoint, correct, tangent
@@ -25,8 +26,6 @@ from .special import Tracker
 
 #: largest cosine drop between consecutive tangents accepted (else the step is halved)
 MIN_COS = 0.95
-#: relative gap left at a forcing resonance where an omega branch is cut
-RESONANCE_GAP = 1e-6
 #: |1 - e^{i omega_j T}| below which a one-impact branch of an undamped model is cut
 ISOLATION_CUT = 1e-5
 
@@ -180,13 +179,12 @@ def _resonance_bounds(problem, start, lo, hi):
     ``start`` (the steady-state response is infinite there): (lo, hi, cut or None)."""
     if problem.param != "omega" or problem.model.damped:
         return lo, hi, None
-    from ..flow.linear import LinearFlow
     cut = None
     for w in (float(w) for w in LinearFlow.of(problem.model).omegas):
         if start < w < hi:
-            hi, cut = w * (1 - RESONANCE_GAP), w
+            hi, cut = w * (1 - RESONANCE_CUT), w
         elif lo < w < start:
-            lo, cut = w * (1 + RESONANCE_GAP), w
+            lo, cut = w * (1 + RESONANCE_CUT), w
     return lo, hi, cut
 
 

@@ -42,6 +42,9 @@ IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
 #: relative distance to a forcing resonance refused / warned about (as for the paper)
 RESONANCE_REFUSE = 1e-10
 RESONANCE_WARN = 1e-4
+#: relative distance at which scans and branches through a natural frequency are cut
+#: (well above the refusal, where the forcing amplitude is still ~ 1 / gap)
+RESONANCE_CUT = 1e-6
 #: condition number of the eigenvector matrix of A above which a damped model is refused
 EIGVEC_COND_MAX = 1e10
 OMEGA_RANGE = (1e-4, 1e4)
