@@ -112,6 +112,27 @@ def tangent(Gu, Gl, t_prev):
     return t / np.linalg.norm(t)
 
 
+def root_on_arc(problem, f, Xa, ta, Xb):
+    """A zero of f(X, t, Gu) between two points of a branch, by Brent's method in the
+    arclength s along ta, each trial point corrected on t_a . (X - X_a) = s; (X, t, Gu)."""
+    from scipy.optimize import brentq
+    sb = float(np.dot(ta, Xb - Xa))
+    cache = {}
+
+    def g(s):
+        Xp = Xa + (s / sb) * (Xb - Xa)
+        res = correct(problem, Xp, ta, float(np.dot(ta, Xa)) + s)
+        if res is None:
+            raise RuntimeError(f"the corrector failed at arclength {s:.3g}")
+        X, Gu, Gl, _ = res
+        cache[s] = (X, tangent(Gu, Gl, ta), Gu)
+        return f(*cache[s])
+    s = brentq(g, 0.0, sb, xtol=1e-14 * max(1.0, abs(sb)), rtol=8.9e-16)
+    if s not in cache:
+        g(s)
+    return cache[s]
+
+
 def correct(problem, Xp, t, c):
     """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
     X = Xp.copy()

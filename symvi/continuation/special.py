@@ -28,12 +28,12 @@ import math
 import warnings
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from ..errors import NearSingularWarning, SymviError
 from ..normal_form import flip_coefficient, fold_coefficient, normal_form
 from ..orbits.periodic import orbit_of
-from .points import SpecialPoint, correct, tangent
+from .points import SpecialPoint, root_on_arc
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -109,28 +109,8 @@ class Tracker:
         if sp is not None:
             self.special.append(sp)
 
-    def _point(self, Xa, ta, Xb, s):
-        m = self.problem.size
-        sb = float(np.dot(ta, Xb - Xa))
-        Xp = Xa + (s / sb) * (Xb - Xa)
-        res = correct(self.problem, Xp, ta, float(np.dot(ta, Xa)) + s)
-        if res is None:
-            raise RuntimeError(f"the corrector failed at arclength {s:.3g}")
-        X, Gu, Gl, _ = res
-        return X, tangent(Gu, Gl, ta), Gu, m
-
     def _root(self, f, Xa, ta, Xb):
-        sb = float(np.dot(ta, Xb - Xa))
-        cache = {}
-
-        def g(s):
-            X, t, Gu, m = self._point(Xa, ta, Xb, s)
-            cache[s] = (X, t, Gu)
-            return f(X, t, Gu)
-        s = brentq(g, 0.0, sb, xtol=1e-14 * max(1.0, abs(sb)), rtol=8.9e-16)
-        if s not in cache:
-            g(s)
-        return cache[s]
+        return root_on_arc(self.problem, f, Xa, ta, Xb)
 
     def _orbit(self, X, Gu, admissibility=True):
         m = self.problem.size

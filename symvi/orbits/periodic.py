@@ -132,14 +132,20 @@ class Problem:
                 Gu[r0.start + d - 1, p * d + i] = w
                 Gu[p * d + i, i * d:i * d + d] = dzdy[0]
                 Gu[p * d + i, p * d + i] = dzdt[0]
-        Gl = self._dparam(fl, model, flow, F, T) if dparam else None
+        Gl = self._dparam(fl, model, flow, F, T, self.param) if dparam else None
         return G, Gu, Gl
 
-    def _dparam(self, fl, model, flow, F, T):
-        """dG/dlam at fixed u, exact (omega: dU, dV; any other name: model.tangent)."""
+    def derivative(self, u, lam, name):
+        """dG/d(name) at (u, lam), fixed u, for any named parameter or omega (not only
+        the continued one): a two-parameter curve needs both."""
+        fl, (model, flow, F) = self.flights(u, lam, check=False)
+        return self._dparam(fl, model, flow, F, self.split(u)[1], name)
+
+    def _dparam(self, fl, model, flow, F, T, name):
+        """dG/dname at fixed u, exact (omega: dU, dV; any other name: model.tangent)."""
         d, p, idx, lib = self.d, self.p, self.idx, flow.lib
         out = np.zeros(self.size)
-        if self.param == "omega":
+        if name == "omega":
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 ph = tau + F.omega * T[i]
                 dz = F.zp_omega(ph, lib) + T[i] * F.zp_phase(ph, lib) - Phi @ F.zp_omega(tau, lib)
@@ -148,7 +154,7 @@ class Problem:
                 out[i * d + d - 1] = T[i]
                 out[p * d + i] = dz[0]
             return out
-        tan = model.tangent(self.param)
+        tan = model.tangent(name)
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
             pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
             dF = type(F)(F.omega, pU, pV, None, None)

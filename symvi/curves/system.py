@@ -1,0 +1,227 @@
+"""The defining system of a codimension-one curve of n-p orbits in two named parameters.
+
+Unknowns X = (u, a, b): u the shooting unknowns of :mod:`symvi.orbits.periodic`, a and b
+the two parameters.  Equations (m + 1 of them in m + 2 unknowns, a curve)::
+
+    G(u; a, b) = 0                      the orbit (multiple shooting)
+    g(u; a, b) = 0                      one bordered test function of the monodromy M
+
+with, for the matrix B(M) that is singular on the curve,
+
+    fold:  B = M - I          flip:  B = M + I
+    NS:    B = M (.) M - I    the second compound (bialternate) matrix, eigenvalues
+                              mu_i mu_j (i < j): singular when a pair has product 1
+
+and g the last component of the solution of [[B, w0], [v0^T, 0]] (v, g) = (0, 1)
+(minimally augmented system, Govaerts; Kuznetsov & Meijer for maps).  With w from
+the transposed system, dg = -w^T dB v: its derivatives need dM only, which come
+exactly from the generated jets at each impact, M = J_{p-1} ... J_0 and
+
+    dM/dy_i[j] = L_i d2_i[:, :, j] R_i,   dM/da = sum_i L_i (dJ_i/da) R_i,
+
+L_i = J_{p-1} ... J_{i+1}, R_i = J_{i-1} ... J_0, dJ_i/da the explicit derivative at
+fixed y_i (generated parameter slot, never finite differences).  The time unknowns
+enter g only through the y_i (the generated jets eliminate the time, eq. (30)).
+
+The system is presented as a one-parameter problem in b with unknowns v = (u, a), so
+the pseudo-arclength corrector of :mod:`symvi.continuation.points` serves it unchanged.
+"""
+import math
+
+import numpy as np
+
+from ..codegen.jets import evaluate as jet_values
+from ..errors import ParameterError
+from ..orbits.periodic import Problem
+
+KINDS = ("ns", "flip", "fold")
+
+
+def compound2(M):
+    """The second compound matrix of M (rows/columns indexed by pairs i > j)."""
+    P, Q = _pairs(M.shape[0])
+    return M[np.ix_(P, P)] * M[np.ix_(Q, Q)] - M[np.ix_(P, Q)] * M[np.ix_(Q, P)]
+
+
+_PAIRS = {}
+
+
+def _pairs(d):
+    if d not in _PAIRS:
+        P, Q = np.tril_indices(d, -1)
+        _PAIRS[d] = (P, Q)
+    return _PAIRS[d]
+
+
+class CurveSystem:
+    """G(u; a, b) = 0 and g = 0 for the ``kind`` of curve (ns, flip, fold) of n-p orbits of
+    ``model`` in the parameters ``names`` = (a, b); ``omega`` is the forcing frequency
+    when neither is omega."""
+
+    def __init__(self, model, n, p, names, kind, omega=None):
+        if kind not in KINDS:
+            raise ParameterError("kind", kind, "ns, flip or fold")
+        a, b = names
+        if a == b:
+            raise ParameterError("params", names, "two different parameter names")
+        for nm in names:
+            if nm != "omega":
+                model.value(nm)               # names the parameter or raises
+        if "omega" not in names and omega is None:
+            raise ParameterError("omega", None, "a fixed forcing frequency when neither "
+                                 "parameter is omega")
+        self.model, self.n, self.p, self.names, self.kind = model, n, p, (a, b), kind
+        self.omega = None if "omega" in names else float(omega)
+        self._pr = None
+        self.border = None
+        self.size = None
+        pr = self.problem(model.value(b) if b != "omega" else 1.0)
+        self.m = pr.size
+        self.size = pr.size + 1
+        self.d = pr.d
+
+    # ---- the one-parameter problem at fixed b -------------------------------------
+    def problem(self, bval):
+        """The orbit problem continued in a, at b = bval (cached for the last bval)."""
+        bval = float(bval)
+        if self._pr is not None and self._pr[0] == bval:
+            return self._pr[1]
+        a, b = self.names
+        if b == "omega":
+            pr = Problem(self.model, self.n, self.p, omega=bval, param=a)
+        else:
+            model = self.model.with_(**{b: bval})
+            pr = Problem(model, self.n, self.p,
+                         omega=None if a == "omega" else self.omega, param=a)
+        self._pr = (bval, pr)
+        return pr
+
+    def at(self, bval, check=True):
+        """Validates b (the corrector calls it once per solve)."""
+        return self.problem(bval)
+
+    # ---- the test function ---------------------------------------------------------
+    def matrix(self, M):
+        d = M.shape[0]
+        if self.kind == "fold":
+            return M - np.eye(d)
+        if self.kind == "flip":
+            return M + np.eye(d)
+        C = compound2(M)
+        return C - np.eye(C.shape[0])
+
+    def set_border(self, M):
+        """Border vectors: the singular vectors of B(M) of its smallest singular value."""
+        U, s, Vt = np.linalg.svd(self.matrix(M))
+        self.border = (Vt[-1].copy(), U[:, -1].copy())
+
+    def test(self, M, grad=False):
+        """g, and with ``grad`` the matrix K = dg/dM (dg = sum K * dM)."""
+        B = self.matrix(M)
+        k = B.shape[0]
+        v0, w0 = self.border
+        A = np.zeros((k + 1, k + 1))
+        A[:k, :k], A[:k, k], A[k, :k] = B, w0, v0
+        rhs = np.zeros(k + 1)
+        rhs[k] = 1.0
+        x = np.linalg.solve(A, rhs)
+        if not grad:
+            return float(x[k]), None
+        y = np.linalg.solve(A.T, rhs)
+        v, w = x[:k], y[:k]
+        W = -np.outer(w, v)                    # dg/dB
+        if self.kind != "ns":
+            return float(x[k]), W
+        P, Q = _pairs(M.shape[0])
+        K = np.zeros_like(M)
+        # B_ab = M[P_a,P_b] M[Q_a,Q_b] - M[P_a,Q_b] M[Q_a,P_b]
+        np.add.at(K, (P[:, None], P[None, :]), W * M[np.ix_(Q, Q)])
+        np.add.at(K, (Q[:, None], Q[None, :]), W * M[np.ix_(P, P)])
+        np.add.at(K, (P[:, None], Q[None, :]), -W * M[np.ix_(Q, P)])
+        np.add.at(K, (Q[:, None], P[None, :]), -W * M[np.ix_(P, Q)])
+        return float(x[k]), K
+
+    # ---- the system ----------------------------------------------------------------
+    def evaluate(self, v, lam, jac=True, dparam=False, check=True):
+        """(F, dF/dv, dF/db) at v = (u, a), b = lam; F = (G, g)."""
+        m = self.m
+        u, a = v[:m], float(v[m])
+        pr = self.problem(lam)
+        G, Gu, Ga = pr.evaluate(u, a, jac=True, dparam=jac, check=check)
+        mats, M = pr.monodromy(u, Gu)
+        g, K = self.test(M, grad=jac)
+        F = np.append(G, g)
+        if not jac:
+            return F, None, None
+        Gb = pr.derivative(u, a, self.names[1])
+        gu, ga, gb = self._grad(pr, u, a, K)
+        DF = np.zeros((m + 1, m + 1))
+        DF[:m, :m], DF[:m, m] = Gu, Ga
+        DF[m, :m], DF[m, m] = gu, ga
+        return F, DF, np.append(Gb, gb) if dparam else None
+
+    def _grad(self, pr, u, a, K):
+        """dg/du (zero on the times), dg/da, dg/db from the generated jets."""
+        fl, (model, flow, F) = pr.flights(u, a, check=False)
+        Y, T = pr.split(u)
+        names = self.names
+        jets = []
+        tans = [None if nm == "omega" else model.tangent(nm) for nm in names]
+        for i in range(self.p):
+            y, te = tuple(Y[i]), float(T[i])
+            first = next((t for t in tans if t is not None), None)
+            vals = jet_values(flow, F, y, te, 2, first)
+            dJ = []
+            for nm, tan in zip(names, tans):
+                if tan is None:
+                    dJ.append(vals["dwJ"])
+                elif tan is first:
+                    dJ.append(vals["dpJ"])
+                else:
+                    dJ.append(jet_values(flow, F, y, te, 2, tan)["dpJ"])
+            jets.append((vals["J"], vals["d2"], dJ))
+        d, p = self.d, self.p
+        # prefix and suffix products: R_i = J_{i-1}..J_0, L_i = J_{p-1}..J_{i+1}
+        R = [np.eye(d)]
+        for J, _, _ in jets[:-1]:
+            R.append(J @ R[-1])
+        L = [np.eye(d)] * p
+        acc = np.eye(d)
+        for i in range(p - 1, -1, -1):
+            L[i] = acc
+            acc = acc @ jets[i][0]
+        gu = np.zeros(self.m)
+        gab = [0.0, 0.0]
+        for i, (J, d2, dJ) in enumerate(jets):
+            Ki = L[i].T @ K @ R[i].T
+            gu[i * d:(i + 1) * d] = np.einsum("ab,abj->j", Ki, d2)
+            for k in range(2):
+                gab[k] += float(np.sum(Ki * dJ[k]))
+        return gu, gab[0], gab[1]
+
+
+def kappa_pair(mu, prev=None):
+    """The critical pair of an NS curve: the two multipliers whose product is nearest 1
+    (nearest ``prev`` when given, for continuity), and kappa = (mu_i + mu_j) / 2, real on
+    the curve: cos(theta) on the NS part (|kappa| < 1), a neutral saddle beyond."""
+    mu = np.asarray(mu)
+    best = None
+    for i in range(len(mu)):
+        for j in range(i + 1, len(mu)):
+            dist = abs(mu[i] * mu[j] - 1)
+            if prev is not None:
+                dist = min(abs(mu[i] - prev[0]) + abs(mu[j] - prev[1]),
+                           abs(mu[j] - prev[0]) + abs(mu[i] - prev[1])) + dist
+            if best is None or dist < best[0]:
+                best = (dist, i, j)
+    _, i, j = best
+    a, b = (mu[i], mu[j]) if mu[i].imag >= mu[j].imag else (mu[j], mu[i])
+    return (i, j), (complex(a), complex(b)), float(((a + b) / 2).real)
+
+
+def theta_of(pair):
+    """The angle of the upper multiplier of a complex critical pair (0 or pi when real)."""
+    z = pair[0]
+    if abs(z.imag) > 1e-12:
+        return float(abs(math.atan2(z.imag, z.real)))
+    return 0.0 if z.real > 0 else math.pi
