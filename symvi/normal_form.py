@@ -642,6 +642,25 @@ def kuznetsov(A, d2, d3, *, index=None, digits=None):
         return c1, l1
 
 
+def kuznetsov_resolved(A, d2, d3):
+    """(c1, l1, noise), float64: ``noise`` bounds the rounding error of l1 (forward error
+    of the sums of products in c1, with the absolute tensors |d2|, |d3|, times the
+    condition numbers of the two solves).  Near grazing the jets of an impact map
+    grow like powers of 1/v and l1 drowns in rounding: |l1| < noise decides nothing."""
+    bk = backend(None, A, d2, d3)
+    A, d2, d3 = np.asarray(A, float), _symmetrise(np.asarray(d2, float)), \
+        _symmetrise(np.asarray(d3, float))
+    e = _eigen(bk, A, None)
+    c1, l1, h11, h20 = _kuznetsov(bk, A, d2, d3, e)
+    n = A.shape[0]
+    aq, a11, a20, ap = np.abs(e.q), np.abs(h11), np.abs(h20), np.abs(e.p)
+    D2, D3 = np.abs(d2), np.abs(d3)
+    cond = max(np.linalg.cond(np.eye(n) * abs(e.lam) ** 2 - A),
+               np.linalg.cond(e.lam ** 2 * np.eye(n) - A))
+    size = np.dot(ap, _C(D3, aq, aq, aq) + cond * (2 * _B(D2, aq, a11) + _B(D2, aq, a20))) / 2
+    return c1, float(l1), float(16 * np.finfo(float).eps * n * size)
+
+
 # --------------------------------------------------------------------------- transversality
 def dmod_A3(A, dA, *, index=None, digits=None):
     """d|lambda1|/dv by eqs. (A1)–(A3): Re(exp(-i theta0) (F11 zeta0, zeta0^*)) / ... .

@@ -190,14 +190,15 @@ class CurveSystem:
         for i in range(p - 1, -1, -1):
             L[i] = acc
             acc = acc @ jets[i][0]
-        gu = np.zeros(self.m)
+        gu = np.zeros(self.m, dtype=K.dtype)      # complex K: an eigenvalue's gradient
         gab = [0.0, 0.0]
         for i, (J, d2, dJ) in enumerate(jets):
             Ki = L[i].T @ K @ R[i].T
             gu[i * d:(i + 1) * d] = np.einsum("ab,abj->j", Ki, d2)
             for k in range(2):
-                gab[k] += float(np.sum(Ki * dJ[k]))
-        return gu, gab[0], gab[1]
+                gab[k] += np.sum(Ki * dJ[k])
+        return gu, gab[0].real if K.dtype.kind == "f" else gab[0], \
+            gab[1].real if K.dtype.kind == "f" else gab[1]
 
 
 def kappa_pair(mu, prev=None):

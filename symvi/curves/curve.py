@@ -1,0 +1,488 @@
+"""Continuation of fold, flip and Neimark–Sacker curves in two named parameters.
+
+The defining system is :class:`symvi.curves.system.CurveSystem`; its points are
+followed by pseudo-arclength (the corrector of :mod:`symvi.continuation.points`), the
+bordering vectors renewed at every accepted point.  From the start the curve is
+followed both ways until, on each side, it
+
+* leaves the parameter box (the last point lands on the bound),
+* stops being admissible (the grazing or penetration located, the point beyond kept
+  and marked inadmissible),
+* meets a model the parameters make invalid, a forcing resonance, or a corrector
+  that fails below the smallest step (the reason is stated).
+
+At every point: the orbit (multipliers, admissibility), and for NS curves theta
+and l1 (Kuznetsov, ||q||_2 = 1, <p, q> = 1), for flip curves c, for fold curves a,
+plus the side of the curve on which the orbit is stable.  Codimension-two points
+are located on the way by :mod:`symvi.curves.special`.
+"""
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..continuation.points import correct, tangent
+from ..errors import NearSingularWarning, ParameterError, SymviError
+from ..normal_form import eigen, flip_coefficient, fold_coefficient, kuznetsov_resolved
+from ..orbits.periodic import PeriodicOrbit, orbit_of
+from .system import CurveSystem, kappa_pair, theta_of
+
+#: a multiplier beyond this modulus ends a curve: the orbit is close to grazing, where the
+#: impact map's Jacobian has a pole (eq. (30)) and no test function of M can be evaluated
+MULTIPLIER_CUT = 1e2
+#: largest cosine drop between consecutive tangents accepted (else the step is halved)
+MIN_COS = 0.97
+NORMALISATION = ("||q||_2 = 1, <p,q> = conj(p)^T q = 1; l1 = Re(e^{-i theta} c1) (l1 < 0: "
+                 "supercritical, a stable invariant circle)")
+
+
+@dataclass(frozen=True)
+class CurvePoint:
+    """One point of a curve: both parameter values, the orbit, and the curve's numbers
+    there (theta, l1 for NS; c for flip; a for fold), ``ns`` False on a neutral-saddle
+    stretch of an NS curve (a real pair with product 1, no bifurcation)."""
+
+    params: dict
+    orbit: PeriodicOrbit = field(repr=False)
+    kappa: float = None
+    theta: float = None
+    l1: float = None
+    coefficient: float = None
+    ns: bool = True
+    l1_noise: float = None      # rounding bound of l1: |l1| below it decides nothing
+
+    @property
+    def admissible(self):
+        return self.orbit.admissible
+
+    def as_dict(self):
+        out = {"params": dict(self.params), "theta": self.theta, "l1": self.l1,
+               "admissible": bool(self.orbit.admissible)}
+        if self.l1_noise is not None:
+            out["l1_noise"] = self.l1_noise
+        if self.coefficient is not None:
+            out["coefficient"] = self.coefficient
+        out.update({"kappa": self.kappa, "neimark_sacker": bool(self.ns),
+                    "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers]})
+        return out
+
+
+@dataclass(frozen=True)
+class Codim2Point:
+    """A located codimension-two point: ``kind`` CH, R1..R4, LPNS, PDNS, NSNS, LPPD, CP,
+    GPD, or an end of the admissible curve (grazing)."""
+
+    kind: str
+    params: dict
+    orbit: PeriodicOrbit = field(repr=False)
+    coefficients: dict
+    detail: str
+    index: int = 0
+
+    def as_dict(self):
+        return {"kind": self.kind, "params": dict(self.params),
+                "coefficients": {k: _plain(v) for k, v in self.coefficients.items()},
+                "detail": self.detail, "admissible": bool(self.orbit.admissible),
+                "y": [float(v) for v in self.orbit.y],
+                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers]}
+
+
+def _plain(v):
+    if isinstance(v, (bool, np.bool_)):
+        return bool(v)
+    if isinstance(v, (int, np.integer)):
+        return int(v)
+    if isinstance(v, (float, np.floating)):
+        return float(v)
+    if isinstance(v, complex):
+        return [v.real, v.imag]
+    return v
+
+
+@dataclass(frozen=True)
+class Curve:
+    """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names``."""
+
+    kind: str
+    names: tuple
+    n: int
+    p: int
+    points: tuple
+    special: tuple
+    ends: tuple                 # why it ended on each side (first, last)
+    bounds: dict
+    fixed: dict
+    notes: tuple = ()
+    states: tuple = field(repr=False, default=())
+    model: object = field(repr=False, default=None)
+
+    def __len__(self):
+        return len(self.points)
+
+    def values(self, name):
+        return np.array([pt.params[name] for pt in self.points])
+
+    def as_dict(self):
+        return {"kind": self.kind, "params": list(self.names), "orbit": f"{self.n}-{self.p}",
+                "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
+                "normalisation": NORMALISATION,
+                "points": [pt.as_dict() for pt in self.points],
+                "special": [s.as_dict() for s in self.special],
+                "ends": list(self.ends), "notes": list(self.notes)}
+
+
+# --------------------------------------------------------------------------- entry point
+def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None,
+                   max_points=2000, both=True, locate=True, through=False, **fixed):
+    """Continue the ``kind`` curve (ns, flip or fold) of ``orbit`` in the two named
+    parameters ``names`` = (a, b).
+
+    ``orbit`` is a :class:`PeriodicOrbit` at (or near) a point of the curve, e.g. the
+    orbit of an NS, flip or fold point that :func:`symvi.continuation.continue_branch`
+    located; ``fixed`` gives the model's other parameters (omega included when it is
+    not one of ``names``), and the start values of a and b are the orbit's (omega)
+    or the model's.  ``bounds`` maps a name to (lo, hi); by default each parameter may
+    range over half to twice its start value (omega and positive parameters).  With
+    ``both`` the curve is followed both ways from the start and joined.
+    """
+    from ..model import Model
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model")
+    if not isinstance(orbit, PeriodicOrbit):
+        raise ParameterError("orbit", orbit, "a symvi.orbits.periodic.PeriodicOrbit")
+    names = tuple(names)
+    if len(names) != 2:
+        raise ParameterError("params", names, "two parameter names, e.g. omega,b")
+    fixed = dict(fixed)
+    omega = fixed.pop("omega", None)
+    if omega is None:
+        omega = orbit.omega
+    for nm in names:
+        if nm != "omega" and nm in fixed:
+            raise ParameterError(nm, fixed[nm], "not fixed: it is a curve parameter")
+    if fixed:
+        model = model.with_(**fixed)
+    start = {nm: (float(omega) if nm == "omega" else float(model.value(nm))) for nm in names}
+    box = _bounds(names, start, bounds)
+    system = CurveSystem(model, orbit.n, orbit.p, names, kind,
+                         omega=None if "omega" in names else omega)
+    X0 = _first(system, orbit, start)
+    first = _point(system, X0, None)
+    if not first.admissible and not through:
+        raise SymviError(f"the starting orbit is not admissible ({first.orbit.reason}): a "
+                         "curve of an unphysical orbit is not followed (through=True to "
+                         "follow it anyway)")
+    from .special import Tracker
+    halves = []
+    directions = (1.0, -1.0) if both else (1.0,)
+    for sgn in directions:
+        tracker = Tracker(system) if locate else None
+        halves.append(_run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through))
+    pts, states, special, ends = _join(halves)
+    notes = []
+    if model.conservative:
+        notes.append("conservative model (r = 1, no damping): the map preserves volume and "
+                     "multipliers lie on the unit circle over whole intervals; (H3) has no "
+                     "meaning and NS curves are not defined")
+    fx = {k: v for k, v in fixed.items()}
+    if "omega" not in names:
+        fx["omega"] = float(omega)
+    return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
+                 box, fx, tuple(notes), tuple(states), model)
+
+
+def _bounds(names, start, bounds):
+    bounds = dict(bounds or {})
+    out = {}
+    for nm in names:
+        if nm in bounds:
+            lo, hi = (float(v) for v in bounds.pop(nm))
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+                raise ParameterError(f"bounds[{nm}]", (lo, hi), "finite LO < HI")
+            if not lo <= start[nm] <= hi:
+                raise ParameterError(f"bounds[{nm}]", (lo, hi), f"an interval containing the "
+                                     f"start value {start[nm]:.12g}")
+        else:
+            v = start[nm]
+            lo, hi = (v / 2, 2 * v) if v > 0 else (2 * v, v / 2) if v < 0 else (-1.0, 1.0)
+        out[nm] = (lo, hi)
+    if bounds:
+        raise ParameterError("bounds", sorted(bounds), f"bounds of the curve's parameters "
+                             f"{', '.join(names)} only")
+    return out
+
+
+def _first(system, orbit, start):
+    """X0 = (u, a, b) on the curve, corrected at fixed b from the orbit's shooting data."""
+    a, b = system.names
+    m = system.m
+    X = np.concatenate([orbit.u, [start[a], start[b]]])
+    pr = system.problem(start[b])
+    G, Gu, _ = pr.evaluate(X[:m], X[m])
+    system.set_border(pr.monodromy(X[:m], Gu)[1])
+    e = np.zeros(m + 2)
+    e[-1] = 1.0
+    res = correct(system, X, e, start[b])
+    if res is None:
+        raise SymviError(f"no {system.kind} point of the orbit found near {a} = "
+                         f"{start[a]:.12g} at {b} = {start[b]:.12g}: the start is not on a "
+                         f"{system.kind} curve")
+    X = res[0]
+    system.set_border(_mono(system, X))
+    return X
+
+
+def _mono(system, X):
+    m = system.m
+    pr = system.problem(X[-1])
+    G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
+    return pr.monodromy(X[:m], Gu)[1]
+
+
+def _point(system, X, prev, Gu=None):
+    """The :class:`CurvePoint` at X (prev: the previous point, for the critical pair)."""
+    m = system.m
+    a, b = system.names
+    pr = system.problem(X[-1])
+    G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
+    orbit = orbit_of(pr, X[:m], X[m], Gu)
+    params = {a: float(X[m]), b: float(X[m + 1])}
+    mu = np.array(orbit.multipliers)
+    if system.kind == "ns":
+        pair = kappa_pair(mu, None if prev is None else prev._pair)[1]
+        kappa = float(((pair[0] + pair[1]) / 2).real)
+        ns = abs(kappa) < 1 and abs(pair[0].imag) > 1e-12
+        l1 = theta = noise = None
+        if ns:
+            theta = theta_of(pair)
+            l1, noise = first_lyapunov(orbit, pair[0])
+        pt = CurvePoint(params, orbit, kappa, theta, l1, None, ns, noise)
+        object.__setattr__(pt, "_pair", pair)
+        return pt
+    try:
+        if system.kind == "flip":
+            A, d2, d3 = orbit.jet(3)
+            c = flip_coefficient(A, d2, d3)[0]
+        else:
+            A, d2, _ = orbit.jet(2)
+            c = fold_coefficient(A, d2)[0]
+    except (SymviError, np.linalg.LinAlgError):
+        c = None
+    crit = min(mu, key=lambda z: abs(z - (-1.0 if system.kind == "flip" else 1.0)))
+    pt = CurvePoint(params, orbit, None, None, None, c, True)
+    object.__setattr__(pt, "_pair", (crit, crit))
+    return pt
+
+
+def first_lyapunov(orbit, lam):
+    """(l1, noise) of the pair of multiplier ``lam`` of the orbit; (None, None) at a strong
+    resonance (no cubic normal form).  ``noise`` bounds l1's rounding error
+    (:func:`symvi.normal_form.kuznetsov_resolved`; near grazing the jets blow up)."""
+    A, d2, d3 = orbit.jet(3)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NearSingularWarning)
+            # kuznetsov takes the pair with Im > 0 nearest the unit circle: lam's on an
+            # NS curve (|lam| = 1); checked, so that a second pair never stands in
+            if abs(eigen(A).lam - lam) > 1e-6 * (1 + abs(lam)):
+                return None, None
+            _, l1, noise = kuznetsov_resolved(A, d2, d3)
+    except SymviError:
+        return None, None
+    return l1, noise
+
+
+def stable_sides(curve, every=1):
+    """The :func:`stable_side` of every ``every``-th point of an NS or flip curve:
+    [(index, unit normal or None)]."""
+    if curve.kind == "fold":
+        return []
+    system = CurveSystem(curve.model, curve.n, curve.p, curve.names, curve.kind,
+                         omega=curve.fixed.get("omega"))
+    out = []
+    for i in range(0, len(curve.points), max(1, int(every))):
+        pt = curve.points[i]
+        out.append((i, stable_side(system, curve.states[i], pt.orbit, pt._pair[0])))
+    return out
+
+
+def stable_side(system, X, orbit, lam):
+    """Unit normal (in the plane of the two parameters) pointing to the side where the
+    orbit is stable, from d|lambda|/d(a, b) along the orbit (exact: generated jets), or
+    None when another multiplier lies outside the unit circle (unstable on both sides)."""
+    others = [z for z in orbit.multipliers if abs(z - lam) > 1e-9 and abs(z - np.conj(lam)) > 1e-9]
+    if any(abs(z) >= 1 for z in others):
+        return None
+    m = system.m
+    pr = system.problem(X[-1])
+    G, Gu, Ga = pr.evaluate(X[:m], X[m], dparam=True, check=False)
+    Gb = pr.derivative(X[:m], X[m], system.names[1])
+    mats, M = pr.monodromy(X[:m], Gu)
+    w, V = np.linalg.eig(M)
+    k = int(np.argmin(np.abs(w - lam)))
+    q = V[:, k]
+    pv = np.linalg.inv(V)[k]                      # row k of V^-1: paired with q
+    K = np.outer(pv, q)                          # dlambda = sum K * dM
+    try:
+        gu, ga, gb = system._grad(pr, X[:m], X[m], K)
+        du = np.linalg.solve(Gu, -np.column_stack([Ga, Gb]))
+    except (SymviError, np.linalg.LinAlgError):
+        return None
+    dlam = np.array([ga, gb]) + gu @ du
+    lamc = w[k]
+    grad = np.array([(np.conj(lamc) * z).real / abs(lamc) for z in dlam])
+    nrm = float(np.linalg.norm(grad))
+    if not nrm > 0:
+        return None
+    return tuple(float(v) for v in -grad / nrm)
+
+
+# --------------------------------------------------------------------------- the loop
+def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
+    m = system.m
+    a, b = system.names
+    lo = np.array([box[a][0], box[b][0]])
+    hi = np.array([box[a][1], box[b][1]])
+    span = float(np.min(hi - lo))
+    h_max = float(h_max) if h_max is not None else span / 20 + 0.02
+    h = float(h) if h is not None else min(h_max, span / 200)
+    h_min = 1e-9 * span
+    system.set_border(_mono(system, X))
+    F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
+    e = np.zeros(m + 2)
+    e[-1] = sgn
+    t = tangent(DF, Fb, e)
+    if abs(t[-1]) < 1e-3:                       # the curve is parallel to b here: orient by a
+        e = np.zeros(m + 2)
+        e[-2] = sgn
+        t = tangent(DF, Fb, e)
+    states, points = [X], [first]
+    if tracker:
+        tracker.start(X, t, first)
+    end = ""
+    while len(points) < max_points:
+        Xp = X + h * t
+        out = (Xp[m:] < lo) | (Xp[m:] > hi)
+        if np.any(out):
+            res, k, bound = _to_bound(system, X, t, h, lo, hi)
+            if res is None:
+                h /= 2
+                if h < h_min:
+                    end = "the corrector failed at the parameter bound"
+                    break
+                continue
+            Xn, DF, Fb = res[0], res[1], res[2]
+            landed = f"reached {system.names[k]} = {bound:.12g}"
+        else:
+            try:
+                res = correct(system, Xp, t, float(np.dot(t, X)) + h)
+                why = "the corrector did not converge"
+            except SymviError as exc:
+                res, why = None, str(exc)
+            if res is None:
+                h /= 2
+                if h < h_min:
+                    end = f"step below {h_min:.2g}: {why}"
+                    break
+                continue
+            Xn, DF, Fb, its = res
+            landed = ""
+        tn = tangent(DF, Fb, t)
+        if np.dot(tn, t) < MIN_COS and h > h_min and not landed:
+            h /= 2
+            continue
+        try:
+            pt = _point(system, Xn, points[-1])
+        except SymviError as exc:
+            end = f"the orbit cannot be evaluated at {_where(system, Xn)}: {exc}"
+            break
+        system.set_border(_mono(system, Xn))
+        if tracker:
+            tracker.step(X, t, Xn, tn, pt, len(points))
+        X, t = Xn, tn
+        states.append(X)
+        points.append(pt)
+        if landed:
+            end = landed
+            break
+        h = min(h_max, h * (1.5 if its <= 2 else 1.0 if its <= 4 else 0.6))
+        big = max(abs(z) for z in pt.orbit.multipliers)
+        if big > MULTIPLIER_CUT:
+            v = min(pt.orbit.impact_velocities)
+            end = (f"near grazing at {_where(system, X)}: a multiplier of modulus {big:.3g} "
+                   f"(smallest impact velocity {v:.3g}); the impact map's Jacobian has a "
+                   "pole at grazing (eq. (30)), the curve is ended here")
+            break
+        if not through and points[-2].admissible and not pt.admissible:
+            end = (f"the orbit stops being admissible near {_where(system, X)} "
+                   f"({pt.orbit.reason}); the point beyond is kept, marked inadmissible")
+            break
+    else:
+        end = f"max_points = {max_points} reached"
+    if end.startswith("step below"):
+        end += _diagnosis(system, X)
+    return points, states, (tracker.special if tracker else []), end
+
+
+def _diagnosis(system, X):
+    """Why the corrector may fail where a curve stops: a second singular direction of the
+    test matrix (two pairs with product 1, as in the conservative limit r = 1 without
+    damping, where the map preserves volume and NS curves end)."""
+    s = np.linalg.svd(system.matrix(_mono(system, X)), compute_uv=False)
+    if len(s) > 1 and s[-2] < 1e-4 * s[0]:
+        det = abs(np.prod(np.linalg.eigvals(_mono(system, X))))
+        return (f"; the test matrix has a second near-null direction (singular value "
+                f"{s[-2]:.2g}): two multiplier pairs have product 1 there, |det M| = "
+                f"{det:.9g}" + (" (the conservative limit: r -> 1 without damping, the map "
+                                "preserves volume)" if abs(det - 1) < 1e-4 else ""))
+    return ""
+
+
+def _where(system, X):
+    a, b = system.names
+    return f"{a} = {X[-2]:.12g}, {b} = {X[-1]:.12g}"
+
+
+def _to_bound(system, X, t, h, lo, hi):
+    """Land on the first bound the step crosses: solve with that parameter fixed."""
+    m = system.m
+    steps = []
+    for k in range(2):
+        if t[m + k] != 0:
+            for bound in (lo[k], hi[k]):
+                s = (bound - X[m + k]) / t[m + k]
+                if 0 < s <= h * (1 + 1e-12):
+                    steps.append((s, k, bound))
+    if not steps:
+        return None, 0, 0.0
+    s, k, bound = min(steps)
+    e = np.zeros(m + 2)
+    e[m + k] = 1.0
+    try:
+        res = correct(system, X + s * t, e, bound)
+    except SymviError:
+        res = None
+    if res is None:
+        return None, k, bound
+    return res, k, bound
+
+
+def _join(halves):
+    """One curve from the two directions: the second reversed, then the first."""
+    pts, states, special = list(halves[0][0]), list(halves[0][1]), list(halves[0][2])
+    ends = [halves[0][3]]
+    if len(halves) == 2:
+        p2, s2, sp2, e2 = halves[1]
+        shift = len(p2) - 1
+        pts = list(reversed(p2[1:])) + pts
+        states = list(reversed(s2[1:])) + states
+        special = [_reindex(s, shift - s.index - 1) for s in sp2] + \
+                  [_reindex(s, s.index + shift) for s in special]
+        ends = [e2, ends[0]]
+        special.sort(key=lambda s: s.index)
+    return pts, states, special, ends
+
+
+def _reindex(sp, i):
+    return Codim2Point(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, i)
