@@ -6,7 +6,9 @@
   paper does not name its axes; we use three projections of the section
   point (x1dot+, x2, x2dot, tau): (x2, x1dot+), (tau, x1dot+) and (x2dot, x2);
 * :func:`bifurcation_diagram` -- section coordinate against omega;
-* :func:`circle_loglog` -- measured and predicted circle half-widths against mu.
+* :func:`circle_loglog` -- measured and predicted circle half-widths against mu;
+* :func:`branches` -- continued branches; :func:`two_parameter` -- fold, flip and NS
+  curves in a parameter plane with their codimension-two points.
 
 Every figure is written as PNG or PDF (from the file suffix) through a
 temporary file renamed into place.
@@ -186,6 +188,50 @@ def branches(curves, param, ylabel=None, title="", ax=None):
                         color=col)
     ax.set_xlabel(param if param != "omega" else r"$\omega$")
     ax.set_ylabel(ylabel or "")
+    if title:
+        ax.set_title(title, fontsize=9)
+    if own:
+        fig.tight_layout()
+        return fig
+    return ax
+
+
+_CURVE_COLOUR = {"ns": "tab:blue", "flip": "tab:red", "fold": "tab:green"}
+
+
+def two_parameter(curves, names, title="", ax=None):
+    """A two-parameter bifurcation diagram from the plain data of
+    :meth:`symvi.curves.Curve.plot_data`: each curve in the plane of ``names``
+    (NS blue, flip red, fold green; solid where the bifurcation is supercritical
+    or the fold is simple, dashed where subcritical, dotted on neutral-saddle
+    stretches, grey where the orbit is not admissible), short ticks on the side
+    where the orbit is stable, and the codimension-two points labelled."""
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    spans = [np.ptp(np.concatenate([np.asarray(c["a"], float) for c in curves])) or 1.0,
+             np.ptp(np.concatenate([np.asarray(c["b"], float) for c in curves])) or 1.0]
+    for c in curves:
+        a, b = np.asarray(c["a"], float), np.asarray(c["b"], float)
+        col = _CURVE_COLOUR.get(c["kind"], "k")
+        sub = np.asarray(c["subcritical"], dtype=bool)
+        adm = np.asarray(c["admissible"], dtype=bool)
+        bif = np.asarray(c["bifurcation"], dtype=bool)
+        for mask, style in ((adm & bif & ~sub, dict(ls="-", color=col, lw=1.5)),
+                            (adm & bif & sub, dict(ls="--", color=col, lw=1.2)),
+                            (adm & ~bif, dict(ls=":", color=col, lw=0.9)),
+                            (~adm, dict(ls=":", color="0.6", lw=0.8))):
+            ax.plot(np.where(mask, a, np.nan), np.where(mask, b, np.nan), **style)
+        for i, side in c["sides"]:
+            if side is None:
+                continue
+            da, db = side[0] * spans[0] * 0.025, side[1] * spans[1] * 0.025
+            ax.plot([a[i], a[i] + da], [b[i], b[i] + db], "-", color=col, lw=0.8)
+        for kind, va, vb in c["special"]:
+            ax.plot(va, vb, "o", color="k", ms=4, mfc="w")
+            ax.annotate(kind, (va, vb), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    ax.set_xlabel(names[0] if names[0] != "omega" else r"$\omega$")
+    ax.set_ylabel(names[1] if names[1] != "omega" else r"$\omega$")
     if title:
         ax.set_title(title, fontsize=9)
     if own:

@@ -13,7 +13,7 @@ import sys
 from ..errors import ParameterError, SymviError
 
 #: subcommand modules, in the order ``symvi --help`` lists them
-COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "simulate", "sweep", "run",
+COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "curve", "simulate", "sweep", "run",
             "reproduce"]
 
 

@@ -123,6 +123,21 @@ class Curve:
     def values(self, name):
         return np.array([pt.params[name] for pt in self.points])
 
+    def plot_data(self, sides=24):
+        """Plain data for :func:`symvi.figures.two_parameter`; the stable side computed at
+        about ``sides`` points along the curve."""
+        a, b = self.names
+        sub = [(pt.l1 is not None and pt.l1 > 0) if self.kind == "ns" else
+               (pt.coefficient is not None and self.kind == "flip" and pt.coefficient < 0)
+               for pt in self.points]
+        return {"kind": self.kind, "a": [pt.params[a] for pt in self.points],
+                "b": [pt.params[b] for pt in self.points], "subcritical": sub,
+                "admissible": [bool(pt.admissible) for pt in self.points],
+                "bifurcation": [bool(pt.ns) for pt in self.points],
+                "sides": stable_sides(self, max(1, len(self.points) // max(1, sides))),
+                "special": [(s.kind, s.params[a], s.params[b]) for s in self.special
+                            if s.kind != "unlocated"]}
+
     def as_dict(self):
         return {"kind": self.kind, "params": list(self.names), "orbit": f"{self.n}-{self.p}",
                 "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
