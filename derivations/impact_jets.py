@@ -27,9 +27,16 @@ included, and the expressions stay polynomial in the E_k.
 4. CSE, and print one body that takes sin, cos and the rationals as arguments,
    so the float64 and mpmath backends run the very same expressions.
 
-Variables: states to degree K; domega or dp once, with at most one state (K >= 2).
+Variables: states to degree K; domega or dp once, with at most one state (K = 2, 3).
 Module ``impact_n<N>_order<K>`` holds everything up to order K: a multiplier-only
 job imports ``order1`` alone.
+
+Orders 4 and 5 (issue 13: the second Lyapunov coefficient l2 at Chenciner
+points) hold the state derivatives J, d2..d5 alone, without the domega and dp
+slots (:func:`has_parameters`: fewer inputs, a smaller module); they are shipped
+for N = 1, 2 (``NS_HIGH``), any other N goes to the per-user cache on demand.
+Only :mod:`symvi.codegen.high` imports them.  The same series method suffices
+(N = 2, orders 4-5 in seconds, mostly CSE; benchmarks/bench_regen_high.py).
 """
 import hashlib
 import itertools
@@ -43,6 +50,10 @@ from sympy.printing.pycode import PythonCodePrinter
 
 NS_SHIPPED = (1, 2, 3, 4)
 ORDERS = (1, 2, 3)
+#: orders 4, 5 (issue 13: l2 at Chenciner points) are shipped for these N only;
+#: any other N is generated on demand into the per-user cache
+NS_HIGH = (1, 2)
+HIGH_ORDERS = (4, 5)
 EQUATIONS = "eqs. (19)-(31), (33)-(38) generalised to N masses"
 SCRIPT = "derivations/impact_jets.py"
 MANIFEST = "impact_manifest.json"
@@ -52,18 +63,29 @@ def module_name(n, K):
     return f"impact_n{n}_order{K}"
 
 
+def has_parameters(K):
+    """Whether order K carries the domega and dp slots: orders 2 and 3 only, since
+    orders 4, 5 serve the state derivatives of l2 alone (smaller modules)."""
+    return K in (2, 3)
+
+
+def shipped(n, K):
+    """Whether impact_n<n>_order<K> belongs in generated/ (else the per-user cache)."""
+    return n in (NS_SHIPPED if K in ORDERS else NS_HIGH if K in HIGH_ORDERS else ())
+
+
 # --------------------------------------------------------------------------- inputs
 def inputs(n, K):
     """Input names, in order, of the generated functions of structure n, order K."""
     d = 2 * n
     names = [f"E{k}_{i}_{j}" for k in range(K + 1) for i in range(d) for j in range(d)]
     names += [f"U{i}" for i in range(n)] + [f"V{i}" for i in range(n)]
-    if K >= 2:
+    if has_parameters(K):
         names += [f"dU{i}" for i in range(n)] + [f"dV{i}" for i in range(n)]
         names += [f"pE{k}_{i}_{j}" for k in range(2) for i in range(d) for j in range(d)]
         names += [f"pU{i}" for i in range(n)] + [f"pV{i}" for i in range(n)]
     names += ["omega", "r", "b"]
-    if K >= 2:
+    if has_parameters(K):
         names += ["pr", "pb"]
     names += [f"y{i}" for i in range(d)] + ["te"]
     return names
@@ -85,7 +107,7 @@ class Vars:
         tot = state + np_
         if tot > self.K:
             return False
-        return np_ == 0 or (np_ == 1 and self.K >= 2 and tot <= 2)
+        return np_ == 0 or (np_ == 1 and has_parameters(self.K) and tot <= 2)
 
     def unit(self, i):
         e = [0] * self.nv
@@ -146,18 +168,18 @@ def model(n, K):
     d = V_.d
     sym = {s: sp.Symbol(s, real=True) for s in inputs(n, K)}
     E = [[[sym[f"E{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(K + 1)]
+    has_p = has_parameters(K)
     pE = ([[[sym[f"pE{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(2)]
-          if K >= 2 else None)
+          if has_p else None)
     omega, r, b, te = sym["omega"], sym["r"], sym["b"], sym["te"]
     y = [sym[f"y{i}"] for i in range(d)]
     dw, dp, th = V_.var(V_.w), V_.var(V_.p), V_.var(V_.th)
-    has_p = K >= 2
     # parameter-dependent inputs: X + pX dp (+ dX domega for the forcing amplitudes)
     U = [V_.add(V_.const(sym[f"U{i}"]),
-                V_.scale(dw, sym[f"dU{i}"]) if K >= 2 else {},
+                V_.scale(dw, sym[f"dU{i}"]) if has_p else {},
                 V_.scale(dp, sym[f"pU{i}"]) if has_p else {}) for i in range(n)]
     Vv = [V_.add(V_.const(sym[f"V{i}"]),
-                 V_.scale(dw, sym[f"dV{i}"]) if K >= 2 else {},
+                 V_.scale(dw, sym[f"dV{i}"]) if has_p else {},
                  V_.scale(dp, sym[f"pV{i}"]) if has_p else {}) for i in range(n)]
     bS = V_.add(V_.const(b), V_.scale(dp, sym["pb"]) if has_p else {})
     rS = V_.add(V_.const(r), V_.scale(dp, sym["pr"]) if has_p else {})
@@ -291,19 +313,23 @@ def layout_of(V_, names):
         for j in idx:
             e[j] += 1
         return tuple(e)
-    out = {"J": [[pos[("f", i, unit(j))] for j in range(d)] for i in range(d)],
+    def tensor(m, idx=()):
+        # d<m>[i, j1..jm]: every index tuple points at its one sorted monomial (symmetric)
+        if len(idx) == m + 1:
+            return pos[("f", idx[0], unit(*idx[1:]))]
+        return [tensor(m, idx + (j,)) for j in range(d)]
+    out = {"J": tensor(1),
            "theta1": [pos[("theta", unit(j))] for j in range(d)],
            "g_theta": pos[("g_theta",)]}
     if K >= 2:
-        out["d2"] = [[[pos[("f", i, unit(j, k))] for k in range(d)] for j in range(d)]
-                     for i in range(d)]
+        out["d2"] = tensor(2)
+    if has_parameters(K):
         for tag, slot in (("w", V_.w), ("p", V_.p)):
             out[f"d{tag}J"] = [[pos[("f", i, unit(j, slot))] for j in range(d)]
                                for i in range(d)]
             out[f"d{tag}P"] = [pos[("f", i, unit(slot))] for i in range(d)]
-    if K >= 3:
-        out["d3"] = [[[[pos[("f", i, unit(j, k, l))] for l in range(d)] for k in range(d)]
-                      for j in range(d)] for i in range(d)]
+    for m in range(3, K + 1):
+        out[f"d{m}"] = tensor(m)
     return out
 
 
@@ -459,7 +485,8 @@ if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("out_dir")
     ap.add_argument("--n", type=int, nargs="*", default=list(NS_SHIPPED))
+    ap.add_argument("--orders", type=int, nargs="*", default=list(ORDERS))
     ap.add_argument("--force", action="store_true")
     a = ap.parse_args()
-    w, _ = generate(a.out_dir, tuple(a.n), force=a.force)
+    w, _ = generate(a.out_dir, tuple(a.n), tuple(a.orders), force=a.force)
     print("written: " + ", ".join(w) if w else "up to date")

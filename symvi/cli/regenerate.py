@@ -2,9 +2,14 @@
 
 Two derivations write generated/: the paper's map (``order<K>.py``,
 derivations/poincare_jets.py) and the N-mass structures
-(``impact_n<N>_order<K>.py``, derivations/impact_jets.py, N = 1..4 shipped).
-``--model FILE`` generates the structure of that model's N instead (into the
-per-user cache when N is not shipped, unless ``--out`` is given).
+(``impact_n<N>_order<K>.py``, derivations/impact_jets.py).  Plain
+``symvi regenerate`` writes (and ``--check`` checks) the whole shipped set:
+orders 1-3 of the paper's map and of N = 1..4, and orders 4-5 of N = 1, 2 (the
+state derivatives for l2, issue 13).  ``--order K`` stops at order K
+(``--order 3``: the ordinary jobs only).  ``--model FILE`` generates the
+structure of that model's N instead, orders 1..K (default 3), each order where
+the loader looks for it: generated/ when shipped, else the per-user cache
+(unless ``--out`` is given).
 """
 import sys
 import time
@@ -13,8 +18,10 @@ from pathlib import Path
 
 def register(sub):
     p = sub.add_parser("regenerate", help="derive the map's jets with SymPy and write generated/")
-    p.add_argument("--order", type=int, default=3, choices=(1, 2, 3),
-                   help="highest order to generate (default 3)")
+    p.add_argument("--order", type=int, default=None, choices=(1, 2, 3, 4, 5),
+                   help="highest order to generate (default: the shipped set, orders 1-3 "
+                        "of the paper and N = 1..4, orders 4-5 of N = 1, 2; "
+                        "with --model, 3)")
     p.add_argument("--check", action="store_true",
                    help="exit 1 if generated/ is stale, write nothing")
     p.add_argument("--force", action="store_true", help="regenerate even if the hash is unchanged")
@@ -31,38 +38,51 @@ def target_dir(out):
     return Path(g.__file__).parent
 
 
-def run(args):
+def jobs_of(args):
+    """[(name, derivation module, folder, keyword arguments of generate/check)]."""
     from symvi._derivations import impact_jets as ij
     from symvi._derivations import poincare_jets as pj
-    orders = tuple(range(1, args.order + 1))
+    top = args.order or (3 if args.model else max(ij.HIGH_ORDERS))
+    low = tuple(K for K in ij.ORDERS if K <= top)
+    high = tuple(K for K in ij.HIGH_ORDERS if K <= top)
     if args.model:
         from ..codegen.layout import _user_dir
         from ..model import load_model
         n = load_model(args.model).n
-        ns = (n,)
-        out = Path(args.out) if args.out else (target_dir(None) if n in ij.NS_SHIPPED
-                                               else _user_dir())
-        jobs = [("impact", ij, out, dict(ns=ns, orders=orders))]
-    else:
-        out = target_dir(args.out)
-        jobs = [("paper", pj, out, dict(orders=orders)),
-                ("impact", ij, out, dict(ns=ij.NS_SHIPPED, orders=orders))]
+        groups = {}
+        for K in low + high:
+            o = Path(args.out) if args.out else (target_dir(None) if ij.shipped(n, K)
+                                                 else _user_dir())
+            groups.setdefault(o, []).append(K)
+        return [("impact", ij, o, dict(ns=(n,), orders=tuple(ks))) for o, ks in groups.items()]
+    out = target_dir(args.out)
+    jobs = [("paper", pj, out, dict(orders=low)),
+            ("impact", ij, out, dict(ns=ij.NS_SHIPPED, orders=low))]
+    if high:
+        jobs.append(("impact", ij, out, dict(ns=ij.NS_HIGH, orders=high)))
+    return jobs
+
+
+def run(args):
+    jobs = jobs_of(args)
+    where = ", ".join(sorted({str(o) for _, _, o, _ in jobs}))
     if args.check:
         why = [w for _, mod, o, kw in jobs for w in mod.check(o, **kw)]
         if why:
             for w in why:
                 print(f"stale: {w}", file=sys.stderr)
-            print(f"{out} is stale; run `symvi regenerate`", file=sys.stderr)
+            print(f"{where} is stale; run `symvi regenerate`", file=sys.stderr)
             return 1
-        print(f"{out} is fresh")
+        print(f"{where} is fresh")
         return 0
     for name, mod, o, kw in jobs:
         t0 = time.perf_counter()
         wrote, man = mod.generate(o, force=args.force, **kw)
         dt = time.perf_counter() - t0
         if wrote:
-            print(f"{name}: wrote {wrote if name == 'impact' else list(orders)} to {o} in "
+            print(f"{name}: wrote {wrote if name == 'impact' else list(kw['orders'])} to {o} in "
                   f"{dt:.1f} s (input hash {man['input_hash'][:12]})")
         else:
-            print(f"{name}: {o} is up to date (input hash unchanged); nothing written")
+            print(f"{name} (orders {min(kw['orders'])}-{max(kw['orders'])}): {o} is up to date "
+                  "(input hash unchanged); nothing written")
     return 0

@@ -6,7 +6,8 @@ The generated functions take, in the order of the module's ``INPUTS``
     E_k = Phi(t_e) A^k (k = 0..K, row-major), U, V, [dU, dV, pE_0, pE_1, pU, pV],
     omega, r, b, [pr, pb], y (2N), t_e
 
-(bracketed groups for K >= 2): the flow matrices of :mod:`symvi.flow.linear`,
+(bracketed groups for K = 2, 3 only; orders 4, 5 hold state derivatives alone,
+for l2): the flow matrices of :mod:`symvi.flow.linear`,
 the steady-state response and its omega-derivative, and the derivative of all
 of these along one named parameter p (``pX = dX/dp``), exact: the Fréchet
 derivative of the matrix exponential (eigen-decomposition form), the
@@ -20,9 +21,12 @@ from pathlib import Path
 import mpmath
 import numpy as np
 
+from ..errors import ParameterError
 from ..flow.linear import NUMPY_LA
 
 _LOADED = {}
+#: orders whose modules take the parameter groups (derivations.impact_jets.has_parameters)
+PARAMETER_ORDERS = (2, 3)
 
 
 def _user_dir():
@@ -32,7 +36,8 @@ def _user_dir():
 
 def module(n, order):
     """The generated module of structure n, order K: shipped in ``symvi._generated``
-    (N = 1..4), else generated on first use into the per-user cache."""
+    (orders 1-3 of N = 1..4, orders 4-5 of N = 1, 2), else generated on first use
+    into the per-user cache."""
     key = (n, order)
     if key not in _LOADED:
         name = f"impact_n{n}_order{order}"
@@ -53,9 +58,11 @@ def _user_module(n, order, name):
     d = _user_dir()
     why = impact_jets.check(d, (n,), (order,))
     if why:
+        high = order > max(impact_jets.ORDERS)
         warnings.warn(f"generating the order-{order} jets of the {n}-mass structure into {d} "
-                      "(once; may take a minute)", stacklevel=4)
-        impact_jets.generate(d, (n,), tuple(range(1, order + 1)))
+                      f"(once; may take {'minutes' if high else 'a minute'})", stacklevel=4)
+        # a high order serves l2 alone (it holds all lower state derivatives): only it
+        impact_jets.generate(d, (n,), (order,) if high else tuple(range(1, order + 1)))
     spec = importlib.util.spec_from_file_location(f"symvi_user_generated.{name}", d / f"{name}.py")
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod
@@ -113,7 +120,9 @@ def assemble(flow, forcing, y, te, order, tangent=None):
     parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
     scal_p = []
-    if order >= 2:
+    if tangent is not None and not tangent.zero and order not in PARAMETER_ORDERS:
+        raise ParameterError("order", order, "2 or 3 with a parameter tangent")
+    if order in PARAMETER_ORDERS:
         parts += [forcing.dU, forcing.dV]
         if tangent is None or tangent.zero:
             z = la.arr(np.zeros((2 * flow.n) ** 2))
