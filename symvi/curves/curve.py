@@ -71,7 +71,8 @@ class CurvePoint:
 @dataclass(frozen=True)
 class Codim2Point:
     """A located codimension-two point: ``kind`` CH, R1..R4, LPNS, PDNS, NSNS, LPPD, CP,
-    GPD, or an end of the admissible curve (grazing)."""
+    GPD, or an end of the admissible curve (grazing); it lies between the curve's points
+    ``index`` and ``index + 1``."""
 
     kind: str
     params: dict
@@ -485,14 +486,15 @@ def _to_bound(system, X, t, h, lo, hi):
 
 def _join(halves):
     """One curve from the two directions: the second reversed, then the first."""
-    pts, states, special = list(halves[0][0]), list(halves[0][1]), list(halves[0][2])
-    ends = [halves[0][3]]
+    pts, states, ends = list(halves[0][0]), list(halves[0][1]), [halves[0][3]]
+    # a tracker's index is that of the point after the special one: make it the one before
+    special = [_reindex(s, s.index - 1) for s in halves[0][2]]
     if len(halves) == 2:
         p2, s2, sp2, e2 = halves[1]
         shift = len(p2) - 1
         pts = list(reversed(p2[1:])) + pts
         states = list(reversed(s2[1:])) + states
-        special = [_reindex(s, shift - s.index - 1) for s in sp2] + \
+        special = [_reindex(s, shift - s.index) for s in sp2] + \
                   [_reindex(s, s.index + shift) for s in special]
         ends = [e2, ends[0]]
         special.sort(key=lambda s: s.index)
