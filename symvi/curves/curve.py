@@ -31,6 +31,10 @@ from .system import CurveSystem, kappa_pair, theta_of
 #: a multiplier beyond this modulus ends a curve: the orbit is close to grazing, where the
 #: impact map's Jacobian has a pole (eq. (30)) and no test function of M can be evaluated
 MULTIPLIER_CUT = 1e2
+#: accepted points between renewals of the bordering vectors
+BORDER_EVERY = 8
+#: chord iterations of the corrector before full Newton takes over
+CHORD_MAXIT = 8
 #: largest cosine drop between consecutive tangents accepted (else the step is halved)
 MIN_COS = 0.97
 NORMALISATION = ("||q||_2 = 1, <p,q> = conj(p)^T q = 1; l1 = Re(e^{-i theta} c1) (l1 < 0: "
@@ -377,6 +381,11 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     if tracker:
         tracker.start(X, t, first)
     end = ""
+    lu = None
+    for k in range(2):                          # the start on a bound, the curve leaving
+        for bound, out in ((lo[k], t[m + k] < 0), (hi[k], t[m + k] > 0)):
+            if out and abs(X[m + k] - bound) <= 1e-12 * (1 + abs(bound)):
+                return points, states, [], f"reached {system.names[k]} = {bound:.12g}"
     while len(points) < max_points:
         Xp = X + h * t
         out = (Xp[m:] < lo) | (Xp[m:] > hi)
@@ -388,11 +397,14 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
                     end = "the corrector failed at the parameter bound"
                     break
                 continue
-            Xn, DF, Fb = res[0], res[1], res[2]
+            Xn, DFn, Fbn, its = res
             landed = f"reached {system.names[k]} = {bound:.12g}"
         else:
+            if lu is None:
+                lu = _factor(DF, Fb, t)
             try:
-                res = correct(system, Xp, t, float(np.dot(t, X)) + h)
+                res = _chord(system, Xp, t, float(np.dot(t, X)) + h, lu) or \
+                    correct(system, Xp, t, float(np.dot(t, X)) + h)
                 why = "the corrector did not converge"
             except SymviError as exc:
                 res, why = None, str(exc)
@@ -402,9 +414,10 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
                     end = f"step below {h_min:.2g}: {why}"
                     break
                 continue
-            Xn, DF, Fb, its = res
+            Xn, its = res[0], res[-1]
             landed = ""
-        tn = tangent(DF, Fb, t)
+            F, DFn, Fbn = system.evaluate(Xn[:-1], Xn[-1], dparam=True)
+        tn = tangent(DFn, Fbn, t)
         if np.dot(tn, t) < MIN_COS and h > h_min and not landed:
             h /= 2
             continue
@@ -413,16 +426,20 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
         except SymviError as exc:
             end = f"the orbit cannot be evaluated at {_where(system, Xn)}: {exc}"
             break
-        system.set_border(_mono(system, Xn))
         if tracker:
             tracker.step(X, t, Xn, tn, pt, len(points))
-        X, t = Xn, tn
+        X, t, DF, Fb, lu = Xn, tn, DFn, Fbn, None
+        if len(points) % BORDER_EVERY == 0:
+            # new bordering vectors keep the bordered matrix well conditioned; the
+            # derivatives are taken again with them (g's row depends on the border)
+            system.set_border(_mono(system, X))
+            F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
         states.append(X)
         points.append(pt)
         if landed:
             end = landed
             break
-        h = min(h_max, h * (1.5 if its <= 2 else 1.0 if its <= 4 else 0.6))
+        h = min(h_max, h * (1.5 if its <= 3 else 1.0 if its <= 5 else 0.6))   # chord counts
         big = max(abs(z) for z in pt.orbit.multipliers)
         if big > MULTIPLIER_CUT:
             v = min(pt.orbit.impact_velocities)
@@ -455,6 +472,37 @@ def _diagnosis(system, X):
     return ""
 
 
+def _factor(DF, Fb, t):
+    """LU factors of the corrector's matrix [[DF, Fb], [t]] at the last point."""
+    from scipy.linalg import lu_factor
+    m1 = DF.shape[0]
+    A = np.empty((m1 + 1, m1 + 1))
+    A[:m1, :m1], A[:m1, m1], A[m1] = DF, Fb, t
+    return lu_factor(A, check_finite=False)
+
+
+def _chord(system, Xp, t, c, lu):
+    """Chord corrector: Newton on (F(X), t . X - c) with the matrix of the last point (one
+    factorisation per point; each iteration only evaluates F).  (X, iterations) or None."""
+    from scipy.linalg import lu_solve
+    from ..continuation.points import CORR_TOL
+    X = Xp.copy()
+    system.at(X[-1])
+    for it in range(1, CHORD_MAXIT + 1):
+        F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
+        r = np.append(F, np.dot(t, X) - c)
+        if not np.all(np.isfinite(r)):
+            return None
+        dX = lu_solve(lu, -r, check_finite=False)
+        X = X + dX
+        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
+            F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
+            if np.max(np.abs(F)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
+                return X, it
+            return None
+    return None
+
+
 def _where(system, X):
     a, b = system.names
     return f"{a} = {X[-2]:.12g}, {b} = {X[-1]:.12g}"
@@ -481,7 +529,7 @@ def _to_bound(system, X, t, h, lo, hi):
         res = None
     if res is None:
         return None, k, bound
-    return res, k, bound
+    return res, k, bound         # (X, DF, Fb, iterations)
 
 
 def _join(halves):

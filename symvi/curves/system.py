@@ -39,17 +39,21 @@ KINDS = ("ns", "flip", "fold")
 
 def compound2(M):
     """The second compound matrix of M (rows/columns indexed by pairs i > j)."""
-    P, Q = _pairs(M.shape[0])
-    return M[np.ix_(P, P)] * M[np.ix_(Q, Q)] - M[np.ix_(P, Q)] * M[np.ix_(Q, P)]
+    ix = _pairs(M.shape[0])
+    return M[ix["PP"]] * M[ix["QQ"]] - M[ix["PQ"]] * M[ix["QP"]]
 
 
 _PAIRS = {}
 
 
 def _pairs(d):
+    """Index grids of the pairs (i > j) of d, built once per d."""
     if d not in _PAIRS:
         P, Q = np.tril_indices(d, -1)
-        _PAIRS[d] = (P, Q)
+        _PAIRS[d] = {"PP": np.ix_(P, P), "QQ": np.ix_(Q, Q), "PQ": np.ix_(P, Q),
+                     "QP": np.ix_(Q, P), "P": P, "Q": Q,
+                     "flat": [(np.ravel_multi_index((r[:, None], c[None, :]), (d, d)).ravel())
+                              for r, c in ((P, P), (Q, Q), (P, Q), (Q, P))]}
     return _PAIRS[d]
 
 
@@ -132,13 +136,14 @@ class CurveSystem:
         W = -np.outer(w, v)                    # dg/dB
         if self.kind != "ns":
             return float(x[k]), W
-        P, Q = _pairs(M.shape[0])
-        K = np.zeros_like(M)
-        # B_ab = M[P_a,P_b] M[Q_a,Q_b] - M[P_a,Q_b] M[Q_a,P_b]
-        np.add.at(K, (P[:, None], P[None, :]), W * M[np.ix_(Q, Q)])
-        np.add.at(K, (Q[:, None], Q[None, :]), W * M[np.ix_(P, P)])
-        np.add.at(K, (P[:, None], Q[None, :]), -W * M[np.ix_(Q, P)])
-        np.add.at(K, (Q[:, None], P[None, :]), -W * M[np.ix_(P, Q)])
+        ix = _pairs(M.shape[0])
+        d = M.shape[0]
+        # B_ab = M[P_a,P_b] M[Q_a,Q_b] - M[P_a,Q_b] M[Q_a,P_b]: dg/dM by the chain rule
+        parts = (W * M[ix["QQ"]], W * M[ix["PP"]], -W * M[ix["QP"]], -W * M[ix["PQ"]])
+        K = np.zeros(d * d)
+        for flat, part in zip(ix["flat"], parts):
+            K += np.bincount(flat, weights=part.ravel(), minlength=d * d)
+        K = K.reshape(d, d)
         return float(x[k]), K
 
     # ---- the system ----------------------------------------------------------------

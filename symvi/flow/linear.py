@@ -26,6 +26,7 @@ Both backends (float64 through numpy, mpmath at the current precision) run
 this one implementation.
 """
 import cmath
+import copy
 import functools
 import math
 import warnings
@@ -358,9 +359,25 @@ class LinearFlow:
         return d[j], j % self.n
 
 
+_LINEAR = {}
+
+
 @functools.lru_cache(maxsize=256)
 def _flow_float(model):
-    return LinearFlow(model, NUMPY_LA)
+    # models that differ only in the stop's gap or restitution (a curve in b or r) share
+    # the modal data, which a new stop does not change: only b and r are replaced
+    key = (model.stop.mass,) + tuple(np.asarray(a, dtype=float).tobytes() for a in
+                                     (model.mass, model.stiffness, model.damping, model.forcing))
+    base = _LINEAR.get(key)
+    if base is None:
+        if len(_LINEAR) > 64:
+            _LINEAR.clear()
+        base = _LINEAR[key] = LinearFlow(model, NUMPY_LA)
+        return base
+    flow = copy.copy(base)
+    flow.model = model
+    flow.b, flow.r = float(model.stop.gap), float(model.stop.restitution)
+    return flow
 
 
 _MP_CACHE = {}
