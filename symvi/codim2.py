@@ -410,3 +410,556 @@ def chenciner(A, d2, d3, d4, d5, *, index=None, tol=None, digits=None):
         return Chenciner(lam=_num(bk, lam), q=q, p=p, c1=_num(bk, c1), c2=_num(bk, c2),
                          l1=_real(bk, l1), l2=_real(bk, l2), l2_matcont=_real(bk, l2m),
                          residuals=res, backend=bk.name, digits=bk.digits)
+
+
+# --------------------------------------------------------------------------- 1:1 and 1:2 resonances
+_NORM_JORDAN = ("A q0 = mu q0, A q1 = mu q1 + q0, A^T p1 = mu p1, A^T p0 = mu p0 + p1; "
+                "||q0||_2 = 1 (largest component > 0), <q0,q1> = 0, <p_i,q_j> = delta_ij; "
+                "x = xi1 q0 + xi2 q1 + O(|xi|^2)")
+
+
+@dataclass(frozen=True)
+class Resonance11:
+    """1:1 resonance (R1): xi -> (xi1 + xi2, xi2 + a xi1^2 + b xi1 xi2) + O(|xi|^3).
+
+    The map is approximated by the time-1 map of the Bogdanov–Takens flow
+    x' = y, y' = a x^2 + (b - 2a) x y (quadratic terms of the time-1 map brought to this
+    normal form give a = A, b = B + 2A for y' = A x^2 + B x y;
+    ``test_r1_bt_flow``), so s = sign(a (b - 2a)) is the BT sign: s = -1, the
+    invariant circle born on the nearby NS branch is stable; s = +1, unstable
+    [Kuznetsov, Elements, Secs. 8.4, 9.5.1].  (a, b) change sign with (q0, q1); s does
+    not.  ``s`` is 0 when |a (b - 2a)| <= 1e-13 (MatContM's cut-off).
+    """
+
+    a: object
+    b: object
+    s: int
+    q0: object
+    q1: object
+    p0: object
+    p1: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_JORDAN
+
+
+def resonance_1_1(A, d2, *, tol=None, digits=None):
+    """a, b and s of a 1:1 resonance [Kuznetsov & Meijer 2005], [MatContM nf_R1m].
+
+    a = <p1, B(q0,q0)>/2, b = <p1, B(q0,q1)> + <p0, B(q0,q0)> (solvability of the
+    xi1^2 and xi1 xi2 terms of f(H) = H(G), using <p1, h20> = -<p0, B(q0,q0)>).
+    Needs a double multiplier 1 with a Jordan block; a semisimple double 1, a simple 1
+    or no multiplier 1 is refused (SingularCaseError).  Normalisation: see
+    :class:`Resonance11`.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2)
+    with bk.context():
+        A, d2 = _jet(bk, A, d2)
+        J = _jordan(bk, A, 1, tol)
+        Bqq = _B(d2, J.q0, J.q0)
+        a = _vdot(J.p1, Bqq) / 2
+        b = _vdot(J.p1, _B(d2, J.q0, J.q1)) + _vdot(J.p0, Bqq)
+        a, b = _real(bk, a), _real(bk, b)
+        prod = a * (b - 2 * a)
+        s = 0 if abs(float(prod)) < 1e-13 else (1 if prod > 0 else -1)
+        return Resonance11(a=a, b=b, s=s, q0=J.q0, q1=J.q1, p0=J.p0, p1=J.p1,
+                           residuals=J.res, backend=bk.name, digits=bk.digits)
+
+
+@dataclass(frozen=True)
+class Resonance12:
+    """1:2 resonance (R2): xi -> (-xi1 + xi2, -xi2 + C xi1^3 + D xi1^2 xi2) + O(|xi|^4).
+
+    ``flow`` = (4C, -2D - 6C) [Kuznetsov, Elements, Sec. 9.5.2; MatContM nf_R2m]: the
+    second iterate is approximated by the time-1 map of x' = y, y' = 4C x^3 +
+    (-2D - 6C) x^2 y with x = xi1, y = -2 xi2.  Checked: for F = -(time-1 map of
+    x' = y, y' = C1 x^3 + D1 x^2 y) this gives C = C1, D = -D1 - 3 C1, so flow = (4 C1,
+    2 D1), the time-2 field rescaled (``test_r2_flow``).  C, D do not depend on the sign
+    of (q0, q1).
+    """
+
+    C: object
+    D: object
+    flow: tuple
+    q0: object
+    q1: object
+    p0: object
+    p1: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_JORDAN
+
+
+def resonance_1_2(A, d2, d3, *, tol=None, digits=None):
+    """C, D of a 1:2 resonance [Kuznetsov & Meijer 2005], [MatContM nf_R2m].
+
+    (I - A) h20 = B(q0,q0), (I - A) h11 = B(q0,q1) + h20;
+    C = <p1, C(q0,q0,q0) + 3B(q0,h20)>/6,
+    D = (<p1, C(q0,q0,q1) + B(q1,h20) + 2B(q0,h11)> + <p0, C(q0,q0,q0) + 3B(q0,h20)>)/2
+    (the xi1^3 and xi1^2 xi2 solvability conditions, with <p1, h30> = -<p0, r30>).
+    Needs a double multiplier -1 with a Jordan block (else SingularCaseError).
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        J = _jordan(bk, A, -1, tol)
+        q0, q1, p0, p1 = J.q0, J.q1, J.p0, J.p1
+        ImA = bk.eye(A.shape[0]) - A
+        h20 = _solve(bk, ImA, _B(d2, q0, q0), "I - A")
+        h11 = _solve(bk, ImA, _B(d2, q0, q1) + h20, "I - A")
+        r30 = _C(d3, q0, q0, q0) + 3 * _B(d2, q0, h20)
+        r21 = _C(d3, q0, q0, q1) + _B(d2, q1, h20) + 2 * _B(d2, q0, h11)
+        C = _real(bk, _vdot(p1, r30) / 6)
+        D = _real(bk, (_vdot(p1, r21) + _vdot(p0, r30)) / 2)
+        return Resonance12(C=C, D=D, flow=(4 * C, -2 * D - 6 * C), q0=q0, q1=q1, p0=p0, p1=p1,
+                           residuals=J.res, backend=bk.name, digits=bk.digits)
+
+
+# --------------------------------------------------------------------------- 1:3 and 1:4 resonances
+@dataclass(frozen=True)
+class Resonance13:
+    """1:3 resonance (R3): w -> lambda w + b1 conj(w)^2 + c1 w|w|^2 + O(|w|^4), lambda^3 = 1.
+
+    ``coef`` = (lambda^2 c1 / |b1|^2 - 1) / 3 (complex; MatContM's nondegeneracy pair is
+    (Re, Im)).  b1 turns with the phase of q, |b1| does not.  Re(coef) is invariant
+    under every near-identity change of coordinates; Im(coef) depends on the normalising
+    transformation (here <p, h02> = 0): a resonant change w -> w + k conj(w)^2 adds
+    4i Im(k lambda conj(b1)) to lambda^2 c1.
+    """
+
+    lam: object
+    b1: object
+    c1: object
+    coef: object
+    re: object
+    im: object
+    q: object
+    p: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_NS
+
+
+def resonance_1_3(A, d2, d3, *, index=None, tol=None, digits=None):
+    """b1, c1 and (lambda^2 c1/|b1|^2 - 1)/3 of a 1:3 resonance [MatContM nf_R3m].
+
+    b1 = <p, B(qb,qb)>/2; (lambda I - A) h02 = B(qb,qb) - 2 b1 q with <p, h02> = 0
+    (conj(lambda)^2 = lambda), h20 = conj(h02); h11 = (I - A)^{-1} B(q,qb);
+    c1 = <p, C(q,q,qb) + B(qb,h20) + 2B(q,h11)>/2.  lambda (Im > 0) must be within tol
+    of exp(2 pi i/3); b1 = 0 is refused.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        n = A.shape[0]
+        e, res = _complex_pair(bk, A, index, bk.exp(2j * bk.pi / 3), tol)
+        lam, q, p = e.lam, e.q, e.p
+        qb = np.conj(q)
+        I = bk.eye(n)
+        Bqbqb = _B(d2, qb, qb)
+        b1 = _vdot(p, Bqbqb) / 2
+        if not float(abs(b1)) > tol:
+            raise SingularCaseError("degenerate", f"|b1| = {float(abs(b1)):.2e}: the quadratic "
+                                    "coefficient of the 1:3 resonance vanishes")
+        h02 = _bordered(bk, A - lam * I, q, p, 2 * b1 * q - Bqbqb, "A - lambda I")
+        h20 = np.conj(h02)
+        h11 = _solve(bk, lam * np.conj(lam) * I - A, _B(d2, q, qb), "I - A")
+        c1 = _vdot(p, _C(d3, q, q, qb) + _B(d2, qb, h20) + 2 * _B(d2, q, h11)) / 2
+        coef = (lam * lam * c1 / abs(b1) ** 2 - 1) / 3
+        return Resonance13(lam=_num(bk, lam), b1=_num(bk, b1), c1=_num(bk, c1),
+                           coef=_num(bk, coef), re=_real(bk, coef.real),
+                           im=_real(bk, coef.imag), q=q, p=p, residuals=res,
+                           backend=bk.name, digits=bk.digits)
+
+
+@dataclass(frozen=True)
+class Resonance14:
+    """1:4 resonance (R4): w -> i w + c1 w|w|^2 + d1 conj(w)^3 + O(|w|^4).
+
+    ``A`` = -i c1 / |d1| (complex; MatContM's pair is (Re A, Im A)); A does not depend on
+    the phase of q (d1 turns with it, |d1| does not) nor on any near-identity change.
+    """
+
+    lam: object
+    c1: object
+    d1: object
+    A: object
+    re: object
+    im: object
+    q: object
+    p: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_NS
+
+
+def resonance_1_4(A, d2, d3, *, index=None, tol=None, digits=None):
+    """c1, d1 and A = -i c1/|d1| of a 1:4 resonance [MatContM nf_R4m].
+
+    c1 is Kuznetsov's NS coefficient (:func:`symvi.normal_form._kuznetsov`, with
+    h20 = -(A + I)^{-1} B(q,q)); d1 = <p, C(qb,qb,qb) + 3B(qb,h02)>/6, h02 = conj(h20).
+    lambda (Im > 0) must be within tol of i; d1 = 0 is refused.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        e, res = _complex_pair(bk, A, index, 1j, tol)
+        q, p = e.q, e.p
+        qb = np.conj(q)
+        c1, _, _, h20 = _kuznetsov(bk, A, d2, d3, e)
+        d1 = _vdot(p, _C(d3, qb, qb, qb) + 3 * _B(d2, qb, np.conj(h20))) / 6
+        if not float(abs(d1)) > tol:
+            raise SingularCaseError("degenerate", f"|d1| = {float(abs(d1)):.2e}: the conj(w)^3 "
+                                    "coefficient of the 1:4 resonance vanishes")
+        Ac = -1j * c1 / abs(d1)
+        return Resonance14(lam=_num(bk, e.lam), c1=_num(bk, c1), d1=_num(bk, d1),
+                           A=_num(bk, Ac), re=_real(bk, Ac.real), im=_real(bk, Ac.imag),
+                           q=q, p=p, residuals=res, backend=bk.name, digits=bk.digits)
+
+
+# --------------------------------------------------------------------------- fold-NS and flip-NS
+_NORM_XZ = ("real multiplier: A q1 = mu q1, ||q1||_2 = 1 (largest component > 0), "
+            "A^T p1 = mu p1, <p1,q1> = 1; pair: " + _NORM_NS.replace("q", "q2").replace(
+                "p", "p2").replace("w ", "z ") + "; x = xi q1 + z q2 + conj(z q2) + ...")
+
+
+@dataclass(frozen=True)
+class FoldNS:
+    """Fold–Neimark–Sacker (LPNS), critical normal form [Kuznetsov & Meijer 2005]:
+
+        xi -> xi + f200 xi^2 + f011 |z|^2 + f300 xi^3 + f111 xi |z|^2,
+        z  -> lambda z + g110 xi z + g210 xi^2 z + g021 z |z|^2   (+ O(4)).
+
+    f200, f011, g110 are invariant; the cubic ones depend on the normalising
+    transformation (here <p1, h200> = <p1, h011> = <p2, h110> = 0).  Under
+    q1 -> -q1, f200, f011 and g110 change sign.  ``s, a, b, c``: the hypernormalised
+    combination of MatContM nf_LPNSm, *transcribed* (s = sign(f200 f011),
+    a = g110/f200, b = (f011 g210 + g110 (f111/2 + Re(conj(lambda) g021)) - f200 g021)
+    / (f011 f200^2), c = f300/f200^2); not independently derived.
+    """
+
+    lam: object
+    f200: object
+    f011: object
+    g110: object
+    f300: object
+    f111: object
+    g210: object
+    g021: object
+    s: int
+    a: object
+    b: object
+    c: object
+    q1: object
+    p1: object
+    q2: object
+    p2: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_XZ
+
+
+def fold_ns(A, d2, d3, *, index=None, tol=None, digits=None):
+    """Critical normal form of a fold–Neimark–Sacker point (see :class:`FoldNS`).
+
+    h200, h011 (bordered at 1), h110 (bordered at lambda), h020 = (lambda^2 I - A)^{-1}
+    B(q2,q2); f300 = <p1, C(q1,q1,q1) + 3B(q1,h200)>/6,
+    f111 = <p1, C(q1,q2,qb2) + B(q1,h011) + 2 Re B(h110,qb2)>,
+    g210 = <p2, C(q1,q1,q2) + 2B(q1,h110) + B(q2,h200)>/2,
+    g021 = <p2, C(q2,q2,qb2) + 2B(q2,h011) + B(qb2,h020)>/2 (MatContM has the factor 2
+    on the other term).  Needs a simple multiplier 1 and a complex pair on the unit circle.
+    """
+    return _xz(A, d2, d3, 1, index, tol, digits)
+
+
+@dataclass(frozen=True)
+class FlipNS:
+    """Flip–Neimark–Sacker (PDNS), critical normal form [Kuznetsov & Meijer 2005]:
+
+        xi -> -xi + f300 xi^3 + f111 xi |z|^2,
+        z  -> lambda z + g210 xi^2 z + g021 z |z|^2   (+ O(4)),
+
+    all four invariant (no quadratic resonances).  ``amplitude`` = (-f300, -f111,
+    Re(conj(lambda) g210), Re(conj(lambda) g021)): |xi| -> |xi| (1 + amplitude[0] xi^2 +
+    amplitude[1] |z|^2), |z| -> |z| (1 + amplitude[2] xi^2 + amplitude[3] |z|^2), as
+    MatContM nf_PDNSm reports it.
+    """
+
+    lam: object
+    f300: object
+    f111: object
+    g210: object
+    g021: object
+    amplitude: tuple
+    q1: object
+    p1: object
+    q2: object
+    p2: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_XZ
+
+
+def flip_ns(A, d2, d3, *, index=None, tol=None, digits=None):
+    """Critical normal form of a flip–Neimark–Sacker point (see :class:`FlipNS`).
+
+    h200 = (I - A)^{-1} B(q1,q1), h011 = (I - A)^{-1} B(q2,qb2), h020 = (lambda^2 I -
+    A)^{-1} B(q2,q2), h110 = -(lambda I + A)^{-1} B(q1,q2); f300, f111, g210, g021 as for
+    LPNS (MatContM's h111 has B(h110, q2) instead of B(h110, conj(q2)), and its h021
+    the factor 2 on the other term).  g021 equals normal_form's Kuznetsov c1.
+    """
+    return _xz(A, d2, d3, -1, index, tol, digits)
+
+
+def _xz(A, d2, d3, mu, index, tol, digits):
+    """The common computation of LPNS (mu = 1) and PDNS (mu = -1)."""
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        n = A.shape[0]
+        if n < 3:
+            raise ParameterError("A", A.shape, "n >= 3 (a real and a complex critical multiplier)")
+        e, res = _complex_pair(bk, A, index, None, tol)
+        R = _real_eig(bk, A, mu, tol, e.values, e.vectors, tag="1")
+        res = {k.replace("q", "q2").replace("p", "p2").replace("lam", "lam"): v
+               for k, v in res.items()}
+        res.update(R.res)
+        lam, q2, p2 = e.lam, e.q, e.p
+        q1, p1 = R.q, R.p
+        qb2 = np.conj(q2)
+        I = bk.eye(n)
+
+        def B(u, v):
+            return _B(d2, u, v)
+
+        B11, B22b, B22, B12 = B(q1, q1), B(q2, qb2), B(q2, q2), B(q1, q2)
+        h020 = _solve(bk, lam * lam * I - A, B22, "lambda^2 I - A")
+        if mu == 1:
+            f200 = _vdot(p1, B11) / 2
+            f011 = _vdot(p1, B22b)
+            g110 = _vdot(p2, B12)
+            # (I - A) h200 = B(q1,q1) - 2 f200 q1, (I - A) h011 = B(q2,qb2) - f011 q1,
+            # (lambda I - A) h110 = B(q1,q2) - g110 q2; all with <p, h> = 0
+            h200 = _bordered(bk, A - I, q1, p1, 2 * f200 * q1 - B11, "A - I")
+            h011 = _bordered(bk, A - I, q1, p1, f011 * q1 - B22b, "A - I")
+            h110 = _bordered(bk, A - lam * I, q2, p2, g110 * q2 - B12, "A - lambda I")
+        else:
+            h200 = _solve(bk, I - A, B11, "I - A")
+            h011 = _solve(bk, I - A, B22b, "I - A")
+            h110 = _solve(bk, -lam * I - A, B12, "-lambda I - A")
+        h300 = _C(d3, q1, q1, q1) + 3 * B(q1, h200)
+        Bh = B(h110, qb2)
+        h111 = _C(d3, q1, q2, qb2) + B(q1, h011) + Bh + np.conj(Bh)
+        h210 = _C(d3, q1, q1, q2) + 2 * B(q1, h110) + B(q2, h200)
+        h021 = _C(d3, q2, q2, qb2) + 2 * B(q2, h011) + B(qb2, h020)
+        f300 = _real(bk, _vdot(p1, h300) / 6)
+        f111 = _real(bk, _vdot(p1, h111))
+        g210 = _num(bk, _vdot(p2, h210) / 2)
+        g021 = _num(bk, _vdot(p2, h021) / 2)
+        lb = np.conj(lam)
+        common = dict(lam=_num(bk, lam), f300=f300, f111=f111, g210=g210, g021=g021, q1=q1,
+                      p1=p1, q2=q2, p2=p2, residuals=res, backend=bk.name, digits=bk.digits)
+        if mu == -1:
+            amp = (-f300, -f111, _real(bk, (lb * g210).real), _real(bk, (lb * g021).real))
+            return FlipNS(amplitude=amp, **common)
+        f200, f011, g110 = _real(bk, f200), _real(bk, f011), _num(bk, g110)
+        prod = f200 * f011
+        s = 0 if prod == 0 else (1 if prod > 0 else -1)
+        a = g110 / f200
+        b = (f011 * g210 + g110 * (f111 / 2 + (lb * g021).real) - f200 * g021) / (f011 * f200 ** 2)
+        c = f300 / f200 ** 2
+        return FoldNS(f200=f200, f011=f011, g110=g110, s=s, a=_num(bk, a), b=_num(bk, b),
+                      c=_num(bk, c), **common)
+
+
+# --------------------------------------------------------------------------- fold-flip, cusp, GPD
+_NORM_REAL = ("A q = mu q, q real, ||q||_2 = 1 (largest component > 0); A^T p = mu p, "
+              "<p,q> = 1 (normal_form.real_critical's convention); x = xi q + O(xi^2)")
+
+
+@dataclass(frozen=True)
+class FoldFlip:
+    """Fold–flip (LPPD), critical normal form [Kuznetsov & Meijer 2005]:
+
+        xi1 -> xi1 + a20 xi1^2 + a02 xi2^2 + a30 xi1^3 + a12 xi1 xi2^2,
+        xi2 -> -xi2 + b11 xi1 xi2 + b21 xi1^2 xi2 + b03 xi2^3   (+ O(4)),
+
+    q0, p0 belonging to 1 and q1, p1 to -1.  a20, a02, b11 are invariant (and change
+    sign with q0); the cubic ones depend on the normalising transformation (here
+    <p0, h20> = <p0, h02> = <p1, h11> = 0).  ``matcont`` = (a20/b11, a02 b11, CNS),
+    MatContM nf_LPPDm's hypernormalised coefficients and its NS-of-the-double-period
+    nondegeneracy CNS, *transcribed* (not independently derived), evaluated on our
+    cubic coefficients.
+    """
+
+    a20: object
+    a02: object
+    b11: object
+    a30: object
+    a12: object
+    b21: object
+    b03: object
+    matcont: tuple
+    q0: object
+    p0: object
+    q1: object
+    p1: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_REAL + " (q0, p0 at +1; q1, p1 at -1)"
+
+
+def fold_flip(A, d2, d3, *, tol=None, digits=None):
+    """Critical normal form of a fold–flip point (see :class:`FoldFlip`).
+
+    a20 = <p0,B(q0,q0)>/2, a02 = <p0,B(q1,q1)>/2, b11 = <p1,B(q0,q1)>;
+    (I - A) h20 = B(q0,q0) - 2 a20 q0, (I - A) h02 = B(q1,q1) - 2 a02 q0,
+    (-I - A) h11 = B(q0,q1) - b11 q1 (bordered);
+    a30 = <p0, C(q0,q0,q0) + 3B(q0,h20)>/6, a12 = <p0, C(q0,q1,q1) + B(q0,h02) +
+    2B(q1,h11)>/2, b21 = <p1, C(q0,q0,q1) + B(q1,h20) + 2B(q0,h11)>/2,
+    b03 = <p1, C(q1,q1,q1) + 3B(q1,h02)>/6.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        vals, V = bk.eig(A)
+        F = _real_eig(bk, A, 1, tol, vals, V, tag="0")
+        P = _real_eig(bk, A, -1, tol, vals, V, tag="1")
+        q0, p0, q1, p1 = F.q, F.p, P.q, P.p
+        I = bk.eye(A.shape[0])
+
+        def B(u, v):
+            return _B(d2, u, v)
+
+        B00, B01, B11 = B(q0, q0), B(q0, q1), B(q1, q1)
+        a20, a02, b11 = _vdot(p0, B00) / 2, _vdot(p0, B11) / 2, _vdot(p1, B01)
+        # (A - I) h = 2 a q0 - B  <=>  (I - A) h = B - 2 a q0;  <p0, h> = 0
+        h20 = _bordered(bk, A - I, q0, p0, 2 * a20 * q0 - B00, "A - I")
+        h02 = _bordered(bk, A - I, q0, p0, 2 * a02 * q0 - B11, "A - I")
+        h11 = _bordered(bk, A + I, q1, p1, b11 * q1 - B01, "A + I")
+        a30 = _vdot(p0, _C(d3, q0, q0, q0) + 3 * B(q0, h20)) / 6
+        a12 = _vdot(p0, _C(d3, q0, q1, q1) + B(q0, h02) + 2 * B(q1, h11)) / 2
+        b21 = _vdot(p1, _C(d3, q0, q0, q1) + B(q1, h20) + 2 * B(q0, h11)) / 2
+        b03 = _vdot(p1, _C(d3, q1, q1, q1) + 3 * B(q1, h02)) / 6
+        a20, a02, b11, a30, a12, b21, b03 = (_real(bk, x) for x in
+                                             (a20, a02, b11, a30, a12, b21, b03))
+        if float(abs(b11)) > 0:
+            # MatContM: a1 = 2 a20, b1 = 2 a02, e1 = b11, c1..c4 = 6 a30, 2 a12, 2 b21, 6 b03
+            a1, b1, e1 = 2 * a20, 2 * a02, b11
+            c = [a1 / e1 / 2, b1 * e1 / 2, 6 * a30 / e1 / e1 / 6,
+                 a12 + (b1 * 2 * b21 - 6 * b03 * (a1 + e1) / 3) / e1]
+            cns = c[1] * c[2] / 3 - c[0] * (c[0] * c[1] / 2 + 3 * c[1] + c[3])
+            matcont = (c[0], c[1], cns)
+        else:
+            matcont = ()
+        res = dict(F.res)
+        res.update(P.res)
+        return FoldFlip(a20=a20, a02=a02, b11=b11, a30=a30, a12=a12, b21=b21, b03=b03,
+                        matcont=matcont, q0=q0, p0=p0, q1=q1, p1=p1, residuals=res,
+                        backend=bk.name, digits=bk.digits)
+
+
+@dataclass(frozen=True)
+class Cusp:
+    """Cusp of fixed points (CP): xi -> xi + a xi^2 + c xi^3 + O(xi^4), a = 0 at the cusp.
+
+    a is normal_form.fold_coefficient's a (changes sign with q); c is invariant under
+    every near-identity change (even for a != 0) and under q -> -q.
+    """
+
+    a: object
+    c: object
+    q: object
+    p: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_REAL
+
+
+def cusp(A, d2, d3, *, tol=None, digits=None):
+    """a and c of a cusp point [MatContM nf_CPm].
+
+    a = <p, B(q,q)>/2; (I - A) h2 = B(q,q) - 2a q with <p, h2> = 0;
+    c = <p, C(q,q,q) + 3B(q,h2)>/6.  Needs a simple multiplier 1.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3)
+    with bk.context():
+        A, d2, d3 = _jet(bk, A, d2, d3)
+        R = _real_eig(bk, A, 1, tol)
+        q, p = R.q, R.p
+        Bqq = _B(d2, q, q)
+        a = _vdot(p, Bqq) / 2
+        h2 = _bordered(bk, A - bk.eye(A.shape[0]), q, p, 2 * a * q - Bqq, "A - I")
+        c = _vdot(p, _C(d3, q, q, q) + 3 * _B(d2, q, h2)) / 6
+        return Cusp(a=_real(bk, a), c=_real(bk, c), q=q, p=p, residuals=R.res,
+                    backend=bk.name, digits=bk.digits)
+
+
+@dataclass(frozen=True)
+class DegenerateFlip:
+    """Generalised (degenerate) flip (GPD): xi -> -xi + c xi^3 + e xi^5 + O(xi^6), c = 0.
+
+    c is normal_form.flip_coefficient's c; e is invariant under every near-identity
+    change (even for c != 0) and under q -> -q.  The second iterate is
+    xi -> xi - 2c xi^3 - 2e xi^5 + ...: at c = 0, e > 0 means the fixed point is weakly
+    attracting and the period-2 branch of the nearby subcritical (c < 0) flips turns at a
+    fold beyond which a *stable* period-2 orbit surrounds the unstable one; e < 0 is the
+    mirror case.
+    """
+
+    c: object
+    e: object
+    q: object
+    p: object
+    residuals: dict = field(default_factory=dict)
+    backend: str = "float64"
+    digits: object = None
+    normalisation: str = _NORM_REAL
+
+
+def degenerate_flip(A, d2, d3, d4, d5, *, tol=None, digits=None):
+    """c and e of a generalised flip point [MatContM nf_DPDm].
+
+    h2 = (I - A)^{-1} B(q,q); r3 = C(q,q,q) + 3B(q,h2), c = <p, r3>/6;
+    (-I - A) h3 = r3 - 6c q with <p, h3> = 0;
+    (I - A) h4 = r4 + 24 c h2, r4 = D(q,q,q,q) + 6C(q,q,h2) + 4B(q,h3) + 3B(h2,h2)
+    (the 24 c h2 from h2 G^2/2; MatContM omits it, right at c = 0);
+    e = <p, E(q^5) + 10D(q,q,q,h2) + 15C(q,h2,h2) + 10C(q,q,h3) + 10B(h2,h3) + 5B(q,h4)>/120.
+    """
+    tol = _default_tol(tol)
+    bk = backend(digits, A, d2, d3, d4, d5)
+    with bk.context():
+        A, d2, d3, d4, d5 = _jet(bk, A, d2, d3, d4, d5)
+        R = _real_eig(bk, A, -1, tol)
+        q, p = R.q, R.p
+        I = bk.eye(A.shape[0])
+
+        def B(u, v):
+            return _B(d2, u, v)
+
+        h2 = _solve(bk, I - A, B(q, q), "I - A")
+        r3 = _C(d3, q, q, q) + 3 * B(q, h2)
+        c = _vdot(p, r3) / 6
+        h3 = _bordered(bk, A + I, q, p, 6 * c * q - r3, "A + I")
+        r4 = (_D(d4, q, q, q, q) + 6 * _C(d3, q, q, h2) + 4 * B(q, h3) + 3 * B(h2, h2))
+        h4 = _solve(bk, I - A, r4 + 24 * c * h2, "I - A")
+        r5 = (_E(d5, q, q, q, q, q) + 10 * _D(d4, q, q, q, h2) + 15 * _C(d3, q, h2, h2)
+              + 10 * _C(d3, q, q, h3) + 10 * B(h2, h3) + 5 * B(q, h4))
+        e = _vdot(p, r5) / 120
+        return DegenerateFlip(c=_real(bk, c), e=_real(bk, e), q=q, p=p, residuals=R.res,
+                              backend=bk.name, digits=bk.digits)

@@ -255,3 +255,47 @@ def complex_z(u):
 
 def conj_z(u):
     return u[0] - u[1] * mpmath.mpc(0, 1)
+
+
+# --------------------------------------------------------------------------- general disguise
+def build_general(n, ncrit, normal, *, seed=0, resonant=lambda i, e: True, scale="0.5"):
+    """Like :func:`build` with order 3 and a general Phi = id + Q + K (Q quadratic, K cubic,
+    random), Phi^{-1} by fixed-point iteration.  Q has no pure-u monomial in the w
+    components and, in the u components, only the pure-u monomials for which
+    ``resonant(i, exps)`` is False (the plain disguise with non-resonant centre terms)."""
+    order = 3
+    with mpmath.workdps(DPS):
+        rng = np.random.default_rng(seed)
+        terms = []
+        for i in range(n):
+            ti = []
+            for deg in (2, 3):
+                for combo in itertools.combinations_with_replacement(range(n), deg):
+                    e = [0] * n
+                    for j in combo:
+                        e[j] += 1
+                    e = tuple(e)
+                    pure_u = all(e[j] == 0 for j in range(ncrit, n))
+                    if deg == 2 and pure_u and (i >= ncrit or resonant(i, e)):
+                        continue
+                    c = mpmath.mpf(int(rng.integers(-5, 6))) / 10 * mpmath.mpf(scale)
+                    if c:
+                        ti.append((e, c))
+            terms.append(ti)
+
+        def phi_nl(K):
+            return [sum((monomial(K, e) * c for e, c in terms[i]), Poly(n, order))
+                    for i in range(n)]
+
+        L = cayley(n, seed + 100)
+        LT = [[L[j][i] for j in range(n)] for i in range(n)]
+        X = [Poly.var(n, order, i) for i in range(n)]
+        Y = apply_linear(LT, X)
+        K = list(Y)
+        for _ in range(3):                        # K = Y - (Phi - id)(K)
+            nl = phi_nl(K)
+            K = [Y[i] - nl[i] for i in range(n)]
+        K = normal(K)
+        nl = phi_nl(K)
+        K = apply_linear(L, [K[i] + nl[i] for i in range(n)])
+        return jets(K, order), np.array(L, dtype=object)
