@@ -75,7 +75,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import NearSingularWarning, ParameterError, SingularCaseError  # noqa: F401
+from .errors import ParameterError, SingularCaseError
 from .normal_form import _B, _C, _eigen, _kuznetsov, _phase_fix, _symmetrise, _vdot, backend
 
 #: default bound on the distance of the critical multipliers from their exact

@@ -223,7 +223,8 @@ def stable_part(V, ncrit, order):
     D = [[mpmath.mpf(x) for x in row] for row in D2]
     wn = [w1 * D[0][0] + w2 * D[0][1] + u1 * w1 * mpmath.mpf("0.3") + w2 * w2 * mpmath.mpf("-0.2")
           + u2 * u2 * w2 * mpmath.mpf("0.4"),
-          w1 * D[1][0] + w2 * D[1][1] + u2 * w1 * mpmath.mpf("-0.35") + u1 * u1 * w1 * mpmath.mpf("0.1")
+          w1 * D[1][0] + w2 * D[1][1] + u2 * w1 * mpmath.mpf("-0.35")
+          + u1 * u1 * w1 * mpmath.mpf("0.1")
           + w1 * w2 * mpmath.mpf("0.15")]
     if order >= 5:
         wn[0] = wn[0] + u1 * u1 * u2 * u2 * w2 * mpmath.mpf("0.3")

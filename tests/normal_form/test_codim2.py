@@ -437,9 +437,10 @@ def test_flip_ns_known():
     assert abs(c1 - r.g021) < 1e-12
 
 
-def test_matcont_pdns_lpns_h021_differs():
-    """MatContM's h021 = C + 2B(qb, h020) + B(q, h011) (factors swapped) misses the
-    constructed g021 of the flip-NS map; the derived one hits it (above)."""
+def test_matcont_pdns_formulas_differ():
+    """MatContM's h021 = C + 2B(qb, h020) + B(q, h011) (factors swapped; nf_LPNSm and
+    nf_PDNSm) and nf_PDNSm's h111 miss the constructed g021, f111 of the flip-NS map;
+    the derived ones hit them (test_flip_ns_known)."""
     jet, L, k = xz_map(-1, 7, True)
     A, d2, d3 = m.to_float(jet)
     r = codim2.flip_ns(A, d2, d3)
@@ -451,6 +452,12 @@ def test_matcont_pdns_lpns_h021_differs():
     C = np.einsum("ijkl,j,k,l->i", d3, q, q, qb)
     g021_matcont = np.vdot(p, C + 2 * B(qb, h020) + B(q, h011)) / 2
     assert abs(g021_matcont - 2 * complex(k["g021"])) > 1e-2
+    # nf_PDNSm's h111 with 2 Re B(h110, q) instead of 2 Re B(h110, conj(q)) misses f111
+    q1, p1 = np.real(r.q1), np.real(r.p1)
+    h110 = -np.linalg.solve(lam * np.eye(n) + A, B(q1, q))
+    f111_matcont = np.real(p1 @ (np.einsum("ijkl,j,k,l->i", d3, q1, q, qb) + B(q1, h011)
+                                 + 2 * np.real(B(h110, q))))
+    assert abs(f111_matcont - 2 * float(k["f111"])) > 1e-2
 
 
 # --------------------------------------------------------------------------- LPPD, CP, GPD
@@ -498,7 +505,8 @@ def test_cusp_known(quad):
     r = codim2.cusp(*m.to_float(jet))
     small_residuals(r)
     a, e = fold_coefficient(*m.to_float(jet)[:2])
-    assert abs(a - r.a) < 1e-12 and np.allclose(e.q, np.real(r.q)) and np.allclose(e.p, np.real(r.p))
+    assert abs(a - r.a) < 1e-12
+    assert np.allclose(e.q, np.real(r.q)) and np.allclose(e.p, np.real(r.p))
 
 
 @pytest.mark.parametrize("cub", ["0", "0.3"])
