@@ -23,6 +23,12 @@ orthogonality kept), and the normal-form coefficients are those of N_c:
   quadratic monomial, so <p_i, D^2 Phi(q_j, q_k)> = 0 and the bordered normalisation
   <p, h> = 0 of the algorithm is met by Phi itself.
 
+Shears cannot put every quadratic monomial in every component (y_i's shear does not
+depend on y_i); :func:`build_general` (order 3) uses a general Phi = id + Q + K with
+Phi^{-1} by fixed-point iteration, for the plain disguise with *non-resonant* pure-u
+quadratic terms (they make h20, h02, h11 of the fold-flip nonzero, which MatContM's
+sign error needs in order to show).
+
 Polynomials are dicts {exponent tuple: coefficient}; products are truncated at the
 map's order (3 or 5).
 """
