@@ -285,6 +285,7 @@ def _time1(field, order):
     return out
 
 
+@pytest.mark.slow
 def test_r1_bt_flow():
     """The time-1 map of the Bogdanov–Takens flow x' = y, y' = A x^2 + B x y has
     a = A and b = B + 2A: MatContM's s = sign(a (b - 2a)) is the BT sign(A B)."""
@@ -303,6 +304,7 @@ def test_resonance_1_2_known():
         assert max(r.residuals.values()) < (1e-12 if tol == F_TOL else 1e-40), r.residuals
 
 
+@pytest.mark.slow
 def test_r2_flow():
     """F = -(time-1 map of x' = y, y' = C1 x^3 + D1 x^2 y) has C = C1, D = -D1 - 3 C1, so
     (4C, -2D - 6C) = (4 C1, 2 D1): the field whose time-1 map is F^2 (time-2 of the
