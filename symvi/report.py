@@ -17,7 +17,7 @@ from . import scenes as sc
 from ._io import write_text
 from .paper.audit import NOTES, fmt
 
-_FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check")
+_FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check", "curve")
 
 
 @dataclass
@@ -121,6 +121,8 @@ def _draw(figures, p):
                                            component=p.output.spec["component"], title=title,
                                            curves=p.result.get("curves"),
                                            **({"labels": view["labels"]} if view else {}))
+    if kind == "curve":
+        return figures.two_parameter([p.result["plot"]], p.result["names"], title=title)
     if kind == "circle_check":
         return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title,
                                      **({"names": view["labels"]} if view else {}))
@@ -307,11 +309,41 @@ def _part(p):
         L += _circle_table(r)
     elif k == "mpcheck":
         L += _mpcheck_table(r)
+    elif k == "curve":
+        L += _curve_table(r)
     if r.get("_figure"):
         L += [f"![{p.output.id}]({r['_figure']})", ""]
     if r.get("warnings"):
         L += ["Warnings: " + "; ".join(r["warnings"]), ""]
     return L
+
+
+def _curve_table(r):
+    a, b = r["names"]
+    L = [f"{r['curve'].upper()} curve in ({a}, {b}) from the {r['curve']} point at ω = "
+         f"{r['start']['omega']:.12g} ({r['start']['orbit']} orbit), {r['points']} points; "
+         f"it ends: (1) {r['ends'][0]}; (2) {r['ends'][-1]}.", ""]
+    L += [f"Note: {n}" for n in r.get("notes", [])]
+    if not r["special"]:
+        return L + ["No codimension-two point on the curve.", ""]
+    L += ["NS curves: solid where supercritical (l1 < 0), dashed where subcritical, dotted on "
+          "neutral-saddle stretches, grey where the orbit is not admissible; ticks point to the "
+          "side where the orbit is stable. Coefficients with ||q||_2 = 1, <p,q> = 1.", "",
+          f"| kind | {a} | {b} | coefficients | admissible | what |", "|---|---|---|---|---|---|"]
+    keep = ("l2", "l1", "c1", "c2", "re", "im", "a", "b", "s", "C", "D", "c", "coef", "theta")
+    for s in r["special"]:
+        co = ", ".join(f"{k} = {_short(v)}" for k, v in s["coefficients"].items() if k in keep)
+        L.append(f"| {s['kind']} | {s['params'][a]:.12g} | {s['params'][b]:.12g} | {co or '—'} | "
+                 f"{'yes' if s['admissible'] else 'no'} | {_cell(s['detail'])} |")
+    return L + [""]
+
+
+def _short(v):
+    if isinstance(v, list) and len(v) == 2:
+        return f"{v[0]:.6g}{v[1]:+.6g}i"
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    return str(v)
 
 
 def _hopf_table(r):

@@ -122,6 +122,14 @@ KINDS = {
                                                                           check=_positive())),
     # every number the paper prints
     "numbers": dict(row=Field("rows")),
+    # a two-parameter curve (NS, flip, fold) from the point of that kind in [omega_min,
+    # omega_max], with its codimension-two points (issue 13, symvi curve)
+    "curve": dict(omega_min=_OMEGA, omega_max=_OMEGA,
+                  plane=Field("str", "omega,b"),
+                  curve=Field("str", "ns", choices=("ns", "flip", "fold")),
+                  bounds=Field("numbers", None, length=4),
+                  max_points=Field("int", 2000, check=_int_range(2, 100_000)),
+                  quick_max_points=Field("int", 300, check=_int_range(2, 100_000))),
     # 50-digit validation of the first Hopf point: chains A and B of symvi.mpcheck
     "mpcheck": dict(omega_min=_OMEGA, omega_max=_OMEGA,
                     digits=Field("int", 50, check=_int_range(30, 200))),
@@ -420,7 +428,8 @@ ENTRY = {"multipliers": ("orbit",),
          "circle_check": ("circle_check",),
          "audit": ("paper.audit",),
          "numbers": ("paper.audit", "diagnostics"),
-         "mpcheck": ("mpcheck",)}
+         "mpcheck": ("mpcheck",),
+         "curve": ("curves", "codim2", "codegen.high")}
 _SRC = {}
 _CLOSURE = {}
 
@@ -791,6 +800,35 @@ def _bifurcation(params, spec, quick, scene):
              "counts": np.asarray(sw.counts)})
 
 
+def _curve(params, spec, quick, scene):
+    from .curves import curve_from_interval, parse_params
+    from .model import Model
+    names = parse_params(spec["plane"])
+    bounds = None
+    if spec["bounds"] is not None:
+        lo_a, hi_a, lo_b, hi_b = (float(v) for v in spec["bounds"])
+        bounds = {names[0]: (lo_a, hi_a), names[1]: (lo_b, hi_b)}
+    n = spec["max_points"]
+    note = ""
+    if quick and spec["quick_max_points"] < n:
+        n, note = spec["quick_max_points"], (f"quick mode: at most {spec['quick_max_points']} "
+                                             f"points each way (full run: {n})")
+    curve, start = curve_from_interval(Model.of(params), spec["omega_min"], spec["omega_max"],
+                                       names, kind=spec["curve"], bounds=bounds, max_points=n)
+    special = []
+    for sp in curve.special:
+        d = sp.as_dict()
+        special.append({"kind": d["kind"], "params": d["params"], "detail": d["detail"],
+                        "admissible": d["admissible"],
+                        "coefficients": {k: v for k, v in d["coefficients"].items()
+                                         if isinstance(v, (int, float, list, str))}})
+    return {"names": list(names), "curve": spec["curve"], "points": len(curve),
+            "start": {"omega": start.value, "orbit": f"{start.orbit.n}-{start.orbit.p}"},
+            "ends": list(curve.ends), "notes": list(curve.notes), "special": special,
+            "bounds": {k: list(v) for k, v in curve.bounds.items()},
+            "plot": curve.plot_data(), "quick_note": note}, {}
+
+
 def _circle_check(params, spec, quick, scene):
     return _need("circle_check").study(params, spec, quick)
 
@@ -816,4 +854,4 @@ def _mpcheck(params, spec, quick, scene):
 
 _COMPUTE = {"multipliers": _multipliers, "hopf": _hopf, "section": _section,
             "bifurcation": _bifurcation, "circle_check": _circle_check, "audit": _audit,
-            "numbers": _numbers, "mpcheck": _mpcheck}
+            "numbers": _numbers, "mpcheck": _mpcheck, "curve": _curve}

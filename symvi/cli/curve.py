@@ -29,15 +29,6 @@ def register(sub):
     return p
 
 
-def parse_params(text):
-    from ..errors import ParameterError
-    names = tuple(s.strip() for s in str(text).split(","))
-    if len(names) != 2 or not all(names) or names[0] == names[1]:
-        raise ParameterError("--params", text, "two different names separated by a comma, "
-                             "e.g. omega,b")
-    return names
-
-
 def parse_bounds(items, names):
     from ..errors import ParameterError
     out = {}
@@ -62,7 +53,7 @@ def run(args):
     import math
     import warnings
 
-    from ..curves import curve_from_interval
+    from ..curves import curve_from_interval, parse_params
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
     model = Model.of(params_from(args))

@@ -17,15 +17,16 @@ plus the side of the curve on which the orbit is stable.  Codimension-two points
 are located on the way by :mod:`symvi.curves.special`.
 """
 import math
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..continuation.points import correct, tangent
-from ..errors import NearSingularWarning, ParameterError, SymviError
-from ..normal_form import eigen, flip_coefficient, fold_coefficient, kuznetsov_resolved
+from ..errors import ParameterError, SymviError
+from ..normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
+from .points import NORMALISATION, Codim2Point, CurvePoint, first_lyapunov, mono
+from .special import Tracker
 from .system import CurveSystem, kappa_pair, theta_of
 
 #: a multiplier beyond this modulus ends a curve: the orbit is close to grazing, where the
@@ -37,72 +38,6 @@ BORDER_EVERY = 8
 CHORD_MAXIT = 8
 #: largest cosine drop between consecutive tangents accepted (else the step is halved)
 MIN_COS = 0.97
-NORMALISATION = ("||q||_2 = 1, <p,q> = conj(p)^T q = 1; l1 = Re(e^{-i theta} c1) (l1 < 0: "
-                 "supercritical, a stable invariant circle)")
-
-
-@dataclass(frozen=True)
-class CurvePoint:
-    """One point of a curve: both parameter values, the orbit, and the curve's numbers
-    there (theta, l1 for NS; c for flip; a for fold), ``ns`` False on a neutral-saddle
-    stretch of an NS curve (a real pair with product 1, no bifurcation)."""
-
-    params: dict
-    orbit: PeriodicOrbit = field(repr=False)
-    kappa: float = None
-    theta: float = None
-    l1: float = None
-    coefficient: float = None
-    ns: bool = True
-    l1_noise: float = None      # rounding bound of l1: |l1| below it decides nothing
-
-    @property
-    def admissible(self):
-        return self.orbit.admissible
-
-    def as_dict(self):
-        out = {"params": dict(self.params), "theta": self.theta, "l1": self.l1,
-               "admissible": bool(self.orbit.admissible)}
-        if self.l1_noise is not None:
-            out["l1_noise"] = self.l1_noise
-        if self.coefficient is not None:
-            out["coefficient"] = self.coefficient
-        out.update({"kappa": self.kappa, "neimark_sacker": bool(self.ns),
-                    "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers]})
-        return out
-
-
-@dataclass(frozen=True)
-class Codim2Point:
-    """A located codimension-two point: ``kind`` CH, R1..R4, LPNS, PDNS, NSNS, LPPD, CP,
-    GPD, or an end of the admissible curve (grazing); it lies between the curve's points
-    ``index`` and ``index + 1``."""
-
-    kind: str
-    params: dict
-    orbit: PeriodicOrbit = field(repr=False)
-    coefficients: dict
-    detail: str
-    index: int = 0
-
-    def as_dict(self):
-        return {"kind": self.kind, "params": dict(self.params),
-                "coefficients": {k: _plain(v) for k, v in self.coefficients.items()},
-                "detail": self.detail, "admissible": bool(self.orbit.admissible),
-                "y": [float(v) for v in self.orbit.y],
-                "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers]}
-
-
-def _plain(v):
-    if isinstance(v, (bool, np.bool_)):
-        return bool(v)
-    if isinstance(v, (int, np.integer)):
-        return int(v)
-    if isinstance(v, (float, np.floating)):
-        return float(v)
-    if isinstance(v, complex):
-        return [v.real, v.imag]
-    return v
 
 
 @dataclass(frozen=True)
@@ -193,7 +128,6 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         raise SymviError(f"the starting orbit is not admissible ({first.orbit.reason}): a "
                          "curve of an unphysical orbit is not followed (through=True to "
                          "follow it anyway)")
-    from .special import Tracker
     halves = []
     directions = (1.0, -1.0) if both else (1.0,)
     for sgn in directions:
@@ -249,15 +183,8 @@ def _first(system, orbit, start):
                          f"{start[a]:.12g} at {b} = {start[b]:.12g}: the start is not on a "
                          f"{system.kind} curve")
     X = res[0]
-    system.set_border(_mono(system, X))
+    system.set_border(mono(system, X))
     return X
-
-
-def _mono(system, X):
-    m = system.m
-    pr = system.problem(X[-1])
-    G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
-    return pr.monodromy(X[:m], Gu)[1]
 
 
 def _point(system, X, prev, Gu=None):
@@ -293,24 +220,6 @@ def _point(system, X, prev, Gu=None):
     pt = CurvePoint(params, orbit, None, None, None, c, True)
     object.__setattr__(pt, "_pair", (crit, crit))
     return pt
-
-
-def first_lyapunov(orbit, lam):
-    """(l1, noise) of the pair of multiplier ``lam`` of the orbit; (None, None) at a strong
-    resonance (no cubic normal form).  ``noise`` bounds l1's rounding error
-    (:func:`symvi.normal_form.kuznetsov_resolved`; near grazing the jets blow up)."""
-    A, d2, d3 = orbit.jet(3)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", NearSingularWarning)
-            # kuznetsov takes the pair with Im > 0 nearest the unit circle: lam's on an
-            # NS curve (|lam| = 1); checked, so that a second pair never stands in
-            if abs(eigen(A).lam - lam) > 1e-6 * (1 + abs(lam)):
-                return None, None
-            _, l1, noise = kuznetsov_resolved(A, d2, d3)
-    except SymviError:
-        return None, None
-    return l1, noise
 
 
 def stable_sides(curve, every=1):
@@ -368,7 +277,7 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     h_max = float(h_max) if h_max is not None else span / 20 + 0.02
     h = float(h) if h is not None else min(h_max, span / 200)
     h_min = 1e-9 * span
-    system.set_border(_mono(system, X))
+    system.set_border(mono(system, X))
     F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
     e = np.zeros(m + 2)
     e[-1] = sgn
@@ -432,7 +341,7 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
         if len(points) % BORDER_EVERY == 0:
             # new bordering vectors keep the bordered matrix well conditioned; the
             # derivatives are taken again with them (g's row depends on the border)
-            system.set_border(_mono(system, X))
+            system.set_border(mono(system, X))
             F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
         states.append(X)
         points.append(pt)
@@ -462,9 +371,9 @@ def _diagnosis(system, X):
     """Why the corrector may fail where a curve stops: a second singular direction of the
     test matrix (two pairs with product 1, as in the conservative limit r = 1 without
     damping, where the map preserves volume and NS curves end)."""
-    s = np.linalg.svd(system.matrix(_mono(system, X)), compute_uv=False)
+    s = np.linalg.svd(system.matrix(mono(system, X)), compute_uv=False)
     if len(s) > 1 and s[-2] < 1e-4 * s[0]:
-        det = abs(np.prod(np.linalg.eigvals(_mono(system, X))))
+        det = abs(np.prod(np.linalg.eigvals(mono(system, X))))
         return (f"; the test matrix has a second near-null direction (singular value "
                 f"{s[-2]:.2g}): two multiplier pairs have product 1 there, |det M| = "
                 f"{det:.9g}" + (" (the conservative limit: r -> 1 without damping, the map "

@@ -26,6 +26,7 @@ from ..continuation.points import root_on_arc
 from ..errors import SymviError
 from ..normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import orbit_of
+from .points import Codim2Point, first_lyapunov, mono
 from .system import kappa_pair
 
 #: what each curve kind tests for
@@ -121,7 +122,6 @@ class Tracker:
 
     # ---- location -----------------------------------------------------------------
     def _try(self, kind, Xa, ta, Xb, index, pa):
-        from .curve import Codim2Point
         try:
             sp = self._locate(kind, Xa, ta, Xb, index, pa)
         except (SymviError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
@@ -134,7 +134,6 @@ class Tracker:
             self.special.append(sp)
 
     def _locate(self, kind, Xa, ta, Xb, index, pa):
-        from .curve import Codim2Point
         prev = pa["_pair"]
         if kind == "graze":
             return self._graze(Xa, ta, Xb, index)
@@ -167,7 +166,6 @@ class Tracker:
 
     def _graze(self, Xa, ta, Xb, index):
         """Where the orbit stops (or starts) being admissible along the curve."""
-        from .curve import Codim2Point
         bad = Xb if self._orbit(Xa).admissible else Xa
         vb = self._vmin(bad)
         if vb <= 0:
@@ -200,8 +198,7 @@ class Tracker:
 
     # ---- scalar functions of a point ----------------------------------------------
     def _mono(self, X):
-        from .curve import _mono
-        return _mono(self.system, X)
+        return mono(self.system, X)
 
     def _orbit(self, X, admissibility=True):
         m = self.system.m
@@ -216,7 +213,6 @@ class Tracker:
         return ", ".join(f"{k} = {v:.12g}" for k, v in self._params(X).items())
 
     def _l1(self, X, lam):
-        from .curve import first_lyapunov
         return first_lyapunov(self._orbit(X, admissibility=False), lam)
 
     def _coef(self, X):

@@ -7,6 +7,15 @@ from .curve import continue_curve
 _BRANCH_KIND = {"ns": "ns", "flip": "flip", "fold": "fold"}
 
 
+def parse_params(text):
+    """The two curve parameters from "NAME,NAME" (the CLI's --params, a scene's plane)."""
+    names = tuple(s.strip() for s in str(text).split(","))
+    if len(names) != 2 or not all(names) or names[0] == names[1]:
+        raise ParameterError("--params", text, "two different names separated by a comma, "
+                             "e.g. omega,b")
+    return names
+
+
 def start_points(model, omega_min, omega_max, kind):
     """The admissible located points of ``kind`` on the branches over the interval,
     ordered by omega: [(SpecialPoint, Branch)]."""
