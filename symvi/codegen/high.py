@@ -40,7 +40,11 @@ class HighJet:
 
 
 def high_jet(model, omega, y, te, *, order=5, digits=None):
-    """The jet of P up to ``order`` (4 or 5) at y (flight time te), eqs. (33)–(38)."""
+    """The jet of P up to ``order`` (4 or 5) at y (flight time te), eqs. (33)–(38).
+
+    The jet assumes g(y, te) = 0 (eq. (27)): with ``digits``, pass te to that
+    precision (a float64 2 pi / omega limits d4 to about 1e-14 relative).
+    """
     if order not in (4, 5):
         raise ParameterError("order", order, "4 or 5")
     y, te = _checked(model, y, te)
