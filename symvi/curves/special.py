@@ -147,6 +147,9 @@ class Tracker:
             return v
         X, t, DF = root_on_arc(self.system, f, Xa, ta, Xb)
         ps = self.psi(X, prev=prev, need=kind)
+        ends = max(abs(pa[kind]), abs(f(Xb, None, None)))
+        if abs(ps[kind]) > 1e-3 * ends:
+            return None                  # a sign change through a pole (e.g. c at a fold-flip)
         orbit = self._orbit(X)
         pair = ps["_pair"]
         mu = np.array(orbit.multipliers)

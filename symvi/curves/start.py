@@ -17,8 +17,8 @@ def parse_params(text):
 
 
 def start_points(model, omega_min, omega_max, kind):
-    """The admissible located points of ``kind`` on the branches over the interval,
-    ordered by omega: [(SpecialPoint, Branch)]."""
+    """The admissible located points of ``kind`` on the branches over the interval, those of
+    the primary (fewest-impact) orbits first, then by omega: [(SpecialPoint, Branch)]."""
     from ..continuation import period1_branches
     if kind not in _BRANCH_KIND:
         raise ParameterError("kind", kind, "ns, flip or fold")
@@ -29,7 +29,7 @@ def start_points(model, omega_min, omega_max, kind):
                 if not any(abs(sp.value - o.value) < 1e-9 and o.orbit.p == sp.orbit.p
                            for o, _ in out):
                     out.append((sp, br))
-    return sorted(out, key=lambda x: x[0].value)
+    return sorted(out, key=lambda x: (x[0].orbit.p, x[0].value))
 
 
 def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=1, **kw):
