@@ -263,12 +263,7 @@ def describe(kind, curve_kind, orbit, pair, others):
 def _normal_form(kind, orbit):
     from .. import codim2
     if kind in ("CH", "GPD"):
-        if orbit.p != 1:
-            raise SymviError(f"the order-5 jet of P^{orbit.p} (an orbit with {orbit.p} "
-                             "impacts) is not composed; l2 is available for one-impact orbits")
-        from ..codegen.high import high_jet
-        hj = high_jet(orbit.model, orbit.omega, orbit.y, orbit.times[0], order=5)
-        args = (hj.jacobian, hj.d2, hj.d3, hj.d4, hj.d5)
+        args = orbit.jet(5)                   # orders 4-5, composed over the p impacts
         res = codim2.chenciner(*args) if kind == "CH" else codim2.degenerate_flip(*args)
     else:
         A, d2, d3 = orbit.jet(3)

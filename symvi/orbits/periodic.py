@@ -255,15 +255,24 @@ class PeriodicOrbit:
         return self.points[0]
 
     def jet(self, order=3):
-        """(A, d2, d3) of P^p at points[0] from the generated jets, composed (d3 None for 2)."""
-        from ..codegen.jets import evaluate
+        """(A, d2, ..., d_order) of P^p at points[0], the generated jets of each impact
+        composed (:func:`compose`); order 2 or 3 returns (A, d2, d3) with d3 None for 2,
+        as before; orders 4 and 5 (the jets of :mod:`symvi.codegen.high`, curves only)
+        return (A, d2, d3, d4[, d5])."""
         flow = LinearFlow.of(self.model)
         F = flow.forcing(self.omega)
         Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
         jets = []
         for i in range(self.p):
-            v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
-            jets.append((v["J"], v["d2"], v.get("d3") if order >= 3 else None))
+            if order <= 3:
+                from ..codegen.jets import evaluate
+                v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
+                jets.append((v["J"], v["d2"], v.get("d3") if order >= 3 else None))
+            else:
+                from ..codegen.high import high_jet
+                h = high_jet(self.model, self.omega, tuple(Y[i]), float(self.times[i]),
+                             order=order)
+                jets.append((h.jacobian, h.d2, h.d3, h.d4) + ((h.d5,) if order >= 5 else ()))
         return compose(jets)
 
     def as_dict(self):
@@ -278,20 +287,60 @@ class PeriodicOrbit:
 
 
 def compose(jets):
-    """Jet of F_{p-1} o ... o F_0 from the jets (J, d2, d3) of each map at its point (chain
-    rule to third order; d2, d3 full symmetric derivative tensors)."""
-    J, B, C = jets[0]
-    for Jg, Bg, Cg in jets[1:]:
-        B2 = None if B is None else (np.einsum("abc,bi,cj->aij", Bg, J, J)
-                                     + np.einsum("ab,bij->aij", Jg, B))
-        C2 = None
-        if C is not None and Cg is not None:
-            BJ = np.einsum("abc,bij,ck->aijk", Bg, B, J)
-            C2 = (np.einsum("abcd,bi,cj,dk->aijk", Cg, J, J, J) + BJ
-                  + BJ.transpose(0, 1, 3, 2) + BJ.transpose(0, 3, 2, 1)
-                  + np.einsum("ab,bijk->aijk", Jg, C))
-        J, B, C = Jg @ J, B2, C2
-    return J, B, C
+    """Jet of F_{p-1} o ... o F_0 from the jets (J, d2, d3, ...) of each map at its point:
+    raw derivative tensors to any order, by Faa di Bruno's formula over set partitions,
+
+        D^k (g o f)[h_1..h_k] = sum over partitions P of {1..k} of
+                                D^{|P|} g [D^{|B|} f [h_B] for B in P],
+
+    (None entries propagate: a missing order stays missing)."""
+    out = list(jets[0])
+    for g in jets[1:]:
+        K = len(out)
+        new = [g[0] @ out[0]]
+        for k in range(2, K + 1):
+            if any(t is None for t in out[:k]) or any(t is None for t in g[:k]):
+                new.append(None)
+                continue
+            new.append(sum(_faa_term(g, out, blocks) for blocks in _partitions(k)))
+        out = new
+    return tuple(out)
+
+
+_LETTERS = "abcdefghijklmnopqrstuvwxyz"
+
+
+def _faa_term(g, f, blocks):
+    """D^m g[D^{|B_1|} f[h_{B_1}], ..., D^{|B_m|} f[h_{B_m}]] as a tensor in (i, h_1..h_k)."""
+    m = len(blocks)
+    k = sum(len(b) for b in blocks)
+    outs = _LETTERS[:k]                         # the free slots h_1..h_k
+    inner = _LETTERS[k:k + m]                   # the contracted slots of g
+    spec = ["z" + inner]
+    ops = [g[m - 1]]
+    for c, b in zip(inner, blocks):
+        spec.append(c + "".join(outs[j] for j in b))
+        ops.append(f[len(b) - 1])
+    return np.einsum(",".join(spec) + "->z" + outs, *ops, optimize=True)
+
+
+_PARTS = {}
+
+
+def _partitions(k):
+    """Set partitions of {0..k-1}, as tuples of blocks (cached)."""
+    if k not in _PARTS:
+        def rec(items):
+            if not items:
+                yield ()
+                return
+            first, rest = items[0], items[1:]
+            for p in rec(rest):
+                yield ((first,),) + p
+                for i in range(len(p)):
+                    yield p[:i] + ((first,) + p[i],) + p[i + 1:]
+        _PARTS[k] = tuple(rec(tuple(range(k))))
+    return _PARTS[k]
 
 
 def eigenvalues(M):
