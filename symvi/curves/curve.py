@@ -93,19 +93,18 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     """Continue the ``kind`` curve (ns, flip or fold) of ``orbit`` in the two named
     parameters ``names`` = (a, b).
 
-    ``orbit`` is a :class:`PeriodicOrbit` at (or near) a point of the curve, e.g. the
-    orbit of an NS, flip or fold point that :func:`symvi.continuation.continue_branch`
-    located; ``fixed`` gives the model's other parameters (omega included when it is
+    ``orbit`` is a :class:`PeriodicOrbit` at (or near) a point of the curve, or what
+    holds one: a special point that :func:`symvi.continuation.continue_branch` located,
+    a :class:`symvi.hopf.HopfPoint` of :func:`symvi.hopf_points`, or a period-1 orbit;
+    ``model`` a :class:`symvi.Model` or the paper's Params; ``fixed`` gives the model's other parameters (omega included when it is
     not one of ``names``), and the start values of a and b are the orbit's (omega)
     or the model's.  ``bounds`` maps a name to (lo, hi); by default each parameter may
     range over half to twice its start value (omega and positive parameters).  With
     ``both`` the curve is followed both ways from the start and joined.
     """
     from ..model import Model
-    if not isinstance(model, Model):
-        raise ParameterError("model", model, "a symvi.Model")
-    if not isinstance(orbit, PeriodicOrbit):
-        raise ParameterError("orbit", orbit, "a symvi.orbits.periodic.PeriodicOrbit")
+    model = Model.of(model)
+    orbit = _as_periodic(model, orbit)
     names = tuple(names)
     if len(names) != 2:
         raise ParameterError("params", names, "two parameter names, e.g. omega,b")
@@ -144,6 +143,21 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         fx["omega"] = float(omega)
     return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
                  box, fx, tuple(notes), tuple(states), model)
+
+
+def _as_periodic(model, start):
+    """The :class:`PeriodicOrbit` of a start: itself, the ``orbit`` of a located point
+    (SpecialPoint, HopfPoint), or a period-1 orbit's fixed point solved as a 1-1 orbit."""
+    from ..orbits.periodic import periodic_orbit
+    orbit = getattr(start, "orbit", start)
+    if isinstance(orbit, PeriodicOrbit):
+        return orbit
+    y, omega = getattr(orbit, "y", None), getattr(orbit, "omega", None)
+    if y is None or omega is None:
+        raise ParameterError("orbit", type(start).__name__, "a PeriodicOrbit, a located point "
+                             "(continue_branch's special point, a HopfPoint) or a period-1 orbit")
+    return periodic_orbit(model, n=1, p=1, guess=tuple(float(v) for v in y),
+                          omega=float(omega))
 
 
 def _bounds(names, start, bounds):

@@ -157,3 +157,18 @@ def test_bad_input():
         CurveSystem(MODEL, 1, 1, ("b", "r"), "ns")
     with pytest.raises(symvi.errors.ParameterError):
         CurveSystem(MODEL, 1, 1, ("omega", "stiffness[9,9]"), "ns")
+
+
+def test_start_from_a_hopf_point_of_the_paper_chain_in_omega_mu_m():
+    """From hopf_points' own point (the paper's Params): the curve in (omega, mu_m) meets
+    hopf_points again at another mass ratio."""
+    p = symvi.Params(**EX1)
+    hp = symvi.hopf_points(p, 0.70, 0.76).points[0]
+    curve = continue_curve(p, "ns", ("omega", "mu_m"), hp, max_points=60)
+    mu = curve.values("mu_m")
+    i = int(np.argmax(np.abs(mu - 2.0)))
+    other = symvi.hopf_points(symvi.Params(**dict(EX1, mu_m=float(mu[i]))),
+                              curve.points[i].params["omega"] - 2e-3,
+                              curve.points[i].params["omega"] + 2e-3).points[0]
+    assert other.omega_c == pytest.approx(curve.points[i].params["omega"], abs=1e-9)
+    assert abs(mu[i] - 2.0) > 0.05
