@@ -117,7 +117,7 @@ def fd_first_lyapunov(orbit, lam):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", NearSingularWarning)
-            _, l1, noise = kuznetsov_resolved(A, d2, d3)
+            _, l1, noise, _ = kuznetsov_resolved(A, d2, d3)
     except Exception:          # noqa: BLE001 - the baseline reports what it can
         return None, None
     return l1, noise

@@ -643,7 +643,7 @@ def kuznetsov(A, d2, d3, *, index=None, digits=None):
 
 
 def kuznetsov_resolved(A, d2, d3):
-    """(c1, l1, noise), float64: ``noise`` bounds the rounding error of l1 (forward error
+    """(c1, l1, noise, lambda1), float64: ``noise`` bounds the rounding error of l1 (forward error
     of the sums of products in c1, with the absolute tensors |d2|, |d3|, times the
     condition numbers of the two solves).  Near grazing the jets of an impact map
     grow like powers of 1/v and l1 drowns in rounding: |l1| < noise decides nothing."""
@@ -658,7 +658,7 @@ def kuznetsov_resolved(A, d2, d3):
     cond = max(np.linalg.cond(np.eye(n) * abs(e.lam) ** 2 - A),
                np.linalg.cond(e.lam ** 2 * np.eye(n) - A))
     size = np.dot(ap, _C(D3, aq, aq, aq) + cond * (2 * _B(D2, aq, a11) + _B(D2, aq, a20))) / 2
-    return c1, float(l1), float(16 * np.finfo(float).eps * n * size)
+    return c1, float(l1), float(16 * np.finfo(float).eps * n * size), complex(e.lam)
 
 
 # --------------------------------------------------------------------------- transversality

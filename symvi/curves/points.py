@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import NearSingularWarning, SymviError
-from ..normal_form import eigen, kuznetsov_resolved
+from ..normal_form import kuznetsov_resolved
 from ..orbits.periodic import PeriodicOrbit
 
 NORMALISATION = ("||q||_2 = 1, <p,q> = conj(p)^T q = 1; l1 = Re(e^{-i theta} c1) (l1 < 0: "
@@ -97,9 +97,9 @@ def first_lyapunov(orbit, lam):
             warnings.simplefilter("ignore", NearSingularWarning)
             # kuznetsov takes the pair with Im > 0 nearest the unit circle: lam's on an
             # NS curve (|lam| = 1); checked, so that a second pair never stands in
-            if abs(eigen(A).lam - lam) > 1e-6 * (1 + abs(lam)):
+            _, l1, noise, lam1 = kuznetsov_resolved(A, d2, d3)
+            if abs(lam1 - lam) > 1e-6 * (1 + abs(lam)):
                 return None, None
-            _, l1, noise = kuznetsov_resolved(A, d2, d3)
     except SymviError:
         return None, None
     return l1, noise

@@ -125,6 +125,10 @@ _NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
 _PRESET = ("mu_m", "mu_k", "f2", "b", "r")
 
 
+#: the names that change the stop only (a cheap copy of the model, no matrix validation)
+_STOP_NAMES = frozenset(("gap", "restitution", "b", "r"))
+
+
 class Model:
     """A linear impact oscillator (see the module docstring); immutable, hashable.
 
@@ -327,6 +331,8 @@ class Model:
         """A copy with named parameters changed, e.g. ``model.with_(**{"forcing[1]": 0.3})``
         or ``model.with_(mu_m=3)`` on the preset.  Validated like the constructor."""
         preset = dict(self._preset) if self._preset else None
+        if changes and set(changes) <= _STOP_NAMES:
+            return self._with_stop(preset, changes)
         pre = {k: v for k, v in changes.items() if k in _PRESET}
         for k in pre:
             self._parse(k)                    # refuses preset names on a general model
@@ -357,6 +363,30 @@ class Model:
             return Model.luo_xie(**{k: preset[k] for k in _PRESET})
         return Model(mass=M, stiffness=K, damping=C, forcing=P,
                      stop=Stop(mass=self._stop.mass, gap=gap, restitution=r))
+
+    def _with_stop(self, preset, changes):
+        """A copy with only the stop changed: the matrices are not validated again (a curve
+        in b or r builds one model per corrector step)."""
+        gap, r = self._stop.gap, self._stop.restitution
+        for name, v in changes.items():
+            kind = self._parse(name)[0]
+            v = _finite(name, v)
+            if kind in ("gap", "b"):
+                gap = v
+            else:
+                r = v
+        if preset is not None:
+            from ..params import Params
+            preset.update(Params(preset["mu_m"], preset["mu_k"], preset["f2"], gap,
+                                 r).as_dict())      # the paper's ranges and messages
+        new = object.__new__(Model)
+        for slot in ("_M", "_K", "_C", "_P"):
+            object.__setattr__(new, slot, getattr(self, slot))
+        object.__setattr__(new, "_stop", Stop(mass=self._stop.mass, gap=gap, restitution=r))
+        object.__setattr__(new, "_preset", preset)
+        object.__setattr__(new, "_arrays", {})
+        object.__setattr__(new, "_hash", hash(new.key()))
+        return new
 
     def tangent(self, name):
         """d(M, C, K, P, b, r) / d(name): exact derivative of the model data, as a
