@@ -93,6 +93,15 @@ def data_key(params):
         else {"params": np.array(params.key())}
 
 
+def print_special(kind, where, coefficients, detail, orbit, width):
+    """Two lines of text for a located special point: kind, where, float coefficients,
+    the orbit's admissibility (grazing points are inadmissible by nature); the detail."""
+    coef = ", ".join(f"{k} = {v:.8g}" for k, v in coefficients.items() if isinstance(v, float))
+    tag = "" if orbit.admissible or kind == "grazing" else "  [inadmissible orbit]"
+    print(f"  {kind:{width}s} {where}  {coef}{tag}")
+    print(f"  {'':{width}s} {detail}")
+
+
 def print_json(obj):
     """Exactly one JSON object on stdout; NaN/inf are never emitted."""
     sys.stdout.write(json.dumps(obj, allow_nan=False) + "\n")

@@ -1,6 +1,6 @@
 """``symvi continue``: continue n-p orbits in any named parameter, with fold, flip, NS and
 grazing points located (module named ``continuation``: ``continue`` is a Python keyword)."""
-from . import add_params, describe, params_from, print_json
+from . import add_params, describe, params_from, print_json, print_special
 
 
 def register(sub):
@@ -186,11 +186,8 @@ def run(args):
         for note in br.notes:
             print(f"  note: {note}")
         for sp in br.special:
-            coef = ", ".join(f"{k_} = {v:.8g}" for k_, v in sp.coefficients.items()
-                             if isinstance(v, float))
-            tag = "" if sp.orbit.admissible or sp.kind == "grazing" else "  [inadmissible orbit]"
-            print(f"  {sp.kind:13s} {args.param} = {sp.value:.15g}  {coef}{tag}")
-            print(f"  {'':13s} {sp.detail}")
+            print_special(sp.kind, f"{args.param} = {sp.value:.15g}", sp.coefficients,
+                          sp.detail, sp.orbit, 13)
     if args.plot:
         print(f"\nplot: {args.plot}")
     return 0

@@ -1,6 +1,6 @@
 """``symvi curve``: continue an NS, flip or fold curve in two parameters from the point of
 that kind found in [omega_min, omega_max], with its codimension-two points."""
-from . import add_params, describe, params_from, print_json
+from . import add_params, describe, params_from, print_json, print_special
 
 
 def register(sub):
@@ -95,11 +95,7 @@ def run(args):
         print(f"note: {note}")
     for sp in curve.special:
         where = ", ".join(f"{k} = {v:.12g}" for k, v in sp.params.items())
-        coef = ", ".join(f"{k} = {v:.8g}" for k, v in sp.coefficients.items()
-                         if isinstance(v, float))
-        tag = "" if sp.orbit.admissible or sp.kind == "grazing" else "  [inadmissible orbit]"
-        print(f"  {sp.kind:9s} {where}  {coef}{tag}")
-        print(f"  {'':9s} {sp.detail}")
+        print_special(sp.kind, where, sp.coefficients, sp.detail, sp.orbit, 9)
     if args.plot:
         print(f"plot: {args.plot}")
     return 0
