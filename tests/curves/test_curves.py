@@ -172,3 +172,26 @@ def test_start_from_a_hopf_point_of_the_paper_chain_in_omega_mu_m():
                               curve.points[i].params["omega"] + 2e-3).points[0]
     assert other.omega_c == pytest.approx(curve.points[i].params["omega"], abs=1e-9)
     assert abs(mu[i] - 2.0) > 0.05
+
+
+def test_fold_curve_agrees_with_the_fold_of_branches_at_fixed_b():
+    from symvi.curves import curve_from_interval
+    curve, start = curve_from_interval(MODEL, 1.4, 1.6, ("omega", "b"), kind="fold",
+                                       bounds={"omega": (0.5, 3.0), "b": (1.0, 2.0)})
+    assert start.kind == "fold" and curve.ends[0].startswith("reached b")
+    for pt in curve.points[::40]:
+        assert min(abs(z - 1) for z in pt.orbit.multipliers) < 1e-9
+    i = int(np.argmin(np.abs(curve.values("b") - 1.8)))
+    pt = curve.points[i]
+    w = pt.params["omega"]
+    from symvi.orbits.periodic import ConvergenceError
+    folds = []
+    for a, z in ((w + 0.02, w - 0.02), (w - 0.02, w + 0.02)):   # orbits on one side only
+        try:
+            br = continue_branch(MODEL.with_(b=pt.params["b"]), "omega", a, z,
+                                 guess=pt.orbit.y)
+        except ConvergenceError:
+            continue
+        folds += [s for s in br.special if s.kind == "fold"]
+    assert folds and folds[0].value == pytest.approx(w, abs=1e-9)
+    assert folds[0].coefficients["a"] == pytest.approx(pt.coefficient, rel=1e-6)
