@@ -33,8 +33,8 @@ from symvi.model import Model  # noqa: E402
 from symvi.normal_form import kuznetsov_resolved  # noqa: E402
 
 PAPER = Model.luo_xie(2, 5, 0, 1.5, 0.8)
-BOUNDS = {"omega": (0.5, 1.0), "b": (0.5, 2.6)}
-HALF = 250                         # points each way: ~500 in all
+BOUNDS = {"omega": (0.5, 1.0), "b": (0.1, 2.6)}
+HALF = 251                         # points each way: 501 in all (the start shared)
 
 
 def _solve_time(pr, u, a):

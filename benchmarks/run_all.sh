@@ -12,3 +12,5 @@ python benchmarks/bench_jets_n.py > benchmarks/results_jets_n.md
 python benchmarks/bench_simulate_n.py > benchmarks/results_simulate_n.md
 python benchmarks/stress.py
 python benchmarks/bench_continue.py > benchmarks/results_continue.md
+python benchmarks/bench_curve.py > benchmarks/results_curve.md
+python benchmarks/bench_regen_high.py --reps 3 > benchmarks/results_regen_high.md
