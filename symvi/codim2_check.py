@@ -459,8 +459,8 @@ def _check(curve, point, digits, verify, maxit):
         calls += c2.pop("_calls")
         with mpmath.workdps(digits):
             for k, v in coeffs.items():
-                if k in c2 and v != 0:
-                    internal[f"verify:{k}"] = round(digits_of_agreement(v, c2[k]), 1)
+                if k in c2:
+                    internal[f"verify:{k}"] = _agree(kind, k, v, c2[k], coeffs, digits)
         times["verify"] = time.perf_counter() - t0
 
     # ---- agreement --------------------------------------------------------------
@@ -468,20 +468,10 @@ def _check(curve, point, digits, verify, maxit):
     with mpmath.workdps(digits):
         for nm, v in zip(names, w):
             agreement[nm] = round(digits_of_agreement(point.params[nm], v), 1)
-        vanish = _VANISHING.get(kind, {})
         for k, fv in point.coefficients.items():
-            if k not in coeffs or not isinstance(fv, (float, complex, int)) or \
-                    isinstance(fv, bool):
-                continue
-            if k in vanish:
-                if vanish[k] is None:
-                    continue                       # l2_matcont: reported as l2
-                scale = abs(coeffs[vanish[k]])
-                diff = abs(mpmath.mpmathify(fv) - coeffs[k])
-                agreement[k] = round(float(min(digits, -mpmath.log10(diff / scale)))
-                                     if diff else float(digits), 1)
-            else:
-                agreement[k] = round(digits_of_agreement(fv, coeffs[k]), 1)
+            if k in coeffs and isinstance(fv, (float, complex, int)) and \
+                    not isinstance(fv, bool) and _VANISHING.get(kind, {}).get(k, 1):
+                agreement[k] = _agree(kind, k, fv, coeffs[k], coeffs, digits)
         if kz:
             c1 = coeffs.get("c1", coeffs.get("g021"))
             if c1 is not None:
@@ -499,6 +489,17 @@ def _check(curve, point, digits, verify, maxit):
     return Codim2Check(kind, curve.kind, names, digits, params, yv, tuple(mu),
                        {"g1": G[0], "g2": G[1]}, coeffs, kz, agreement, internal, dps,
                        {k: round(v, 2) for k, v in times.items()}, calls, its, point)
+
+
+def _agree(kind, name, a, b, coeffs, digits):
+    """Digits of agreement of a and b: relative, or for a coefficient that vanishes at the
+    point relative to the coefficient that scales it (``_VANISHING``)."""
+    scale = _VANISHING.get(kind, {}).get(name)
+    if scale is None:
+        return round(digits_of_agreement(a, b), 1)
+    diff = abs(mpmath.mpmathify(a) - b)
+    return round(float(min(digits, -mpmath.log10(diff / abs(coeffs[scale])))) if diff
+                 else float(digits), 1)
 
 
 def _unwrapped(orbit):
@@ -528,9 +529,10 @@ def _coefficients(curve, point, names, omega, w, y, order, dps, digits, tests, s
           "CP": lambda: codim2.cusp(A, d2, d3, digits=digits)}.get(kind)
     out = _scalars(fn()) if fn is not None else {}
     kz = {}
-    if kind in ("CH", "R4", "PDNS", "NSNS") or (kind == "LPNS" and curve.kind == "ns"):
+    if kind in ("CH", "R4", "PDNS", "NSNS"):      # a simple pair, no singular solve
         with mpmath.workdps(digits):
-            up = max((z for z in tests.targets), key=lambda z: mpmath.im(z))
+            # the pair codim2 chose (on a flip or fold curve the critical multiplier is real)
+            up = out.get("lam") or max(tests.targets, key=lambda z: mpmath.im(z))
             lam, c1, l1 = kuznetsov_l1(_mat(A), d2, d3, up)
             kz = {"lam": lam, "c1": c1, "l1": l1}
     out["_calls"] = fd.calls
