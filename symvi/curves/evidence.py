@@ -285,3 +285,192 @@ def _ch_coefficients(orbit):
 def _ring(ys, q, rho, k=200):
     t = np.linspace(0, 2 * math.pi, k + 1)
     return np.asarray(ys)[None, :] + 2 * (rho * np.exp(1j * t)[:, None] * q[None, :]).real
+
+
+# --------------------------------------------------------------------------- R3 and R4
+def _umap(lam, lam0, c1, b, m):
+    """The truncated normal form in the frame turning with lam0 = e^{2 pi i/m}:
+    w = lam0^k u turns w -> lam w + c1 w|w|^2 + b conj(w)^{m-1} into the autonomous
+    u -> (lam u + c1 u|u|^2 + b conj(u)^{m-1}) / lam0  (conj(lam0)^{k(m-1)} = lam0^k);
+    its fixed points are the period-m orbits of the normal form."""
+    def G(u):
+        return (lam * u + c1 * u * abs(u) ** 2 + b * np.conj(u) ** (m - 1)) / lam0
+    return G
+
+
+def _real_jac(G, u, h=1e-7):
+    J = np.empty((2, 2))
+    for j, du in enumerate((h, 1j * h)):
+        d = (G(u + du) - G(u - du)) / (2 * h)
+        J[:, j] = d.real, d.imag
+    return J
+
+
+def _fixed_points(G, rho0, m, n_phase=48):
+    """Nonzero fixed points of G by Newton from a ring of starts, one per orbit of the
+    Z_m symmetry u -> lam0 u (kept with phase in [0, 2 pi/m))."""
+    found = []
+    for k in range(n_phase):
+        for s in (0.5, 1.0, 2.0):
+            u = s * rho0 * np.exp(2j * math.pi * k / n_phase)
+            for _ in range(60):
+                F = G(u) - u
+                J = _real_jac(G, u) - np.eye(2)
+                try:
+                    d = np.linalg.solve(J, [-F.real, -F.imag])
+                except np.linalg.LinAlgError:
+                    break
+                u = u + d[0] + 1j * d[1]
+                if abs(d[0] + 1j * d[1]) < 1e-14 * (1 + abs(u)):
+                    break
+            if abs(G(u) - u) > 1e-12 or abs(u) < 1e-3 * rho0 or abs(u) > 20 * rho0:
+                continue
+            ph = math.atan2(u.imag, u.real) % (2 * math.pi / m)
+            u = abs(u) * np.exp(1j * ph)
+            if not any(abs(u - v) < 1e-6 * abs(u) for v in found):
+                found.append(u)
+    return found
+
+
+def _type(mults, tol=1e-9):
+    a = np.abs(np.asarray(mults))
+    if np.all(a < 1 - tol):
+        return "stable"
+    if np.all(a > 1 + tol):
+        return "repelling"
+    if np.any(a < 1 - tol) and np.any(a > 1 + tol):
+        return "saddle"
+    return "neutral"
+
+
+def resonance_dynamics(model, curve, point, *, dmu=None, along=None, basin=(0.5, 1.5),
+                       n_impacts=None, stored=4000):
+    """The period-m orbits (m = 3 for R3, 4 for R4) the truncated normal form predicts next
+    to a strong resonance, checked against the full impact map [Kuznetsov, Elements,
+    Secs. 9.5.3, 9.5.4].
+
+    ``along`` (default the curve's second parameter) moves the point off the NS curve to
+    the stable side, |lambda| - 1 = ``dmu`` (default -1e-3 for R3, -1e-5 for R4; the R4
+    orbit's amplitude grows like sqrt|lambda - i|, the R3 orbit's like |lambda^3 - 1|).
+    There the coefficients (b1, c1 or c1, d1) and q, p are recomputed at the fixed point,
+    the fixed points of the truncated map in the rotating frame (:func:`_umap`) are
+    found with their Jacobians J (predicted: amplitude |u|, phase, multipliers eig(J)^m
+    of the period-m orbit and its type), and each is continued by Newton in the full map
+    (n-p orbit with n, p multiplied by m) from the predicted points.  Checked: the orbit
+    exists, its |w| = |<p, y - x*>| and phase, its two critical multipliers and its type.
+    Then two runs from x* + ``basin`` times the offset of the nearest predicted orbit point
+    along the same ray: inside, the run returns to x* (stable fixed point whose basin
+    the saddle orbit bounds); outside, it leaves the neighbourhood.  Runs last
+    ``n_impacts`` (default 10 / |dmu|: the critical multipliers are within ~|dmu| of the
+    unit circle), of which ``stored`` evenly spaced points are kept.  Not checked: the
+    global structure (heteroclinic connections, the invariant circles of R4 when |A| > 1).
+    """
+    _check_kind(point, ("R3", "R4"), "a strong resonance 1:3 or 1:4")
+    m = 3 if point.kind == "R3" else 4
+    along = along or curve.names[1]
+    dmu = (-1e-3 if m == 3 else -1e-5) if dmu is None else float(dmu)
+    if not dmu < 0:
+        raise ParameterError("dmu", dmu, "< 0 (the stable side of the NS curve)")
+    par0 = {k: float(v) for k, v in point.params.items()}
+    o0 = _orbit(model, curve, par0, point.orbit)
+    par, orb, got = _shift(model, curve, par0, o0, dmu, along)
+    A, d2, d3 = orb.jet(3)
+    lam0 = np.exp(2j * math.pi / m)
+    tol = 2 * abs(_critical(orb) - lam0) + 1e-9     # the pair is this far from lam0
+    if m == 3:
+        r = resonance_1_3(A, d2, d3, tol=tol)
+        b, coef = complex(r.b1), {"b1": _complex(complex(r.b1)), "c1": _complex(complex(r.c1)),
+                                  "re": float(r.re), "im": float(r.im)}
+    else:
+        r = resonance_1_4(A, d2, d3, tol=tol)
+        b, coef = complex(r.d1), {"d1": _complex(complex(r.d1)), "c1": _complex(complex(r.c1)),
+                                  "A": _complex(complex(r.A)), "re": float(r.re),
+                                  "im": float(r.im)}
+    lam, c1 = complex(r.lam), complex(r.c1)
+    q, p = np.asarray(r.q, dtype=complex), np.asarray(r.p, dtype=complex)
+    G = _umap(lam, lam0, c1, b, m)
+    e = abs(lam / lam0 - 1)
+    rho0 = e / abs(b) if m == 3 else math.sqrt(e / abs(b))
+    preds = _fixed_points(G, rho0, m)
+    if not preds:
+        raise SingularCaseError("no-orbit", f"the truncated 1:{m} normal form has no period-"
+                                f"{m} orbit at d mu = {dmu:g}")
+    ys = np.asarray(orb.y, dtype=float)
+    model_at, omega = _model_at(model, _params_of(curve, par))
+    orbits, arrays = [], {"fixed_point": ys}
+    for i, u in enumerate(preds):
+        J = _real_jac(G, u)
+        ev = np.linalg.eigvals(np.linalg.matrix_power(J, m))
+        guess = [tuple(ys + 2 * (lam0 ** k * u * q).real) for k in range(m)]
+        entry = {"predicted": {"abs_w": abs(u), "phase": math.atan2(u.imag, u.real),
+                               "multipliers": [_complex(z) for z in ev], "type": _type(ev)}}
+        try:
+            o = periodic_orbit(model, n=m * curve.n, p=m * curve.p, guess=guess,
+                               **_params_of(curve, par))
+        except ConvergenceError as exc:
+            entry.update({"found": False, "reason": str(exc)})
+            orbits.append(entry)
+            continue
+        pts = np.asarray(o.points)[::curve.p]
+        w = _w(pts, ys, p)
+        k = int(np.argmin(np.abs(w - u)))
+        mu = np.array(o.multipliers, dtype=complex)
+        crit = mu[np.argsort(-np.abs(mu))[:2]]
+        entry.update({"found": True, "n": o.n, "p": o.p, "admissible": bool(o.admissible),
+                      "abs_w": [float(v) for v in np.abs(w)],
+                      "phase": float(np.angle(w[k])),
+                      "multipliers": [_complex(z) for z in crit], "type": _type(crit),
+                      "all_multipliers": [_complex(z) for z in mu],
+                      "rel_error_abs_w": float(np.abs(w).mean() / abs(u) - 1),
+                      "type_agrees": _type(crit) == _type(ev)})
+        arrays[f"orbit_{i}"] = np.asarray(o.points)
+        orbits.append(entry)
+    # basin: the ray through the first predicted orbit point
+    u = preds[0]
+    runs = {}
+    n_run = int(min(MAX_RUN, n_impacts or 10 / abs(got)))
+    for s in basin:
+        y0 = ys + 2 * (s * u * q).real
+        try:
+            sim, sec = _run(model_at, omega, y0, n_run, 0, curve.p)
+        except SingularCaseError as exc:
+            runs[str(s)] = {"start": s, "stop": str(exc)}
+            continue
+        wr = np.abs(_w(sec, ys, p))
+        tail = wr[-max(10, n_run // 20):]
+        sec = sec[::max(1, len(sec) // stored)]
+        runs[str(s)] = {"start_over_orbit": s, "impacts": n_run * curve.p, "stop": sim.stop, "w_start": float(wr[0]),
+                        "w_end": float(tail.max()), "back_to_fixed_point":
+                        bool(sim.stop == "completed" and tail.max() < 0.05 * abs(u)),
+                        "left": bool(sim.stop != "completed" or tail.min() > 2 * abs(u))}
+        arrays[f"run_{s}"] = sec
+    found = [o for o in orbits if o.get("found")]
+    inside, outside = runs.get(str(basin[0]), {}), runs.get(str(basin[-1]), {})
+    ok = bool(found and all(o["type_agrees"] for o in found)
+              and all(abs(o["rel_error_abs_w"]) < 0.2 for o in found))
+    verdict = (f"{len(preds)} period-{m} orbit(s) predicted, {len(found)} found in the full "
+               "map; " + "; ".join(
+                   f"|w| {o['predicted']['abs_w']:.4g} predicted vs "
+                   f"{np.mean(o['abs_w']):.4g} found" + (
+                       f", {o['predicted']['type']} predicted, {o['type']} found"
+                       if o.get("found") else ", not found") for o in orbits)
+               + f"; run from {basin[0]:g}x the orbit's offset: "
+               + ("returns to x*" if inside.get("back_to_fixed_point") else "does not return")
+               + f"; from {basin[-1]:g}x: " + ("leaves" if outside.get("left") else
+                                               "does not leave") + " the neighbourhood")
+    result = {"kind": point.kind, "m": m, "r_point": par0, "params": _params_of(curve, par),
+              "along": along, "dmu": got, "lambda": _complex(lam),
+              "lambda_over_lambda0_minus_1": _complex(lam / lam0 - 1),
+              "coefficients_here": coef,
+              "coefficients_at_point": {k: (_complex(v) if isinstance(v, complex) else v)
+                                        for k, v in point.coefficients.items()
+                                        if k in ("re", "im", "A", "coef", "b1", "c1", "d1")},
+              "fixed_point": [float(v) for v in ys], "fixed_point_stable": bool(orb.stable),
+              "orbits": orbits, "runs": runs, "agrees": ok, "verdict": verdict,
+              "checked": f"period-{m} orbit: existence, |w|, phase, critical multipliers, "
+                         "type; basin runs along one ray",
+              "not_checked": "global phase portrait (heteroclinic structure), invariant "
+                             "circles born on the nearby NS curve",
+              "normalisation": "||q||_2 = 1, <p,q> = 1, x = x* + w q + conj(w q); w = "
+                               "lam0^k u, u -> (lam u + c1 u|u|^2 + b conj(u)^(m-1))/lam0"}
+    return result, arrays
