@@ -238,3 +238,56 @@ def two_parameter(curves, names, title="", ax=None):
         fig.tight_layout()
         return fig
     return ax
+
+
+def codim2_evidence(result, arrays, axes=(1, 2), title=""):
+    """The runs of :mod:`symvi.curves.evidence` in one projection (section coordinates
+    ``axes``): for a CH result the circle run, the fixed-point run (first and last block)
+    and the predicted inner/outer circles; for an R3/R4 result the basin runs and the
+    period-m orbits found, the fixed point marked.  The verdict is the caption."""
+    i, j = axes
+    fig, ax = plt.subplots(figsize=(6.0, 5.0))
+    ys = np.asarray(arrays["fixed_point"], dtype=float)
+    if result.get("kind") == "CH":
+        for key, style, label in (("predicted_outer", dict(color="tab:green", lw=1.0),
+                                   r"predicted outer circle $\rho_+$ (stable)"),
+                                  ("predicted_inner", dict(color="tab:red", lw=1.0, ls="--"),
+                                   r"predicted inner circle $\rho_-$ (unstable)")):
+            r = np.asarray(arrays[key], dtype=float)
+            ax.plot(r[:, i], r[:, j], **style, label=label)
+        c = np.asarray(arrays["circle"], dtype=float)
+        ax.plot(c[:, i], c[:, j], ",", color="tab:blue")
+        ax.plot([], [], ".", color="tab:blue", label="run from outside: invariant circle")
+        for key, col, label in (("fixed_first", "0.5", "run from x*: first block"),
+                                ("fixed_last", "k", "run from x*: last block")):
+            f = np.asarray(arrays[key], dtype=float)
+            ax.plot(f[:, i], f[:, j], ".", color=col, ms=1, label=label)
+    else:
+        for key in sorted(k for k in arrays if k.startswith("run_")):
+            r = np.asarray(arrays[key], dtype=float)
+            ax.plot(r[:, i], r[:, j], ".", ms=1.5, alpha=0.6,
+                    label=f"run from {key[4:]} x the orbit's offset")
+        for key in sorted(k for k in arrays if k.startswith("orbit_")):
+            o = np.asarray(arrays[key], dtype=float)
+            ax.plot(o[:, i], o[:, j], "x", color="tab:red", ms=7,
+                    label=f"period-{result.get('m')} orbit (full map)")
+    ax.plot(ys[i], ys[j], "o", color="k", mfc="w", ms=5, label="fixed point x*")
+    names = result.get("variables") or [str(k) for k in range(len(ys))]
+    if len(names) > max(i, j):
+        ax.set_xlabel(names[i])
+        ax.set_ylabel(names[j])
+    if result.get("kind") != "CH":
+        # the basin runs may leave far away: frame the neighbourhood of x*
+        o = [np.asarray(arrays[k], dtype=float) for k in arrays if k.startswith("orbit_")]
+        if o:
+            span = 3 * max(np.abs(a[:, [i, j]] - ys[[i, j]]).max() for a in o)
+            ax.set_xlim(ys[i] - span, ys[i] + span)
+            ax.set_ylim(ys[j] - span, ys[j] + span)
+    par = ", ".join(f"{k} = {v:.9g}" for k, v in result.get("params", {}).items())
+    ax.set_title((title + "\n" if title else "") + f"{result.get('kind')} evidence at {par}",
+                 fontsize=8)
+    ax.legend(fontsize=6, loc="best")
+    import textwrap
+    fig.text(0.01, 0.005, "\n".join(textwrap.wrap(result.get("verdict", ""), 130)), fontsize=5)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    return fig

@@ -466,7 +466,7 @@ def resonance_dynamics(model, curve, point, *, dmu=None, along=None, basin=(0.5,
                                         for k, v in point.coefficients.items()
                                         if k in ("re", "im", "A", "coef", "b1", "c1", "d1")},
               "fixed_point": [float(v) for v in ys], "fixed_point_stable": bool(orb.stable),
-              "orbits": orbits, "runs": runs, "agrees": ok, "verdict": verdict,
+              "variables": list(getattr(orb, "names", ())), "orbits": orbits, "runs": runs, "agrees": ok, "verdict": verdict,
               "checked": f"period-{m} orbit: existence, |w|, phase, critical multipliers, "
                          "type; basin runs along one ray",
               "not_checked": "global phase portrait (heteroclinic structure), invariant "

@@ -91,3 +91,10 @@ def test_wrong_kind(curve):
         chenciner_coexistence(MODEL, curve, _point(curve, "R3"))
     with pytest.raises(ParameterError):
         resonance_dynamics(MODEL, curve, _point(curve, "CH"))
+
+
+def test_figure(curve, tmp_path):
+    from symvi import figures
+    res, arr = resonance_dynamics(MODEL, curve, _point(curve, "R3"))
+    path = figures.save(figures.codim2_evidence(res, arr), tmp_path / "r3.png")
+    assert (tmp_path / "r3.png").stat().st_size > 0 and path.endswith("r3.png")
