@@ -397,8 +397,7 @@ def _check(curve, point, digits, verify, maxit):
     k_nf = max(_NF_ORDER.get(kind, 3), k_loc)
     dps["locate"] = working_dps(digits, k_loc)
     dps["coefficients"] = working_dps(digits, k_nf)
-    crit = point.coefficients.get("multipliers_critical") or [complex(z) for z in orbit.multipliers[:2]]
-    tests = _Tests(curve.kind, kind, crit)
+    tests = _Tests(curve.kind, kind, _critical_start(point, curve.kind))
 
     # ---- location: Newton-Broyden in (a, b) on g(a, b) = 0 ----------------------
     t0 = time.perf_counter()
@@ -426,7 +425,7 @@ def _check(curve, point, digits, verify, maxit):
             for i in range(2):
                 J[i, j] = (Gp[i] - G[i]) / dx
         tol = mpmath.mpf(10) ** (-(digits + 5))
-        its = 0
+        its, last = 0, None
         for its in range(1, maxit + 1):
             dx = -mpmath.lu_solve(J, G)
             x = x + dx
@@ -435,8 +434,13 @@ def _check(curve, point, digits, verify, maxit):
             dG = Gn - G
             J = J + (dG - J * dx) * dx.T / (dx.T * dx)[0]
             G = Gn
-            if max(abs(dx[i]) / max(1, abs(x[i])) for i in range(2)) < tol:
+            step = max(abs(dx[i]) / max(1, abs(x[i])) for i in range(2))
+            if step < tol:
                 break
+            # below 10^-digits and no longer shrinking: the noise floor of g
+            if last is not None and step < tol * 10 ** 5 and step > last / 10:
+                break
+            last = step
         else:
             raise SingularCaseError("newton", f"the {kind} point did not converge in {maxit} "
                                     "Newton-Broyden steps of the finite-difference chain")
@@ -454,7 +458,7 @@ def _check(curve, point, digits, verify, maxit):
     if verify:
         t0 = time.perf_counter()
         dps["verify"] = dps["coefficients"] + 20
-        c2, kz2, _, _, _ = _coefficients(curve, point, names, omega, w, y, k_nf,
+        c2, _, _, _, _ = _coefficients(curve, point, names, omega, w, y, k_nf,
                                          dps["verify"], digits, tests, shrink=3)
         calls += c2.pop("_calls")
         with mpmath.workdps(digits):
@@ -489,6 +493,19 @@ def _check(curve, point, digits, verify, maxit):
     return Codim2Check(kind, curve.kind, names, digits, params, yv, tuple(mu),
                        {"g1": G[0], "g2": G[1]}, coeffs, kz, agreement, internal, dps,
                        {k: round(v, 2) for k, v in times.items()}, calls, its, point)
+
+
+def _critical_start(point, curve_kind):
+    """The float point's critical multipliers (the pair whose product is nearest 1 on an NS
+    curve, the multiplier nearest -1 or 1 on a flip or fold curve), to follow them."""
+    crit = point.coefficients.get("multipliers_critical")
+    if crit:
+        return [complex(z) for z in crit]
+    mu = [complex(z) for z in point.orbit.multipliers]
+    if curve_kind == "ns":
+        return list(min(itertools.combinations(mu, 2), key=lambda ab: abs(ab[0] * ab[1] - 1)))
+    z = min(mu, key=lambda m: abs(m - (1 if curve_kind == "fold" else -1)))
+    return [z, z]
 
 
 def _agree(kind, name, a, b, coeffs, digits):
