@@ -223,8 +223,11 @@ def chenciner_coexistence(model, curve, point, *, rho=0.25, fraction=0.5, along=
     wa0, wa1 = np.abs(_w(sec_a0, ys, p)), np.abs(_w(sec_a1, ys, p))
     rate = float(np.log(wa1.mean() / wa0.mean()) / (2000 + fixed_impacts)) if wa1.mean() > 0 \
         else -math.inf
+    # the runs must be long against the rates, or nothing is decided
+    efold_fixed = abs(math.log(abs(lam))) * (2000 + fixed_impacts)
+    efold_circle = 2 * rho_p ** 2 * sq * 2 * transient
     fixed_ok = bool(sim_b.stop == "completed" and wa1.max() < wa0.max()
-                    and wa1.max() < 0.5 * rho_m)
+                    and wa1.max() < 0.5 * rho_m and efold_fixed >= 0.3)
     # run 2: from the predicted outer circle
     y1 = ys + 2 * (outer_start * rho_p * q).real
     sim_c, sec_c0 = _run(model_at, omega, y1, n_impacts, transient, P)
@@ -236,15 +239,17 @@ def chenciner_coexistence(model, curve, point, *, rho=0.25, fraction=0.5, along=
     cls = _classify(sim_d)
     circle_ok = bool(sim_d.stop == "completed" and wc.min() > rho_m
                      and (cls["kind"] == "invariant circle"
-                          or (cls["period"] or 0) > 1) and drift < 0.05)
+                          or (cls["period"] or 0) > 1) and drift < 0.05
+                     and efold_circle >= 2)
     rel = (hw1 - pred) / pred
     verdict = ("coexistence shown: " if fixed_ok and circle_ok else "NOT shown: ") + (
         f"from |w| = {kick:g} the distance to x* shrinks at {rate:.3g} per iterate "
         f"(log|lambda| = {math.log(abs(lam)):.3g}); from |w| = {outer_start:g} rho_+ (rho_+ = {rho_p:.4g}) the run "
-        f"settles on a {cls['kind']} with |w| in [{wc.min():.4g}, {wc.max():.4g}] (inner "
+        f"ends on a {cls['kind']} with |w| in [{wc.min():.4g}, {wc.max():.4g}] (inner "
         f"repelling circle rho_- = {rho_m:.4g}), half-widths within "
         f"{np.abs(rel).max():.1%} of 2 rho_+ |q_k| (leading order; the block-to-block drift "
-        f"is {drift:.1%})")
+        f"is {drift:.1%}); e-folds of the linear rates over the runs: {efold_fixed:.2g} "
+        f"(fixed point), {efold_circle:.2g} (outer circle; >= 0.3 and >= 2 needed)")
     result = {
         "kind": "CH", "ch_point": {k: float(v) for k, v in point.params.items()},
         "l2_at_ch": l2_ch, "params": _params_of(curve, par), "along": along,
@@ -257,13 +262,13 @@ def chenciner_coexistence(model, curve, point, *, rho=0.25, fraction=0.5, along=
         "fixed_point": [float(v) for v in ys], "fixed_point_stable": bool(orb.stable),
         "run_fixed": {"start_w": kick, "impacts": int((fixed_impacts + 4000) * P),
                       "w_first_block": float(wa0.mean()), "w_last_block": float(wa1.mean()),
-                      "rate": rate, "predicted_rate": math.log(abs(lam)),
+                      "rate": rate, "predicted_rate": math.log(abs(lam)), "efolds": efold_fixed,
                       "stop": sim_b.stop, "stays": fixed_ok},
         "run_circle": {"start_w": outer_start * rho_p, "impacts": int(2 * (transient + n_impacts) * P),
                        "w_min": float(wc.min()), "w_mean": float(wc.mean()),
                        "w_max": float(wc.max()), "half_widths": hw1.tolist(),
                        "predicted_half_widths": pred.tolist(), "rel_error": rel.tolist(),
-                       "block_drift": drift, "classification": cls, "stop": sim_d.stop,
+                       "block_drift": drift, "efolds": efold_circle, "classification": cls, "stop": sim_d.stop,
                        "circle": circle_ok},
         "variables": list(getattr(orb, "names", ())),
         "coexist": bool(fixed_ok and circle_ok), "verdict": verdict,
