@@ -68,7 +68,7 @@ def main():
         print(f"  chain's point: omega = {mp_str(res.params['omega'])}, "
               f"r = {mp_str(res.params['r'])}")
         print("  digits of agreement float64 vs chain: "
-              + ", ".join(f"{k} {v}" for k, v in res.agreement.items()))
+              + ", ".join(f"{k} {v}" for k, v in {**res.location, **res.agreement}.items()))
         print("  inside the chain: " + ", ".join(f"{k} {v}" for k, v in res.internal.items()))
         print(f"  {'stage':52} {'median':>10} {'min':>10} {'/ float64 l2':>13}")
         rows = [("float64 l2: orbit.jet(5) + codim2.chenciner", med_f, best_f),

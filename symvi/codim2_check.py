@@ -13,7 +13,10 @@ the continuation code, the way ``chain_b`` of :mod:`symvi.mpcheck` checks l1:
    along ``Model.tangent``, exact since every named parameter enters M, K, C, P, b, r
    affinely), tau unwrapped, minus 2 pi n.
 2. **The fixed point** y(a, b) by Newton's method on P^p(y) - y
-   (:class:`symvi.mpcheck._MapFD`, finite-difference Jacobian).
+   (:class:`symvi.mpcheck._MapFD`, finite-difference Jacobian).  Where the point has a
+   multiplier 1 (every point of a fold curve; R1, LPNS, LPPD) y is a double root at fixed
+   (a, b): there (y, a, b) are solved together, P^p(y) - y = 0 with the two equations
+   of item 4.
 3. **All derivatives** d^k P^p / dy^k, k <= 5, by central mixed differences: for the
    multiset of axes with multiplicities m_i the stencil is
    prod_i sum_j (-1)^j C(m_i, j) P(y + (m_i - 2j) h e_i) / (2h)^k, every order drawn from
@@ -101,6 +104,8 @@ _LOC_ORDER = {"CH": 3, "GPD": 3, "CP": 2}
 _NF_ORDER = {"CH": 5, "GPD": 5, "R1": 2}
 #: coefficients that vanish at the point, and the coefficient that scales them
 _VANISHING = {"CH": {"l1": "c1", "l2_matcont": None}, "GPD": {"c": "e"}, "CP": {"a": "c"}}
+#: points with a multiplier 1 on NS and flip curves (all points of fold curves have one)
+_ONE = ("R1", "LPNS", "LPPD")
 #: guard digits of the differences beyond ``digits`` (truncation and rounding)
 GUARD = 10
 
@@ -113,8 +118,9 @@ class Codim2Check:
     (tau unwrapped); ``tests``: the two defining equations at ``params`` (see the module
     docstring); ``coefficients``: the scalar fields of the :mod:`symvi.codim2` result on
     the finite-difference jets; ``kuznetsov``: c1, l1 of the independent transcription;
-    ``agreement``: quantity -> digits of agreement of the float64 point with this chain
-    (parameters by name, coefficients by field name); ``internal``: digits of agreement
+    ``location``: parameter name -> digits of agreement of the float64 point's value with
+    ``params``; ``agreement``: coefficient name -> digits of agreement of the float64
+    point's coefficient with ``coefficients``; ``internal``: digits of agreement
     of codim2 with ``kuznetsov`` inside the chain (and, with ``verify``, of the
     coefficients with a second step size); ``dps``: working precisions; ``times``:
     seconds per stage; ``evaluations``: calls of the mpmath map.
@@ -130,6 +136,7 @@ class Codim2Check:
     tests: dict
     coefficients: dict
     kuznetsov: dict
+    location: dict
     agreement: dict
     internal: dict
     dps: dict
@@ -148,7 +155,8 @@ class Codim2Check:
                 "tests": {k: s(v) for k, v in self.tests.items()},
                 "coefficients": {k: s(v) for k, v in self.coefficients.items()},
                 "kuznetsov": {k: s(v) for k, v in self.kuznetsov.items()},
-                "agreement": dict(self.agreement), "internal": dict(self.internal),
+                "location": dict(self.location), "agreement": dict(self.agreement),
+                "internal": dict(self.internal),
                 "dps": dict(self.dps), "times": dict(self.times),
                 "evaluations": self.evaluations, "iterations": self.iterations}
 
@@ -399,59 +407,40 @@ def _check(curve, point, digits, verify, maxit):
     dps["coefficients"] = working_dps(digits, k_nf)
     tests = _Tests(curve.kind, kind, _critical_start(point, curve.kind))
 
-    # ---- location: Newton-Broyden in (a, b) on g(a, b) = 0 ----------------------
+    # ---- location: Newton-Broyden on g(a, b) = 0 ----------------------------------
     t0 = time.perf_counter()
     fd = CurveMapFD(curve.model, names, omega, orbit.n, orbit.p, dps["locate"])
+    d = fd.n
     y = _unwrapped(orbit)
+    # a multiplier 1 at the point: y(a, b) is a double root there, so solve (y, a, b) jointly
+    joint = curve.kind == "fold" or kind in _ONE
     with mpmath.workdps(dps["locate"]):
         state = {"y": y}
-
-        def g(w):
-            yy = fd.fixed_point(w, state["y"])
-            state["y"] = yy
-            vals, _ = tests(fd.jet(w, yy, k_loc))
-            return mpmath.matrix(list(vals)), yy
-
-        x = mpmath.matrix([mpmath.mpf(point.params[nm]) for nm in names])
-        G, y = g(tuple(x))
-        # forward differences of g, steps balancing truncation and g's accuracy
-        J = mpmath.matrix(2, 2)
-        for j in range(2):
-            dx = mpmath.mpf(10) ** (-(digits + GUARD) // 2) * max(1, abs(x[j]))
-            xp = x.copy()
-            xp[j] += dx
-            Gp, _ = g(tuple(xp))
-            state["y"] = y
-            for i in range(2):
-                J[i, j] = (Gp[i] - G[i]) / dx
-        tol = mpmath.mpf(10) ** (-(digits + 5))
-        its, last = 0, None
-        for its in range(1, maxit + 1):
-            dx = -mpmath.lu_solve(J, G)
-            x = x + dx
-            Gn, y = g(tuple(x))
-            # Broyden's update J += (dG - J dx) dx^T / |dx|^2
-            dG = Gn - G
-            J = J + (dG - J * dx) * dx.T / (dx.T * dx)[0]
-            G = Gn
-            step = max(abs(dx[i]) / max(1, abs(x[i])) for i in range(2))
-            if step < tol:
-                break
-            # below 10^-digits and no longer shrinking: the noise floor of g
-            if last is not None and step < tol * 10 ** 5 and step > last / 10:
-                break
-            last = step
+        x0 = [mpmath.mpf(point.params[nm]) for nm in names]
+        if joint:
+            def F(X):
+                w, yy = (X[d], X[d + 1]), [X[i] for i in range(d)]
+                state["y"] = yy
+                vals, _ = tests(fd.jet(w, yy, k_loc))
+                return mpmath.matrix(fd.residual(w, yy) + list(vals))
+            x0 = y + x0
         else:
-            raise SingularCaseError("newton", f"the {kind} point did not converge in {maxit} "
-                                    "Newton-Broyden steps of the finite-difference chain")
-        w = tuple(x)
+            def F(X):
+                w = (X[0], X[1])
+                state["y"] = fd.fixed_point(w, state["y"])
+                vals, _ = tests(fd.jet(w, state["y"], k_loc))
+                return mpmath.matrix(list(vals))
+        x, G, its = _broyden(F, mpmath.matrix(x0), state, digits, maxit, kind)
+        w = (x[len(x) - 2], x[len(x) - 1])
+        y = state["y"]
+        G = [G[len(G) - 2], G[len(G) - 1]]
     times["locate"] = time.perf_counter() - t0
     calls = fd.calls
 
     # ---- the coefficients at the located point ----------------------------------
     t0 = time.perf_counter()
     coeffs, kz, jets, y, mu = _coefficients(curve, point, names, omega, w, y, k_nf,
-                                            dps["coefficients"], digits, tests)
+                                            dps["coefficients"], digits, tests, joint)
     times["coefficients"] = time.perf_counter() - t0
     calls += coeffs.pop("_calls")
     internal = {}
@@ -459,7 +448,7 @@ def _check(curve, point, digits, verify, maxit):
         t0 = time.perf_counter()
         dps["verify"] = dps["coefficients"] + 20
         c2, _, _, _, _ = _coefficients(curve, point, names, omega, w, y, k_nf,
-                                         dps["verify"], digits, tests, shrink=3)
+                                       dps["verify"], digits, tests, joint, shrink=3)
         calls += c2.pop("_calls")
         with mpmath.workdps(digits):
             for k, v in coeffs.items():
@@ -468,10 +457,10 @@ def _check(curve, point, digits, verify, maxit):
         times["verify"] = time.perf_counter() - t0
 
     # ---- agreement --------------------------------------------------------------
-    agreement = {}
+    agreement, location = {}, {}
     with mpmath.workdps(digits):
         for nm, v in zip(names, w):
-            agreement[nm] = round(digits_of_agreement(point.params[nm], v), 1)
+            location[nm] = round(digits_of_agreement(point.params[nm], v), 1)
         for k, fv in point.coefficients.items():
             if k in coeffs and isinstance(fv, (float, complex, int)) and \
                     not isinstance(fv, bool) and _VANISHING.get(kind, {}).get(k, 1):
@@ -491,8 +480,42 @@ def _check(curve, point, digits, verify, maxit):
         params = {nm: +v for nm, v in zip(names, w)}
         yv = tuple(+v for v in y)
     return Codim2Check(kind, curve.kind, names, digits, params, yv, tuple(mu),
-                       {"g1": G[0], "g2": G[1]}, coeffs, kz, agreement, internal, dps,
+                       {"g1": G[0], "g2": G[1]}, coeffs, kz, location, agreement, internal, dps,
                        {k: round(v, 2) for k, v in times.items()}, calls, its, point)
+
+
+def _broyden(F, x, state, digits, maxit, kind):
+    """F(x) = 0 by Newton's method, the Jacobian by forward differences at the start (steps
+    balancing truncation and F's accuracy 10^-(digits + GUARD)), then Broyden's updates;
+    converged when a step is below 10^-(digits + 5) relative, or below 10^-digits and no
+    longer shrinking (the noise floor of F).  (x, F(x), steps)."""
+    m = len(x)
+    G = F(x)
+    y0 = state["y"]
+    J = mpmath.matrix(m, m)
+    for j in range(m):
+        dx = mpmath.mpf(10) ** (-(digits + GUARD) // 2) * max(1, abs(x[j]))
+        xp = x.copy()
+        xp[j] += dx
+        Gp = F(xp)
+        state["y"] = y0
+        for i in range(m):
+            J[i, j] = (Gp[i] - G[i]) / dx
+    tol = mpmath.mpf(10) ** (-(digits + 5))
+    last = None
+    for its in range(1, maxit + 1):
+        dx = -mpmath.lu_solve(J, G)
+        x = x + dx
+        Gn = F(x)
+        # Broyden's update J += (dG - J dx) dx^T / |dx|^2
+        J = J + (Gn - G - J * dx) * dx.T / (dx.T * dx)[0]
+        G = Gn
+        step = max(abs(dx[i]) / max(1, abs(x[i])) for i in range(m))
+        if step < tol or (last is not None and step < tol * 10 ** 5 and step > last / 10):
+            return x, G, its
+        last = step
+    raise SingularCaseError("newton", f"the {kind} point did not converge in {maxit} "
+                            "Newton-Broyden steps of the finite-difference chain")
 
 
 def _critical_start(point, curve_kind):
@@ -524,12 +547,14 @@ def _unwrapped(orbit):
     return [mpmath.mpf(float(v)) for v in orbit.y]
 
 
-def _coefficients(curve, point, names, omega, w, y, order, dps, digits, tests, shrink=0):
-    """The codim2 scalars (mpf/mpc) and Kuznetsov's c1, l1 at w, from FD jets at dps."""
+def _coefficients(curve, point, names, omega, w, y, order, dps, digits, tests, joint,
+                  shrink=0):
+    """The codim2 scalars (mpf/mpc) and Kuznetsov's c1, l1 at w, from FD jets at dps; the
+    fixed point polished at dps unless ``joint`` (a double root: y of the location kept)."""
     from . import codim2
     fd = CurveMapFD(curve.model, names, omega, point.orbit.n, point.orbit.p, dps)
     with mpmath.workdps(dps):
-        y = fd.fixed_point(w, y)
+        y = y if joint else fd.fixed_point(w, y)
         jets = fd.jet(w, y, order, shrink)
         mu = _eig(jets[0])
     A, d2, d3 = jets[0], jets[1], jets[2] if len(jets) > 2 else None

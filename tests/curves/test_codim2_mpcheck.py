@@ -98,7 +98,7 @@ def test_chenciner_points_at_50_digits(curve_r, r):
     codim2's c1 and l1 agree with the independent kuznetsov_l1 to 40 digits."""
     pt = _point(curve_r, "CH", r=r)
     res = check_codim2(curve_r, pt, digits=50)
-    assert res.agreement["omega"] >= 9 and res.agreement["r"] >= 9
+    assert res.location["omega"] >= 9 and res.location["r"] >= 9
     c = res.coefficients
     assert abs(c["l1"]) < 1e-40 * abs(c["c1"])
     assert abs(res.tests["g1"]) < 1e-50 and abs(res.tests["g2"]) < 1e-50
@@ -116,7 +116,7 @@ def test_r4_point_at_50_digits(curve_r):
     res = check_codim2(curve_r, _point(curve_r, "R4"), digits=50)
     with mpmath.workdps(50):
         assert abs(res.coefficients["lam"] - 1j) < 1e-45
-    assert res.agreement["omega"] >= 9 and res.agreement["r"] >= 9
+    assert res.location["omega"] >= 9 and res.location["r"] >= 9
     for k in ("c1", "d1", "A"):
         assert res.agreement[k] >= 9, k
     assert res.internal["c1: codim2 vs kuznetsov_l1"] >= 40
@@ -128,7 +128,7 @@ def test_r3_point_at_50_digits(curve_b):
     res = check_codim2(curve_b, _point(curve_b, "R3"), digits=50)
     with mpmath.workdps(50):
         assert abs(res.coefficients["lam"] ** 3 - 1) < 1e-45
-    assert res.agreement["omega"] >= 9 and res.agreement["b"] >= 9
+    assert res.location["omega"] >= 9 and res.location["b"] >= 9
     # coef = (lambda^2 c1/|b1|^2 - 1)/3 ~ 100: its real part (~1.6) keeps ~2 digits fewer
     for k, d in (("b1", 9), ("c1", 9), ("coef", 9), ("re", 7), ("im", 9)):
         assert res.agreement[k] >= d, k
@@ -140,7 +140,7 @@ def test_pdns_point_at_50_digits_and_from_the_flip_curve(curve_b):
     det(J + I) = 0) and on the flip curve (det(J + I) = 0, the pair on the circle), the
     chain finds one point to 45 digits; the coefficients do not depend on the step."""
     res = check_codim2(curve_b, _point(curve_b, "PDNS"), digits=50, verify=True)
-    assert res.agreement["omega"] >= 9 and res.agreement["b"] >= 9
+    assert res.location["omega"] >= 9 and res.location["b"] >= 9
     for k in ("f111", "g210", "g021", "lam"):
         assert res.agreement[k] >= 10, k
     # f300 ~ -6e-8 is small against the O(1) terms it is made of: float64 keeps ~8 digits
@@ -158,3 +158,19 @@ def test_pdns_point_at_50_digits_and_from_the_flip_curve(curve_b):
             assert abs(res.coefficients[k] - res2.coefficients[k]) < \
                 1e-40 * abs(res.coefficients["f111"])
     assert res2.internal["c1: codim2 vs kuznetsov_l1"] >= 40
+
+
+@pytest.mark.slow
+def test_lpns_point_of_the_fold_curve_at_50_digits():
+    """LPNS of the fold curve of example 1 in (omega, b) near grazing: a multiplier 1 makes
+    the fixed point a double root at fixed parameters, so the chain solves (y, omega, b)
+    jointly on P(y) = y, det(J - I) = 0 and the pair on the circle."""
+    fold = curve_from_interval(MODEL, 1.4, 1.6, ("omega", "b"), kind="fold",
+                               bounds={"omega": (0.5, 3.0), "b": (0.3, 3.0)})[0]
+    res = check_codim2(fold, _point(fold, "LPNS"), digits=50)
+    assert abs(res.tests["g1"]) < 1e-50 and abs(res.tests["g2"]) < 1e-50
+    with mpmath.workdps(50):
+        assert min(abs(z - 1) for z in res.multipliers) < 1e-45
+    assert res.location["omega"] >= 9 and res.location["b"] >= 9
+    for k in ("f200", "f011", "g110", "f300", "f111", "g210", "g021"):
+        assert res.agreement[k] >= 9, k
