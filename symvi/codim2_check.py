@@ -543,7 +543,7 @@ def _agree(kind, name, a, b, coeffs, digits):
 
 
 def _unwrapped(orbit):
-    """The orbit's first section point with tau as the shooting unknowns carry it."""
+    """The orbit's first section point (tau in [0, 2 pi)) as mpf: the Newton start."""
     return [mpmath.mpf(float(v)) for v in orbit.y]
 
 
