@@ -17,7 +17,8 @@ from . import scenes as sc
 from ._io import write_text
 from .paper.audit import NOTES, fmt
 
-_FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check", "curve")
+_FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check", "curve",
+              "codim2_evidence")
 
 
 @dataclass
@@ -123,6 +124,8 @@ def _draw(figures, p):
                                            **({"labels": view["labels"]} if view else {}))
     if kind == "curve":
         return figures.two_parameter([p.result["plot"]], p.result["names"], title=title)
+    if kind == "codim2_evidence":
+        return figures.codim2_evidence(p.result, a, title=title)
     if kind == "circle_check":
         return figures.circle_loglog(a["mu"], a["measured"], a["predicted"], title=title,
                                      **({"names": view["labels"]} if view else {}))
@@ -311,6 +314,8 @@ def _part(p):
         L += _mpcheck_table(r)
     elif k == "curve":
         L += _curve_table(r)
+    elif k == "codim2_evidence":
+        L += _evidence_text(r)
     if r.get("_figure"):
         L += [f"![{p.output.id}]({r['_figure']})", ""]
     if r.get("warnings"):
@@ -336,6 +341,24 @@ def _curve_table(r):
         L.append(f"| {s['kind']} | {s['params'][a]:.12g} | {s['params'][b]:.12g} | {co or '—'} | "
                  f"{'yes' if s['admissible'] else 'no'} | {_cell(s['detail'])} |")
     return L + [""]
+
+
+def _evidence_text(r):
+    where = ", ".join(f"{k} = {v:.9g}" for k, v in r["params"].items())
+    if r["kind"] == "CH":
+        w = r["wedge"]
+        L = [f"Next to the Chenciner point {r['ch_point']} (l2 = {r['l2_at_ch']:.4g}), at {where}: "
+             f"l1 = {r['l1']:.4g}, l2 = {r['l2']:.4g}, d mu = |λ| − 1 = {r['dmu']:.4g} (the "
+             f"bistable wedge is {w['condition']}: d mu > {w['dmu_min']:.4g}); predicted "
+             f"circles ρ₋ = {w['rho_inner']:.4g} (repelling), ρ₊ = {w['rho_outer']:.4g} "
+             f"(attracting), {r['normalisation']}.", "",
+             f"**{'Coexistence observed' if r['coexist'] else 'Coexistence not shown'}.** "
+             + r["verdict"] + ".", ""]
+        return L
+    return [f"Next to the {r['kind']} point {r['r_point']}, at {where} (d mu = {r['dmu']:.3g}): "
+            f"**{'the normal form is confirmed' if r['agrees'] else 'the normal form is NOT confirmed'}**"
+            f" — {r['verdict']}. Checked: {r['checked']}; not checked: {r['not_checked']} "
+            f"({r['normalisation']}).", ""]
 
 
 def _short(v):

@@ -130,6 +130,14 @@ KINDS = {
                   bounds=Field("numbers", None, length=4),
                   max_points=Field("int", 2000, check=_int_range(2, 100_000)),
                   quick_max_points=Field("int", 300, check=_int_range(2, 100_000))),
+    # simulation evidence next to a codimension-two point of a curve (symvi.curves.evidence):
+    # CH bistability (two runs, two starts), R3/R4 period-m saddle orbits and basins
+    "codim2_evidence": dict(omega_min=_OMEGA, omega_max=_OMEGA,
+                            plane=Field("str", "omega,r"),
+                            bounds=Field("numbers", None, length=4),
+                            point=Field("str", "CH", choices=("CH", "R3", "R4")),
+                            index=Field("int", 1, check=_int_range(1, 100)),
+                            max_points=Field("int", 2000, check=_int_range(2, 100_000))),
     # 50-digit validation of the first Hopf point: chains A and B of symvi.mpcheck
     "mpcheck": dict(omega_min=_OMEGA, omega_max=_OMEGA,
                     digits=Field("int", 50, check=_int_range(30, 200))),
@@ -429,7 +437,9 @@ ENTRY = {"multipliers": ("orbit",),
          "audit": ("paper.audit",),
          "numbers": ("paper.audit", "diagnostics"),
          "mpcheck": ("mpcheck",),
-         "curve": ("curves", "codim2", "codegen.high")}
+         "curve": ("curves", "codim2", "codegen.high"),
+         "codim2_evidence": ("curves", "curves.evidence", "codim2", "codegen.high",
+                             "simulation", "diagnostics")}
 _SRC = {}
 _CLOSURE = {}
 
@@ -800,14 +810,40 @@ def _bifurcation(params, spec, quick, scene):
              "counts": np.asarray(sw.counts)})
 
 
-def _curve(params, spec, quick, scene):
-    from .curves import curve_from_interval, parse_params
-    from .model import Model
+def _plane(spec):
+    """(names, bounds) of a curve output's plane and bounds fields."""
+    from .curves import parse_params
     names = parse_params(spec["plane"])
     bounds = None
     if spec["bounds"] is not None:
         lo_a, hi_a, lo_b, hi_b = (float(v) for v in spec["bounds"])
         bounds = {names[0]: (lo_a, hi_a), names[1]: (lo_b, hi_b)}
+    return names, bounds
+
+
+def _codim2_evidence(params, spec, quick, scene):
+    from .curves import curve_from_interval
+    from .curves.evidence import chenciner_coexistence, resonance_dynamics
+    from .model import Model
+    model = Model.of(params)
+    names, bounds = _plane(spec)
+    curve, _ = curve_from_interval(model, spec["omega_min"], spec["omega_max"], names,
+                                   bounds=bounds, max_points=spec["max_points"])
+    pts = [s for s in curve.special if s.kind == spec["point"]]
+    if len(pts) < spec["index"]:
+        raise NotAvailable(f"the NS curve in ({', '.join(names)}) has {len(pts)} "
+                           f"{spec['point']} point(s), not {spec['index']}")
+    pt = pts[spec["index"] - 1]
+    fn = chenciner_coexistence if spec["point"] == "CH" else resonance_dynamics
+    import numpy as np
+    result, arrays = fn(model, curve, pt)
+    return result, {k: np.asarray(v) for k, v in arrays.items()}
+
+
+def _curve(params, spec, quick, scene):
+    from .curves import curve_from_interval
+    from .model import Model
+    names, bounds = _plane(spec)
     n = spec["max_points"]
     note = ""
     if quick and spec["quick_max_points"] < n:
@@ -854,4 +890,5 @@ def _mpcheck(params, spec, quick, scene):
 
 _COMPUTE = {"multipliers": _multipliers, "hopf": _hopf, "section": _section,
             "bifurcation": _bifurcation, "circle_check": _circle_check, "audit": _audit,
-            "numbers": _numbers, "mpcheck": _mpcheck, "curve": _curve}
+            "numbers": _numbers, "mpcheck": _mpcheck, "curve": _curve,
+            "codim2_evidence": _codim2_evidence}
