@@ -87,9 +87,11 @@ def _rel(a, b):
 
 
 def _converges(errs, floor):
-    """FD errors at steps h, h/4: second order toward the generated value, or at the floor."""
+    """FD errors at steps h, h/4: second order toward the generated value, or at the floor
+    at either step (below it rounding and the solves' own errors take over and may grow as
+    the step shrinks; a generated tensor wrong by delta > floor keeps both errors >= delta)."""
     e1, e2 = errs
-    return e2 <= max(floor, 0.3 * e1)
+    return e2 <= max(floor, 0.3 * e1) or min(e1, e2) <= floor
 
 
 @settings(max_examples=150, **SETTINGS)
@@ -125,7 +127,8 @@ def test_generated_jets_match_finite_differences(params, omega):
     assert _converges(errs, floor), errs
     # the jacobian at a general point (public API) equals the orbit's
     te = _flight(params, omega, y)
-    assert _rel(jets.jacobian_at(params, omega, y, te), j.jacobian) <= 1e-12 / g
+    # (two assemblies of the same inputs: a few ulps of |J|, amplified near grazing)
+    assert _rel(jets.jacobian_at(params, omega, y, te), j.jacobian) <= 1e-11 / g
     # d2 against FD of the generated J, d3 against FD of the generated d2
     for k in range(4):
         e2, e3 = [], []
