@@ -205,8 +205,7 @@ def _point(system, X, prev, Gu=None):
     """The :class:`CurvePoint` at X (prev: the previous point, for the critical pair)."""
     m = system.m
     a, b = system.names
-    pr = system.problem(X[-1])
-    G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
+    pr, G, Gu, _ = system.orbit_data(X)
     orbit = orbit_of(pr, X[:m], X[m], Gu)
     params = {a: float(X[m]), b: float(X[m + 1])}
     mu = np.array(orbit.multipliers)

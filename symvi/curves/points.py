@@ -81,10 +81,7 @@ def _plain(v):
 
 def mono(system, X):
     """The monodromy matrix at a curve point X = (u, a, b)."""
-    m = system.m
-    pr = system.problem(X[-1])
-    G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
-    return pr.monodromy(X[:m], Gu)[1]
+    return system.orbit_data(X)[3]
 
 
 def first_lyapunov(orbit, lam):

@@ -104,6 +104,17 @@ class CurveSystem:
         """Validates b (the corrector calls it once per solve)."""
         return self.problem(bval)
 
+    def orbit_data(self, X):
+        """(problem, G, G_u, M) at a curve point X = (u, a, b), from the last evaluation
+        when it was at X (the point just corrected is asked for again at once)."""
+        m = self.m
+        c = getattr(self, "_orbit_cache", None)
+        pr = self.problem(X[-1])
+        if c is not None and c[0] == np.asarray(X[:-1], float).tobytes() and c[1] == float(X[-1]):
+            return pr, c[2], c[3], c[4]
+        G, Gu, _ = pr.evaluate(X[:m], X[m], check=False)
+        return pr, G, Gu, pr.monodromy(X[:m], Gu)[1]
+
     # ---- the test function ---------------------------------------------------------
     def matrix(self, M):
         d = M.shape[0]
@@ -154,6 +165,7 @@ class CurveSystem:
         pr = self.problem(lam)
         G, Gu, Ga = pr.evaluate(u, a, jac=True, dparam=jac, check=check)
         mats, M = pr.monodromy(u, Gu)
+        self._orbit_cache = (np.asarray(v, float).tobytes(), float(lam), G, Gu, M)
         g, K = self.test(M, grad=jac)
         F = np.append(G, g)
         if not jac:
