@@ -1,6 +1,8 @@
 """Atomic file output: write to a temporary name in the same folder, then rename.
 
-Nothing already written is lost when a run fails halfway.
+Nothing already written is lost when a run fails halfway.  The renamed file gets the
+mode an ordinary ``open(path, "w")`` would give (0666 less the umask), or the mode of the
+file it replaces; ``mkstemp``'s private 0600 is not kept.
 """
 import os
 import tempfile
@@ -18,10 +20,26 @@ def atomic_path(path, suffix=None):
     os.close(fd)
     try:
         yield tmp
+        os.chmod(tmp, _mode_for(path))
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _mode_for(path):
+    """The mode a plain write of ``path`` would leave: the old file's, else 0666 & ~umask."""
+    try:
+        return os.stat(path).st_mode & 0o7777
+    except FileNotFoundError:
+        return 0o666 & ~current_umask()
+
+
+def current_umask():
+    """The process umask (read by setting it and setting it back)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
 
 
 def write_text(path, text):

@@ -291,3 +291,65 @@ def codim2_evidence(result, arrays, axes=(1, 2), title=""):
     fig.text(0.01, 0.005, "\n".join(textwrap.wrap(result.get("verdict", ""), 130)), fontsize=5)
     fig.tight_layout(rect=(0, 0.06, 1, 1))
     return fig
+
+
+#: attractor colours: periodic orbits in blues/greens by period, the rest fixed
+_ATTRACTOR_COLOUR = {"circle": "#ffbf00", "doubled-torus": "#ff7f0e", "chaos": "#d62728",
+                     "no-impact": "#ffffff", "sticking": "#7f7f7f", "escape": "#000000",
+                     "grazing": "#e377c2"}
+_PERIOD_COLOURS = ("#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#8c564b", "#bcbd22",
+                   "#aec7e8", "#98df8a")
+
+
+def plane_maps(ds, curves=(), title=""):
+    """The attractor map (categorical colours, legend) and the Lyapunov map (diverging,
+    centred on 0) of a plane store's Dataset (:mod:`symvi.plane.store`), with the
+    two-parameter curves of :func:`symvi.curves.curves_in_box` over both."""
+    from matplotlib.colors import ListedColormap, TwoSlopeNorm
+    from matplotlib.patches import Patch
+    xn, yn = ds.attrs["x"], ds.attrs["y"]
+    x, y = np.asarray(ds[xn]), np.asarray(ds[yn])
+    lab = np.asarray(ds["attractor"]).astype(str)
+    present = sorted({s for s in lab.ravel() if s}, key=_label_order)
+    periodic = [s for s in present if s.startswith("period-")]
+    colours = {s: _PERIOD_COLOURS[i % len(_PERIOD_COLOURS)] for i, s in enumerate(periodic)}
+    colours.update({s: _ATTRACTOR_COLOUR[s] for s in present if s in _ATTRACTOR_COLOUR})
+    code = np.full(lab.shape, np.nan)
+    for i, s in enumerate(present):
+        code[lab == s] = i
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.0), constrained_layout=True)
+    ax = axes[0]
+    if present:
+        cmap = ListedColormap([colours[s] for s in present])
+        ax.pcolormesh(x, y, np.ma.masked_invalid(code), cmap=cmap, vmin=-0.5,
+                      vmax=len(present) - 0.5, shading="nearest")
+    ax.legend(handles=[Patch(facecolor=colours[s], edgecolor="0.5", label=s) for s in present],
+              loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
+    ax.set_title("attractor")
+    lam = np.asarray(ds["lyapunov"], float)
+    ax = axes[1]
+    finite = lam[np.isfinite(lam)]
+    lim = float(np.percentile(np.abs(finite), 99)) if finite.size else 1.0
+    lim = lim if lim > 0 else 1.0
+    im = ax.pcolormesh(x, y, np.ma.masked_invalid(lam), cmap="RdBu_r", shading="nearest",
+                       norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim))
+    fig.colorbar(im, ax=ax, label="largest Lyapunov exponent (per impact)", extend="both")
+    ax.set_title("Lyapunov exponent")
+    for ax in axes:
+        if curves:
+            names = (xn, yn)
+            two_parameter(list(curves), names, ax=ax)     # curves made in (x, y) order
+        ax.set_xlim(x.min(), x.max())
+        ax.set_ylim(y.min(), y.max())
+        ax.set_xlabel(xn)
+        ax.set_ylabel(yn)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
+def _label_order(s):
+    if s.startswith("period-"):
+        return (0, int(s.split("-")[1]), s)
+    order = ("circle", "doubled-torus", "chaos", "grazing", "sticking", "no-impact", "escape")
+    return (1, order.index(s) if s in order else len(order), s)

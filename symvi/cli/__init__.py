@@ -13,8 +13,8 @@ import sys
 from ..errors import ParameterError, SymviError
 
 #: subcommand modules, in the order ``symvi --help`` lists them
-COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "curve", "simulate", "sweep", "run",
-            "reproduce"]
+COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "curve", "simulate", "sweep", "plane",
+            "plot", "run", "reproduce"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -135,6 +135,7 @@ def main(argv=None):
     warnings.showwarning = _warn_once
     parser = build_parser()
     args = parser.parse_args(argv)
+    args._argv = list(sys.argv[1:] if argv is None else argv)     # recorded by some outputs
     if not getattr(args, "_module", None):
         parser.print_help()
         return 2

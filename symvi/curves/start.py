@@ -48,3 +48,61 @@ def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=
     if "omega" not in names:
         fixed["omega"] = sp.value
     return continue_curve(model, kind, names, sp.orbit, **fixed, **kw), sp
+
+
+def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, omega=None,
+                  max_points=400):
+    """The fold, flip and NS curves that cross the box of a parameter plane.
+
+    ``names`` = (x, y) with ``omega`` one of them; ``box`` = {name: (lo, hi)}.  Start points
+    are the points of each kind that one-parameter continuation in omega locates at
+    ``rows`` evenly spaced values of the other parameter; a start already on a found curve
+    (within 1e-3 of the box) is skipped.  Returns (curves, notes): the curves as
+    :meth:`Curve.plot_data`, and one line per start that could not be continued.
+    """
+    import numpy as np
+
+    from ..errors import SymviError
+    from ..model import Model
+    model = Model.of(model)
+    if "omega" not in names:
+        raise ParameterError("names", names, "omega and one named parameter")
+    other = names[1] if names[0] == "omega" else names[0]
+    (wlo, whi), (plo, phi) = box["omega"], box[other]
+    span = np.array([whi - wlo, phi - plo])
+    found, notes = [], []
+    for v in np.linspace(plo, phi, rows + 2)[1:-1]:
+        m = model.with_(**{other: float(v)})
+        for kind in kinds:
+            try:
+                pts = start_points(m, wlo, whi, kind)
+            except SymviError as exc:
+                notes.append(f"{kind} at {other} = {v:.6g}: {exc}")
+                continue
+            for sp, _ in pts:
+                xy = np.array([sp.value, v])
+                if any(_near(c, xy, span, names) for c in found if c["kind"] == kind):
+                    continue
+                try:
+                    cv = continue_curve(m, kind, names, sp, bounds=box, max_points=max_points)
+                except SymviError as exc:
+                    notes.append(f"{kind} from omega = {sp.value:.6g}, {other} = {v:.6g}: {exc}")
+                    continue
+                found.append(cv.plot_data())
+    return found, notes
+
+
+def _near(curve, xy, span, names):
+    """The point xy = (omega, other) lies on the polyline of ``curve`` (within 1e-3 of
+    the box)."""
+    import numpy as np
+    a, b = np.asarray(curve["a"], float), np.asarray(curve["b"], float)
+    P = np.column_stack([a, b] if names[0] == "omega" else [b, a]) / span
+    q = xy / span
+    if len(P) == 1:
+        return np.linalg.norm(P[0] - q) < 1e-3
+    A, B = P[:-1], P[1:]
+    d = B - A
+    t = np.clip(np.einsum("ij,ij->i", q - A, d) / np.maximum(np.einsum("ij,ij->i", d, d),
+                                                            1e-300), 0, 1)
+    return bool(np.min(np.linalg.norm(A + t[:, None] * d - q, axis=1)) < 1e-3)

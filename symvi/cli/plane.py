@@ -1,0 +1,61 @@
+"""``symvi plane``: the attractor over a grid of two parameters, on Dask, into zarr."""
+from . import add_params, params_from, print_json
+
+
+def register(sub):
+    p = sub.add_parser("plane", help="attractor, Lyapunov exponent, rotation number and "
+                                     "impacts per period over a parameter plane (Dask, zarr)")
+    add_params(p, model=True)
+    p.add_argument("--x", required=True, metavar="NAME:LO:HI:N",
+                   help="first axis: omega or a named parameter (b, r, mu_m, mu_k, f2 for "
+                        "the preset; gap, restitution, mass[i], stiffness[i,j], "
+                        "damping[i,j], forcing[i]), N values from LO to HI")
+    p.add_argument("--y", required=True, metavar="NAME:LO:HI:N", help="second axis")
+    p.add_argument("--omega", type=float, default=None,
+                   help="forcing frequency, when neither axis is omega")
+    p.add_argument("--impacts", type=int, required=True, metavar="K",
+                   help="impacts kept per point (after the transient)")
+    p.add_argument("--transient", type=int, required=True, metavar="T",
+                   help="impacts dropped per point")
+    p.add_argument("--out", required=True, metavar="PLANE.zarr",
+                   help="zarr store; an interrupted run restarted with the same command "
+                        "computes only what is missing")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on this Dask scheduler (tcp://host:port)")
+    where.add_argument("--workers", type=int, metavar="W",
+                       help="processes of the local cluster (default: the CPU count; "
+                            "0: no Dask, in this process)")
+    p.add_argument("--follow", action="store_true",
+                   help="start each point from the previous point's attractor along a row")
+    p.add_argument("--chunk-rows", type=int, default=None, metavar="R",
+                   help="rows per task and zarr chunk (default: about 1024 points)")
+    p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
+                   help="progress bar on stderr (auto: when stderr is a terminal)")
+    p.add_argument("--json", action="store_true", help="print one JSON summary on stdout")
+    return p
+
+
+def run(args):
+    import shlex
+
+    from ..model import Model
+    from ..plane import PlaneSpec, parse_axis, run_plane
+    model = Model.of(params_from(args))
+    spec = PlaneSpec(model=model, x=parse_axis(args.x, "--x"), y=parse_axis(args.y, "--y"),
+                     impacts=args.impacts, transient=args.transient, follow=args.follow,
+                     omega=args.omega, chunk_rows=args.chunk_rows)
+    enabled = {"auto": None, "always": True, "never": False}[args.progress]
+    command = "symvi " + " ".join(shlex.quote(a) for a in args._argv)
+    res = run_plane(spec, args.out, scheduler=args.scheduler, workers=args.workers,
+                    progress=enabled, command=command)
+    out = res.as_dict()
+    if args.json:
+        print_json(out)
+    else:
+        print(f"{out['points']} points ({spec.y.n} x {spec.x.n}) in {args.out}: "
+              f"{out['computed_blocks']} blocks computed, {out['resumed_blocks']} already "
+              f"there; {out['seconds']:.1f} s on {out['workers']} workers")
+        for k, v in sorted(out["attractors"].items(), key=lambda kv: -kv[1]):
+            print(f"  {k:14s} {v}")
+    return 0

@@ -1,0 +1,50 @@
+"""``symvi plot``: draw a plane store (``symvi plane``) with the bifurcation curves over it."""
+from . import print_json
+
+
+def register(sub):
+    p = sub.add_parser("plot", help="draw a parameter plane (attractor and Lyapunov maps, "
+                                    "with the NS, flip and fold curves over them)")
+    p.add_argument("store", metavar="PLANE.zarr", help="a store written by symvi plane")
+    p.add_argument("--out", required=True, metavar="FIG.png", help="figure (.png or .pdf)")
+    p.add_argument("--no-curves", action="store_true",
+                   help="do not continue and draw the two-parameter curves")
+    p.add_argument("--json", action="store_true", help="print one JSON summary on stdout")
+    return p
+
+
+def run(args):
+    import os
+
+    from .. import figures
+    from ..errors import ParameterError
+    from ..plane import PlaneStore
+    if not args.out.lower().endswith((".png", ".pdf")):
+        raise ParameterError("--out", args.out, "a file name ending in .png or .pdf")
+    st = PlaneStore.read(args.store)
+    ds = st.dataset()
+    done = int(ds["done"].sum())
+    curves, notes = [], []
+    spec = st.spec
+    if not args.no_curves and "omega" in (spec.x.name, spec.y.name):
+        from ..curves import curves_in_box
+        names = (spec.x.name, spec.y.name)
+        box = {spec.x.name: (spec.x.lo, spec.x.hi), spec.y.name: (spec.y.lo, spec.y.hi)}
+        curves, notes = curves_in_box(spec.model, names, box)
+    elif not args.no_curves:
+        notes.append("no curves: neither axis is omega")
+    title = os.path.basename(os.path.normpath(args.store))
+    if done < spec.y.n:
+        title += f" (incomplete: {done} of {spec.y.n} rows)"
+    figures.save(figures.plane_maps(ds, curves, title=title), args.out)
+    out = {"store": args.store, "out": args.out, "rows_done": done, "rows": spec.y.n,
+           "curves": [{"kind": c["kind"], "points": len(c["a"]),
+                       "special": [s[0] for s in c["special"]]} for c in curves],
+           "notes": notes}
+    if args.json:
+        print_json(out)
+    else:
+        print(f"{args.out}: {len(curves)} curves over {args.store}")
+        for n in notes:
+            print(f"  note: {n}")
+    return 0

@@ -1,0 +1,202 @@
+"""Run a plane on Dask: one task per block of rows, each one compiled batch
+(:func:`symvi.plane.kernel.classify`), written to the store by the client as it
+completes.
+
+* Tasks are pure functions of (spec, rows): a worker that dies loses only its running
+  task, which Dask reruns elsewhere; a task's result is the same wherever it runs.
+* Only the client writes the store, so workers need no access to its file system
+  (``--scheduler`` on a cluster whose nodes do not share the disk works).
+* Blocks already flagged done in the store are skipped: a restarted run computes only
+  what is missing.
+"""
+import functools
+import json
+import os
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from .grid import PlaneSpec, block_inputs
+from .store import PlaneStore
+
+#: seconds to wait for a scheduler given by address
+CONNECT_TIMEOUT = 10
+
+
+@functools.lru_cache(maxsize=8)
+def _spec(text):
+    # one validation per worker process and spec, not one per task
+    return PlaneSpec.from_dict(json.loads(text))
+
+
+def compute_block(spec_text, r0, r1):
+    """Rows r0 .. r1-1 of the plane of ``spec_text`` (JSON of :meth:`PlaneSpec.as_dict`):
+    name -> array (r1 - r0, nx).  What a Dask task runs; also the serial reference."""
+    from .kernel import classify
+    spec = _spec(spec_text)
+    C, Y0, own = block_inputs(spec, r0, r1)
+    res = classify(C, Y0, spec.impacts, spec.transient, follow=spec.follow, row_len=spec.x.n)
+    shape = (r1 - r0, spec.x.n)
+    from ..simulation import STOP_NAMES
+    if spec.follow:
+        # only the first point of a row starts from its own (or a lent) orbit
+        own = own.reshape(shape).copy()
+        own[:, 1:] &= ~_followed(res.code, shape)
+        own = own.ravel()
+    return {"attractor": res.labels().astype("<U16").reshape(shape),
+            "stop": np.array([STOP_NAMES[k] for k in res.stop], dtype="<U16").reshape(shape),
+            "period": res.period.astype(np.int32).reshape(shape),
+            "impacts_per_orbit": res.impacts.astype(np.int32).reshape(shape),
+            "lyapunov": res.lyapunov.reshape(shape),
+            "rotation": res.rotation.reshape(shape),
+            "impacts_per_period": res.impacts_per_period.reshape(shape),
+            "max_velocity": res.max_velocity.reshape(shape),
+            "own_start": own.reshape(shape)}
+
+
+def _followed(code, shape):
+    """Points (columns 1..) that started from the previous point's attractor: those whose
+    left neighbour reached a bounded attractor (the rule of ``classify(follow=True)``)."""
+    from .kernel import ATTRACTORS
+    bounded = [ATTRACTORS.index(k) for k in ("period", "circle", "doubled-torus", "chaos")]
+    c = np.asarray(code).reshape(shape)
+    return np.isin(c[:, :-1], bounded)
+
+
+def compute_serial(spec):
+    """The whole plane in this process, block by block (the reference of the tests)."""
+    text = json.dumps(spec.as_dict(), sort_keys=True)
+    blocks = [compute_block(text, r0, r1) for r0, r1 in spec.blocks()]
+    return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
+
+
+@dataclass(frozen=True)
+class PlaneRun:
+    """What a call of :func:`run_plane` did."""
+
+    path: str
+    shape: tuple
+    blocks: int           # blocks of the plane
+    computed: int         # blocks computed by this call (the rest were in the store)
+    workers: int
+    seconds: float
+    counts: dict          # attractor label -> number of points
+
+    def as_dict(self):
+        return {"out": self.path, "shape": list(self.shape), "points": int(np.prod(self.shape)),
+                "blocks": self.blocks, "computed_blocks": self.computed,
+                "resumed_blocks": self.blocks - self.computed, "workers": self.workers,
+                "seconds": round(self.seconds, 3), "attractors": self.counts}
+
+
+def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command=None,
+              client=None):
+    """Compute the plane of ``spec`` into the zarr store ``out``, resuming it if present.
+
+    ``scheduler``: address of a running Dask scheduler; else a local cluster of
+    ``workers`` processes (default: the CPU count) is started and stopped here;
+    ``workers=0`` runs in this process without Dask.  ``client``: an existing
+    :class:`distributed.Client` (tests).  ``progress``: True, False or None (a bar on
+    stderr when it is a terminal).
+    """
+    from .. import __version__
+    from ..progress import Progress
+    t0 = time.perf_counter()
+    if workers is not None and not (isinstance(workers, int) and 0 <= workers <= 1024):
+        raise ParameterError("--workers", workers, "an integer in 0 .. 1024")
+    if scheduler is not None and workers is not None:
+        raise ParameterError("--workers", workers, "not with --scheduler (the cluster has "
+                             "its own workers)")
+    store = PlaneStore.open(out, spec, command=command, version=__version__)
+    todo = store.missing_blocks()
+    text = json.dumps(spec.as_dict(), sort_keys=True)
+    n_workers = 0
+    with Progress(len(spec.blocks()), "plane", enabled=progress) as bar:
+        bar.update(len(spec.blocks()) - len(todo))
+        if todo and workers == 0 and client is None and scheduler is None:
+            for r0, r1 in todo:
+                store.write(r0, r1, compute_block(text, r0, r1))
+                bar.update(1)
+        elif todo:
+            with _client(scheduler, workers, client) as cl:
+                n_workers = len(cl.scheduler_info().get("workers", {}))
+                _run_dask(cl, store, text, todo, bar)
+    counts = _counts(store)
+    return PlaneRun(store.path, spec.shape, len(spec.blocks()), len(todo), n_workers,
+                    time.perf_counter() - t0, counts)
+
+
+def _run_dask(cl, store, text, todo, bar):
+    from distributed import as_completed
+    token = _token(text)
+    futs = {}
+    for r0, r1 in todo:
+        f = cl.submit(compute_block, text, r0, r1, key=f"plane-{token}-{r0}-{r1}",
+                      pure=False, retries=2)
+        futs[f] = (r0, r1)
+    try:
+        for f in as_completed(list(futs)):
+            r0, r1 = futs[f]
+            store.write(r0, r1, f.result())
+            bar.update(1)
+            f.release()
+    except BaseException:
+        for f in futs:
+            f.cancel()
+        raise
+
+
+def _token(text):
+    import hashlib
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
+
+
+class _client:
+    """Context: the given client, a client of ``scheduler``, or a local cluster."""
+
+    def __init__(self, scheduler, workers, client):
+        self.scheduler, self.workers, self.client = scheduler, workers, client
+        self._own = []
+
+    def __enter__(self):
+        if self.client is not None:
+            return self.client
+        import logging
+
+        from distributed import Client, LocalCluster
+        if self.scheduler is not None:
+            try:
+                cl = Client(self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
+            except (OSError, TimeoutError, ValueError, TypeError) as exc:
+                raise ParameterError("--scheduler", self.scheduler, "the address of a running "
+                                     "Dask scheduler, e.g. tcp://host:8786",
+                                     f"cannot connect: {str(exc).splitlines()[0][:200]}") \
+                    from None
+            self._own.append(cl)
+            return cl
+        n = self.workers or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR,
+                               host="127.0.0.1")
+        self._own.append(cluster)
+        cl = Client(cluster, set_as_default=False)
+        self._own.append(cl)
+        return cl
+
+    def __exit__(self, *exc):
+        for obj in reversed(self._own):
+            try:
+                obj.close()
+            except Exception:   # noqa: BLE001 -- closing after an error must not mask it
+                pass
+        return False
+
+
+def _counts(store):
+    import zarr
+    g = zarr.open_group(store.path, mode="r")
+    labels = np.asarray(g["attractor"][:])
+    vals, cnt = np.unique(labels[labels != ""], return_counts=True)
+    return {str(v): int(c) for v, c in zip(vals, cnt)}

@@ -1,0 +1,247 @@
+"""The grid of a parameter-plane study: two named axes over one model, and the inputs of
+the compiled batches (constants and start points) for a block of its rows.
+
+A plane is ``y`` rows by ``x`` columns; the point (i, j) is the model with
+``y.name = y.values[i]`` and ``x.name = x.values[j]`` (``omega`` is the forcing
+frequency, any other name a named parameter of :meth:`symvi.Model.parameter_names`).
+Everything here is plain data, so a :class:`PlaneSpec` can be shipped to a Dask worker
+as the text of its model file.
+"""
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError, SymviError
+from ..simulation import DEFAULT_PERTURBATION
+
+#: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
+POINTS_PER_TASK = 1024
+
+#: largest grid side and number of points (a plane beyond that is split by the user)
+MAX_SIDE = 100_000
+MAX_POINTS = 10 ** 8
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis: ``n`` values of parameter ``name`` from ``lo`` to ``hi`` (inclusive)."""
+
+    name: str
+    lo: float
+    hi: float
+    n: int
+
+    @property
+    def values(self):
+        return np.linspace(self.lo, self.hi, self.n)
+
+    def text(self):
+        return f"{self.name}:{self.lo!r}:{self.hi!r}:{self.n}"
+
+
+def parse_axis(text, flag):
+    """``NAME:LO:HI:N`` -> :class:`Axis`; an error names ``flag`` and the valid form."""
+    form = "NAME:LO:HI:N with numbers LO < HI and an integer N >= 2 (or N = 1 and LO = HI)"
+    parts = str(text).rsplit(":", 3)
+    if len(parts) != 4 or not parts[0].strip():
+        raise ParameterError(flag, text, form)
+    name = parts[0].strip()
+    try:
+        lo, hi = float(parts[1]), float(parts[2])
+        n = int(parts[3])
+    except ValueError:
+        raise ParameterError(flag, text, form) from None
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(flag, text, form, "LO and HI must be finite")
+    if not 1 <= n <= MAX_SIDE:
+        raise ParameterError(flag, text, form, f"N must be in 1 .. {MAX_SIDE}")
+    if (n == 1 and lo != hi) or (n > 1 and not lo < hi):
+        raise ParameterError(flag, text, form)
+    return Axis(name, lo, hi, n)
+
+
+@dataclass(frozen=True)
+class PlaneSpec:
+    """What a plane computes: the model, the axes, the run lengths, the start rule.
+
+    ``omega`` is the forcing frequency where neither axis is ``omega``.
+    """
+
+    model: object
+    x: Axis
+    y: Axis
+    impacts: int
+    transient: int
+    follow: bool = False
+    omega: float = None
+    chunk_rows: int = None     # rows per task and zarr chunk; default from the grid
+
+    def __post_init__(self):
+        _check_spec(self)
+
+    @property
+    def shape(self):
+        return (self.y.n, self.x.n)
+
+    @property
+    def rows_per_task(self):
+        """Rows in one task and one zarr chunk: ``chunk_rows``, else a function of the grid
+        only (about POINTS_PER_TASK points, at least 8 tasks), never of the workers, so
+        that a resumed run finds the same chunks."""
+        if self.chunk_rows is not None:
+            return self.chunk_rows
+        rows = max(1, math.ceil(POINTS_PER_TASK / self.x.n))
+        return max(1, min(rows, self.y.n // 8 or 1))
+
+    def blocks(self):
+        """Row ranges (r0, r1) of the tasks, in order."""
+        k = self.rows_per_task
+        return [(r0, min(r0 + k, self.y.n)) for r0 in range(0, self.y.n, k)]
+
+    def as_dict(self):
+        """Plain data (JSON): everything that fixes the results, nothing about workers."""
+        return {"model": model_text(self.model), "x": self.x.text(), "y": self.y.text(),
+                "impacts": self.impacts, "transient": self.transient,
+                "follow": bool(self.follow), "omega": self.omega,
+                "chunk_rows": self.rows_per_task}
+
+    @classmethod
+    def from_dict(cls, d):
+        return cls(model=model_from_text(d["model"]), x=parse_axis(d["x"], "x"),
+                   y=parse_axis(d["y"], "y"), impacts=d["impacts"],
+                   transient=d["transient"], follow=d["follow"], omega=d["omega"],
+                   chunk_rows=d["chunk_rows"])
+
+    def point(self, i, j):
+        """(model, omega) at row i, column j."""
+        vals = {self.y.name: float(self.y.values[i]), self.x.name: float(self.x.values[j])}
+        omega = vals.pop("omega", self.omega)
+        return (self.model.with_(**vals) if vals else self.model), omega
+
+
+def _check_spec(spec):
+    from ..model import Model
+    if not isinstance(spec.model, Model):
+        raise ParameterError("model", type(spec.model).__name__, "a symvi.Model")
+    names = ["omega"] + spec.model.parameter_names()
+    for flag, ax in (("--x", spec.x), ("--y", spec.y)):
+        if ax.name not in names:
+            raise ParameterError(flag, ax.name, "omega or a named parameter of the model: "
+                                 + ", ".join(names))
+    if spec.x.name == spec.y.name:
+        raise ParameterError("--y", spec.y.name, f"a parameter other than --x ({spec.x.name})")
+    if spec.x.n * spec.y.n > MAX_POINTS:
+        raise ParameterError("--x", spec.x.text(), f"at most {MAX_POINTS} points in all")
+    for flag, value, lo in (("--impacts", spec.impacts, 1), ("--transient", spec.transient, 0)):
+        if not (isinstance(value, (int, np.integer)) and lo <= value <= 10 ** 7):
+            raise ParameterError(flag, value, f"an integer in {lo} .. 10000000")
+    if spec.chunk_rows is not None and not (isinstance(spec.chunk_rows, (int, np.integer))
+                                            and 1 <= spec.chunk_rows <= spec.y.n):
+        raise ParameterError("--chunk-rows", spec.chunk_rows, f"an integer in 1 .. {spec.y.n}")
+    if "omega" not in (spec.x.name, spec.y.name):
+        if spec.omega is None:
+            raise ParameterError("--omega", None, "a forcing frequency (neither axis is omega)")
+    elif spec.omega is not None:
+        raise ParameterError("--omega", spec.omega, "not given when an axis is omega")
+    _check_ranges(spec)
+
+
+def _check_ranges(spec):
+    """Every model and frequency of the grid is valid: the ends of each parameter axis
+    (the valid sets are intervals or convex), every omega against every row's modes."""
+    from ..flow.linear import LinearFlow
+    par = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name != "omega"]
+    om = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name == "omega"]
+    models = []
+    for flag, ax in par:
+        for v in (ax.lo, ax.hi):
+            try:
+                models.append(spec.model.with_(**{ax.name: v}))
+            except SymviError as exc:
+                raise ParameterError(flag, ax.text(), f"values of {ax.name} the model accepts",
+                                     str(exc)) from None
+    omegas = om[0][1].values if om else [spec.omega]
+    flag = om[0][0] if om else "--omega"
+    # the modes depend on the parameter axis (at most one): check each of its models
+    rows = [spec.model] if not par else [spec.model.with_(**{par[0][1].name: float(v)})
+                                        for v in par[0][1].values]
+    seen = set()
+    for m in rows:
+        flow = LinearFlow.of(m)
+        key = tuple(np.round(np.asarray(flow.lam, dtype=complex), 14))
+        if key in seen:
+            continue
+        seen.add(key)
+        for w in omegas:
+            try:
+                flow.check_omega(w, name=flag, warn=False)
+            except SymviError as exc:
+                raise ParameterError(flag, float(w), "forcing frequencies of the grid away "
+                                     "from the model's natural frequencies", str(exc)) from None
+
+
+def block_inputs(spec, r0, r1):
+    """Constants (m, L) and start points (m, 2N) of rows r0 .. r1-1, row-major.
+
+    A start is the point's admissible period-1 orbit plus
+    :data:`symvi.simulation.DEFAULT_PERTURBATION`; where a point has none, the nearest
+    point of its row that has one lends its start; where no point of the row has one,
+    the model's generic start (v_k+ = -1, the other coordinates 0) is used.  Returns
+    (C, Y0, has_orbit (m,) bool).
+    """
+    from ..flow import compiled as cf
+    from ..simulation import fixed_point
+    nx = spec.x.n
+    C, Y0, have = [], [], []
+    with warnings.catch_warnings():
+        # near-resonance warnings: the grid was checked; per-point messages would flood
+        warnings.simplefilter("ignore")
+        for i in range(r0, r1):
+            row, ys = [], []
+            for j in range(nx):
+                model, omega = spec.point(i, j)
+                row.append(cf.constants(model, omega))
+                try:
+                    y = fixed_point(model, omega)
+                except SymviError:
+                    y = None
+                ys.append(None if y is None else np.add(y, DEFAULT_PERTURBATION[0]))
+            ok = [j for j, y in enumerate(ys) if y is not None]
+            dim = spec.model.dim
+            for j in range(nx):
+                if ys[j] is not None:
+                    Y0.append(ys[j])
+                elif ok:
+                    Y0.append(ys[min(ok, key=lambda k: (abs(k - j), k))])
+                else:
+                    g = np.zeros(dim)
+                    g[0] = -1.0
+                    Y0.append(g)
+                have.append(ys[j] is not None)
+            C.extend(row)
+    return cf.pack(C), np.array(Y0, dtype=np.float64), np.array(have)
+
+
+def model_text(model):
+    """The model as text: the paper preset's five values (its parameter names stay
+    usable), else the model file (:func:`symvi.model.dumps`)."""
+    import json
+
+    from ..model import dumps
+    if model.preset is not None:
+        return json.dumps({k: v for k, v in model.preset.items() if k != "name"},
+                          sort_keys=True)
+    return dumps(model)
+
+
+def model_from_text(text):
+    """Inverse of :func:`model_text`."""
+    import json
+    import tomllib
+
+    from ..model import Model, model_from_dict
+    if text.lstrip().startswith("{"):
+        return Model.luo_xie(**json.loads(text))
+    return model_from_dict(tomllib.loads(text), "model")
