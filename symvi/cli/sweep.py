@@ -19,6 +19,12 @@ def register(sub):
     p.add_argument("--branches", action="store_true",
                    help="overlay the continued period-1 branches (stable solid, unstable "
                         "dashed), their period-doubled branches and special points")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on this Dask scheduler (tcp://host:port)")
+    where.add_argument("--workers", type=int, metavar="W",
+                       help="processes of a local Dask cluster (default 0: in this process, "
+                            "numba threads)")
     p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
                    help="progress bar on stderr (auto: when stderr is a terminal)")
     return p
@@ -29,8 +35,7 @@ def run(args):
 
     from .._io import atomic_path
     from ..errors import ParameterError
-    from ..progress import Progress
-    from ..simulation import sweep
+    from ..plane.engine import run_sweep
     params = params_from(args)
     from ..flow import check_omega
     labels, _, names = section_view(params)
@@ -52,9 +57,9 @@ def run(args):
         raise ParameterError("--out", args.out, "a file name ending in .npz, .png or .pdf")
     omegas = np.linspace(args.omega_min, args.omega_max, args.steps)
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
-    with Progress(len(omegas), "sweep", enabled=enabled) as bar:
-        res = sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
-                    progress=lambda done, total: bar.update(done - bar.n))
+    workers = 0 if args.workers is None and args.scheduler is None else args.workers
+    res = run_sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
+                    scheduler=args.scheduler, workers=workers, progress=enabled)
     if data:
         with atomic_path(data, suffix=".npz") as tmp:
             with open(tmp, "wb") as fh:

@@ -9,8 +9,10 @@ completes.
 * Blocks already flagged done in the store are skipped: a restarted run computes only
   what is missing.
 """
+import contextlib
 import functools
 import json
+import math
 import os
 import time
 from dataclasses import dataclass
@@ -104,48 +106,70 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
     from .. import __version__
     from ..progress import Progress
     t0 = time.perf_counter()
+    check_workers(scheduler, workers)
+    store = PlaneStore(out, spec)
+    exists = store.check()                 # refuses a path holding anything else
+    todo = store.missing_blocks() if exists else spec.blocks()
+    text = json.dumps(spec.as_dict(), sort_keys=True)
+    in_process = workers == 0 and client is None and scheduler is None
+    # connect before creating anything: an unreachable scheduler leaves no empty store
+    with (contextlib.nullcontext(client) if in_process or not todo
+          else _client(scheduler, workers, client)) as cl:
+        if not exists:
+            store.create(command, __version__)
+        with Progress(len(spec.blocks()), "plane", enabled=progress) as bar:
+            bar.update(len(spec.blocks()) - len(todo))
+
+            def done(block, result):
+                store.write(*block, result)
+                bar.update(1)
+            tasks = [(f"{r0}-{r1}", (r0, r1), (text, r0, r1)) for r0, r1 in todo]
+            n_workers = run_tasks(compute_block, tasks, done, workers=workers, client=cl,
+                                  name=f"plane-{_token(text)}")
+    return PlaneRun(store.path, spec.shape, len(spec.blocks()), len(todo), n_workers,
+                    time.perf_counter() - t0, _counts(store))
+
+
+def check_workers(scheduler, workers):
+    """--workers and --scheduler: an integer 0 .. 1024, and not both."""
     if workers is not None and not (isinstance(workers, int) and 0 <= workers <= 1024):
         raise ParameterError("--workers", workers, "an integer in 0 .. 1024")
     if scheduler is not None and workers is not None:
         raise ParameterError("--workers", workers, "not with --scheduler (the cluster has "
                              "its own workers)")
-    store = PlaneStore.open(out, spec, command=command, version=__version__)
-    todo = store.missing_blocks()
-    text = json.dumps(spec.as_dict(), sort_keys=True)
-    n_workers = 0
-    with Progress(len(spec.blocks()), "plane", enabled=progress) as bar:
-        bar.update(len(spec.blocks()) - len(todo))
-        if todo and workers == 0 and client is None and scheduler is None:
-            for r0, r1 in todo:
-                store.write(r0, r1, compute_block(text, r0, r1))
-                bar.update(1)
-        elif todo:
-            with _client(scheduler, workers, client) as cl:
-                n_workers = len(cl.scheduler_info().get("workers", {}))
-                _run_dask(cl, store, text, todo, bar)
-    counts = _counts(store)
-    return PlaneRun(store.path, spec.shape, len(spec.blocks()), len(todo), n_workers,
-                    time.perf_counter() - t0, counts)
 
 
-def _run_dask(cl, store, text, todo, bar):
+def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None,
+              name="symvi"):
+    """For each (key, tag, args) of ``tasks`` run ``fn(*args)`` and call
+    ``on_result(tag, result)`` in this process as each finishes, in completion order.
+    ``key`` (a string unique in ``tasks``) names the Dask task ``{name}-{key}``.
+
+    In this process when ``workers == 0`` (and no scheduler or client), else as Dask
+    tasks (a local cluster unless ``scheduler`` or ``client`` is given).  A task whose
+    worker dies is rerun by Dask.  Returns the number of Dask workers (0 in-process).
+    """
+    if not tasks:
+        return 0
+    if workers == 0 and client is None and scheduler is None:
+        for _, tag, a in tasks:
+            on_result(tag, fn(*a))
+        return 0
     from distributed import as_completed
-    token = _token(text)
-    futs = {}
-    for r0, r1 in todo:
-        f = cl.submit(compute_block, text, r0, r1, key=f"plane-{token}-{r0}-{r1}",
-                      pure=False, retries=2)
-        futs[f] = (r0, r1)
-    try:
-        for f in as_completed(list(futs)):
-            r0, r1 = futs[f]
-            store.write(r0, r1, f.result())
-            bar.update(1)
-            f.release()
-    except BaseException:
-        for f in futs:
-            f.cancel()
-        raise
+    with _client(scheduler, workers, client) as cl:
+        n_workers = len(cl.scheduler_info().get("workers", {}))
+        futs = {}
+        for key, tag, a in tasks:
+            futs[cl.submit(fn, *a, key=f"{name}-{key}", pure=False, retries=2)] = tag
+        try:
+            for f in as_completed(list(futs), loop=cl.loop):
+                on_result(futs[f], f.result())
+                f.release()
+        except BaseException:
+            for f in futs:
+                f.cancel()
+            raise
+    return n_workers
 
 
 def _token(text):
@@ -200,3 +224,40 @@ def _counts(store):
     labels = np.asarray(g["attractor"][:])
     vals, cnt = np.unique(labels[labels != ""], return_counts=True)
     return {str(v): int(c) for v, c in zip(vals, cnt)}
+
+
+def _sweep_block(params, omegas, starts, n_impacts, transient):
+    # one Dask task of a sweep: the compiled batch of symvi.simulation.sweep
+    from ..simulation import sweep
+    return sweep(params, omegas, n_impacts=n_impacts, transient=transient, starts=starts)
+
+
+def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=None,
+              chunk=None, progress=None, client=None):
+    """:func:`symvi.simulation.sweep` as tasks of ``chunk`` omegas on this engine (a local
+    cluster, ``scheduler``, or in-process with ``workers=0``); the same Sweep, bit for
+    bit, as one call of ``sweep``."""
+    from ..progress import Progress
+    from ..simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
+    check_workers(scheduler, workers)
+    omegas = np.asarray(omegas, dtype=float)
+    m = len(omegas)
+    # the limits of one sweep call over all omegas (chunks would allow more)
+    n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // m))
+    starts = sweep_starts(params, omegas)
+    chunk = chunk or max(1, math.ceil(m / 32))
+    parts = {}
+    tasks = [(str(lo), lo, (params, omegas[lo:lo + chunk], starts[lo:lo + chunk], n_impacts,
+                            transient)) for lo in range(0, m, chunk)]
+    with Progress(len(tasks), "sweep", enabled=progress) as bar:
+        def done(lo, res):
+            parts[lo] = res
+            bar.update(1)
+        run_tasks(_sweep_block, tasks, done, scheduler=scheduler, workers=workers,
+                  client=client, name=f"sweep-{_token(repr((params, omegas.tobytes())))}")
+    got = [parts[k] for k in sorted(parts)]
+    return Sweep(params, np.concatenate([g.omegas for g in got]),
+                 np.concatenate([g.section for g in got]),
+                 np.concatenate([g.counts for g in got]),
+                 tuple(s for g in got for s in g.stops), np.concatenate([g.starts for g in got]),
+                 transient, sum(g.impacts_total for g in got))

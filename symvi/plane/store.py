@@ -97,16 +97,13 @@ class PlaneStore:
     def __init__(self, path, spec):
         self.path, self.spec = os.fspath(path), spec
 
-    @classmethod
-    def open(cls, path, spec, *, command=None, version=""):
-        """Reopen ``path`` if it holds this run, else create it; raise (naming --out) if
-        it holds something else."""
-        st = cls(path, spec)
-        if os.path.lexists(st.path):
-            st._check_same()
-        else:
-            st._create(command, version)
-        return st
+    def check(self):
+        """True if the path holds this run's store, False if it is free; raise (naming
+        --out) if it holds anything else."""
+        if not os.path.lexists(self.path):
+            return False
+        self._check_same()
+        return True
 
     @classmethod
     def read(cls, path):
@@ -129,7 +126,8 @@ class PlaneStore:
                                  f"reads {FORMAT}")
         return cls(path, PlaneSpec.from_dict(json.loads(text)))
 
-    def _create(self, command, version):
+    def create(self, command, version):
+        """Write the empty store (all blocks to do) under a temporary name, then rename."""
         ds = _template(self.spec, command, version)
         k = self.spec.rows_per_task
         enc = {v: {"chunks": (k, self.spec.x.n)} for v in (*FLOATS, *INTS, *STRINGS, "own_start")}
