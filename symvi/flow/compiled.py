@@ -42,7 +42,8 @@ from .._fastflow import (CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, GRAZING, IMPA
                          STOP_NO_IMPACT, STOP_NONFINITE, STOP_STICKING)
 from .linear import LinearFlow
 
-__all__ = ["constants", "size", "pack", "first_impact_from", "step", "run", "run_batch",
+__all__ = ["constants", "size", "pack", "first_impact_from", "step", "step_tangent",
+           "jacobian_tangent", "run", "run_batch",
            "IMPACT", "GRAZING", "NO_IMPACT", "STATUS_NAMES", "COMPLETED", "STOP_GRAZING",
            "STOP_CHATTER", "STOP_STICKING", "STOP_NO_IMPACT", "STOP_NONFINITE", "STOP_NAMES",
            "CHATTER_COUNT", "CHATTER_FLIGHT"]
@@ -390,6 +391,127 @@ def step(c, y):
     x_k'' at the contact, finder steps)."""
     return _step(np.ascontiguousarray(c, dtype=np.float64),
                  np.ascontiguousarray(y, dtype=np.float64))
+
+
+@nb.njit(cache=True)
+def _tangent(c, tau, v, cc, e, z, w):
+    """v <- DP v for the flight just done by :func:`_step_into` from phase ``tau``
+    (its coefficients ``cc``, factors ``e`` at t = t_e and state ``z`` there).
+
+    Variation of z(t) = Phi(t) (z0 - zp(0; tau)) + zp(t; tau) at fixed t, then of
+    the impact time from x_k(t_e) = b, then of the reset (formulas in
+    :func:`step_tangent`).  O(dim^2): W^-1 then W per kept mode.  ``w`` is
+    scratch (2 dim)."""
+    n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
+    dim = 2 * n
+    ow, ov, ou = _offsets(n)
+    dtau = v[dim - 1]
+    sp, cp = math.sin(tau), math.cos(tau)
+    # u = dz0 - d_tau zp(0) dtau; d_tau zp = zp' / omega (zp depends on omega t + tau)
+    for i in range(n):
+        U, V = c[ou + i], c[ou + n + i]
+        w[i] = (0.0 if i == 0 else v[i]) - (U * cp - V * sp) * dtau
+        w[n + i] = (v[0] if i == 0 else v[n + i - 1]) + om * (U * sp + V * cp) * dtau
+    # dz = Phi(t) u = Re sum_j W_j w_j (W^-1_j u) e^{lambda_j t}, into w[dim:]
+    for i in range(dim):
+        w[dim + i] = 0.0
+    for j in range(m):
+        wt = c[_HDR + 3 * j + 2]
+        ar, ai = 0.0, 0.0
+        for i in range(dim):
+            o = ov + 2 * (dim * j + i)
+            ar += c[o] * w[i]
+            ai += c[o + 1] * w[i]
+        cs, sn = e[2 * j], e[2 * j + 1]
+        gr = wt * (ar * cs - ai * sn)            # w_j (W^-1_j u) e^{lambda_j t}
+        gi = wt * (ar * sn + ai * cs)
+        for i in range(dim):
+            o = ow + 2 * (dim * j + i)
+            w[dim + i] += c[o] * gr - c[o + 1] * gi
+    # accelerations into w[:n] (u is spent): Re sum_j W[n + i, j] lambda_j w_j c_j
+    # e^{lambda_j t} (rows n.. of W are the velocities) plus zp''
+    for i in range(n):
+        w[i] = 0.0
+    for j in range(m):
+        lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
+        cs, sn = e[2 * j], e[2 * j + 1]
+        er = cc[2 * j] * cs - cc[2 * j + 1] * sn
+        ei = cc[2 * j] * sn + cc[2 * j + 1] * cs
+        er, ei = er * lr - ei * li, er * li + ei * lr
+        for i in range(n):
+            o = ow + 2 * (dim * j + n + i)
+            w[i] += c[o] * er - c[o + 1] * ei
+    sp, cp = e[2 * m], e[2 * m + 1]
+    o2 = om * om
+    for i in range(n):
+        U, V = c[ou + i], c[ou + n + i]
+        s0 = U * sp + V * cp
+        w[i] -= o2 * s0
+        # + d_tau zp(t_e) dtau
+        w[dim + i] += (U * cp - V * sp) * dtau
+        w[dim + n + i] -= om * s0 * dtau
+    # x_k(t_e + dte) = b: dte = -dx_k / v_k-
+    dte = -w[dim] / z[n]
+    # Dz = dz + zdot dte; zdot = (z velocities, accelerations w[0:n])
+    v[0] = -c[_R] * (w[dim + n] + w[0] * dte)
+    for i in range(1, n):
+        v[i] = w[dim + i] + z[n + i] * dte
+        v[n + i - 1] = w[dim + n + i] + w[i] * dte
+    v[dim - 1] = dtau + om * dte
+
+
+@nb.njit(cache=True)
+def _step_tangent_into(c, y, v, cc, d, e, z, w):
+    """:func:`_step_into` and, on an impact, v <- DP(y) v at the old y, in place.
+
+    Same return value as :func:`_step_into`; v is left unchanged when the
+    status is not an impact.  ``w`` is scratch (2 dim)."""
+    tau = y[2 * int(c[_NN]) - 1]
+    st, t, vm, acc, steps = _step_into(c, y, cc, d, e, z)
+    if st == IMPACT:
+        _tangent(c, tau, v, cc, e, z, w)
+    return st, t, vm, acc, steps
+
+
+@nb.njit(cache=True)
+def _step_tangent(c, y, v):
+    n = int(c[_NN])
+    y, v = y.copy(), v.copy()
+    st, t, vm, acc, steps = _step_tangent_into(c, y, v, np.empty(4 * n), np.empty(24 * n),
+                                               np.empty(4 * n + 2), np.empty(2 * n),
+                                               np.empty(4 * n))
+    return st, t, y, v
+
+
+def step_tangent(c, y, v):
+    """One application of P and of its tangent map from y: (status, t_e, P(y), DP(y) v).
+
+    Variation of the flight z(t) = Phi(t) (z0 - zp(0; tau)) + zp(t; tau), with
+    z0 = (b, y[1:n], y[0], y[n:2n-1]) and d_tau zp = zp' / omega::
+
+        dz(t_e) = Phi(t_e) (dz0 - d_tau zp(0) dtau) + d_tau zp(t_e) dtau,
+        dt_e = -dx_k(t_e) / v_k-,      Dz = dz(t_e) + zdot(t_e) dt_e,
+        DP v = (-r Dv_k, Dx_i, Dv_i (i != k), dtau + omega dt_e),
+
+    with dz0 = (0, v[1:n], v[0], v[n:2n-1]), dtau = v[2n-1].  DP v is only
+    meaningful when the status is an impact (v is returned unchanged otherwise).
+    """
+    c = np.ascontiguousarray(c, dtype=np.float64)
+    return _step_tangent(c, np.ascontiguousarray(y, dtype=np.float64),
+                         np.ascontiguousarray(v, dtype=np.float64))
+
+
+def jacobian_tangent(c, y):
+    """DP(y) (2N x 2N) column by column from :func:`step_tangent` (for tests)."""
+    c = np.ascontiguousarray(c, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    dim = len(y)
+    J = np.empty((dim, dim))
+    for j in range(dim):
+        st, _, _, J[:, j] = step_tangent(c, y, np.eye(dim)[j])
+        if st != IMPACT:
+            raise ValueError(f"no impact from y (status {STATUS_NAMES[st]}): DP undefined")
+    return J
 
 
 @nb.njit(cache=True)
