@@ -310,10 +310,16 @@ def plane_maps(ds, curves=(), title=""):
     xn, yn = ds.attrs["x"], ds.attrs["y"]
     x, y = np.asarray(ds[xn]), np.asarray(ds[yn])
     lab = np.asarray(ds["attractor"]).astype(str)
+    # long periods share one colour: a legend of dozens of periods says nothing
+    many = f"period > {len(_PERIOD_COLOURS)}"
+    per = np.char.startswith(lab, "period-")
+    k = np.where(per, np.char.lstrip(np.where(per, lab, "period-0"), "period-"), "0").astype(int)
+    lab = np.where(per & (k > len(_PERIOD_COLOURS)), many, lab)
     present = sorted({s for s in lab.ravel() if s}, key=_label_order)
     periodic = [s for s in present if s.startswith("period-")]
     colours = {s: _PERIOD_COLOURS[i % len(_PERIOD_COLOURS)] for i, s in enumerate(periodic)}
     colours.update({s: _ATTRACTOR_COLOUR[s] for s in present if s in _ATTRACTOR_COLOUR})
+    colours[many] = "#393b79"
     code = np.full(lab.shape, np.nan)
     for i, s in enumerate(present):
         code[lab == s] = i
@@ -351,5 +357,7 @@ def plane_maps(ds, curves=(), title=""):
 def _label_order(s):
     if s.startswith("period-"):
         return (0, int(s.split("-")[1]), s)
+    if s.startswith("period >"):
+        return (0, 10 ** 9, s)
     order = ("circle", "doubled-torus", "chaos", "grazing", "sticking", "no-impact", "escape")
     return (1, order.index(s) if s in order else len(order), s)
