@@ -111,7 +111,7 @@ def main():
     print(f"- Dask overhead against the bare batch: {100 * (t_d2 / t_b2 - 1):+.1f} % "
           f"(target <= 15 %).")
     print(f"- Two workers against one: {t_s1 / t_s2:.2f} x (target >= 1.8).")
-    cnt = {k: int(v) for k, v in zip(*np.unique(lab_d2, return_counts=True))}
+    cnt = {str(k): int(v) for k, v in zip(*np.unique(lab_d2, return_counts=True))}
     print(f"- Attractors of the 256 x 256 plane: {cnt}.")
 
 

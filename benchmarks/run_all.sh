@@ -15,3 +15,4 @@ python benchmarks/bench_continue.py > benchmarks/results_continue.md
 python benchmarks/bench_curve.py > benchmarks/results_curve.md
 python benchmarks/bench_regen_high.py --reps 3 > benchmarks/results_regen_high.md
 python benchmarks/bench_l2.py --repeat 21 --verify > benchmarks/results_l2.md
+python benchmarks/bench_plane.py > benchmarks/results_plane.md

@@ -14,6 +14,7 @@ import functools
 import json
 import math
 import os
+import sys
 import time
 from dataclasses import dataclass
 
@@ -104,7 +105,6 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
     stderr when it is a terminal).
     """
     from .. import __version__
-    from ..progress import Progress
     t0 = time.perf_counter()
     check_workers(scheduler, workers)
     store = PlaneStore(out, spec)
@@ -117,15 +117,15 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
           else _client(scheduler, workers, client)) as cl:
         if not exists:
             store.create(command, __version__)
-        with Progress(len(spec.blocks()), "plane", enabled=progress) as bar:
-            bar.update(len(spec.blocks()) - len(todo))
+        if _enabled(progress) and exists and todo:
+            sys.stderr.write(f"plane: resuming, {len(spec.blocks()) - len(todo)} of "
+                             f"{len(spec.blocks())} blocks already in {store.path}\n")
 
-            def done(block, result):
-                store.write(*block, result)
-                bar.update(1)
-            tasks = [(f"{r0}-{r1}", (r0, r1), (text, r0, r1)) for r0, r1 in todo]
-            n_workers = run_tasks(compute_block, tasks, done, workers=workers, client=cl,
-                                  name=f"plane-{_token(text)}")
+        def done(block, result):
+            store.write(*block, result)
+        tasks = [(f"{r0}-{r1}", (r0, r1), (text, r0, r1)) for r0, r1 in todo]
+        n_workers = run_tasks(compute_block, tasks, done, workers=workers, client=cl,
+                              name=f"plane-{_token(text)}", progress=progress)
     return PlaneRun(store.path, spec.shape, len(spec.blocks()), len(todo), n_workers,
                     time.perf_counter() - t0, _counts(store))
 
@@ -140,7 +140,7 @@ def check_workers(scheduler, workers):
 
 
 def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None,
-              name="symvi"):
+              name="symvi", progress=None):
     """For each (key, tag, args) of ``tasks`` run ``fn(*args)`` and call
     ``on_result(tag, result)`` in this process as each finishes, in completion order.
     ``key`` (a string unique in ``tasks``) names the Dask task ``{name}-{key}``.
@@ -148,12 +148,17 @@ def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None
     In this process when ``workers == 0`` (and no scheduler or client), else as Dask
     tasks (a local cluster unless ``scheduler`` or ``client`` is given).  A task whose
     worker dies is rerun by Dask.  Returns the number of Dask workers (0 in-process).
+    ``progress`` (True, False, None: when stderr is a terminal): a tqdm bar in-process,
+    Dask's progress bar (on stderr) on a cluster.
     """
     if not tasks:
         return 0
     if workers == 0 and client is None and scheduler is None:
-        for _, tag, a in tasks:
-            on_result(tag, fn(*a))
+        from ..progress import Progress
+        with Progress(len(tasks), name.split("-")[0], enabled=progress) as bar:
+            for _, tag, a in tasks:
+                on_result(tag, fn(*a))
+                bar.update(1)
         return 0
     from distributed import as_completed
     with _client(scheduler, workers, client) as cl:
@@ -161,6 +166,8 @@ def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None
         futs = {}
         for key, tag, a in tasks:
             futs[cl.submit(fn, *a, key=f"{name}-{key}", pure=False, retries=2)] = tag
+        if _enabled(progress):
+            _dask_bar(cl, list(futs))
         try:
             for f in as_completed(list(futs), loop=cl.loop):
                 on_result(futs[f], f.result())
@@ -170,6 +177,37 @@ def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None
                 f.cancel()
             raise
     return n_workers
+
+
+def _enabled(progress):
+    return sys.stderr.isatty() if progress is None else bool(progress)
+
+
+def _dask_bar(cl, futures):
+    """Dask's text progress bar of ``futures`` on stderr (Dask draws on stdout, which
+    ``--json`` keeps for its one object), listening in a background thread."""
+    import threading
+
+    from distributed.diagnostics.progressbar import TextProgressBar
+
+    class StderrBar(TextProgressBar):
+        def _draw_bar(self, remaining, all, **kwargs):
+            frac = (1 - remaining / all) if all else 1.0
+            sys.stderr.write(f"\r[{'#' * int(self.width * frac):<{self.width}}] | "
+                             f"{int(100 * frac)}% Completed | {all - remaining}/{all} "
+                             f"tasks | {self.elapsed:.1f}s")
+            sys.stderr.flush()
+
+        def _draw_stop(self, **kwargs):
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+    def listen():
+        try:
+            StderrBar(futures, scheduler=cl.scheduler.address, interval="200ms")
+        except Exception:   # noqa: BLE001 -- a progress bar never fails a run
+            pass
+    threading.Thread(target=listen, daemon=True).start()
 
 
 def _token(text):
@@ -237,7 +275,6 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     """:func:`symvi.simulation.sweep` as tasks of ``chunk`` omegas on this engine (a local
     cluster, ``scheduler``, or in-process with ``workers=0``); the same Sweep, bit for
     bit, as one call of ``sweep``."""
-    from ..progress import Progress
     from ..simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
     check_workers(scheduler, workers)
     omegas = np.asarray(omegas, dtype=float)
@@ -249,12 +286,11 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     parts = {}
     tasks = [(str(lo), lo, (params, omegas[lo:lo + chunk], starts[lo:lo + chunk], n_impacts,
                             transient)) for lo in range(0, m, chunk)]
-    with Progress(len(tasks), "sweep", enabled=progress) as bar:
-        def done(lo, res):
-            parts[lo] = res
-            bar.update(1)
-        run_tasks(_sweep_block, tasks, done, scheduler=scheduler, workers=workers,
-                  client=client, name=f"sweep-{_token(repr((params, omegas.tobytes())))}")
+
+    def done(lo, res):
+        parts[lo] = res
+    run_tasks(_sweep_block, tasks, done, scheduler=scheduler, workers=workers, client=client,
+              name=f"sweep-{_token(repr((params, omegas.tobytes())))}", progress=progress)
     got = [parts[k] for k in sorted(parts)]
     return Sweep(params, np.concatenate([g.omegas for g in got]),
                  np.concatenate([g.section for g in got]),
