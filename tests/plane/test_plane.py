@@ -115,7 +115,7 @@ def test_killed_worker_loses_nothing(tmp_path):
 
 def _cli_plane(out, *extra):
     return ["plane", *FLAGS, "--x", "omega:0.70:0.78:12", "--y", "b:1.3:1.7:12",
-            "--impacts", "2500", "--transient", "500", "--chunk-rows", "1",
+            "--impacts", "8000", "--transient", "500", "--chunk-rows", "1",
             "--out", str(out), *extra]
 
 
