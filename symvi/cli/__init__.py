@@ -44,6 +44,16 @@ def add_params(parser, defaults=None, model=False):
                                  "[stop] mass, gap, restitution), instead of the preset flags")
 
 
+def add_engine(parser, workers_default):
+    """--scheduler ADDRESS | --workers W: where the Dask engine (symvi.plane.engine) runs."""
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on this Dask scheduler (tcp://host:port)")
+    where.add_argument("--workers", type=int, metavar="W",
+                       help="processes of a local Dask cluster; 0: no Dask, in this "
+                            f"process ({workers_default})")
+
+
 def params_from(args):
     """Params of the preset flags, or the Model of ``--model FILE`` (exit 2 on a mix-up)."""
     from ..params import Params

@@ -1,5 +1,5 @@
 """``symvi plane``: the attractor over a grid of two parameters, on Dask, into zarr."""
-from . import add_params, params_from, print_json
+from . import add_engine, add_params, params_from, print_json
 
 
 def register(sub):
@@ -20,12 +20,7 @@ def register(sub):
     p.add_argument("--out", required=True, metavar="PLANE.zarr",
                    help="zarr store; an interrupted run restarted with the same command "
                         "computes only what is missing")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", metavar="ADDRESS",
-                       help="run on this Dask scheduler (tcp://host:port)")
-    where.add_argument("--workers", type=int, metavar="W",
-                       help="processes of the local cluster (default: the CPU count; "
-                            "0: no Dask, in this process)")
+    add_engine(p, "default: the CPU count")
     p.add_argument("--follow", action="store_true",
                    help="start each point from the previous point's attractor along a row")
     p.add_argument("--chunk-rows", type=int, default=None, metavar="R",

@@ -1,5 +1,5 @@
 """``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
-from . import add_params, data_key, describe, params_from, print_json, section_view
+from . import add_engine, add_params, data_key, describe, params_from, print_json, section_view
 
 
 def register(sub):
@@ -19,12 +19,7 @@ def register(sub):
     p.add_argument("--branches", action="store_true",
                    help="overlay the continued period-1 branches (stable solid, unstable "
                         "dashed), their period-doubled branches and special points")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", metavar="ADDRESS",
-                       help="run on this Dask scheduler (tcp://host:port)")
-    where.add_argument("--workers", type=int, metavar="W",
-                       help="processes of a local Dask cluster (default 0: in this process, "
-                            "numba threads)")
+    add_engine(p, "default: 0, on numba threads")
     p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
                    help="progress bar on stderr (auto: when stderr is a terminal)")
     return p
