@@ -121,8 +121,11 @@ def _cli_plane(out, *extra):
 
 def _interrupt(args, out, sig):
     """Start ``symvi`` with args, send ``sig`` once a row is written; its exit code."""
+    # a shell's background job (as CI may be) ignores SIGINT, and a child inherits that:
+    # restore the default so that Python turns SIGINT into KeyboardInterrupt, as at a terminal
     p = subprocess.Popen([sys.executable, "-m", "symvi", *args], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE)
+                         stderr=subprocess.PIPE,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.time() + 90
     while time.time() < deadline and p.poll() is None:
         try:
