@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import ParameterError, SymviError
 from ..simulation import DEFAULT_PERTURBATION
+from .kernel import MIN_KEPT
 
 #: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
 POINTS_PER_TASK = 1024
@@ -134,7 +135,9 @@ def _check_spec(spec):
         raise ParameterError("--y", spec.y.name, f"a parameter other than --x ({spec.x.name})")
     if spec.x.n * spec.y.n > MAX_POINTS:
         raise ParameterError("--x", spec.x.text(), f"at most {MAX_POINTS} points in all")
-    for flag, value, lo in (("--impacts", spec.impacts, 1), ("--transient", spec.transient, 0)):
+    # the classifier's own floor on kept impacts, checked here before any store exists
+    for flag, value, lo in (("--impacts", spec.impacts, MIN_KEPT),
+                            ("--transient", spec.transient, 0)):
         if not (isinstance(value, (int, np.integer)) and lo <= value <= 10 ** 7):
             raise ParameterError(flag, value, f"an integer in {lo} .. 10000000")
     if spec.chunk_rows is not None and not (isinstance(spec.chunk_rows, (int, np.integer))

@@ -104,6 +104,9 @@ DRIFT_MAX = 60.0
 #: |y| beyond this: escape
 ESCAPE = 1e6
 
+#: fewest kept impacts: the decay tests compare quarters of the kept record
+MIN_KEPT = 4
+
 _TWO_PI = 2.0 * math.pi
 
 
@@ -441,8 +444,8 @@ def classify(C, Y0, n_keep, transient, *, follow=False, row_len=None):
         raise ParameterError("C", "model sizes", f"rows of one model size N with Y0 of "
                              f"width 2N = {2 * n}")
     n_keep, transient = int(n_keep), int(transient)
-    if n_keep < 4:
-        raise ParameterError("n_keep", n_keep, "an integer >= 4")
+    if n_keep < MIN_KEPT:
+        raise ParameterError("n_keep", n_keep, f"an integer >= {MIN_KEPT}")
     if transient < 0:
         raise ParameterError("transient", transient, "an integer >= 0")
     row_len = m if row_len is None else int(row_len)

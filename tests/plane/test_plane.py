@@ -205,6 +205,7 @@ def _tree(path):
     (["--x", "omega:0.7:0.8:8", "--y", "mu_m:-1:2:8"], "--y"),
     (["--x", "b:1:2:8", "--y", "r:0.5:0.9:8"], "--omega"),
     (["--x", "omega:0.7:0.8:8", "--y", "b:1.3:1.7:8", "--impacts", "0"], "--impacts"),
+    (["--x", "omega:0.7:0.8:8", "--y", "b:1.3:1.7:8", "--impacts", "3"], "--impacts"),
     (["--x", "omega:0.7:0.8:8", "--y", "b:1.3:1.7:8", "--workers", "-1"], "--workers"),
 ])
 def test_bad_input_one_line_exit_2_store_intact(tmp_path, capsys, args, key):
