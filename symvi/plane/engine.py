@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..simulation import STOP_NAMES
 from .grid import PlaneSpec, block_inputs
 from .store import PlaneStore
 
@@ -42,12 +43,7 @@ def compute_block(spec_text, r0, r1):
     C, Y0, own = block_inputs(spec, r0, r1)
     res = classify(C, Y0, spec.impacts, spec.transient, follow=spec.follow, row_len=spec.x.n)
     shape = (r1 - r0, spec.x.n)
-    from ..simulation import STOP_NAMES
-    if spec.follow:
-        # only the first point of a row starts from its own (or a lent) orbit
-        own = own.reshape(shape).copy()
-        own[:, 1:] &= ~_followed(res.code, shape)
-        own = own.ravel()
+    own = own & ~res.followed          # a followed point did not start from its own orbit
     return {"attractor": res.labels().astype("<U16").reshape(shape),
             "stop": np.array([STOP_NAMES[k] for k in res.stop], dtype="<U16").reshape(shape),
             "period": res.period.astype(np.int32).reshape(shape),
@@ -59,18 +55,9 @@ def compute_block(spec_text, r0, r1):
             "own_start": own.reshape(shape)}
 
 
-def _followed(code, shape):
-    """Points (columns 1..) that started from the previous point's attractor: those whose
-    left neighbour reached a bounded attractor (the rule of ``classify(follow=True)``)."""
-    from .kernel import ATTRACTORS
-    bounded = [ATTRACTORS.index(k) for k in ("period", "circle", "doubled-torus", "chaos")]
-    c = np.asarray(code).reshape(shape)
-    return np.isin(c[:, :-1], bounded)
-
-
 def compute_serial(spec):
     """The whole plane in this process, block by block (the reference of the tests)."""
-    text = json.dumps(spec.as_dict(), sort_keys=True)
+    text = spec.text()
     blocks = [compute_block(text, r0, r1) for r0, r1 in spec.blocks()]
     return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
 
@@ -110,7 +97,7 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
     store = PlaneStore(out, spec)
     exists = store.check()                 # refuses a path holding anything else
     todo = store.missing_blocks() if exists else spec.blocks()
-    text = json.dumps(spec.as_dict(), sort_keys=True)
+    text = spec.text()
     in_process = workers == 0 and client is None and scheduler is None
     # connect before creating anything: an unreachable scheduler leaves no empty store
     with (contextlib.nullcontext(client) if in_process or not todo

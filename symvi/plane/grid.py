@@ -7,6 +7,8 @@ frequency, any other name a named parameter of :meth:`symvi.Model.parameter_name
 Everything here is plain data, so a :class:`PlaneSpec` can be shipped to a Dask worker
 as the text of its model file.
 """
+import functools
+import json
 import math
 import warnings
 from dataclasses import dataclass
@@ -14,7 +16,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, SymviError
-from ..simulation import DEFAULT_PERTURBATION
 from .kernel import MIN_KEPT
 
 #: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
@@ -34,7 +35,7 @@ class Axis:
     hi: float
     n: int
 
-    @property
+    @functools.cached_property
     def values(self):
         return np.linspace(self.lo, self.hi, self.n)
 
@@ -108,6 +109,10 @@ class PlaneSpec:
                 "follow": bool(self.follow), "omega": self.omega,
                 "chunk_rows": self.rows_per_task}
 
+    def text(self):
+        """The canonical JSON of :meth:`as_dict` (sorted keys): tasks, store attrs, keys."""
+        return json.dumps(self.as_dict(), sort_keys=True)
+
     @classmethod
     def from_dict(cls, d):
         return cls(model=model_from_text(d["model"]), x=parse_axis(d["x"], "x"),
@@ -157,11 +162,10 @@ def _check_ranges(spec):
     from ..flow.linear import LinearFlow
     par = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name != "omega"]
     om = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name == "omega"]
-    models = []
     for flag, ax in par:
         for v in (ax.lo, ax.hi):
             try:
-                models.append(spec.model.with_(**{ax.name: v}))
+                spec.model.with_(**{ax.name: v})
             except SymviError as exc:
                 raise ParameterError(flag, ax.text(), f"values of {ax.name} the model accepts",
                                      str(exc)) from None
@@ -188,50 +192,45 @@ def _check_ranges(spec):
 def block_inputs(spec, r0, r1):
     """Constants (m, L) and start points (m, 2N) of rows r0 .. r1-1, row-major.
 
-    A start is the point's admissible period-1 orbit plus
-    :data:`symvi.simulation.DEFAULT_PERTURBATION`; where a point has none, the nearest
+    A start is the point's admissible period-1 orbit plus the default perturbation
+    (:func:`symvi.simulation.start_point`); where a point has none, the nearest
     point of its row that has one lends its start; where no point of the row has one,
     the model's generic start (v_k+ = -1, the other coordinates 0) is used.  Returns
     (C, Y0, has_orbit (m,) bool).
     """
     from ..flow import compiled as cf
-    from ..simulation import fixed_point
-    nx = spec.x.n
+    from ..simulation import start_point
+    nx, dim = spec.x.n, spec.model.dim
+    generic = np.zeros(dim)
+    generic[0] = -1.0
     C, Y0, have = [], [], []
     with warnings.catch_warnings():
         # near-resonance warnings: the grid was checked; per-point messages would flood
         warnings.simplefilter("ignore")
         for i in range(r0, r1):
-            row, ys = [], []
+            ys = []
             for j in range(nx):
                 model, omega = spec.point(i, j)
-                row.append(cf.constants(model, omega))
+                C.append(cf.constants(model, omega))
                 try:
-                    y = fixed_point(model, omega)
-                except SymviError:
-                    y = None
-                ys.append(None if y is None else np.add(y, DEFAULT_PERTURBATION[0]))
+                    ys.append(np.array(start_point(model, omega)[0]))
+                except SymviError:          # no admissible period-1 orbit here
+                    ys.append(None)
             ok = [j for j, y in enumerate(ys) if y is not None]
-            dim = spec.model.dim
             for j in range(nx):
                 if ys[j] is not None:
                     Y0.append(ys[j])
                 elif ok:
                     Y0.append(ys[min(ok, key=lambda k: (abs(k - j), k))])
                 else:
-                    g = np.zeros(dim)
-                    g[0] = -1.0
-                    Y0.append(g)
+                    Y0.append(generic)
                 have.append(ys[j] is not None)
-            C.extend(row)
     return cf.pack(C), np.array(Y0, dtype=np.float64), np.array(have)
 
 
 def model_text(model):
     """The model as text: the paper preset's five values (its parameter names stay
     usable), else the model file (:func:`symvi.model.dumps`)."""
-    import json
-
     from ..model import dumps
     if model.preset is not None:
         return json.dumps({k: v for k, v in model.preset.items() if k != "name"},
@@ -241,7 +240,6 @@ def model_text(model):
 
 def model_from_text(text):
     """Inverse of :func:`model_text`."""
-    import json
     import tomllib
 
     from ..model import Model, model_from_dict

@@ -374,7 +374,7 @@ def _classify_one(c, y, n_keep, transient, sec, times, pts, ang, scratch, out_f)
 
 @nb.njit(cache=True)
 def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, impacts, floats,
-                    stop, y_end):
+                    stop, y_end, followed):
     m = C.shape[0]
     n = int(C[0, _NN])
     dim = 2 * n
@@ -390,6 +390,7 @@ def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, imp
         if follow and p % row_len != 0:
             own = not (code[p - 1] == PERIOD or code[p - 1] == CIRCLE
                        or code[p - 1] == DOUBLED or code[p - 1] == CHAOS)
+        followed[p] = not own
         for i in range(dim):
             y[i] = Y0[p, i] if own else y_end[p - 1, i]
         cd, k, q, st = _classify_one(C[p], y, n_keep, transient, sec, times, pts, ang,
@@ -414,6 +415,7 @@ class Classified:
     max_velocity: np.ndarray         # float64, max |v_k-|
     stop: np.ndarray                 # int8, index into symvi._fastflow.STOP_NAMES
     y_end: np.ndarray                # (m, 2N) float64, the last section point
+    followed: np.ndarray             # bool, started from the previous point's y_end
 
     def labels(self):
         """Names of the attractors: "period-3", "circle", ..."""
@@ -457,7 +459,8 @@ def classify(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     floats = np.empty((4, m))
     stop = np.zeros(m, dtype=np.int8)
     y_end = np.empty((m, 2 * n))
+    followed = np.zeros(m, dtype=np.bool_)
     _classify_batch(C, Y0, n_keep, transient, bool(follow), row_len, code, period, impacts,
-                    floats, stop, y_end)
+                    floats, stop, y_end, followed)
     return Classified(code, period, impacts, floats[0], floats[1], floats[2], floats[3], stop,
-                      y_end)
+                      y_end, followed)

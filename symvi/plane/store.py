@@ -34,6 +34,8 @@ LABEL_WIDTH = 16
 FLOATS = ("lyapunov", "rotation", "impacts_per_period", "max_velocity")
 INTS = ("period", "impacts_per_orbit")
 STRINGS = ("attractor", "stop")
+#: every (y, x) variable, as a block of rows carries them
+GRID_VARS = (*FLOATS, *INTS, *STRINGS, "own_start")
 
 DESCRIPTIONS = {
     "attractor": "kind of attractor reached from the point's start: period-k (a periodic "
@@ -82,9 +84,9 @@ def _template(spec, command, version):
 def attrs_of(spec, command, version):
     """The store's attrs: what fixes the results (``spec``), and who made them."""
     from ..model import dumps
-    d = spec.as_dict()
-    return {"symvi_plane_format": FORMAT, "spec": json.dumps(d, sort_keys=True),
-            "model": dumps(spec.model), "preset": d["model"] if spec.model.preset else "",
+    return {"symvi_plane_format": FORMAT, "spec": spec.text(),
+            "model": dumps(spec.model),
+            "preset": spec.as_dict()["model"] if spec.model.preset else "",
             "symvi_version": version, "command": command or "",
             "x": spec.x.name, "y": spec.y.name, "impacts": spec.impacts,
             "transient": spec.transient, "follow": int(bool(spec.follow)),
@@ -108,29 +110,22 @@ class PlaneStore:
     @classmethod
     def read(cls, path):
         """An existing store, its spec read from its attrs (for plotting and reading)."""
-        import zarr
-
         from .grid import PlaneSpec
         path = os.fspath(path)
         valid = "a zarr store written by symvi plane"
         if not os.path.isdir(path):
             raise ParameterError("store", path, valid, "no such directory")
-        try:
-            g = zarr.open_group(path, mode="r")
-            fmt = g.attrs.get("symvi_plane_format")
-            text = g.attrs["spec"]
-        except Exception:   # noqa: BLE001 -- any unreadable store: one clear line
-            raise ParameterError("store", path, valid, "not a symvi plane store") from None
+        fmt, spec = _stored(path, "store", valid)
         if fmt != FORMAT:
             raise ParameterError("store", path, valid, f"store format {fmt}, this symvi "
                                  f"reads {FORMAT}")
-        return cls(path, PlaneSpec.from_dict(json.loads(text)))
+        return cls(path, PlaneSpec.from_dict(spec))
 
     def create(self, command, version):
         """Write the empty store (all blocks to do) under a temporary name, then rename."""
         ds = _template(self.spec, command, version)
         k = self.spec.rows_per_task
-        enc = {v: {"chunks": (k, self.spec.x.n)} for v in (*FLOATS, *INTS, *STRINGS, "own_start")}
+        enc = {v: {"chunks": (k, self.spec.x.n)} for v in GRID_VARS}
         enc["done"] = {"chunks": (k,)}
         folder = os.path.dirname(os.path.abspath(self.path))
         os.makedirs(folder, exist_ok=True)
@@ -145,16 +140,9 @@ class PlaneStore:
                 shutil.rmtree(tmp)
 
     def _check_same(self):
-        import zarr
-        want = json.loads(json.dumps(self.spec.as_dict(), sort_keys=True))
-        try:
-            g = zarr.open_group(self.path, mode="r")
-            fmt = g.attrs.get("symvi_plane_format")
-            have = json.loads(g.attrs["spec"])
-        except Exception:   # noqa: BLE001 -- any unreadable path: refuse, touch nothing
-            raise ParameterError("--out", self.path, "a new path, or a plane store of the "
-                                 "same run to resume", "it exists and is not a symvi "
-                                 "plane store") from None
+        want = json.loads(self.spec.text())
+        fmt, have = _stored(self.path, "--out", "a new path, or a plane store of the same "
+                            "run to resume")
         if fmt != FORMAT:
             raise ParameterError("--out", self.path, "a new path, or a plane store of the "
                                  "same run", f"store format {fmt}, this symvi writes {FORMAT}")
@@ -162,7 +150,7 @@ class PlaneStore:
         if diff:
             raise ParameterError("--out", self.path, "a new path, or the store of the same "
                                  "run (same model, axes, --impacts, --transient, --follow) "
-                                 "to resume it", f"it holds another run; differs in: "
+                                 "to resume it", "it holds another run; differs in: "
                                  + ", ".join(diff))
 
     def done(self):
@@ -179,7 +167,7 @@ class PlaneStore:
         their done flags."""
         import zarr
         g = zarr.open_group(self.path, mode="r+", zarr_format=2)
-        for name in (*FLOATS, *INTS, *STRINGS, "own_start"):
+        for name in GRID_VARS:
             g[name][r0:r1, :] = block[name]
         g["done"][r0:r1] = True
 
@@ -188,3 +176,14 @@ class PlaneStore:
         import xarray as xr
         with xr.open_zarr(self.path, consolidated=True) as ds:
             return ds.load()
+
+
+def _stored(path, name, valid):
+    """(format, spec dict) from a store's attrs; anything unreadable is refused naming
+    ``name`` (the store is only read)."""
+    import zarr
+    try:
+        g = zarr.open_group(path, mode="r")
+        return g.attrs.get("symvi_plane_format"), json.loads(g.attrs["spec"])
+    except Exception:   # noqa: BLE001 -- any unreadable path: one clear line, touch nothing
+        raise ParameterError(name, path, valid, "it is not a symvi plane store") from None

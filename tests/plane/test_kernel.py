@@ -140,9 +140,10 @@ def _same(a, b):
         assert np.array_equal(x.view(np.uint8), y.view(np.uint8)), f      # bit for bit
 
 
-def _concat(parts):
+def _concat(parts, followed=None):
+    f = np.zeros(sum(len(p.code) for p in parts), bool) if followed is None else followed
     return Classified(*(np.concatenate([getattr(p, f) for p in parts])
-                        for f in (*FIELDS, "stop", "y_end")))
+                        for f in (*FIELDS, "stop", "y_end")), np.asarray(f, bool))
 
 
 def test_follow_equals_serial_emulation():
@@ -150,14 +151,16 @@ def test_follow_equals_serial_emulation():
     run reached a bounded attractor, else from its own Y0; rows start from Y0."""
     C, Y0 = _row_inputs()
     got = classify(C, Y0, 500, 500, follow=True, row_len=3)
-    parts = []
+    parts, followed = [], []
     for i in range(len(C)):
         y = Y0[i]
-        if i % 3 and ATTRACTORS[parts[-1].code[0]] in ("period", "circle", "doubled-torus",
-                                                       "chaos"):
+        followed.append(bool(i % 3) and ATTRACTORS[parts[-1].code[0]] in (
+            "period", "circle", "doubled-torus", "chaos"))
+        if followed[-1]:
             y = parts[-1].y_end[0]
         parts.append(classify(C[i:i + 1], y[None], 500, 500))
     _same(got, _concat(parts))
+    assert list(got.followed) == followed           # the kernel reports whom it followed
     assert got.labels()[1] == "no-impact"
     # the third point followed nobody, the fifth and sixth followed their left neighbour
     assert not np.array_equal(got.y_end, classify(C, Y0, 500, 500).y_end)
