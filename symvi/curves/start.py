@@ -16,14 +16,18 @@ def parse_params(text):
     return names
 
 
-def start_points(model, omega_min, omega_max, kind):
+def start_points(model, omega_min, omega_max, kind, *, branches=None):
     """The admissible located points of ``kind`` on the branches over the interval, those of
-    the primary (fewest-impact) orbits first, then by omega: [(SpecialPoint, Branch)]."""
+    the primary (fewest-impact) orbits first, then by omega: [(SpecialPoint, Branch)].
+    ``branches``: those of :func:`symvi.continuation.period1_branches` over the interval,
+    when already computed."""
     from ..continuation import period1_branches
     if kind not in _BRANCH_KIND:
         raise ParameterError("kind", kind, "ns, flip or fold")
     out = []
-    for br in period1_branches(model, omega_min, omega_max):
+    if branches is None:
+        branches = period1_branches(model, omega_min, omega_max)
+    for br in branches:
         for sp in br.special:
             if sp.kind == kind and sp.orbit.admissible:
                 if not any(abs(sp.value - o.value) < 1e-9 and o.orbit.p == sp.orbit.p
@@ -62,6 +66,7 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     """
     import numpy as np
 
+    from ..continuation import period1_branches
     from ..errors import SymviError
     from ..model import Model
     model = Model.of(model)
@@ -73,12 +78,13 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     found, notes = [], []
     for v in np.linspace(plo, phi, rows + 2)[1:-1]:
         m = model.with_(**{other: float(v)})
+        try:
+            branches = period1_branches(m, wlo, whi)      # once per row, for every kind
+        except SymviError as exc:
+            notes.append(f"{other} = {v:.6g}: {exc}")
+            continue
         for kind in kinds:
-            try:
-                pts = start_points(m, wlo, whi, kind)
-            except SymviError as exc:
-                notes.append(f"{kind} at {other} = {v:.6g}: {exc}")
-                continue
+            pts = start_points(m, wlo, whi, kind, branches=branches)
             for sp, _ in pts:
                 xy = np.array([sp.value, v])
                 if any(_near(c, xy, span, names) for c in found if c["kind"] == kind):
