@@ -24,7 +24,7 @@ import mpmath
 
 from ._backend import FLOAT, MP
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
-from .flow import GRAZING, IMPACT, first_impact, forcing_amplitudes, motion_from
+from .flow import first_impact, forcing_amplitudes, motion_from
 from .params import check_omega, modal as _modal
 
 #: |sin(pi w_j / omega)| below which 1 - cos(2 pi w_j / omega) -> 0 is refused
@@ -123,22 +123,14 @@ def _branches(params, omega, m, lib):
 
 
 def _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d):
-    """(admissible, reason): physical branch and x1 < b on (0, 2 pi / omega)."""
-    if not vimp > 0:
-        return False, (f"impact velocity {float(vimp):.6g} <= 0: x1dot+ = {float(v1p):.6g} is not "
-                       "negative, the mass would not move away from the stop")
-    T = 2 * lib.pi / omega
-    mot = motion_from(m, omega, (lib.num(params.b), x20), (v1p, x20d), tau, lib)
-    hit = first_impact(mot, lib.num(params.b), lib, t_max=2 * T)
-    tol = 1e-9 if lib is FLOAT else lib.eps ** 0.5
-    if hit.status == GRAZING:
-        return False, f"grazing contact with the stop at t = {float(hit.t):.9g} < 2 pi/omega"
-    if hit.status == IMPACT and hit.t < T * (1 - tol):
-        return False, (f"x1(t) reaches b at t = {float(hit.t):.9g} < 2 pi/omega = {float(T):.9g}: "
-                       "the orbit would penetrate the stop")
-    if hit.status != IMPACT:
-        return False, "numeric flow found no return to the stop"
-    return True, ""
+    """(admissible, reason) of :func:`symvi.orbits.admissibility.check_flight`, on the
+    paper's modal flow: x1 < b on (0, 2 pi / omega)."""
+    from .orbits.admissibility import END_TOL, check_flight
+    b = lib.num(params.b)
+    mot = motion_from(m, omega, (b, x20), (v1p, x20d), tau, lib)
+    return check_flight(lambda t_max: first_impact(mot, b, lib, t_max=t_max), 2 * lib.pi / omega,
+                        v1p, vimp, mass=1, tol=END_TOL if lib is FLOAT else lib.eps ** 0.5,
+                        require_return=True)
 
 
 def period1_orbits(params, omega, *, digits=None, multipliers=True):

@@ -26,8 +26,9 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
-from ..flow.linear import GRAZING, IMPACT, NUMPY_LA, LinearFlow
+from ..flow.linear import NUMPY_LA, LinearFlow
 from ..maps.section import Section
+from .admissibility import END_TOL, check_flight
 
 #: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated
 ISOLATION_REFUSE = 2e-9
@@ -178,21 +179,10 @@ def _line(model, omega, digits):
 
 def _admissibility(flow, forcing, omega, z0, tau, vimp):
     lib = flow.lib
-    if not vimp > 0:
-        return False, (f"impact velocity {float(vimp):.6g} <= 0: v{flow.perm[0] + 1}+ = "
-                       f"{float(-flow.r * vimp):.6g} is not negative, the mass would not move "
-                       "away from the stop")
-    T = 2 * lib.pi / omega
-    hit = flow.motion(forcing, z0, tau).first_impact(t_max=2 * T)
-    tol = 1e-9 if flow.la is NUMPY_LA else lib.eps ** 0.5
-    if hit.status == GRAZING:
-        return False, f"grazing contact with the stop at t = {float(hit.t):.9g} < 2 pi/omega"
-    if hit.status == IMPACT and hit.t < T * (1 - tol):
-        return False, (f"x{flow.perm[0] + 1}(t) reaches the stop at t = {float(hit.t):.9g} < "
-                       f"2 pi/omega = {float(T):.9g}: the orbit would penetrate the stop")
-    if hit.status != IMPACT:
-        return False, "numeric flow found no return to the stop"
-    return True, ""
+    tol = END_TOL if flow.la is NUMPY_LA else lib.eps ** 0.5
+    motion = flow.motion(forcing, z0, tau)
+    return check_flight(lambda t_max: motion.first_impact(t_max=t_max), 2 * lib.pi / omega,
+                        z0[flow.n], vimp, mass=flow.perm[0] + 1, tol=tol, require_return=True)
 
 
 def period1_orbits(model, omega, *, digits=None, multipliers=True):

@@ -25,8 +25,9 @@ import numpy as np
 
 from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
-from ..flow.linear import GRAZING, IMPACT, LinearFlow
+from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
+from .admissibility import check_flight
 
 #: Newton: relative size of the last correction at convergence, and iteration limit
 NEWTON_TOL = 1e-11
@@ -369,22 +370,14 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
 
 
 def admissible(problem, fl, flow, F, T):
-    """(ok, reason): every post-impact velocity negative, every flight free of the stop."""
+    """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight."""
     N, k = problem.N, flow.perm[0] + 1
     for i, (z0, tau, z, *_rest) in enumerate(fl):
-        if not T[i] > 0:
-            return False, f"flight {i + 1} has a non-positive duration t = {T[i]:.6g}"
-        if not z[N] > 0:
-            return False, (f"impact {i + 1}: velocity v{k}- = {z[N]:.6g} <= 0, so v{k}+ = "
-                           f"{-flow.r * z[N]:.6g} is not negative (the mass would not leave the stop)")
-        if not z0[N] < 0:
-            return False, f"after impact {i}: v{k}+ = {z0[N]:.6g} is not negative"
-        hit = flow.motion(F, z0, tau).first_impact(t_max=T[i] * (1 + 1e-6))
-        if hit.status == GRAZING and hit.t < T[i] * (1 - 1e-9):
-            return False, f"flight {i + 1} grazes the stop at t = {float(hit.t):.9g}"
-        if hit.status == IMPACT and hit.t < T[i] * (1 - 1e-9):
-            return False, (f"flight {i + 1}: x{k}(t) reaches the stop at t = {float(hit.t):.9g} "
-                           f"< {T[i]:.9g}, the orbit would penetrate the stop")
+        motion = flow.motion(F, z0, tau)
+        ok, why = check_flight(lambda t_max: motion.first_impact(t_max=t_max), T[i], z0[N],
+                               z[N], mass=k, flight=i + 1)
+        if not ok:
+            return ok, why
     return True, ""
 
 

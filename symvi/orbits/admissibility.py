@@ -1,0 +1,54 @@
+"""Admissibility of one flight of a periodic orbit: the physical branch, one owner.
+
+A flight from an impact to the next, of duration T, is admissible when
+
+* T > 0;
+* the mass leaves the stop: the post-impact velocity at its start is negative
+  (v_k+ = -r v_k- with 0 < r <= 1, eq. (2));
+* it arrives moving towards the stop: the impact velocity v_k- at its end is
+  positive (-> 0 is grazing of the first kind);
+* x_k(t) < b on (0, T): no earlier contact, transversal (penetration) or grazing
+  (second kind), found by the provably safe first-impact finder of the flow.
+
+Every period-1 and n-p orbit of every model (:mod:`symvi.orbits.period1`,
+:mod:`symvi.orbits.periodic`) and the paper's own chain (:mod:`symvi.orbit`)
+use this test; only the flow that supplies ``first_impact`` differs.
+"""
+from ..flow.linear import GRAZING, IMPACT
+
+#: relative margin before the end of a flight inside which a contact is the flight's own impact
+END_TOL = 1e-9
+
+
+def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_TOL,
+                 require_return=False):
+    """(ok, reason) of one flight (see the module docstring).
+
+    ``first_impact(t_max)`` returns the flow's first contact (status, t) after the
+    start; ``v_start`` is the post-impact velocity at the start and ``v_end`` the
+    impact velocity at the end; ``mass`` the stop's mass (1-based), ``flight`` the
+    flight's number in the orbit (None for a period-1 orbit).  ``require_return``
+    also demands that the flow itself finds the impact at T (an orbit from closed
+    form, not from a solver whose equations already impose it).
+    """
+    k = mass
+    where = "" if flight is None else f"flight {flight}: "
+    if not T > 0:
+        return False, f"{where}non-positive flight time t = {float(T):.6g}"
+    if not v_end > 0:
+        return False, (f"{where}impact velocity v{k}- = {float(v_end):.6g} <= 0: the mass does "
+                       "not arrive moving towards the stop (grazing where it passes through 0)")
+    if not v_start < 0:
+        return False, (f"{where}impact velocity {float(v_end):.6g}, but v{k}+ = "
+                       f"{float(v_start):.6g} is not negative: the mass would not move away "
+                       "from the stop")
+    hit = first_impact(T * (2 if require_return else 1 + 1e-6))
+    early = hit.t < T * (1 - tol)
+    if hit.status == GRAZING and (early or require_return):
+        return False, f"{where}grazing contact with the stop at t = {float(hit.t):.9g}"
+    if hit.status == IMPACT and early:
+        return False, (f"{where}x{k}(t) reaches b (the stop) at t = {float(hit.t):.9g} < "
+                       f"{float(T):.9g}: the orbit would penetrate the stop")
+    if require_return and hit.status != IMPACT:
+        return False, f"{where}the flow found no return to the stop"
+    return True, ""
