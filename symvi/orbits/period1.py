@@ -17,7 +17,10 @@ stays regular at r = 1 (where I - E Phi is singular).
 Branches: the line is nu . (c, s) = rho with nu the unit normal pointing *against*
 the gradient of x_k(0) in (cos tau, sin tau) on the fixed-point set, so that
 tau = arg(nu) +- arccos(rho): "+" and "-" as the paper's tau0 = phi +- arccos(alpha b / rho)
-(its alpha = (1 - r) w1 w2 D is negative in its sign convention, D < 0).
+(its alpha = (1 - r) w1 w2 D is negative in its sign convention, D < 0).  At r = 1
+with no damping alpha = 0: b no longer moves the line and that gradient's sign is
+rounding noise, so the orientation is the limit r -> 1- (taken at r - 1e-6), which
+keeps the names continuous in omega and equal to the paper's.
 """
 import warnings
 from dataclasses import dataclass, field
@@ -33,6 +36,9 @@ from .admissibility import END_TOL, check_flight
 #: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated
 ISOLATION_REFUSE = 2e-9
 ISOLATION_WARN = 2e-4
+#: |nu . p1| (relative) below which the branch orientation is taken from r - ORIENT_DR
+ORIENT_NOISE = 1e-12
+ORIENT_DR = 1e-6
 
 
 @dataclass(frozen=True)
@@ -82,7 +88,7 @@ def _svd(la, G):
 class _Line:
     """The solution line of the period-1 conditions at one omega."""
 
-    def __init__(self, flow, omega):
+    def __init__(self, flow, omega, restitution=None):
         la, lib = flow.la, flow.lib
         n2 = 2 * flow.n
         self.flow, self.omega = flow, omega
@@ -93,7 +99,7 @@ class _Line:
         self.Ps = np.concatenate([F.U, -omega * F.V])
         one = 1 if la is NUMPY_LA else mpmath.mpf(1)
         Ed = np.array([one] * n2, dtype=object if la is not NUMPY_LA else float)
-        Ed[flow.n] = -flow.r
+        Ed[flow.n] = -(flow.r if restitution is None else restitution)
         I = la.arr(np.eye(n2))
         IE = one - Ed
         G = np.zeros((n2 + 1, n2 + 2), dtype=object if la is not NUMPY_LA else float)
@@ -133,7 +139,13 @@ class _Line:
         self.a = nc * nc + ns * ns
         nrm = lib.sqrt(self.a)
         nu = (ns / nrm, -nc / nrm)                 # along the gradient of x_k(0)
-        if nu[0] * p1[n2] + nu[1] * p1[n2 + 1] < 0:
+        side = nu[0] * p1[n2] + nu[1] * p1[n2 + 1]
+        if restitution is None and not lib.fabs(side) > ORIENT_NOISE * (lib.fabs(p1[n2]) + lib.fabs(p1[n2 + 1])):
+            # r = 1 with no damping: b no longer moves the line (the paper's alpha = (1 - r)
+            # w1 w2 D = 0) and the sign above is rounding noise; orient as the limit r -> 1-
+            ref = _Line(flow, omega, flow.r - lib.num(ORIENT_DR)).nu
+            side = -(nu[0] * ref[0] + nu[1] * ref[1])
+        if side < 0:
             nu = (-nu[0], -nu[1])
         self.nu = (-nu[0], -nu[1])                 # the paper's orientation (see module doc)
         self.ratio = self.nu[0] * self.Xp[n2] + self.nu[1] * self.Xp[n2 + 1]

@@ -163,10 +163,6 @@ def test_cli_conservative_preset(capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="symvi.orbits.period1 labels the branches by the sign "
-                   "of nu . p1, which is rounding noise at r = 1 (ratio = 0): '+' and '-' swap "
-                   "between neighbouring omegas, so per-branch events of a conservative Model "
-                   "flip (the scan stops at MAX_SAMPLES)")
 def test_conservative_model_events_match_the_paper_chain():
     old = _scan(Params(2, 5, 0, 1.5, 1.0), 0.9, 1.3)
     new = _scan(Model.luo_xie(2, 5, 0, 1.5, 1.0), 0.9, 1.3)

@@ -71,6 +71,25 @@ def test_paper_model_through_Model_gives_todays_numbers(params, omega):
             assert min(abs(z - x) for x in n.multipliers) < 1e-12
 
 
+def test_branch_names_at_r_one_follow_the_paper_on_a_grid():
+    """At r = 1 (no damping) b no longer moves the line of fixed points and the orientation
+    is the limit r -> 1-: the names match the paper chain at every omega, float and mpmath."""
+    params = Params(2, 5, 0, 1.5, 1.0)
+    model = Model.luo_xie(**params.as_dict())
+    for omega in np.linspace(0.9, 1.3, 41)[1:]:
+        old = {o.branch: o.tau0 for o in paper_orbits(params, omega)}
+        new = {o.branch: o.y[-1] for o in period1_orbits(model, omega)}
+        assert set(old) == set(new) and len(old) == 2
+        for br in old:
+            assert abs(math.remainder(new[br] - old[br], 2 * math.pi)) < 1e-9, (omega, br)
+    old = {o.branch: o.tau0 for o in paper_orbits(params, 1.25, digits=30)}
+    new = {o.branch: o.y[-1] for o in period1_orbits(model, 1.25, digits=30)}
+    with mpmath.mp.workdps(30):
+        for br in old:
+            d = (new[br] - old[br]) / (2 * mpmath.pi)
+            assert abs(d - mpmath.nint(d)) < mpmath.mpf(10) ** -25
+
+
 def test_mpmath_orbit_agrees_and_is_a_fixed_point_to_40_digits():
     model = ALL["three"]
     o = [x for x in period1_orbits(model, 0.95, digits=45) if x.admissible][0]
