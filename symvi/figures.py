@@ -159,7 +159,7 @@ def circle_loglog(mu, measured, predicted=None, names=LABELS, title=""):
 #: marker and colour of each special-point kind on a branch plot
 _SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o", "tab:green"),
                   "grazing": ("v", "tab:purple"), "admissibility": ("x", "tab:gray"),
-                  "unlocated": ("x", "k")}
+                  "branch-point": ("P", "tab:orange"), "unlocated": ("x", "k")}
 
 
 def branches(curves, param, ylabel=None, title="", ax=None):
@@ -183,7 +183,8 @@ def branches(curves, param, ylabel=None, title="", ax=None):
             mk, col = _SPECIAL_STYLE.get(kind, ("*", "k"))
             for y in ys:
                 ax.plot(value, y, mk, color=col, ms=6, mfc="none")
-            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G"}.get(kind, kind),
+            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G",
+                         "branch-point": "BP"}.get(kind, kind),
                         (value, ys[0]), textcoords="offset points", xytext=(4, 4), fontsize=7,
                         color=col)
     ax.set_xlabel(param if param != "omega" else r"$\omega$")

@@ -31,9 +31,9 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..errors import NearSingularWarning, SymviError
-from ..normal_form import flip_coefficient, fold_coefficient, normal_form
+from ..normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .points import SpecialPoint, root_on_arc
+from .points import SpecialPoint, correct, root_on_arc
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -64,6 +64,7 @@ class Tracker:
         if not self._conservative(X):
             iu = np.triu_indices(len(mu), 1)
             out["ns"] = float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
+            out["bp"] = float(np.prod(mu - 1).real)
         else:
             # multipliers on the unit circle move along it: the strong resonances
             # lambda^3 = 1, lambda^4 = 1 are met at isolated points (codim 1 here)
@@ -90,6 +91,10 @@ class Tracker:
         for kind in ("fold",) if graze else ("fold", "flip", "ns", "R3", "R4"):
             if _sign_change(pa.get(kind), pb.get(kind)):
                 self._try(kind, Xa, ta, Xb, index)
+        # a multiplier through +1 where the branch does not turn: two branches cross
+        if not graze and _sign_change(pa.get("bp"), pb.get("bp")) and \
+                not _sign_change(pa["fold"], pb["fold"]):
+            self._try("branch-point", Xa, ta, Xb, index)
         if pta.admissible != pt.admissible and not graze:
             bad = Xb if pta.admissible else Xa
             self._try("interior", Xa, ta, Xb, index, bad=bad,
@@ -112,6 +117,41 @@ class Tracker:
     def _root(self, f, Xa, ta, Xb):
         return root_on_arc(self.problem, f, Xa, ta, Xb)
 
+    def _interpolated_root(self, f, Xa, ta, Xb, nodes=9):
+        """A zero of f(X, Gu) on the arc, for a branch point: there [G_u G_lam] has a
+        two-dimensional kernel and the corrector's bordered matrix is singular, so points
+        near it cannot be corrected to full accuracy.  The branch X(s) and f(s) are smooth
+        in the arclength s, so both are interpolated from corrected Chebyshev nodes of the
+        bracket (any failed node dropped) and the root taken from the interpolant.
+        Returns (X, spread): spread = |root| change when the last node is dropped."""
+        pr, m = self.problem, self.problem.size
+        c0 = float(np.dot(ta, Xa))
+        sb = float(np.dot(ta, Xb - Xa))
+        S, F, Xs = [], [], []
+        for k in range(nodes):
+            s = 0.5 * sb * (1 - math.cos(math.pi * (k + 0.5) / nodes))
+            res = correct(pr, Xa + (s / sb) * (Xb - Xa), ta, c0 + s)
+            if res is not None:
+                S.append(s)
+                F.append(f(res[0], res[1]))
+                Xs.append(res[0])
+        if len(S) < 6:
+            raise SymviError(f"only {len(S)} of {nodes} points of the bracket could be corrected")
+        S, F, Xs = np.array(S), np.array(F), np.array(Xs)
+
+        def root(k):
+            P = np.polynomial.Chebyshev.fit(S[:k], F[:k], k - 1, domain=[0, sb])
+            r = [z.real for z in P.roots() if abs(z.imag) < 1e-9 * sb and 0 <= z.real <= sb]
+            if len(r) != 1:
+                raise SymviError(f"the interpolated test function has {len(r)} roots in the "
+                                 "bracket")
+            return r[0]
+        s0 = root(len(S))
+        spread = abs(s0 - root(len(S) - 1))
+        X = np.array([np.polynomial.Chebyshev.fit(S, Xs[:, i], len(S) - 1, domain=[0, sb])(s0)
+                      for i in range(m + 1)])
+        return X, spread * abs(float(ta[-1])) + abs(float(np.dot(ta, X)) - c0 - s0)
+
     def _orbit(self, X, Gu, admissibility=True):
         m = self.problem.size
         return orbit_of(self.problem, X[:m], X[m], Gu, admissibility=admissibility)
@@ -130,6 +170,19 @@ class Tracker:
                                 "a multiplier through +1: the branch turns (saddle-node); "
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
                                 "<p,q> = 1)" + note, index)
+        if kind == "branch-point":
+            X, spread = self._interpolated_root(lambda X, Gu: self._mu_prod(X, Gu, -1),
+                                                Xa, ta, Xb)
+            orbit = self._orbit(X, None)
+            Gu = pr.evaluate(X[:m], X[m])[1]
+            e = real_critical(self._mono(X, Gu), 1.0)
+            return SpecialPoint("branch-point", float(X[m]), orbit,
+                                {"multiplier": e.mu, "gap": e.gap, "spread": float(spread)},
+                                "a multiplier through +1 where the branch does not turn: "
+                                "another branch of orbits crosses this one here (the orbit is "
+                                "not isolated; e.g. a symmetry-breaking pitchfork, or the "
+                                "period-doubled branch met on an orbit traversed twice); symvi "
+                                "reports it and continues on the same branch", index)
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
@@ -160,8 +213,12 @@ class Tracker:
                 lambda X, t, Gu: _unit_circle_resonance(
                     np.linalg.eigvals(self._mono(X, Gu)), m_), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            mu = min(orbit.multipliers, key=lambda z: abs(z ** m_ - 1) if z.imag > 0 else 9)
-            if abs(mu ** m_ - 1) > 1e-6:          # lambda^m = -1: a weak resonance 1:2m
+            # a primitive m-th root of unity: lambda^m = -1 (a weak resonance 1:2m) and a
+            # pair meeting at -1 (lambda^4 = 1, but the 1:2 resonance, a flip) are not 1:m
+            prim = [complex(math.cos(2 * math.pi * k / m_), math.sin(2 * math.pi * k / m_))
+                    for k in range(1, m_) if math.gcd(k, m_) == 1]
+            mu = min(orbit.multipliers, key=lambda z: min(abs(z - w) for w in prim))
+            if min(abs(mu - w) for w in prim) > 1e-6:
                 return None
             return SpecialPoint(kind, float(X[m]), orbit,
                                 {"theta": float(np.angle(mu)), "distance": float(abs(mu ** m_ - 1))},

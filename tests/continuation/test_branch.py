@@ -113,6 +113,22 @@ def test_flip_and_period_doubled_branch_of_a_damped_oscillator():
     assert _kinds(doubled, "flip")
 
 
+def test_branch_point_where_an_orbit_traversed_twice_meets_its_doubled_branch():
+    """The 1-1 orbit solved as a 2-2 orbit has the multipliers mu^2: at the 1-1 flip one
+    passes +1 without a fold, and the period-doubled branch crosses there (a pitchfork).
+    The branch point is located, at the flip of the 1-1 branch, and no fold is claimed."""
+    one = continue_branch(ONE_DAMPED, "omega", 2.0, 3.0)
+    flip = _kinds(one, "flip")[0].value
+    two = continue_branch(ONE_DAMPED, "omega", 2.0, 3.0, n=2, p=2, guess=one.points[0].orbit.y)
+    bps = _kinds(two, "branch-point")
+    assert len(bps) == 1 and not _kinds(two, "fold") and not _kinds(two, "unlocated")
+    assert abs(bps[0].value - flip) < 1e-10
+    assert abs(bps[0].coefficients["multiplier"] - 1) < 1e-9
+    assert bps[0].orbit.residual < 1e-12
+    # on the primary branch the same crossing is the flip, not a branch point
+    assert not _kinds(one, "branch-point")
+
+
 def test_continuation_in_b_and_r_agrees_with_hopf_points(paper_hopf):
     wc = paper_hopf.points[0].omega_c
     for name, val, a, b in (("b", 1.5, 1.45, 1.55), ("r", 0.8, 0.78, 0.82)):
