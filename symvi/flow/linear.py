@@ -37,6 +37,7 @@ import numpy as np
 
 from .._backend import FLOAT, MP
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ._steady import steady_state
 
 IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
 
@@ -268,6 +269,14 @@ class LinearFlow:
         return (Li @ np.asarray(self.K, dtype=float) @ Li.T,
                 Li @ np.asarray(self.C, dtype=float) @ Li.T)
 
+    @functools.cached_property
+    def modal64(self):
+        """(lambda, W, W^-1, A) as contiguous complex128 / float64 arrays (float backend):
+        the modal data of the compiled kernels; shared by flows that differ in the stop."""
+        c = np.ascontiguousarray
+        return (c(self.lam, dtype=complex), c(self.W, dtype=complex),
+                c(self.Winv, dtype=complex), c(self.A, dtype=float))
+
     # ---- forcing ---------------------------------------------------------------
     def check_omega(self, omega, name="omega", warn=True):
         """A valid forcing frequency: finite, in range, not at a forcing resonance.
@@ -311,6 +320,9 @@ class LinearFlow:
 
     def _forcing(self, omega):
         la, lib = self.la, self.lib
+        if la is NUMPY_LA:                 # the same two solves, compiled (one LU)
+            w = float(omega)
+            return Forcing(w, *steady_state(self.K, self.M, self.C, self.P, w))
         w = lib.num(omega)
         i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
         D = self.K - w * w * self.M + i * w * self.C

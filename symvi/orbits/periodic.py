@@ -25,8 +25,10 @@ import numpy as np
 
 from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
-from ..flow.linear import IMPACT, LinearFlow
+from ..flow.compiled import STATUS_NAMES, first_impact_from
+from ..flow.linear import IMPACT, FirstImpact, LinearFlow
 from ..maps.section import Section
+from . import _shooting
 from .admissibility import check_flight
 
 #: Newton: relative size of the last correction at convergence, and iteration limit
@@ -46,8 +48,13 @@ class ConvergenceError(SymviError):
 class Problem:
     """G(u; lam) = 0 of the n-p orbits of ``model``, continued in ``param`` (or none).
 
-    ``omega`` is the forcing frequency when ``param`` is not "omega".
+    ``omega`` is the forcing frequency when ``param`` is not "omega".  ``compiled``
+    (default) evaluates G and its derivatives by the numba kernel of
+    :mod:`symvi.orbits._shooting`; False uses the numpy reference (same results to
+    rounding).
     """
+
+    compiled = True
 
     def __init__(self, model, n, p, omega=None, param=None):
         _check_np(n, p)
@@ -91,9 +98,20 @@ class Problem:
 
     def flights(self, u, lam, check=True):
         """Per impact: (z0, tau, z(t), Phi, dz/dtau, dz/dt) and the (model, flow, forcing)."""
-        key = (np.asarray(u, dtype=float).tobytes(), lam)
-        if self._last is not None and self._last[0] == key:   # a point is asked for twice
-            return self._last[1]
+        u = np.asarray(u, dtype=float)
+        key = (u.tobytes(), lam)
+        if self._last is None or self._last[0] != key:    # a point is asked for twice
+            if self.compiled:
+                self._shoot(u, lam, check, False, False)
+            else:
+                self._flights_numpy(u, lam, check, key)
+        fl, ctx = self._last[1]
+        if not isinstance(fl, list):                  # compiled: per-impact views, once
+            fl = [tuple(a[i] for a in fl) for i in range(self.p)]
+            self._last = (key, (fl, ctx))
+        return fl, ctx
+
+    def _flights_numpy(self, u, lam, check, key):
         model, flow, F = self.at(lam, check)
         Y, T = self.split(u)
         out = []
@@ -101,10 +119,33 @@ class Problem:
             z0, tau = self.sec.state(Y[i], flow.b)
             out.append((z0, tau) + flow.flight(F, z0, tau, T[i]))
         self._last = (key, (out, (model, flow, F)))
-        return out, (model, flow, F)
+
+    def _shoot(self, u, lam, check, jac, dom):
+        """The compiled kernel at (u, lam): (G, Gu, dG/domega, context); the flights cached."""
+        model, flow, F = ctx = self.at(lam, check)
+        lam_, W, Winv, A = flow.modal64
+        out = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega, flow.b,
+                              flow.r, self.n_periods, u, self.p, jac, dom)
+        self._last = ((u.tobytes(), lam), (out[3:], ctx))
+        return out[0], out[1], out[2], ctx
 
     def evaluate(self, u, lam, jac=True, dparam=False, check=True):
-        """(G, dG/du, dG/dlam) at (u, lam); the derivatives are None when not asked for."""
+        """(G, dG/du, dG/dlam) at (u, lam); the derivatives are None when not asked for.
+
+        Compiled (:mod:`symvi.orbits._shooting`) unless ``compiled`` is False; the numpy
+        reference is :meth:`_evaluate_numpy`."""
+        if not self.compiled:
+            return self._evaluate_numpy(u, lam, jac, dparam, check)
+        u = np.ascontiguousarray(u, dtype=float)
+        dom = dparam and self.param == "omega"
+        G, Gu, Gl, (model, flow, F) = self._shoot(u, lam, check, jac, dom)
+        if dparam and not dom:
+            fl = self.flights(u, lam, check=False)[0]
+            Gl = self._dparam(fl, model, flow, F, self.split(u)[1], self.param)
+        return G, Gu if jac else None, Gl if dparam else None
+
+    def _evaluate_numpy(self, u, lam, jac=True, dparam=False, check=True):
+        """The reference of :meth:`evaluate`: the same system through :meth:`flights` and numpy."""
         fl, (model, flow, F) = self.flights(u, lam, check)
         d, p, idx, w = self.d, self.p, self.idx, F.omega
         Y, T = self.split(u)
@@ -139,6 +180,9 @@ class Problem:
     def derivative(self, u, lam, name):
         """dG/d(name) at (u, lam), fixed u, for any named parameter or omega (not only
         the continued one): a two-parameter curve needs both."""
+        if self.compiled and name == "omega":
+            u = np.ascontiguousarray(u, dtype=float)
+            return self._shoot(u, lam, False, False, True)[2]
         fl, (model, flow, F) = self.flights(u, lam, check=False)
         return self._dparam(fl, model, flow, F, self.split(u)[1], name)
 
@@ -170,6 +214,12 @@ class Problem:
 
     def monodromy(self, u, Gu):
         """The map Jacobians DP_i (eq. (30): the time eliminated) and their product."""
+        if self.compiled:
+            mats, M, ok = _shooting.monodromy(np.ascontiguousarray(Gu, dtype=float), self.p,
+                                              self.d)
+            if not ok:
+                raise _no_map_jacobian()
+            return list(mats), M
         d, p = self.d, self.p
         mats = []
         for i in range(p):
@@ -178,13 +228,17 @@ class Problem:
             dhdt = Gu[r0:r0 + d, ct]
             dgdy, dgdt = Gu[ct, c0:c0 + d], Gu[ct, ct]
             if dgdt == 0:
-                raise SingularCaseError("grazing", "the impact velocity is zero: the impact "
-                                        "map's Jacobian (eq. (30)) does not exist")
+                raise _no_map_jacobian()
             mats.append(dhdy - np.outer(dhdt, dgdy) / dgdt)
         M = mats[0]
         for D in mats[1:]:
             M = D @ M
         return mats, M
+
+
+def _no_map_jacobian():
+    return SingularCaseError("grazing", "the impact velocity is zero: the impact map's "
+                             "Jacobian (eq. (30)) does not exist")
 
 
 def _check_np(n, p):
@@ -360,7 +414,8 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     _, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
     vimp = tuple(float(f[2][problem.N]) for f in fl)
-    ok, why = admissible(problem, fl, flow, F, T) if admissibility else (True, "")
+    finder = _CompiledFinder(flow) if problem.compiled else flow
+    ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
     two_pi = 2 * math.pi
     pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
     return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
@@ -379,6 +434,28 @@ def admissible(problem, fl, flow, F, T):
         if not ok:
             return ok, why
     return True, ""
+
+
+class _CompiledFinder:
+    """The flow as :func:`admissible` uses it (``perm``, ``motion(F, z0, tau)``), its
+    first-impact finder the compiled twin of :mod:`symvi.flow.compiled`."""
+
+    def __init__(self, flow):
+        self.perm, self.flow, self._c = flow.perm, flow, None
+
+    def motion(self, F, z0, tau):
+        if self._c is None:
+            self._c = _shooting.finder_constants(self.flow, F)
+        return _CompiledMotion(self._c, Section.of(self.flow.model).point(z0, tau))
+
+
+class _CompiledMotion:
+    def __init__(self, c, y):
+        self.c, self.y = c, np.array(y, dtype=float)
+
+    def first_impact(self, t_max=None):
+        st, t, z, _, steps = first_impact_from(self.c, self.y, t_max)
+        return FirstImpact(STATUS_NAMES[st], t, z, steps)
 
 
 # --------------------------------------------------------------------------- the solver

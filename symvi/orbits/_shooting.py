@@ -1,0 +1,231 @@
+"""Compiled float64 twin of :meth:`symvi.orbits.periodic.Problem.evaluate`.
+
+One numba call (cached on disk) computes, for the n-p shooting system of
+:mod:`symvi.orbits.periodic`, every flight (z(t), Phi(t) = Re(W e^{lambda t} W^-1),
+dz/dtau, dz/dt, eq. (19) generalised), the residual G, its Jacobian G_u and
+dG/domega, with the formulas and the order of operations of the numpy reference
+(``Problem._evaluate_numpy``), so that the two agree to rounding
+(tests/continuation/test_compiled_shooting.py).  Also compiled: the map Jacobians
+DP_i with the flight time eliminated and their product (eq. (30)), and the
+omega-dependent part of the constants of the compiled first-impact finder of
+:mod:`symvi.flow.compiled` (its layout read from :func:`symvi.flow.compiled.constants`
+itself, see :func:`finder_constants`).
+"""
+import math
+
+import numba as nb
+import numpy as np
+
+from ..flow import compiled as _fc
+from ..flow.linear import OMEGA_RANGE
+
+_OMEGA_MIN = 2 * OMEGA_RANGE[0]
+
+_TWO_PI = 2.0 * math.pi
+
+
+@nb.njit(cache=True, inline="always")
+def _zp(U, V, w, ph, out):
+    """(x_p, v_p) at phase ph: Forcing.zp."""
+    n = U.shape[0]
+    s, c = math.sin(ph), math.cos(ph)
+    for i in range(n):
+        out[i] = U[i] * s + V[i] * c
+        out[n + i] = w * (U[i] * c - V[i] * s)
+
+
+@nb.njit(cache=True, inline="always")
+def _zp_phase(U, V, w, ph, out):
+    """d zp / d phase: Forcing.zp_phase."""
+    n = U.shape[0]
+    s, c = math.sin(ph), math.cos(ph)
+    for i in range(n):
+        out[i] = U[i] * c - V[i] * s
+        out[n + i] = -w * (U[i] * s + V[i] * c)
+
+
+@nb.njit(cache=True, inline="always")
+def _zp_omega(U, V, dU, dV, w, ph, out):
+    """d zp / d omega at fixed phase: Forcing.zp_omega."""
+    n = U.shape[0]
+    s, c = math.sin(ph), math.cos(ph)
+    for i in range(n):
+        out[i] = dU[i] * s + dV[i] * c
+        out[n + i] = (U[i] * c - V[i] * s) + w * (dU[i] * c - dV[i] * s)
+
+
+@nb.njit(cache=True, inline="always")
+def _matvec(Mx, x, out):
+    d = x.shape[0]
+    for a in range(d):
+        s = 0.0
+        for b in range(d):
+            s += Mx[a, b] * x[b]
+        out[a] = s
+
+
+@nb.njit(cache=True)
+def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
+    """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
+
+    Returns (G, Gu, Gw, Z0, TAU, Z, PHI, DZT, DZDT): per impact i the start state Z0[i]
+    (stop-first order) and phase TAU[i], the state Z[i] at the end of the flight,
+    PHI[i] = dz/dz0, DZT[i] = dz/dtau and DZDT[i] = dz/dt there.
+    """
+    d = lam.shape[0]
+    N = d // 2
+    m = p * (d + 1)
+    G = np.empty(m)
+    Gu = np.zeros((m, m)) if jac else np.zeros((0, 0))
+    Gw = np.empty(m) if dom else np.empty(0)
+    Z0 = np.empty((p, d))
+    TAU = np.empty(p)
+    Z = np.empty((p, d))
+    PHI = np.empty((p, d, d))
+    DZT = np.empty((p, d))
+    DZDT = np.empty((p, d))
+    idx = np.empty(d - 1, np.int64)                # y[:d-1] = z[idx]
+    idx[0] = N
+    for q in range(1, N):
+        idx[q] = q
+        idx[N - 1 + q] = N + q
+    e = np.empty(d, np.complex128)
+    a0 = np.empty(d)
+    a1 = np.empty(d)
+    a2 = np.empty(d)
+    hom = np.empty(d)
+    for i in range(p):
+        y = u[i * d:(i + 1) * d]
+        t = u[p * d + i]
+        z0 = Z0[i]
+        z0[0] = b                                   # Section.state
+        for q in range(1, N):
+            z0[q] = y[q]
+            z0[N + q] = y[N - 1 + q]
+        z0[N] = y[0]
+        tau = y[d - 1]
+        TAU[i] = tau
+        # Phi(t) = Re((W e^{lambda t}) W^-1)
+        for k in range(d):
+            e[k] = np.exp(lam[k] * t)
+        Phi = PHI[i]
+        for a in range(d):
+            for c in range(d):
+                s = 0j
+                for k in range(d):
+                    s += (W[a, k] * e[k]) * Winv[k, c]
+                Phi[a, c] = s.real
+        ph = tau + w * t
+        # hom = Phi (z0 - zp(tau)); z = hom + zp(ph)
+        _zp(U, V, w, tau, a0)
+        for k in range(d):
+            a0[k] = z0[k] - a0[k]
+        _matvec(Phi, a0, hom)
+        _zp(U, V, w, ph, a1)
+        z = Z[i]
+        for k in range(d):
+            z[k] = hom[k] + a1[k]
+        # dz/dtau = zp_phase(ph) - Phi zp_phase(tau); dz/dt = A hom + w zp_phase(ph)
+        _zp_phase(U, V, w, tau, a0)
+        _matvec(Phi, a0, a2)
+        _zp_phase(U, V, w, ph, a1)
+        dzt = DZT[i]
+        for k in range(d):
+            dzt[k] = a1[k] - a2[k]
+        _matvec(A, hom, a2)
+        dzdt = DZDT[i]
+        for k in range(d):
+            dzdt[k] = a2[k] + w * a1[k]
+        # residual: h_i (impact law to the next point) and g_i (impact condition)
+        j = (i + 1) % p
+        yj = u[j * d:(j + 1) * d]
+        wrap = _TWO_PI * n_periods if j == 0 else 0.0
+        r0 = i * d
+        ct = p * d + i
+        G[r0] = -r * z[N] - yj[0]
+        for q in range(1, d - 1):
+            G[r0 + q] = z[idx[q]] - yj[q]
+        G[r0 + d - 1] = tau + w * t - (yj[d - 1] + wrap)
+        G[ct] = z[0] - b
+        if jac:
+            for c in range(d):              # dz/dy: Phi[:, idx] then dz/dtau
+                G0 = dzt[N] if c == d - 1 else Phi[N, idx[c]]
+                Gu[r0, r0 + c] = -r * G0
+                for q in range(1, d - 1):
+                    Gu[r0 + q, r0 + c] = dzt[idx[q]] if c == d - 1 else Phi[idx[q], idx[c]]
+                Gu[ct, r0 + c] = dzt[0] if c == d - 1 else Phi[0, idx[c]]
+            Gu[r0 + d - 1, r0 + d - 1] = 1.0
+            for q in range(d):
+                Gu[r0 + q, j * d + q] -= 1.0
+            Gu[r0, ct] = -r * dzdt[N]
+            for q in range(1, d - 1):
+                Gu[r0 + q, ct] = dzdt[idx[q]]
+            Gu[r0 + d - 1, ct] = w
+            Gu[ct, ct] = dzdt[0]
+        if dom:
+            # dz/domega = zp_omega(ph) + t zp_phase(ph) - Phi zp_omega(tau)
+            _zp_omega(U, V, dU, dV, w, tau, a0)
+            _matvec(Phi, a0, a2)
+            _zp_omega(U, V, dU, dV, w, ph, a0)
+            for k in range(d):
+                a0[k] = (a0[k] + t * a1[k]) - a2[k]
+            Gw[r0] = a0[N] * -r
+            for q in range(1, d - 1):
+                Gw[r0 + q] = a0[idx[q]]
+            Gw[r0 + d - 1] = t
+            Gw[ct] = a0[0]
+    return G, Gu, Gw, Z0, TAU, Z, PHI, DZT, DZDT
+
+
+@nb.njit(cache=True)
+def monodromy(Gu, p, d):
+    """(DP_i for each impact, their product, ok): DP_i = dh/dy - dh/dt (dg/dt)^-1 dg/dy,
+    eq. (30), from the blocks of G_u; ok is False where an impact velocity dg/dt is 0."""
+    mats = np.empty((p, d, d))
+    for i in range(p):
+        r0, ct = i * d, p * d + i
+        dgdt = Gu[ct, ct]
+        if dgdt == 0.0:
+            return mats, np.empty((d, d)), False
+        for a in range(d):
+            f = Gu[r0 + a, ct]
+            for c in range(d):
+                v = Gu[r0 + a, r0 + c]
+                if p == 1 and a == c:
+                    v += 1.0                       # G_u holds dh/dy minus y_{i+1}
+                mats[i, a, c] = v - (f * Gu[ct, r0 + c]) / dgdt
+    M = mats[0].copy()
+    for i in range(1, p):
+        M = mats[i] @ M
+    return mats, M, True
+
+
+def finder_constants(flow, F):
+    """The constants array of :mod:`symvi.flow.compiled` at F.omega, from the flow's
+    omega-independent part (cached on the flow) with the omega-dependent entries set
+    as :func:`symvi.flow.compiled.constants` sets them (a test asserts equality)."""
+    base = flow.__dict__.get("_finder_base")
+    if base is None:
+        base = flow.__dict__["_finder_base"] = _finder_base(flow)
+    c = base.copy()
+    w = float(F.omega)
+    n = flow.n
+    U, V = F.U, F.V
+    t_max = 2000 * math.pi / w
+    c[_fc._OM], c[_fc._TMAX] = w, t_max
+    c[_fc._B], c[_fc._R] = flow.b, flow.r          # a copied flow (new stop) shares the base
+    c[_fc._UK], c[_fc._VK], c[_fc._XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
+    c[_fc._LMAX] = max(flow.__dict__["_finder_lmax"], w)
+    c[_fc._GROW] = math.exp(flow.__dict__["_finder_grow"] * 4 * t_max)
+    ou = _fc._offsets(n)[2]
+    c[ou:ou + n], c[ou + n:ou + 2 * n] = U, V
+    return c
+
+
+def _finder_base(flow):
+    # any valid omega: the entries it sets are all overwritten by finder_constants
+    lam = np.asarray(flow.lam, dtype=complex)
+    flow.__dict__["_finder_lmax"] = max(abs(lam))
+    flow.__dict__["_finder_grow"] = max(0.0, float(np.max(lam.real)))
+    w = max(0.5 * float(np.min(flow.omegas)), _OMEGA_MIN)    # below every natural frequency
+    return _fc.constants(flow.model, w)
