@@ -2,7 +2,9 @@
 with multipliers and every test function, and n-p Newton solves (p = 1, 2, 4), each against
 a baseline in the same run: the same code with finite-difference Jacobians (forward
 differences of the shooting residual, step sqrt(eps) relative), which is how a user without
-exact derivatives would do it.
+exact derivatives would do it.  A second reference, also in the same run: the same exact
+system evaluated by the numpy reference (``Problem.compiled = False``), i.e. without the
+compiled shooting kernel of symvi.orbits._shooting.
 
     python benchmarks/bench_continue.py > benchmarks/results_continue.md
 """
@@ -50,6 +52,12 @@ class FDProblem(Problem):
         return G, Gu, Gl
 
 
+class NumpyProblem(Problem):
+    """The numpy reference of the same exact system (no compiled kernel)."""
+
+    compiled = False
+
+
 def with_problem(cls, fn):
     old = branch_mod.Problem, periodic_mod.Problem
     branch_mod.Problem = periodic_mod.Problem = cls
@@ -80,6 +88,7 @@ def main():
     branch_1000()                                    # warm-up (imports, caches)
     t_exact, br = timed(branch_1000, 5)
     t_fd, br_fd = timed(lambda: with_problem(FDProblem, branch_1000), 3)
+    t_np, br_np = timed(lambda: with_problem(NumpyProblem, branch_1000), 3)
     hopf = symvi.hopf_points(PAPER, 1.0, 1.3)
     ns = [s.value for s in br.special if s.kind == "ns"]
     ns_fd = [s.value for s in br_fd.special if s.kind == "ns"]
@@ -100,9 +109,10 @@ def main():
         solve()
         te, o = timed(solve, 31)
         tf, of = timed(lambda: with_problem(FDProblem, solve), 11)
+        tn, _ = timed(lambda: with_problem(NumpyProblem, solve), 11)
         rows_np.append((f"{b.n}-{b.p} at omega = {pt.value:.6f}", f"{te * 1e3:.2f} ms",
-                        f"{tf * 1e3:.2f} ms", f"{tf / te:.1f}x",
-                        f"{o.residual:.1e} / {of.residual:.1e}"))
+                        f"{tf * 1e3:.2f} ms", f"{tf / te:.1f}x", f"{tn * 1e3:.2f} ms",
+                        f"{tn / te:.1f}x", f"{o.residual:.1e} / {of.residual:.1e}"))
     print("# Continuation (issue 12)\n")
     print(f"Command: `python benchmarks/bench_continue.py`; {time.strftime('%Y-%m-%d')}; "
           "medians; baseline = the same code with forward-difference Jacobians, same run.\n")
@@ -113,14 +123,18 @@ def main():
              f"{1000 * t_exact / len(br):.3f} s", f"{err:.1e}", f"{l1[0]:.12g}" if l1 else "-"),
             ("finite differences", len(br_fd), f"{t_fd:.3f} s",
              f"{t_fd / len(br_fd) * 1e3:.3f} ms", f"{1000 * t_fd / len(br_fd):.3f} s",
-             f"{err_fd:.1e}", f"{l1_fd[0]:.12g}" if l1_fd else "-")]
+             f"{err_fd:.1e}", f"{l1_fd[0]:.12g}" if l1_fd else "-"),
+            ("exact, numpy reference", len(br_np), f"{t_np:.3f} s",
+             f"{t_np / len(br_np) * 1e3:.3f} ms", f"{1000 * t_np / len(br_np):.3f} s", "", "")]
     print("\n".join(md_table(("derivatives", "points", "time", "per point", "per 1000 points",
                               "|omega_NS - hopf_points|", "l1 at NS"), rows)))
-    print(f"\nRatio baseline / exact per point: {(t_fd / len(br_fd)) / (t_exact / len(br)):.2f}x."
+    print(f"\nRatio per point, FD baseline / exact: {(t_fd / len(br_fd)) / (t_exact / len(br)):.2f}x;"
+          f" numpy reference / compiled: {(t_np / len(br_np)) / (t_exact / len(br)):.2f}x."
           " Target: 1000 points <= 1 s.\n")
     print("## n-p Newton solves (ONE_DAMPED: m = k = 1, c = 0.05, gap 0, r = 0.8), from a guess "
           "1e-4 off; target <= 2 ms for p <= 4\n")
-    print("\n".join(md_table(("orbit", "exact", "finite differences", "ratio",
+    print("\n".join(md_table(("orbit", "exact", "finite differences", "ratio FD / exact",
+                              "exact, numpy reference", "ratio numpy / compiled",
                               "residual exact / FD"), rows_np)))
 
 

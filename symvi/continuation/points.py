@@ -138,22 +138,23 @@ def correct(problem, Xp, t, c):
     X = Xp.copy()
     m = problem.size
     A = np.empty((m + 1, m + 1))
+    F = np.empty(m + 1)
     problem.at(X[m])                      # validates the predicted parameter value once
     for it in range(1, CORR_MAXIT + 1):
         G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
         A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
-        F = np.append(G, np.dot(t, X) - c)
+        F[:m], F[m] = G, np.dot(t, X) - c
         try:
             dX = np.linalg.solve(A, -F)
         except np.linalg.LinAlgError:
             return None
-        if not np.all(np.isfinite(dX)):
+        if not np.isfinite(dX).all():
             return None
         X = X + dX
-        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
+        if np.abs(dX).max() <= CORR_TOL * (1 + np.abs(X).max()):
             # the residual is checked at the final X; the derivatives, O(|dX|) away, are kept
             G = problem.evaluate(X[:m], X[m], jac=False, check=False)[0]
-            if np.max(np.abs(G)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
+            if np.abs(G).max() <= 1e3 * CORR_TOL * (1 + np.abs(X).max()):
                 return X, Gu, Gl, it
             return None
     return None

@@ -24,6 +24,13 @@ _OMEGA_MIN = 2 * OMEGA_RANGE[0]
 _TWO_PI = 2.0 * math.pi
 
 
+def flight_views(FL, PHI, i):
+    """(z0, tau, z, Phi, dz/dtau, dz/dt) of impact i from the output of :func:`shoot`."""
+    row = FL[i]
+    d = PHI.shape[1]
+    return row[:d], row[d], row[d + 1:2 * d + 1], PHI[i], row[2 * d + 1:3 * d + 1], row[3 * d + 1:]
+
+
 @nb.njit(cache=True, inline="always")
 def _zp(U, V, w, ph, out):
     """(x_p, v_p) at phase ph: Forcing.zp."""
@@ -68,9 +75,9 @@ def _matvec(Mx, x, out):
 def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
     """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
 
-    Returns (G, Gu, Gw, Z0, TAU, Z, PHI, DZT, DZDT): per impact i the start state Z0[i]
-    (stop-first order) and phase TAU[i], the state Z[i] at the end of the flight,
-    PHI[i] = dz/dz0, DZT[i] = dz/dtau and DZDT[i] = dz/dt there.
+    Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
+    (the start state in the stop-first order, its phase, and at the end of the flight the
+    state and its derivatives; :data:`FLIGHT_SLICES`) and PHI[i] = dz/dz0 there.
     """
     d = lam.shape[0]
     N = d // 2
@@ -78,12 +85,8 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
     G = np.empty(m)
     Gu = np.zeros((m, m)) if jac else np.zeros((0, 0))
     Gw = np.empty(m) if dom else np.empty(0)
-    Z0 = np.empty((p, d))
-    TAU = np.empty(p)
-    Z = np.empty((p, d))
+    FL = np.empty((p, 4 * d + 1))
     PHI = np.empty((p, d, d))
-    DZT = np.empty((p, d))
-    DZDT = np.empty((p, d))
     idx = np.empty(d - 1, np.int64)                # y[:d-1] = z[idx]
     idx[0] = N
     for q in range(1, N):
@@ -97,14 +100,14 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
     for i in range(p):
         y = u[i * d:(i + 1) * d]
         t = u[p * d + i]
-        z0 = Z0[i]
+        z0 = FL[i, :d]
         z0[0] = b                                   # Section.state
         for q in range(1, N):
             z0[q] = y[q]
             z0[N + q] = y[N - 1 + q]
         z0[N] = y[0]
         tau = y[d - 1]
-        TAU[i] = tau
+        FL[i, d] = tau
         # Phi(t) = Re((W e^{lambda t}) W^-1)
         for k in range(d):
             e[k] = np.exp(lam[k] * t)
@@ -122,18 +125,18 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
             a0[k] = z0[k] - a0[k]
         _matvec(Phi, a0, hom)
         _zp(U, V, w, ph, a1)
-        z = Z[i]
+        z = FL[i, d + 1:2 * d + 1]
         for k in range(d):
             z[k] = hom[k] + a1[k]
         # dz/dtau = zp_phase(ph) - Phi zp_phase(tau); dz/dt = A hom + w zp_phase(ph)
         _zp_phase(U, V, w, tau, a0)
         _matvec(Phi, a0, a2)
         _zp_phase(U, V, w, ph, a1)
-        dzt = DZT[i]
+        dzt = FL[i, 2 * d + 1:3 * d + 1]
         for k in range(d):
             dzt[k] = a1[k] - a2[k]
         _matvec(A, hom, a2)
-        dzdt = DZDT[i]
+        dzdt = FL[i, 3 * d + 1:]
         for k in range(d):
             dzdt[k] = a2[k] + w * a1[k]
         # residual: h_i (impact law to the next point) and g_i (impact condition)
@@ -174,7 +177,7 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
                 Gw[r0 + q] = a0[idx[q]]
             Gw[r0 + d - 1] = t
             Gw[ct] = a0[0]
-    return G, Gu, Gw, Z0, TAU, Z, PHI, DZT, DZDT
+    return G, Gu, Gw, FL, PHI
 
 
 @nb.njit(cache=True)

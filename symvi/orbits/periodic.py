@@ -26,6 +26,7 @@ import numpy as np
 from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.compiled import STATUS_NAMES, first_impact_from
+from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, FirstImpact, LinearFlow
 from ..maps.section import Section
 from . import _shooting
@@ -62,6 +63,7 @@ class Problem:
         self.omega = omega
         self._flow = None
         self._last = None
+        self._checked = None                 # the last omega check_omega accepted
         self.sec = Section.of(model)
         N = model.n
         self.N, self.d = N, 2 * N
@@ -89,7 +91,14 @@ class Problem:
                 flow = self._flow = LinearFlow.of(model)
         else:
             flow = LinearFlow.of(model)
-        omega = flow.check_omega(omega, warn=False) if check else float(omega)
+        if not check:
+            omega = float(omega)
+        elif model is self.model and omega is not None and omega == self._checked:
+            omega = float(omega)                   # validated before (a pure function)
+        else:
+            omega = flow.check_omega(omega, warn=False)
+            if model is self.model:
+                self._checked = omega
         return model, flow, flow.forcing(omega)
 
     def split(self, u):
@@ -105,10 +114,10 @@ class Problem:
                 self._shoot(u, lam, check, False, False)
             else:
                 self._flights_numpy(u, lam, check, key)
-        fl, ctx = self._last[1]
+        fl, ctx = self._last[1][:2]
         if not isinstance(fl, list):                  # compiled: per-impact views, once
-            fl = [tuple(a[i] for a in fl) for i in range(self.p)]
-            self._last = (key, (fl, ctx))
+            fl = [_shooting.flight_views(*fl, i) for i in range(self.p)]
+            self._last = (key, (fl, ctx) + self._last[1][2:])
         return fl, ctx
 
     def _flights_numpy(self, u, lam, check, key):
@@ -124,10 +133,10 @@ class Problem:
         """The compiled kernel at (u, lam): (G, Gu, dG/domega, context); the flights cached."""
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
-        out = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega, flow.b,
-                              flow.r, self.n_periods, u, self.p, jac, dom)
-        self._last = ((u.tobytes(), lam), (out[3:], ctx))
-        return out[0], out[1], out[2], ctx
+        G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
+                                         flow.b, flow.r, self.n_periods, u, self.p, jac, dom)
+        self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
+        return G, Gu, Gw, ctx
 
     def evaluate(self, u, lam, jac=True, dparam=False, check=True):
         """(G, dG/du, dG/dlam) at (u, lam); the derivatives are None when not asked for.
@@ -137,6 +146,10 @@ class Problem:
         if not self.compiled:
             return self._evaluate_numpy(u, lam, jac, dparam, check)
         u = np.ascontiguousarray(u, dtype=float)
+        if not (jac or dparam):                  # the residual at the last point: kept
+            last = self._last
+            if last is not None and len(last[1]) > 2 and last[0] == (u.tobytes(), lam):
+                return last[1][2].copy(), None, None
         dom = dparam and self.param == "omega"
         G, Gu, Gl, (model, flow, F) = self._shoot(u, lam, check, jac, dom)
         if dparam and not dom:
@@ -546,21 +559,26 @@ def initial_guess(problem, guess):
         pts = [arr] if arr.ndim == 1 else list(arr)
         if len(pts) not in (1, p):
             raise ParameterError("guess", f"{len(pts)} points", f"1 or p = {p} section points")
-    # flight times (and the missing points) from the map itself
+    # flight times (and the missing points) from the map itself (compiled: its twin)
+    c = _shooting.finder_constants(flow, F) if problem.compiled else None
     T, Y = [], [np.array(pts[0], dtype=float)]
     cur = Y[0]
     for i in range(p):
-        s = step(flow, F, cur)
-        if s.status != IMPACT:
-            raise ConvergenceError(f"the guess does not lead to an impact ({s.status}) "
+        if c is None:
+            s = step(flow, F, cur)
+            status, t, nxt = s.status, s.t, np.array(s.y, dtype=float)
+        else:
+            st, t, nxt = compiled_step(c, cur)[:3]
+            status = STATUS_NAMES[st]
+        if status != IMPACT:
+            raise ConvergenceError(f"the guess does not lead to an impact ({status}) "
                                    f"at impact {i + 1}", math.inf)
-        T.append(float(s.t))
-        nxt = np.array(s.y, dtype=float)
-        nxt[-1] = cur[-1] + F.omega * s.t          # tau unwrapped
+        T.append(float(t))
+        nxt[-1] = cur[-1] + F.omega * t            # tau unwrapped
         if i + 1 < p:
             if len(pts) == p:
                 nxt = np.array(pts[i + 1], dtype=float)
-                nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * s.t)
+                nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * t)
             Y.append(nxt)
         cur = nxt
     return np.concatenate([np.concatenate(Y), T])
