@@ -115,7 +115,9 @@ def main():
                         f"{tn / te:.1f}x", f"{o.residual:.1e} / {of.residual:.1e}"))
     print("# Continuation (issue 12)\n")
     print(f"Command: `python benchmarks/bench_continue.py`; {time.strftime('%Y-%m-%d')}; "
-          "medians; baseline = the same code with forward-difference Jacobians, same run.\n")
+          "medians; baselines in the same run: the same code with forward-difference "
+          "Jacobians, and the numpy reference of the exact system (Problem.compiled = False)."
+          "\n")
     print("## Period-1 branch of the paper's model, omega from 1.3 to 1.0, with multipliers, "
           "admissibility and every test function (fold, flip, NS, grazing), special points "
           "located\n")
