@@ -40,14 +40,21 @@ Next to a located boundary (fold, admissibility change, a singular frequency
 omega_j / n) a multiplier that approaches the circle monotonically towards the
 boundary is accepted (e.g. the multiplier tending to +1 at a fold).
 
-The crossing itself is located with Brent's method on |lambda(omega)|^2 - 1
-(the multiplier nearest the bracket's linear prediction), on det(J -/+ I)
-for real multipliers through +/-1, on the existence ratio of eq. (16) for the
-orbit's end, and on the impact velocity, or by bisection of the admissibility
-test for grazing.  All to ``XTOL`` in omega.  A root of |lambda|^2 - 1 where
-||lambda|^2 - 1| still exceeds ``NS_RESIDUAL`` was a jump between two complex
-pairs (near a collision off the circle, as for a nearly conservative map): that
-bracket is certified again, finer, and reported ``unresolved`` below ``MIN_WIDTH``.
+Each bracket is handed to the continuation's locator
+(:func:`symvi.continuation.locate.locate_between`, the one owner of locating special
+points on any branch): the two closed-form orbits become two points of the 1-1
+shooting problem continued in omega, and the crossing is located by Brent's method in
+the arclength on the test function of its kind, the bialternate product
+det(J (.) J - I) for a complex pair, det(J + I) for -1 (a flip, with its
+period-doubling coefficient c) and det(J - I) for +1 inside a branch (a branch
+point: the fixed point's index changes, so another branch of fixed points meets it).
+A sign change that is no crossing (|lambda|^2 - 1 changing by a jump between two
+complex pairs, near a collision off the circle as for a nearly conservative map, where
+the bialternate product keeps its sign, or ||lambda1|^2 - 1| > ``NS_RESIDUAL`` at the
+root) makes the bracket certified again, finer, and reported ``unresolved`` below
+``MIN_WIDTH``.  The orbit's end is located by Brent's method on the existence ratio of
+eq. (16), the impact velocity's zero likewise, and grazing by bisection of the
+admissibility test, all to ``XTOL`` in omega.
 
 The paper's numbers (Sec. 4) beside ours
 -----------------------------------------
@@ -129,12 +136,16 @@ class Event:
     branch: str
     detail: str = ""
     span: tuple = None   # (lo, hi) for events that cover an interval
+    coefficients: dict = None   # normal-form numbers of a multiplier through +/-1
 
     def as_dict(self):
         d = {"kind": self.kind, "omega": float(self.omega), "branch": self.branch,
              "detail": self.detail}
         if self.span is not None:
             d["span"] = [float(self.span[0]), float(self.span[1])]
+        if self.coefficients is not None:
+            d["coefficients"] = {k: (v if isinstance(v, str) else float(v))
+                                 for k, v in self.coefficients.items()}
         return d
 
 
@@ -304,7 +315,9 @@ class _PaperSystem:
     paper = True               # the paper's own reduction, eq. (60), is reported
 
     def __init__(self, params):
+        from .model import Model
         self.params = params
+        self.model = Model.of(params)      # where the continuation locates the crossings
         # Params has no damping: r = 1 alone makes the map volume preserving
         self.conservative = params.r == 1.0
 
@@ -341,7 +354,7 @@ class _ModelSystem:
 
     def __init__(self, model):
         from .maps.section import Section
-        self.params = model
+        self.params = self.model = model
         self.names = Section.of(model).names
         self.conservative = model.conservative       # r = 1 and C = 0 exactly
 
@@ -637,33 +650,43 @@ class _Scan:
         self.brackets.extend(found)
         return True
 
-    # ---- root finding ------------------------------------------------------
+    # ---- location ----------------------------------------------------------
     def locate(self, bracket):
+        """The special point of a certified bracket, located by the continuation's locator
+        (:func:`symvi.continuation.locate.locate_between`, one owner for every branch):
+        a SpecialPoint, or None when the sign change was no crossing (a jump between two
+        complex pairs, a neutral saddle); a failure of the locator is raised."""
+        from .continuation.locate import locate_between
         br, kind, w0, w1, z0, z1 = bracket
-        s = self.s
 
-        def mults(w):
-            k, o = s.state(br, w)
-            if o is None or k == _SING:
-                raise SymviError(f"branch {br} lost inside a certified bracket at {w!r}")
-            return o, [complex(x) for x in o.multipliers]
-
+        def between(wa, wb):
+            (ka, oa), (kb, ob) = self.s.state(br, wa), self.s.state(br, wb)
+            if oa is None or ob is None or _SING in (ka, kb):
+                raise SymviError(f"branch {br} lost at the ends of [{wa!r}, {wb!r}]")
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", NearSingularWarning)
+                return locate_between(self.sys.model, kind, oa, ob, coefficients=False)
+        try:
+            sp = between(w0, w1)
+        except SymviError:
+            if kind != "ns":
+                raise
+            # no sign change of the bialternate product: a jump between two pairs, or the
+            # crossing at an end of the bracket itself (a sample landing on it); widen a little
+            eps = 1e-3 * (w1 - w0)
+            try:
+                sp = between(w0 - eps, w1 + eps)
+            except SymviError:
+                return None
+            w0, w1 = w0 - eps, w1 + eps
+        if sp is None or not w0 - XTOL <= sp.value <= w1 + XTOL:
+            return None
         if kind == "ns":
-            def f(w):
-                pred = z0 + (z1 - z0) * (w - w0) / (w1 - w0)
-                _, ls = mults(w)
-                z = min(ls, key=lambda x: abs(x - pred))
-                return abs(z) ** 2 - 1
-        else:
-            sgn = 1.0 if kind == "multiplier+1" else -1.0
-
-            def f(w):
-                _, ls = mults(w)
-                return float(np.prod([x - sgn for x in ls]).real)
-        w = brentq(f, w0, w1, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
-        if kind == "ns" and not abs(f(w)) < NS_RESIDUAL:
-            return None        # the sign change was a jump between two pairs, not a crossing
-        return w
+            mods = [abs(abs(complex(z)) ** 2 - 1) for z in sp.orbit.multipliers
+                    if abs(complex(z).imag) > 1e-9]
+            if not mods or min(mods) >= NS_RESIDUAL:
+                return None
+        return sp
 
 
 def _brent(f, a, b):
@@ -824,7 +847,15 @@ def hopf_points(params, omega_min, omega_max):
     while i < len(scan.brackets):
         br_ = scan.brackets[i]
         i += 1
-        w = scan.locate(br_)
+        try:
+            sp = scan.locate(br_)
+        except SymviError as exc:
+            scan.events.append(Event(br_[1], 0.5 * (br_[2] + br_[3]), br_[0],
+                                     f"a real multiplier crosses "
+                                     f"{'+1' if br_[1] == 'multiplier+1' else '-1'} in this "
+                                     f"span, not located: {exc}", (br_[2], br_[3])))
+            continue
+        w = None if sp is None else sp.value
         if w is None:
             # no root: certify the bracket's half anew, finer (brackets are appended)
             if br_[3] - br_[2] > scan.min_width and len(scan.s.cache) < MAX_SAMPLES:
@@ -843,10 +874,8 @@ def hopf_points(params, omega_min, omega_max):
                 scan._event("ns-unanalysable", w, br_[0], f"complex pair through |lambda| = 1, "
                             f"normal form not computable: {exc}")
         else:
-            k, o = scan.s.state(br_[0], w)
-            scan._event(br_[1], w, br_[0], "real multiplier through "
-                        + ("+1 (fold / saddle-node)" if br_[1] == "multiplier+1"
-                           else "-1 (flip / period doubling)"))
+            scan.events.append(Event(br_[1], float(w), br_[0], sp.detail, None,
+                                     dict(sp.coefficients)))
     if system.conservative:
         # said once, over the whole interval; no "ns" bracket was formed
         scan.events.append(Event("conservative", a, "", CONSERVATIVE, (a, b)))

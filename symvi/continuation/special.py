@@ -33,7 +33,7 @@ from scipy.optimize import minimize_scalar
 from ..errors import NearSingularWarning, SymviError
 from ..normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .points import SpecialPoint, correct, root_on_arc
+from .points import SpecialPoint, correct, root_on_arc, tangent
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -48,8 +48,9 @@ def _sign_change(a, b):
 class Tracker:
     """Evaluates the test functions point by point and locates their zeros."""
 
-    def __init__(self, problem):
+    def __init__(self, problem, coefficients=True):
         self.problem = problem
+        self.coefficients = coefficients      # False: NS points located, no normal form
         self.special = []
         self.prev = None
 
@@ -114,8 +115,21 @@ class Tracker:
         if sp is not None:
             self.special.append(sp)
 
+    def locate(self, kind, Xa, ta, Xb, index=0):
+        """The special point of ``kind`` (fold, flip, ns, branch-point, R3, R4) on the arc
+        from Xa (unit tangent ta) to Xb, or None when the sign change was not one."""
+        return self._locate(kind, Xa, ta, Xb, index)
+
     def _root(self, f, Xa, ta, Xb):
-        return root_on_arc(self.problem, f, Xa, ta, Xb)
+        # the corrector returns G_u of its last iterate, O(CORR_TOL) away from X: a test
+        # function of the multipliers would carry that error into the located value
+        pr = self.problem
+
+        def at(X, t):
+            _, Gu, Gl = pr.evaluate(X[:-1], X[-1], dparam=True, check=False)
+            return tangent(Gu, Gl, t), Gu
+        X, t, _ = root_on_arc(pr, lambda X, t, Gu: f(X, *at(X, t)), Xa, ta, Xb)
+        return (X,) + at(X, t)
 
     def _interpolated_root(self, f, Xa, ta, Xb, nodes=9):
         """A zero of f(X, Gu) on the arc, for a branch point: there [G_u G_lam] has a
@@ -206,6 +220,9 @@ class Tracker:
             crit = min(mu, key=lambda z: abs(abs(z) - 1))
             if abs(crit.imag) <= 1e-8:
                 return None                       # a neutral saddle, not a bifurcation
+            if not self.coefficients:
+                return SpecialPoint("ns", float(X[m]), orbit, {}, "a complex pair through "
+                                    "|lambda| = 1 (normal form left to the caller)", index)
             return self._ns(X, orbit, index, Xa, Xb)
         if kind in ("R3", "R4"):
             m_ = int(kind[1])

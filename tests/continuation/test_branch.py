@@ -47,6 +47,11 @@ def test_ns_and_flips_agree_with_hopf_points(paper_branch, paper_hopf):
     assert np.max(np.abs(np.array(flips) - ev)) < 1e-10
     for s in _kinds(paper_branch, "flip"):
         assert min(abs(z + 1) for z in s.orbit.multipliers) < 1e-8
+    # hopf_points locates through the same locator: its flips carry the same coefficient
+    ev_c = {round(e.omega, 8): e.coefficients["c"] for e in paper_hopf.events
+            if e.kind == "multiplier-1" and e.branch == "+"}
+    for s in _kinds(paper_branch, "flip"):
+        assert s.coefficients["c"] == pytest.approx(ev_c[round(s.value, 8)], rel=1e-6)
 
 
 def test_interior_grazing_agrees_with_hopf_points(paper_branch, paper_hopf):

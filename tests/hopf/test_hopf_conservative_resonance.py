@@ -166,4 +166,7 @@ def test_cli_conservative_preset(capsys):
 def test_conservative_model_events_match_the_paper_chain():
     old = _scan(Params(2, 5, 0, 1.5, 1.0), 0.9, 1.3)
     new = _scan(Model.luo_xie(2, 5, 0, 1.5, 1.0), 0.9, 1.3)
-    assert [(e.kind, e.branch) for e in new.events] == [(e.kind, e.branch) for e in old.events]
+    # events at equal omega (to rounding) may come in either order: compare them sorted
+    def key(events):
+        return sorted((e.kind, e.branch, round(e.omega, 7)) for e in events)
+    assert key(new.events) == key(old.events)
