@@ -185,3 +185,22 @@ def test_natural_frequency_at_an_end_refused():
     """omega_1 = 0.88048573 as an end is refused (inside, the scan is cut there instead)."""
     with pytest.raises(SingularCaseError, match="omega_1"):
         hopf_points(EX1, 0.8, 0.8804857344718374)
+
+
+def test_crossing_on_a_sample_of_the_scan_is_located():
+    """An interval centred on omega_c puts the crossing on a sample of the initial grid, at
+    the end of a bracket (where the bialternate product is zero to rounding): it is still
+    found, to 1e-12 of chain B, and once."""
+    wc = REF["ex1"][0]
+    res = hopf_points(EX1, wc - 2e-3, wc + 2e-3)
+    assert len(res.points) == 1
+    assert abs(res.points[0].omega_c - wc) < 1e-12
+
+
+def test_flip_events_carry_the_period_doubling_coefficient(ex1):
+    """Located by the continuation's locator, with its coefficient c (||q|| = 1, <p,q> = 1):
+    the paper's flip at 0.71332 is supercritical (c > 0) and has a multiplier -1."""
+    (e,) = [e for e in ex1.events if e.kind == "multiplier-1"]
+    assert e.coefficients["c"] > 0 and "supercritical" in e.detail
+    assert abs(e.coefficients["multiplier"] + 1) < 1e-9
+    assert e.as_dict()["coefficients"]["c"] == e.coefficients["c"]
