@@ -188,13 +188,15 @@ def test_natural_frequency_at_an_end_refused():
 
 
 def test_crossing_on_a_sample_of_the_scan_is_located():
-    """An interval centred on omega_c puts the crossing on a sample of the initial grid, at
-    the end of a bracket (where the bialternate product is zero to rounding): it is still
-    found, to 1e-12 of chain B, and once."""
-    wc = REF["ex1"][0]
-    res = hopf_points(EX1, wc - 2e-3, wc + 2e-3)
+    """A crossing on a sample of the initial grid lies at the end of a bracket, where the
+    bialternate product is zero to rounding and may keep its sign across the bracket: it
+    is still found, once.  The inputs are example 1's Chenciner point as symvi's NS curve
+    in (omega, r) locates it (tests/curves): the interval is centred on its omega."""
+    r, w = 0.2761921526561491, 0.7852013525248023
+    res = hopf_points(Params(2, 5, 0, 1.5, r), w - 2e-3, w + 2e-3)
     assert len(res.points) == 1
-    assert abs(res.points[0].omega_c - wc) < 1e-12
+    assert abs(res.points[0].omega_c - w) < 1e-9
+    assert abs(abs(res.points[0].multiplier) - 1) < 1e-12
 
 
 def test_flip_events_carry_the_period_doubling_coefficient(ex1):
