@@ -10,7 +10,7 @@ linear solves.  For each stage this script times
 * the mpmath-50 implementation the chain uses,
 * the fastest float64 implementation available here, **compiled**: the
   generated jets compiled by numba (``symvi._compiled``), numba's LAPACK
-  eigen/solve, the numba first-impact finder of ``symvi._fastflow``; the
+  eigen/solve, the numba first-impact finder of ``symvi.flow.compiled``; the
   closed-form orbit is bounded below by its 12 libm calls alone,
 
 each inside a compiled loop, so no interpreter overhead is counted.  It counts
@@ -33,11 +33,12 @@ import mpmath
 import numba as nb
 import numpy as np
 
-from symvi import _fastflow, flow, jets, orbit
+from symvi import Model, flow, jets, orbit
 from symvi import normal_form as nf
 from symvi._backend import MP
 from symvi._compiled import f64_kernel
 from symvi._io import write_text
+from symvi.flow import compiled
 from symvi.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -97,10 +98,11 @@ def _libm_loop(x, n):
 
 
 @nb.njit
-def _flight_loop(c, a1, b1, a2, b2, tau, tmax, n):
+def _flight_loop(c, d, amp, tau, tmax, n):
+    e = np.empty(10)
     s = 0.0
     for i in range(n):
-        s += _fastflow.first_impact(c, a1, b1, a2, b2, tau + 1e-14 * i, tmax)[1]
+        s += compiled._first_impact(c, d, e, tau + 1e-14 * i, amp, tmax)[1]
     return s
 
 
@@ -147,11 +149,13 @@ def stages():
         mot = flow.motion_from(m50, o50.omega, (b50, o50.x20), (o50.v1_plus, o50.x20_dot),
                                o50.tau0, MP)
         t_mp = median_time(lambda: flow.first_impact(mot, b50, MP, t_max=2 * T), 1, 5)
-    c = _fastflow.constants(PARAMS, W)
-    a1, b1, a2, b2 = _fastflow._motion(c, o.v1_plus, o.x20, o.x20_dot, o.tau0)
+    c = compiled.constants(Model.of(PARAMS), W)
+    d = np.empty(48)                  # the flight's mode data (N = 2), as in a run
+    _, amp = compiled._start(c, np.array([o.v1_plus, o.x20, o.x20_dot, o.tau0]), np.empty(8),
+                             d, np.empty(4))
     out["flight over one period (admissibility)"] = (
-        t_mp, compiled_loop_time(_flight_loop, (c, a1, b1, a2, b2, o.tau0, 4 * math.pi / W)),
-        "symvi._fastflow.first_impact")
+        t_mp, compiled_loop_time(_flight_loop, (c, d, amp, o.tau0, 4 * math.pi / W)),
+        "symvi.flow.compiled._first_impact")
     return out
 
 

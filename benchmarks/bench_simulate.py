@@ -5,7 +5,8 @@ Run:  python benchmarks/bench_simulate.py      (writes benchmarks/results_simula
 Measured in the same run, on the same trajectories (points on the attractors of
 the paper's examples):
 
-* symvi: the compiled finder and map (``symvi._fastflow``), one trajectory and a
+* symvi: the compiled finder and map (``symvi.flow.compiled``, on which
+  ``simulate`` runs ``Params`` as ``Model.luo_xie``), one trajectory and a
   parallel batch over many omegas (numba threads);
 * the pure-Python reference map ``symvi.poincare.poincare_map`` (float64);
 * baseline: ``scipy.integrate.solve_ivp`` on eq. (3) with a terminal event at
@@ -27,9 +28,9 @@ sys.path.insert(0, str(HERE.parent))
 
 import numba  # noqa: E402
 
-from symvi import Params  # noqa: E402
-from symvi import _fastflow as ff  # noqa: E402
+from symvi import Model, Params  # noqa: E402
 from symvi._io import write_text  # noqa: E402
+from symvi.flow import compiled as cf  # noqa: E402
 
 from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
 from symvi.poincare import poincare_map  # noqa: E402
@@ -66,14 +67,14 @@ def ivp_step(params, omega, y, rtol, atol):
 
 
 def one_step_errors(params, omega, pts):
-    c = ff.constants(params, omega)
+    c = cf.constants(Model.of(params), omega)
     rows = {"symvi": [], "ivp default": [], "ivp tight": []}
     for y in pts:
         ref = poincare_map(params, omega, y, digits=40)
         tr = float(ref.t)
         yr = np.array([float(v) for v in ref.y])
-        st, te, a, b_, c_, d, *_ = ff.step(c, *y)
-        got = {"symvi": (te, np.array([a, b_, c_, d])),
+        st, te, yn, *_ = cf.step(c, y)
+        got = {"symvi": (te, yn),
                "ivp default": ivp_step(params, omega, y, 1e-3, 1e-6),
                "ivp tight": ivp_step(params, omega, y, 1e-10, 1e-12)}
         for k, (t, z) in got.items():
@@ -116,10 +117,10 @@ def lyapunov_section(n=4000):
 def rates(params, omega, y0, n=200_000, n_ivp=N_IVP):
     """Impacts/s from y0: symvi's compiled map (with its finder steps per impact), and
     solve_ivp with an x1 = b event at default and tight tolerances, same trajectory."""
-    c = ff.constants(params, omega)
-    ff.run(c, y0, 10)
-    out = {"symvi": n / median_time(lambda: ff.run(c, y0, n), 1, reps=5),
-           "steps": ff.run(c, y0, n)[4] / n}
+    c = cf.constants(Model.of(params), omega)
+    cf.run(c, y0, 10)
+    out = {"symvi": n / median_time(lambda: cf.run(c, y0, n), 1, reps=5),
+           "steps": cf.run(c, y0, n)[4] / n}
     for label, rtol, atol in (("default", 1e-3, 1e-6), ("tight", 1e-10, 1e-12)):
         def ivp_run():
             z = y0
@@ -176,12 +177,13 @@ def main():
     oms = np.linspace(0.7300, 0.7560, 256)
     from symvi.simulation import sweep_starts
     starts = sweep_starts(p, oms)
-    C = np.array([ff.constants(p, w) for w in oms])
+    model = Model.of(p)
+    C = np.array([cf.constants(model, w) for w in oms])
     nb_imp = 4000
-    ff.run_batch(C[:2], starts[:2], 10)
-    dt = median_time(lambda: ff.run_batch(C, starts, nb_imp), 1, reps=5)
+    cf.run_batch(C[:2], starts[:2], 10)
+    dt = median_time(lambda: cf.run_batch(C, starts, nb_imp), 1, reps=5)
     agg = len(oms) * nb_imp / dt
-    dt1 = median_time(lambda: [ff.run(C[i], starts[i], nb_imp) for i in range(len(oms))], 1,
+    dt1 = median_time(lambda: [cf.run(C[i], starts[i], nb_imp) for i in range(len(oms))], 1,
                       reps=5)
     lines += ["## Batch: 256 values of ω in [0.7300, 0.7560] (example 1), 4000 impacts each", "",
               "| mode | impacts/s |", "|---|---|",

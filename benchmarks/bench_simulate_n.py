@@ -1,21 +1,25 @@
 """Benchmark of the compiled simulator of any model (symvi.flow.compiled): impacts/s.
 
-Run:  python benchmarks/bench_simulate_n.py      (prints markdown tables; writes nothing)
+Run:  python benchmarks/bench_simulate_n.py [--baseline DIR]   (prints markdown; writes nothing)
 
 Measured in the same run, one trajectory each (start points on the attractor
 after 20000 impacts), medians of 7 runs:
 
 * the damped N = 3 model (stop on mass 2, forcing on two masses; gap 1.2, r = 0.8)
   at omega = 0.4 (a non-periodic attractor) and 0.8 (the stable period-1 orbit);
-* the paper's model through ``Model.luo_xie`` (symvi.flow.compiled) against the
-  same runs through ``Params`` (symvi._fastflow, the paper-only kernels): the
-  Params run is the baseline, the two alternate rep by rep so load on the
-  machine hits both alike.
+* the paper's model, ``simulate(Params(...), ...)`` (since issue 11 on
+  symvi.flow.compiled, as ``Model.luo_xie``); with ``--baseline DIR`` (a checkout
+  of another commit, e.g. ``git worktree add DIR <commit>``) the same calls in
+  DIR are the baseline: each rep runs one process in DIR and one in this
+  checkout, alternately, so load on the machine hits both alike.
 
-Targets: N = 3 damped >= 3e5 impacts/s; the Model path of the paper's model no
-more than 20 % slower than the Params path.
+Targets: N = 3 damped >= 3e5 impacts/s; the paper's model no more than 20 %
+slower than before issue 11 (its own kernels, ``symvi._fastflow``).
 """
+import argparse
+import json
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -23,12 +27,12 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).parent
-sys.path.insert(0, str(HERE.parent))
+ROOT = HERE.parent
+sys.path.insert(0, str(ROOT))
 
 import numba  # noqa: E402
 
 from symvi import Params  # noqa: E402
-from symvi import _fastflow as ff  # noqa: E402
 from symvi.flow import compiled as cf  # noqa: E402
 from symvi.model import Model, Stop  # noqa: E402
 from symvi.simulation import simulate  # noqa: E402
@@ -47,6 +51,23 @@ PAPER_CASES = [((2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),
                ((4, 2, 0, 1.8, 0.8), 0.4944, "ex2 chaos")]
 N = 200_000
 REPS = 7
+
+#: run in a fresh process in a checkout (``python -c`` imports the symvi of its cwd):
+#: seconds of ``simulate(Params(*p), omega, y0=y0, n_impacts=N)`` per case, warm
+_PAPER_TIMER = """
+import json, sys, time
+from symvi import Params
+from symvi.simulation import simulate
+cases, n = json.loads(sys.argv[1]), int(sys.argv[2])
+out = []
+for p, omega, y0 in cases:
+    simulate(Params(*p), omega, y0=y0, n_impacts=10)
+    t = time.perf_counter()
+    s = simulate(Params(*p), omega, y0=y0, n_impacts=n)
+    out.append(time.perf_counter() - t)
+    assert s.stop == "completed", s.stop
+print(json.dumps(out))
+"""
 
 
 def _time(fn):
@@ -68,41 +89,60 @@ def three_rows():
     return rows
 
 
-def paper_rows():
+def _paper_times(cwd, cases):
+    out = subprocess.run([sys.executable, "-c", _PAPER_TIMER, json.dumps(cases), str(N)],
+                         cwd=cwd, capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.splitlines()[-1])
+
+
+def paper_rows(baseline=None):
+    """Per case (name, omega, impacts/s here, impacts/s in ``baseline`` or None, steps/impact)."""
+    cases, steps = [], []
+    for p, omega, _ in PAPER_CASES:
+        y0 = simulate(Params(*p), omega, n_impacts=1, transient=20000).section[-1]
+        cases.append((p, omega, [float(v) for v in y0]))
+        steps.append(cf.run(cf.constants(Model.luo_xie(*p), omega), y0, N)[4] / N)
+    here, base = [], []
+    for _ in range(REPS):             # alternate: a load spike hits both checkouts
+        if baseline is not None:
+            base.append(_paper_times(baseline, cases))
+        here.append(_paper_times(ROOT, cases))
     rows = []
-    for p, omega, name in PAPER_CASES:
-        params, model = Params(*p), Model.luo_xie(*p)
-        y0 = simulate(params, omega, n_impacts=1, transient=20000).section[-1]
-        c0, c1 = ff.constants(params, omega), cf.constants(model, omega)
-        s0, s1 = ff.run(c0, y0, N)[4], cf.run(c1, y0, N)[4]
-        t0, t1 = [], []
-        for _ in range(REPS):             # alternate: a load spike hits both paths
-            t0.append(_time(lambda: ff.run(c0, y0, N)))
-            t1.append(_time(lambda: cf.run(c1, y0, N)))
-        r0, r1 = N / statistics.median(t0), N / statistics.median(t1)
-        rows.append((name, omega, r0, r1, s0 / N, s1 / N))
+    for i, (_, omega, name) in enumerate(PAPER_CASES):
+        r1 = N / statistics.median(t[i] for t in here)
+        r0 = N / statistics.median(t[i] for t in base) if base else None
+        rows.append((name, omega, r1, r0, steps[i]))
     return rows
 
 
 def main():
-    three, paper = three_rows(), paper_rows()
-    lines = [f"Command: `python benchmarks/bench_simulate_n.py` (one trajectory of {N:,} "
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--baseline", help="a checkout of the baseline commit (git worktree)")
+    args = ap.parse_args()
+    three, paper = three_rows(), paper_rows(args.baseline)
+    lines = [f"Command: `python benchmarks/bench_simulate_n.py"
+             f"{' --baseline DIR' if args.baseline else ''}` (one trajectory of {N:,} "
              f"impacts, medians of {REPS} runs, {numba.get_num_threads()} numba threads)", "",
              "### Damped N = 3 model (symvi.flow.compiled)", ""]
     lines += md_table(["case", "ω", "impacts/s", "finder steps/impact"],
                       [(n, w, f"{r:,.0f}", f"{s:.2f}") for n, w, r, s in three])
     lines += ["", f"Median {statistics.median(r for *_, r, _ in three):,.0f} impacts/s "
               "(target ≥ 300,000).", "",
-              "### Paper's model: `Model.luo_xie` (symvi.flow.compiled) vs `Params` "
-              "(symvi._fastflow)", ""]
-    lines += md_table(["case", "ω", "Params impacts/s", "Model impacts/s", "Model / Params",
-                       "steps/impact (Params, Model)"],
-                      [(n, w, f"{a:,.0f}", f"{b:,.0f}", f"{b / a:.2f}", f"{s0:.2f}, {s1:.2f}")
-                       for n, w, a, b, s0, s1 in paper])
-    ratio = statistics.median(b / a for _, _, a, b, _, _ in paper)
-    lines += ["", f"Median ratio Model / Params: **{ratio:.2f}** (target ≥ 0.80).", ""]
+              "### Paper's model: `simulate(Params(...))` (symvi.flow.compiled)", ""]
+    if args.baseline:
+        lines += md_table(["case", "ω", "baseline impacts/s", "impacts/s", "ratio",
+                           "steps/impact"],
+                          [(n, w, f"{b:,.0f}", f"{a:,.0f}", f"{a / b:.2f}", f"{s:.2f}")
+                           for n, w, a, b, s in paper])
+        ratio = statistics.median(a / b for _, _, a, b, _ in paper)
+        lines += ["", f"Median ratio to the baseline (`{args.baseline}`): **{ratio:.2f}** "
+                  "(target ≥ 0.80).", ""]
+    else:
+        lines += md_table(["case", "ω", "impacts/s", "steps/impact"],
+                          [(n, w, f"{a:,.0f}", f"{s:.2f}") for n, w, a, _, s in paper])
+        lines += [""]
     print("\n".join(lines))
-    return np.array([r for *_, r, _ in three]), ratio
+    return np.array([r for *_, r, _ in three]), paper
 
 
 if __name__ == "__main__":

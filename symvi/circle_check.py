@@ -22,9 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fastflow as ff
 from .errors import SingularCaseError
 from .flow import check_omega
+from .flow import compiled as cf
+from .model import Model
 from .simulation import fixed_point
 
 NAMES = ("x1dot+", "x2", "x2dot", "tau")
@@ -57,21 +58,20 @@ def measure(params, omega, *, block=4000, rtol=1e-4, max_impacts=4_000_000, kick
     Raises SingularCaseError when a run leaves by grazing/chatter or no
     period-1 orbit exists.
     """
-    kernels = _kernels(params)
     omega = check_omega(params, omega)
     ys = fixed_point(params, omega)
     if ys is None:
         raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at omega = {omega!r}")
     ys = np.array(ys)
-    c = kernels.constants(params, omega)
+    c = cf.constants(Model.of(params), omega)
     used = 0
 
     def advance(y):
         nonlocal used
-        code, sec, _, _, _ = kernels.run(c, y, block)
+        code, sec, _, _, _ = cf.run(c, y, block)
         used += block
-        if code != kernels.COMPLETED:
-            raise SingularCaseError("circle-lost", f"run stopped ({kernels.STOP_NAMES[code]}) at "
+        if code != cf.COMPLETED:
+            raise SingularCaseError("circle-lost", f"run stopped ({cf.STOP_NAMES[code]}) at "
                                     f"omega = {omega!r} while measuring the circle")
         return sec[-1], _half_widths(sec, ys[-1])
 
@@ -100,18 +100,8 @@ def measure(params, omega, *, block=4000, rtol=1e-4, max_impacts=4_000_000, kick
                        tuple(ys))
 
 
-def _kernels(params):
-    """The compiled simulator of the paper's chain (Params) or of any model."""
-    from .model import Model
-    if isinstance(params, Model):
-        from .flow import compiled
-        return compiled
-    return ff
-
-
 def names_of(params):
     """Names of the section coordinates (the paper's, or a model's section layout)."""
-    from .model import Model
     if isinstance(params, Model):
         from .maps.section import Section
         return Section.of(params).names

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fastflow as ff
 from ._compiled import qr_logs
+from .flow import compiled as cf
 from .jets import jacobian_at, jet_inputs
 
 TWO_PI = 2 * math.pi
@@ -48,7 +48,8 @@ def jacobian(params, omega, y, t_e=None):
             t_e = poincare_map(params, omega, y).t
         return model_jacobian(params, omega, y, t_e)
     if t_e is None:
-        t_e = ff.step(ff.constants(params, omega), *map(float, y))[1]
+        from .model import Model
+        t_e = cf.step(cf.constants(Model.of(params), omega), [float(v) for v in y])[1]
     return jacobian_at(params, omega, y, t_e)
 
 

@@ -1,11 +1,13 @@
 """Long runs of the Poincaré map P, eqs. (26) and (31): impact sections and sweeps.
 
 The float64 path runs the compiled exact flow and first-impact finder of
-:mod:`symvi._fastflow` for :class:`symvi.Params` (the paper's model) and of
 :mod:`symvi.flow.compiled` for any :class:`symvi.model.Model`, whose section
-points have the 2N components of :mod:`symvi.maps.section`;
-:func:`simulate_mp` runs the paper's map through :func:`symvi.poincare.step`
-on mpmath, as an independent reference.
+points have the 2N components of :mod:`symvi.maps.section`.  A
+:class:`symvi.Params` (the paper's model) runs there as
+:meth:`symvi.model.Model.luo_xie`, whose section layout is the paper's
+(x1dot+, x2, x2dot, tau) of eq. (9); it keeps the paper's validation and
+period-1 orbit (:mod:`symvi.orbit`).  :func:`simulate_mp` runs the paper's map
+through :func:`symvi.poincare.step` on mpmath, as an independent reference.
 
 A run ends early, with a stop reason, on
 
@@ -22,14 +24,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fastflow as ff
 from .errors import ParameterError, SingularCaseError
-from .params import check_omega
+from .flow import check_omega
+from .flow import compiled as cf
+from .model import Model
 
 #: default start: the admissible period-1 orbit y* plus this vector (x1dot+, x2, x2dot, tau)
 DEFAULT_PERTURBATION = (1e-4, 1e-4, 1e-4, 1e-4)
 
-STOP_NAMES = ff.STOP_NAMES
+STOP_NAMES = cf.STOP_NAMES
 
 
 @dataclass(frozen=True)
@@ -75,7 +78,6 @@ def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
 
 
 def _is_model(params):
-    from .model import Model
     return isinstance(params, Model)
 
 
@@ -102,6 +104,11 @@ def _check_start(y0):
     if not y[0] < 0:
         raise ParameterError("y0", y0, "x1dot+ < 0: the mass must leave the stop")
     return (y[0], y[1], y[2], y[3] % (2 * math.pi))
+
+
+def _check_system_start(params, y0, name="y0"):
+    """y0 checked for the system: 4 numbers for the paper's Params, 2N for a Model."""
+    return _check_model_start(params, y0, name) if _is_model(params) else _check_start(y0)
 
 
 def _check_model_start(model, y0, name="y0"):
@@ -152,37 +159,18 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
     :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).
     """
-    if _is_model(params):
-        return _simulate_model(params, omega, y0, n_impacts, transient, perturbation)
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    perturbation = _perturbation(params, perturbation)
     ys = fixed_point(params, omega)
     if y0 is None:
         y0, ys = start_point(params, omega, perturbation)
-    y0 = _check_start(y0)
-    c = ff.constants(params, omega)
-    code, sec, t, vimp, _ = ff.run(c, y0, n_impacts, transient)
-    return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      ff.STOP_NAMES[code], transient, ys)
-
-
-def _simulate_model(model, omega, y0, n_impacts, transient, perturbation):
-    """:func:`simulate` for a Model, on :mod:`symvi.flow.compiled`."""
-    from .flow import compiled as cf
-    from .flow.linear import LinearFlow
-    omega = LinearFlow.of(model).check_omega(omega)
-    n_impacts = _positive_int("n_impacts", n_impacts)
-    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
-    perturbation = _perturbation(model, perturbation)
-    ys = fixed_point(model, omega)
-    if y0 is None:
-        y0, ys = start_point(model, omega, perturbation)
-    y0 = _check_model_start(model, y0)
-    c = cf.constants(model, omega)
+    y0 = _check_system_start(params, y0)
+    c = cf.constants(Model.of(params), omega)
     code, sec, t, vimp, _ = cf.run(c, y0, n_impacts, transient)
-    return Simulation(model, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      cf.STOP_NAMES[code], transient, ys)
+    return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
+                      STOP_NAMES[code], transient, ys)
 
 
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
@@ -290,51 +278,22 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``progress(done, total)`` is called after each chunk of omegas.  ``params``
     is a :class:`symvi.Params` or any :class:`symvi.model.Model`.
     """
-    if _is_model(params):
-        return _sweep_model(params, omegas, n_impacts, transient, starts, perturbation, chunk,
-                            progress)
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
-    starts = np.array([_check_start(y) for y in np.asarray(starts, dtype=float)])
-    m = len(omegas)
-    C = np.array([ff.constants(params, w) for w in omegas])
-    sec = np.full((m, n_impacts, 4), np.nan)
-    counts = np.zeros(m, dtype=np.int64)
-    codes = np.zeros(m, dtype=np.int64)
-    chunk = chunk or max(1, m // 50)
-    for lo in range(0, m, chunk):
-        hi = min(m, lo + chunk)
-        cd, ct, s, _, _ = ff.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
-        sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
-        if progress is not None:
-            progress(hi, m)
-    return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
-                 _frozen(starts), transient, int(m * (n_impacts + transient)))
-
-
-def _sweep_model(model, omegas, n_impacts, transient, starts, perturbation, chunk, progress):
-    """:func:`sweep` for a Model, on :mod:`symvi.flow.compiled`."""
-    from .flow import compiled as cf
-    from .flow.linear import LinearFlow
-    flow = LinearFlow.of(model)
-    omegas = np.array([flow.check_omega(w, warn=False) for w in np.ravel(omegas)])
-    n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
-    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
-    if starts is None:
-        starts = sweep_starts(model, omegas, perturbation)
     try:
         rows = list(starts)
     except TypeError:
         raise ParameterError("starts", starts, f"{len(omegas)} start points") from None
     if len(rows) != len(omegas):
         raise ParameterError("starts", starts, f"{len(omegas)} start points, one per omega")
-    starts = np.array([_check_model_start(model, y, "starts") for y in rows])
+    starts = np.array([_check_system_start(params, y, "starts") for y in rows])
     m = len(omegas)
+    model = Model.of(params)
     C = np.array([cf.constants(model, w) for w in omegas])
-    sec = np.full((m, n_impacts, model.dim), np.nan)
+    sec = np.full((m, n_impacts, starts.shape[1]), np.nan)
     counts = np.zeros(m, dtype=np.int64)
     codes = np.zeros(m, dtype=np.int64)
     chunk = chunk or max(1, m // 50)
@@ -344,9 +303,8 @@ def _sweep_model(model, omegas, n_impacts, transient, starts, perturbation, chun
         sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
         if progress is not None:
             progress(hi, m)
-    return Sweep(model, _frozen(omegas), _frozen(sec), counts,
-                 tuple(STOP_NAMES[k] for k in codes), _frozen(starts), transient,
-                 int(m * (n_impacts + transient)))
+    return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
+                 _frozen(starts), transient, int(m * (n_impacts + transient)))
 
 
 def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):

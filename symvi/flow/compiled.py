@@ -12,7 +12,8 @@ Along a flight only h = x_k - b and its derivatives are needed::
 
 the full state is rebuilt only at the impact.
 
-Finder.  :func:`symvi._fastflow.first_impact` generalised.  For s >= 0,
+Finder.  :meth:`symvi.flow.linear.Motion.first_impact` with a tighter, still
+provably safe step.  For s >= 0,
 |h''(t + s)| <= M2(t) = sum_j w_j |d_j| |lambda_j|^2 e^{Re lambda_j t} + |X_k| omega^2
 (Re lambda_j <= 0: M, K positive definite, C semi-definite), and likewise
 M5(t) >= |h'''''(t + s)|.  With a horizon S and s in [0, S]
@@ -29,17 +30,17 @@ as the reference (smaller steps) would land on it.
 
 Kernels take the constants of one (model, omega) as one float64 array made by
 :func:`constants` (complex numbers as (re, im) pairs); section points are 2N
-vectors in the layout of :mod:`symvi.maps.section`.  Statuses, stop codes and
-chatter thresholds are those of :mod:`symvi._fastflow` (one owner).
+vectors in the layout of :mod:`symvi.maps.section`.  This module owns the
+statuses, stop codes and chatter thresholds of every compiled run (the plane
+kernel imports them from here).  The paper's model (:class:`symvi.Params`) runs
+here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
+paper's (x1dot+, x20, x20dot, tau0), eq. (9).
 """
 import math
 
 import numba as nb
 import numpy as np
 
-from .._fastflow import (CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, GRAZING, IMPACT,
-                         NO_IMPACT, STATUS_NAMES, STOP_CHATTER, STOP_GRAZING, STOP_NAMES,
-                         STOP_NO_IMPACT, STOP_NONFINITE, STOP_STICKING)
 from .linear import LinearFlow
 
 __all__ = ["constants", "size", "pack", "first_impact_from", "step", "step_tangent",
@@ -47,6 +48,19 @@ __all__ = ["constants", "size", "pack", "first_impact_from", "step", "step_tange
            "IMPACT", "GRAZING", "NO_IMPACT", "STATUS_NAMES", "COMPLETED", "STOP_GRAZING",
            "STOP_CHATTER", "STOP_STICKING", "STOP_NO_IMPACT", "STOP_NONFINITE", "STOP_NAMES",
            "CHATTER_COUNT", "CHATTER_FLIGHT"]
+
+#: finder status codes; their names are the statuses of :mod:`symvi.flow.linear`
+IMPACT, GRAZING, NO_IMPACT = 0, 1, 2
+STATUS_NAMES = ("impact", "grazing", "no-impact")
+
+#: run stop codes
+COMPLETED, STOP_GRAZING, STOP_CHATTER, STOP_STICKING, STOP_NO_IMPACT, STOP_NONFINITE = range(6)
+STOP_NAMES = ("completed", "grazing", "chatter", "sticking", "no-impact", "non-finite")
+
+#: a run stops as chatter after this many consecutive flights ...
+CHATTER_COUNT = 16
+#: ... each shorter than this fraction of the forcing period
+CHATTER_FLIGHT = 1e-3
 
 _EPS = 2.0 ** -52
 _TWO_PI = 2.0 * math.pi

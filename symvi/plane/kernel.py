@@ -69,11 +69,10 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from .._fastflow import (CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, IMPACT, NO_IMPACT,
-                         STOP_CHATTER, STOP_GRAZING, STOP_NO_IMPACT, STOP_NONFINITE,
-                         STOP_STICKING)
 from ..errors import ParameterError
-from ..flow.compiled import _NN, _OM, _step_tangent_into
+from ..flow.compiled import (_NN, _OM, CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, IMPACT,
+                             NO_IMPACT, STOP_CHATTER, STOP_GRAZING, STOP_NO_IMPACT,
+                             STOP_NONFINITE, STOP_STICKING, _step_tangent_into)
 
 __all__ = ["ATTRACTORS", "FIELDS", "Classified", "classify", "label"]
 
@@ -413,7 +412,7 @@ class Classified:
     rotation: np.ndarray             # float64, in [0, 1/2]
     impacts_per_period: np.ndarray   # float64
     max_velocity: np.ndarray         # float64, max |v_k-|
-    stop: np.ndarray                 # int8, index into symvi._fastflow.STOP_NAMES
+    stop: np.ndarray                 # int8, index into symvi.flow.compiled.STOP_NAMES
     y_end: np.ndarray                # (m, 2N) float64, the last section point
     followed: np.ndarray             # bool, started from the previous point's y_end
 

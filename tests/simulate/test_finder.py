@@ -1,12 +1,14 @@
-"""The compiled first-impact finder against brute-force dense sampling and its reference twin."""
+"""The compiled first-impact finder (:mod:`symvi.flow.compiled`, run on the paper's
+model as :meth:`symvi.model.Model.luo_xie`) against brute-force dense sampling and
+the paper's reference finder :func:`symvi.flow.first_impact`."""
 import math
 
 import numpy as np
 import pytest
 
-from symvi import _fastflow as ff
-from symvi import modal
+from symvi import Model, modal
 from symvi.flow import GRAZING, IMPACT, NO_IMPACT, first_impact, motion_from
+from symvi.flow import compiled as cf
 
 from ..conftest import EX1, EX2, OWN
 
@@ -112,16 +114,13 @@ def test_finder_agrees_with_dense_sampling(params, omega):
     ys = _states(params, omega, 3334, rng)
     coef, m = _coeffs(params, omega, ys)
     tb = _brute(coef, m, omega)
-    c = ff.constants(params, omega, t_max=T_MAX)
-    res = []
-    for v1, x2, v2, tau in ys:
-        a1, b1, a2, b2 = ff._motion(c, v1, x2, v2, tau)
-        res.append(ff.first_impact(c, a1, b1, a2, b2, tau, T_MAX)[:2])
+    c = cf.constants(Model.of(params), omega, t_max=T_MAX)
+    res = [cf.first_impact_from(c, y, T_MAX)[:2] for y in ys]
     st = np.array([r[0] for r in res])
     tf = np.array([r[1] for r in res])
-    assert (st == ff.IMPACT).sum() > 0.8 * len(ys)
-    assert (st == ff.GRAZING).sum() >= 5            # the near-grazing set does graze
-    imp = st == ff.IMPACT
+    assert (st == cf.IMPACT).sum() > 0.8 * len(ys)
+    assert (st == cf.GRAZING).sum() >= 5            # the near-grazing set does graze
+    imp = st == cf.IMPACT
     h_at = _h(coef[imp], m, omega, tf[imp])
     assert np.abs(h_at).max() < 1e-11               # a reported impact is a root
     assert (_h(coef[imp], m, omega, tf[imp], deriv=1) > 0).all()
@@ -133,31 +132,31 @@ def test_finder_agrees_with_dense_sampling(params, omega):
     assert not early[len(ys) // 3:].any()
     d = np.abs(_h(coef[early], m, omega, tf[early], deriv=1))
     assert (_h(coef[early], m, omega, tf[early] + 1e-3 * d / 5) > 0).all()
-    gr = st == ff.GRAZING
+    gr = st == cf.GRAZING
     assert (tb[gr] >= tf[gr] - 1e-3).all()
     assert np.abs(_h(coef[gr], m, omega, tf[gr])).max() < 1e-9
-    no = st == ff.NO_IMPACT
+    no = st == cf.NO_IMPACT
     assert (tb[no] > T_MAX - 1e-9).all()
 
 
-def test_twin_matches_reference_finder():
+def test_compiled_matches_reference_finder():
     """Same status and time as :func:`symvi.flow.first_impact` (the reference) on 300 states."""
     rng = np.random.default_rng(7)
     omega = 0.7372
     ys = _states(EX1, omega, 300, rng)
     m = modal(EX1)
-    c = ff.constants(EX1, omega, t_max=T_MAX)
-    names = {IMPACT: ff.IMPACT, GRAZING: ff.GRAZING, NO_IMPACT: ff.NO_IMPACT}
+    c = cf.constants(Model.of(EX1), omega, t_max=T_MAX)
+    names = {IMPACT: cf.IMPACT, GRAZING: cf.GRAZING, NO_IMPACT: cf.NO_IMPACT}
     agree = 0
     for v1, x2, v2, tau in ys:
         ref = first_impact(motion_from(m, omega, (EX1.b, x2), (v1, v2), tau), EX1.b, t_max=T_MAX)
-        a1, b1, a2, b2 = ff._motion(c, v1, x2, v2, tau)
-        st, t, v1m, x2n, v2n, _, _ = ff.first_impact(c, a1, b1, a2, b2, tau, T_MAX)
+        st, t, z, _, _ = cf.first_impact_from(c, (v1, x2, v2, tau), T_MAX)
+        x2n, v1m = z[1], z[2]                   # z = (x1, x2, x1dot, x2dot)
         # a tangency time is defined only to about sqrt(eps)
-        tol = 1e-9 if st == ff.IMPACT else 1e-6
-        if names[ref.status] == st and (st == ff.NO_IMPACT or abs(t - ref.t) <= tol * t):
+        tol = 1e-9 if st == cf.IMPACT else 1e-6
+        if names[ref.status] == st and (st == cf.NO_IMPACT or abs(t - ref.t) <= tol * t):
             agree += 1
-            if st == ff.IMPACT:
+            if st == cf.IMPACT:
                 assert v1m == pytest.approx(ref.state[2], rel=1e-9, abs=1e-9)
                 assert x2n == pytest.approx(ref.state[1], rel=1e-9, abs=1e-9)
     # borderline near-grazing cases (|h| within eps_h of 0) may be decided differently
@@ -166,8 +165,8 @@ def test_twin_matches_reference_finder():
 
 def test_fewer_steps_than_reference():
     """The tighter safe step needs fewer evaluations than the global quadratic bound."""
-    c = ff.constants(EX1, 0.7372)
-    code, sec, _, _, steps = ff.run(c, (-1.46, 0.30, 0.04, 1.51), 500)
+    c = cf.constants(Model.of(EX1), 0.7372)
+    code, sec, _, _, steps = cf.run(c, (-1.46, 0.30, 0.04, 1.51), 500)
     m = modal(EX1)
     ref = sum(first_impact(motion_from(m, 0.7372, (EX1.b, y[1]), (y[0], y[2]), y[3]),
                            EX1.b).steps for y in sec[:100])
