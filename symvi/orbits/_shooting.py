@@ -6,10 +6,9 @@ dz/dtau, dz/dt, eq. (19) generalised), the residual G, its Jacobian G_u and
 dG/domega, with the formulas and the order of operations of the numpy reference
 (``Problem._evaluate_numpy``), so that the two agree to rounding
 (tests/continuation/test_compiled_shooting.py).  Also compiled: the map Jacobians
-DP_i with the flight time eliminated and their product (eq. (30)), and the
-omega-dependent part of the constants of the compiled first-impact finder of
-:mod:`symvi.flow.compiled` (its layout read from :func:`symvi.flow.compiled.constants`
-itself, see :func:`finder_constants`).
+DP_i with the flight time eliminated and their product (eq. (30)).  And, in Python,
+the constants of the compiled first-impact finder of :mod:`symvi.flow.compiled` at
+a new omega without rebuilding the modal part (:func:`finder_constants`).
 """
 import math
 
@@ -204,13 +203,14 @@ def monodromy(Gu, p, d):
 
 
 def finder_constants(flow, F):
-    """The constants array of :mod:`symvi.flow.compiled` at F.omega, from the flow's
-    omega-independent part (cached on the flow) with the omega-dependent entries set
-    as :func:`symvi.flow.compiled.constants` sets them (a test asserts equality)."""
+    """The constants array of :mod:`symvi.flow.compiled` at F.omega: the flow's
+    omega-independent part (made once by :func:`symvi.flow.compiled.constants` and kept
+    on the flow) with the omega-dependent entries set as ``constants`` sets them (a
+    test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
     if base is None:
         base = flow.__dict__["_finder_base"] = _finder_base(flow)
-    c = base.copy()
+    c, lmax, grow = base[0].copy(), base[1], base[2]
     w = float(F.omega)
     n = flow.n
     U, V = F.U, F.V
@@ -218,17 +218,15 @@ def finder_constants(flow, F):
     c[_fc._OM], c[_fc._TMAX] = w, t_max
     c[_fc._B], c[_fc._R] = flow.b, flow.r          # a copied flow (new stop) shares the base
     c[_fc._UK], c[_fc._VK], c[_fc._XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
-    c[_fc._LMAX] = max(flow.__dict__["_finder_lmax"], w)
-    c[_fc._GROW] = math.exp(flow.__dict__["_finder_grow"] * 4 * t_max)
+    c[_fc._LMAX] = max(lmax, w)
+    c[_fc._GROW] = math.exp(grow * 4 * t_max)
     ou = _fc._offsets(n)[2]
     c[ou:ou + n], c[ou + n:ou + 2 * n] = U, V
     return c
 
 
 def _finder_base(flow):
-    # any valid omega: the entries it sets are all overwritten by finder_constants
+    """(constants at some omega, max |lambda|, max(0, max Re lambda)) of the flow."""
     lam = np.asarray(flow.lam, dtype=complex)
-    flow.__dict__["_finder_lmax"] = max(abs(lam))
-    flow.__dict__["_finder_grow"] = max(0.0, float(np.max(lam.real)))
     w = max(0.5 * float(np.min(flow.omegas)), _OMEGA_MIN)    # below every natural frequency
-    return _fc.constants(flow.model, w)
+    return _fc.constants(flow.model, w), max(abs(lam)), max(0.0, float(np.max(lam.real)))

@@ -17,6 +17,11 @@ Jacobian of one impact map, DP_i = dh/dy - dh/dt (dg/dt)^-1 dg/dy (the implicit
 function theorem of eq. (30)); their product is the monodromy matrix whose
 eigenvalues are the multipliers.  Second and third derivatives come from the
 generated jets at each impact, composed by the chain rule (:func:`compose`).
+
+G, its Jacobian and dG/domega are evaluated by a compiled float64 kernel
+(:mod:`symvi.orbits._shooting`), the admissibility of each flight by the compiled
+first-impact finder of :mod:`symvi.flow.compiled`; ``Problem.compiled = False``
+selects the numpy reference of both (the same results to rounding).
 """
 import math
 from dataclasses import dataclass, field
@@ -107,7 +112,7 @@ class Problem:
 
     def flights(self, u, lam, check=True):
         """Per impact: (z0, tau, z(t), Phi, dz/dtau, dz/dt) and the (model, flow, forcing)."""
-        u = np.asarray(u, dtype=float)
+        u = np.ascontiguousarray(u, dtype=float)
         key = (u.tobytes(), lam)
         if self._last is None or self._last[0] != key:    # a point is asked for twice
             if self.compiled:
@@ -134,7 +139,8 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         flow.b, flow.r, self.n_periods, u, self.p, jac, dom)
+                                         flow.b, flow.r, self.n_periods, u, self.p,
+                                         bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
 
