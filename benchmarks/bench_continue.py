@@ -8,7 +8,6 @@ compiled shooting kernel of symvi.orbits._shooting.
 
     python benchmarks/bench_continue.py > benchmarks/results_continue.md
 """
-import math
 import statistics
 import sys
 import time
@@ -130,8 +129,9 @@ def main():
              f"{t_np / len(br_np) * 1e3:.3f} ms", f"{1000 * t_np / len(br_np):.3f} s", "", "")]
     print("\n".join(md_table(("derivatives", "points", "time", "per point", "per 1000 points",
                               "|omega_NS - hopf_points|", "l1 at NS"), rows)))
-    print(f"\nRatio per point, FD baseline / exact: {(t_fd / len(br_fd)) / (t_exact / len(br)):.2f}x;"
-          f" numpy reference / compiled: {(t_np / len(br_np)) / (t_exact / len(br)):.2f}x."
+    per = t_exact / len(br)
+    print(f"\nRatio per point, FD baseline / exact: {t_fd / len(br_fd) / per:.2f}x;"
+          f" numpy reference / compiled: {t_np / len(br_np) / per:.2f}x."
           " Target: 1000 points <= 1 s.\n")
     print("## n-p Newton solves (ONE_DAMPED: m = k = 1, c = 0.05, gap 0, r = 0.8), from a guess "
           "1e-4 off; target <= 2 ms for p <= 4\n")

@@ -120,3 +120,14 @@ def test_admissibility_by_the_compiled_finder_equals_the_reference():
         flags.add(a.admissible)
     assert flags == {True, False}
     assert math.isfinite(br.states[-1][-1])
+
+
+def test_newton_solve_and_initial_guess_agree_with_the_reference(monkeypatch):
+    """The whole n-p solve (flight times of the guess by the compiled map, Newton, orbit)."""
+    guess = [[-0.3685, 4.1299], [-0.3505, 4.9770]]
+    fast = periodic_orbit(ONE_DAMPED, n=2, p=2, guess=guess, omega=2.69)
+    monkeypatch.setattr(Problem, "compiled", False)
+    ref = periodic_orbit(ONE_DAMPED, n=2, p=2, guess=guess, omega=2.69)
+    _close(fast.u, ref.u)
+    assert (fast.admissible, fast.reason, fast.stable) == (ref.admissible, ref.reason, ref.stable)
+    assert fast.multipliers == pytest.approx(ref.multipliers, rel=1e-12, abs=1e-12)
