@@ -24,6 +24,7 @@ q explicitly, :func:`symvi.normal_form.real_critical`):
 
 B, C are the second and third derivatives of P^p from the generated jets, composed.
 """
+import functools
 import math
 import warnings
 
@@ -39,6 +40,12 @@ from .points import SpecialPoint, correct, root_on_arc, tangent
 STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
+
+
+@functools.lru_cache(maxsize=None)
+def _pairs(n):
+    """Index pairs i < j of n multipliers (the bialternate product)."""
+    return np.triu_indices(n, 1)
 
 
 def _sign_change(a, b):
@@ -63,7 +70,7 @@ class Tracker:
         mu = np.array(orbit.multipliers)
         out = {"fold": float(t[-1]), "flip": float(np.prod(mu + 1).real)}
         if not self._conservative(X):
-            iu = np.triu_indices(len(mu), 1)
+            iu = _pairs(len(mu))
             out["ns"] = float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
             out["bp"] = float(np.prod(mu - 1).real)
         else:
@@ -307,7 +314,7 @@ class Tracker:
 
     def _bialt(self, X, Gu):
         mu = np.linalg.eigvals(self._mono(X, Gu))
-        iu = np.triu_indices(len(mu), 1)
+        iu = _pairs(len(mu))
         return float(np.prod(mu[iu[0]] * mu[iu[1]] - 1).real)
 
     def _crit_mod(self, X):
