@@ -8,7 +8,9 @@ dG/domega, with the formulas and the order of operations of the numpy reference
 (tests/continuation/test_compiled_shooting.py).  Also compiled: the map Jacobians
 DP_i with the flight time eliminated and their product (eq. (30)).  And, in Python,
 the constants of the compiled first-impact finder of :mod:`symvi.flow.compiled` at
-a new omega without rebuilding the modal part (:func:`finder_constants`).
+a new omega without rebuilding the modal part (:func:`finder_constants`), and the
+flow as :func:`symvi.orbits.admissibility.check_flight`'s callers use it with that
+finder (:class:`CompiledFinder`).
 """
 import math
 
@@ -16,7 +18,8 @@ import numba as nb
 import numpy as np
 
 from ..flow import compiled as _fc
-from ..flow.linear import OMEGA_RANGE
+from ..flow.linear import OMEGA_RANGE, FirstImpact
+from ..maps.section import Section
 
 _OMEGA_MIN = 2 * OMEGA_RANGE[0]
 
@@ -230,3 +233,31 @@ def _finder_base(flow):
     lam = np.asarray(flow.lam, dtype=complex)
     w = max(0.5 * float(np.min(flow.omegas)), _OMEGA_MIN)    # below every natural frequency
     return _fc.constants(flow.model, w), max(abs(lam)), max(0.0, float(np.max(lam.real)))
+
+
+class CompiledFinder:
+    """The flow as :func:`symvi.orbits.periodic.admissible` uses it (``perm``,
+    ``motion(F, z0, tau)``), its first-impact finder the compiled twin of
+    :mod:`symvi.flow.compiled`; the constants are made at the first motion asked for
+    (one forcing F per finder)."""
+
+    def __init__(self, flow):
+        self.perm, self.flow, self._c = flow.perm, flow, None
+
+    def motion(self, F, z0, tau):
+        return self.motion_from(F, Section.of(self.flow.model).point(z0, tau))
+
+    def motion_from(self, F, y):
+        """The flight from section point y."""
+        if self._c is None:
+            self._c = finder_constants(self.flow, F)
+        return _CompiledMotion(self._c, y)
+
+
+class _CompiledMotion:
+    def __init__(self, c, y):
+        self.c, self.y = c, np.array(y, dtype=float)
+
+    def first_impact(self, t_max=None):
+        st, t, z, _, steps = _fc.first_impact_from(self.c, self.y, t_max)
+        return FirstImpact(_fc.STATUS_NAMES[st], t, z, steps)

@@ -21,7 +21,15 @@ tau = arg(nu) +- arccos(rho): "+" and "-" as the paper's tau0 = phi +- arccos(al
 with no damping alpha = 0: b no longer moves the line and that gradient's sign is
 rounding noise, so the orientation is the limit r -> 1- (taken at r - 1e-6), which
 keeps the names continuous in omega and equal to the paper's.
+
+In float64 all of this, and the multipliers (the eigenvalues of the monodromy of
+the shooting problem with u = (y, T), eq. (30)), come from one compiled call
+(:mod:`symvi.orbits._period1`); admissibility is :func:`check_flight` with the
+compiled first-impact finder.  ``COMPILED = False`` selects the numpy reference
+(:class:`_Line`, :meth:`Motion.first_impact`, the generated order-1 jets), which
+gives the same results to rounding; mpmath (``digits``) always runs the reference.
 """
+import math
 import warnings
 from dataclasses import dataclass, field
 
@@ -31,6 +39,8 @@ import numpy as np
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..flow.linear import NUMPY_LA, LinearFlow
 from ..maps.section import Section
+from . import _period1
+from ._shooting import CompiledFinder
 from .admissibility import END_TOL, check_flight
 
 #: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated
@@ -39,6 +49,8 @@ ISOLATION_WARN = 2e-4
 #: |nu . p1| (relative) below which the branch orientation is taken from r - ORIENT_DR
 ORIENT_NOISE = 1e-12
 ORIENT_DR = 1e-6
+#: float64 orbits from the compiled kernel (False: the numpy reference, same results)
+COMPILED = True
 
 
 @dataclass(frozen=True)
@@ -163,8 +175,17 @@ class _Line:
 
 def _line(model, omega, digits):
     flow = LinearFlow.of(model, digits)
-    lib = flow.lib
     d, j = flow.one_minus_exp(omega)
+    _check_isolated(flow, omega, d, j)
+    L = _Line(flow, omega)
+    _check_fixed(flow.lib, L.rank_gap, L.phase_share)
+    return flow, L
+
+
+def _check_isolated(flow, omega, d, j):
+    """SingularCaseError where min_j |1 - e^{lambda_j T}| = d (mode j) says the orbit
+    is not isolated; a warning where it is ill-conditioned (float64)."""
+    lib = flow.lib
     if d < ISOLATION_REFUSE:
         raise SingularCaseError(
             "one-minus-cos",
@@ -174,19 +195,21 @@ def _line(model, omega, digits):
             f"{j + 1} / n.")
     if lib is NUMPY_LA.lib and d < ISOLATION_WARN:
         warnings.warn(f"1 - cos(2 pi omega_{j + 1}/omega) = {d * d / 2:.2e} is small: the "
-                      "period-1 conditions are ill-conditioned", NearSingularWarning, stacklevel=4)
-    L = _Line(flow, omega)
+                      "period-1 conditions are ill-conditioned", NearSingularWarning, stacklevel=5)
+
+
+def _check_fixed(lib, rank_gap, phase_share):
+    """SingularCaseError where the period-1 conditions do not fix the orbit or its phase."""
     scale = 64 * lib.eps
-    if not L.rank_gap > scale:
+    if not rank_gap > scale:
         raise SingularCaseError("degenerate-orbit-conditions",
                                 "the period-1 conditions do not fix the orbit (their matrix "
-                                f"has a second zero singular value, {float(L.rank_gap):.2e} "
+                                f"has a second zero singular value, {float(rank_gap):.2e} "
                                 "relative)")
-    if not L.phase_share > scale:
+    if not phase_share > scale:
         raise SingularCaseError("degenerate-forcing",
                                 "the forcing does not move the stop's mass: the impact phase "
                                 "is not fixed by the period-1 conditions")
-    return flow, L
 
 
 def _admissibility(flow, forcing, omega, z0, tau, vimp):
@@ -216,6 +239,8 @@ def period1_orbits(model, omega, *, digits=None, multipliers=True):
 
 
 def _orbits(model, omega, digits, want_multipliers):
+    if digits is None and COMPILED:
+        return _orbits_compiled(model, omega, want_multipliers)
     flow, L = _line(model, omega, digits)
     lib = flow.lib
     if lib.fabs(L.ratio) > 1:
@@ -239,6 +264,40 @@ def _orbits(model, omega, digits, want_multipliers):
             orb = _with(orb, multipliers=lam,
                         stable=bool(ok and max(abs(complex(z)) for z in lam) < 1))
         out.append(orb)
+    return out
+
+
+def _orbits_compiled(model, omega, want_multipliers):
+    """:func:`_orbits` in float64 by the kernel of :mod:`symvi.orbits._period1`."""
+    flow = LinearFlow.of(model)
+    F = flow.forcing(omega)
+    lam, W, Winv, A = flow.modal64
+    st, d, j, gap, share, Y, vimp, M, has_M = _period1.period1(
+        lam, W, Winv, A, F.U, F.V, omega, flow.b, flow.r, flow.r - ORIENT_DR,
+        ISOLATION_REFUSE, ORIENT_NOISE, bool(want_multipliers))
+    _check_isolated(flow, omega, d, j)
+    _check_fixed(flow.lib, gap, share)
+    if st == _period1.NO_ORBIT:
+        return []
+    sec = Section.of(model)
+    T = 2 * math.pi / omega
+    finder = CompiledFinder(flow)
+    mass = flow.perm[0] + 1
+    if want_multipliers:
+        from ..codegen.jets import eigenvalues, multipliers_of
+    out = []
+    for i, branch in enumerate(("+", "-")):
+        y = tuple(Y[i].tolist())
+        motion = finder.motion_from(F, Y[i])
+        ok, why = check_flight(motion.first_impact, T, y[0], vimp[i], mass=mass,
+                               tol=END_TOL, require_return=True)
+        lam_i, stable = (), False
+        if want_multipliers:
+            # no monodromy where the impact velocity is exactly 0: the reference's value
+            lam_i = eigenvalues(M[i]) if has_M[i] else multipliers_of(flow, F, y, T)
+            stable = bool(ok and max(abs(complex(z)) for z in lam_i) < 1)
+        out.append(Orbit(model, omega, branch, y, sec.names, vimp[i], ok, why, lam_i,
+                         stable))
     return out
 
 

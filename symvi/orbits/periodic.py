@@ -30,9 +30,9 @@ import numpy as np
 
 from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
-from ..flow.compiled import STATUS_NAMES, first_impact_from
+from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import step as compiled_step
-from ..flow.linear import IMPACT, FirstImpact, LinearFlow
+from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
 from . import _shooting
 from .admissibility import check_flight
@@ -433,7 +433,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     _, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
     vimp = tuple(float(f[2][problem.N]) for f in fl)
-    finder = _CompiledFinder(flow) if problem.compiled else flow
+    finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
     ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
     two_pi = 2 * math.pi
     pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
@@ -453,28 +453,6 @@ def admissible(problem, fl, flow, F, T):
         if not ok:
             return ok, why
     return True, ""
-
-
-class _CompiledFinder:
-    """The flow as :func:`admissible` uses it (``perm``, ``motion(F, z0, tau)``), its
-    first-impact finder the compiled twin of :mod:`symvi.flow.compiled`."""
-
-    def __init__(self, flow):
-        self.perm, self.flow, self._c = flow.perm, flow, None
-
-    def motion(self, F, z0, tau):
-        if self._c is None:
-            self._c = _shooting.finder_constants(self.flow, F)
-        return _CompiledMotion(self._c, Section.of(self.flow.model).point(z0, tau))
-
-
-class _CompiledMotion:
-    def __init__(self, c, y):
-        self.c, self.y = c, np.array(y, dtype=float)
-
-    def first_impact(self, t_max=None):
-        st, t, z, _, steps = first_impact_from(self.c, self.y, t_max)
-        return FirstImpact(STATUS_NAMES[st], t, z, steps)
 
 
 # --------------------------------------------------------------------------- the solver
