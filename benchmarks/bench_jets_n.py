@@ -1,9 +1,12 @@
 """Benchmark of any model (issue 11): regeneration, Python and compiled jets and
 `hopf_points` of the damped 3-mass model, and the paper's model through its own
-chain (the baseline) and through the any-model chain, in the same run.
+chain (the baseline) and through the any-model chain, in the same run; the
+period-1 solver also through its numpy reference (``period1.COMPILED = False``,
+the any-model chain before its compiled solver).
 
     python benchmarks/bench_jets_n.py
 """
+import contextlib
 import math
 import sys
 import tempfile
@@ -15,6 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import numba as nb  # noqa: E402
+import numpy as np  # noqa: E402
 
 import symvi  # noqa: E402
 from bench_jets import md_table, median_time  # noqa: E402
@@ -23,12 +27,23 @@ from symvi.codegen.jets import jet_at  # noqa: E402
 from symvi.codegen.layout import assemble, module  # noqa: E402
 from symvi.flow.linear import LinearFlow  # noqa: E402
 from symvi.model import Model, Stop  # noqa: E402
-from symvi.orbits import period1_orbits  # noqa: E402
+from symvi.orbits import period1, period1_orbits  # noqa: E402
 
 THREE = Model(mass=[1.0, 1.5, 0.8],
               stiffness=[[1.0, -1.0, 0.0], [-1.0, 1.7, -0.7], [0.0, -0.7, 2.7]],
               damping=[[0.015, -0.005, 0.0], [-0.005, 0.0235, -0.0035], [0.0, -0.0035, 0.0215]],
               forcing=[1.0, 0.5, 0.0], stop=Stop(mass=2, gap=0.5, restitution=0.8))
+
+
+@contextlib.contextmanager
+def reference_period1():
+    """The numpy reference of the period-1 solver (the any-model chain before the
+    compiled one)."""
+    old, period1.COMPILED = period1.COMPILED, False
+    try:
+        yield
+    finally:
+        period1.COMPILED = old
 
 
 def compiled_loop(kernel):
@@ -86,12 +101,31 @@ def main():
                  f"{t_old * 1e6:.0f} µs", ""))
     rows.append(("paper model, order-3 jet: N = 2 structure `jet_at`",
                  f"{t_new * 1e6:.0f} µs ({t_new / t_old:.2f}x the baseline)", ""))
-    t_o_old = median_time(lambda: symvi.period1_orbits(p, wp), 100)
-    t_o_new = median_time(lambda: period1_orbits(pm, wp), 100)
+    # period-1 orbits: the compiled any-model solver and its numpy reference (COMPILED =
+    # False, the solver before it), per omega over a scan of ex. 1's interval
+    ws = [float(x) for x in np.linspace(0.70, 0.76, 50)]
+
+    def scan(f, model):
+        return median_time(lambda: [f(model, x) for x in ws], 1, reps=9) / len(ws)
+
+    t_o_old = scan(symvi.period1_orbits, p)
+    t_o_new = scan(period1_orbits, pm)
+    with reference_period1():
+        t_o_ref = scan(period1_orbits, pm)
     rows.append(("paper model, both period-1 orbits with multipliers: paper chain (baseline)",
                  f"{t_o_old * 1e6:.0f} µs", ""))
     rows.append(("paper model, both period-1 orbits with multipliers: any-model chain",
-                 f"{t_o_new * 1e6:.0f} µs ({t_o_new / t_o_old:.2f}x the baseline)", ""))
+                 f"{t_o_new * 1e6:.0f} µs ({t_o_new / t_o_old:.2f}x the baseline)", "<= 1x"))
+    rows.append(("paper model, both period-1 orbits: any-model chain, numpy reference "
+                 "(`period1.COMPILED = False`, before)",
+                 f"{t_o_ref * 1e6:.0f} µs ({t_o_ref / t_o_old:.2f}x the baseline)", ""))
+    ws = [float(x) for x in np.linspace(0.95, 1.06, 50)]
+    t3_new = scan(period1_orbits, THREE)
+    with reference_period1():
+        t3_ref = scan(period1_orbits, THREE)
+    rows.append(("N = 3 damped, both period-1 orbits with multipliers, compiled / numpy "
+                 "reference", f"{t3_new * 1e6:.0f} / {t3_ref * 1e6:.0f} µs "
+                 f"({t3_ref / t3_new:.2f}x faster)", ""))
     # hopf_points: the N = 3 chain (two NS points), the paper's model both ways
     from symvi import hopf_points
     hopf_points(THREE, 0.99, 1.06)
@@ -102,8 +136,13 @@ def main():
     t_hm = median_time(lambda: hopf_points(pm, 0.70, 0.76), 1, reps=9)
     rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: paper chain (baseline)",
                  f"{t_hp * 1e3:.1f} ms", ""))
+    with reference_period1():
+        t_hr = median_time(lambda: hopf_points(pm, 0.70, 0.76), 1, reps=9)
     rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: any-model chain",
-                 f"{t_hm * 1e3:.1f} ms ({t_hm / t_hp:.2f}x the baseline)", ""))
+                 f"{t_hm * 1e3:.1f} ms ({t_hm / t_hp:.2f}x the baseline)", "<= 1.2x"))
+    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: any-model chain, numpy "
+                 "reference period-1 solver (before)",
+                 f"{t_hr * 1e3:.1f} ms ({t_hr / t_hp:.2f}x the baseline)", ""))
     print("\n".join(md_table(["what", "median", "target"], rows)))
 
 
