@@ -844,6 +844,10 @@ def estimate_model_hopf(model, omega_c, branch, nf, jt, *, min_digits=MIN_DIGITS
                 est2 = _model_estimate(model, w, branch, nf2, jt2, d)
         except SingularCaseError as exc:
             return _untrust_hopf(est, f"mpmath-{d}: {exc}")
+        except (np.linalg.LinAlgError, ZeroDivisionError, ValueError) as exc:
+            # the polish walked onto a singular map (e.g. the grazing point next to it)
+            return _untrust_hopf(est, f"mpmath-{d}: the refinement met a singular map "
+                                      f"({type(exc).__name__}: {exc})")
         if est2.digits >= min_digits:
             note = f"float64 gave ~{est.digits:.1f} digits; recomputed with mpmath at {d} digits"
             return HopfEstimate(_re(est2.omega_c, note), _re(est2.dmod_domega, note),
