@@ -152,8 +152,10 @@ def correct(problem, Xp, t, c):
             return None
         X = X + dX
         if np.abs(dX).max() <= CORR_TOL * (1 + np.abs(X).max()):
-            # the residual is checked at the final X; the derivatives, O(|dX|) away, are kept
-            G = problem.evaluate(X[:m], X[m], jac=False, check=False)[0]
+            # residual and derivatives at the final X itself: the multipliers, the tangent
+            # and every test function of the point are then those of X, not of the last
+            # iterate O(CORR_TOL) away (which moved located points by up to ~4e-12)
+            G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
             if np.abs(G).max() <= 1e3 * CORR_TOL * (1 + np.abs(X).max()):
                 return X, Gu, Gl, it
             return None

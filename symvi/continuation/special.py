@@ -34,7 +34,7 @@ from scipy.optimize import minimize_scalar
 from ..errors import NearSingularWarning, SymviError
 from ..normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .points import SpecialPoint, correct, root_on_arc, tangent
+from .points import SpecialPoint, correct, root_on_arc
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -128,15 +128,7 @@ class Tracker:
         return self._locate(kind, Xa, ta, Xb, index)
 
     def _root(self, f, Xa, ta, Xb):
-        # the corrector returns G_u of its last iterate, O(CORR_TOL) away from X: a test
-        # function of the multipliers would carry that error into the located value
-        pr = self.problem
-
-        def at(X, t):
-            _, Gu, Gl = pr.evaluate(X[:-1], X[-1], dparam=True, check=False)
-            return tangent(Gu, Gl, t), Gu
-        X, t, _ = root_on_arc(pr, lambda X, t, Gu: f(X, *at(X, t)), Xa, ta, Xb)
-        return (X,) + at(X, t)
+        return root_on_arc(self.problem, f, Xa, ta, Xb)
 
     def _interpolated_root(self, f, Xa, ta, Xb, nodes=9):
         """A zero of f(X, Gu) on the arc, for a branch point: there [G_u G_lam] has a
