@@ -215,8 +215,7 @@ def _check_fixed(lib, rank_gap, phase_share):
 def _admissibility(flow, forcing, omega, z0, tau, vimp):
     lib = flow.lib
     tol = END_TOL if flow.la is NUMPY_LA else lib.eps ** 0.5
-    motion = flow.motion(forcing, z0, tau)
-    return check_flight(lambda t_max: motion.first_impact(t_max=t_max), 2 * lib.pi / omega,
+    return check_flight(flow.motion(forcing, z0, tau).first_impact, 2 * lib.pi / omega,
                         z0[flow.n], vimp, mass=flow.perm[0] + 1, tol=tol, require_return=True)
 
 

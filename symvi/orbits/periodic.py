@@ -447,9 +447,8 @@ def admissible(problem, fl, flow, F, T):
     """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight."""
     N, k = problem.N, flow.perm[0] + 1
     for i, (z0, tau, z, *_rest) in enumerate(fl):
-        motion = flow.motion(F, z0, tau)
-        ok, why = check_flight(lambda t_max: motion.first_impact(t_max=t_max), T[i], z0[N],
-                               z[N], mass=k, flight=i + 1)
+        ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i], z0[N], z[N],
+                               mass=k, flight=i + 1)
         if not ok:
             return ok, why
     return True, ""
