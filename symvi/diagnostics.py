@@ -3,8 +3,9 @@
 * Lyapunov exponents of the section map, per impact, by the QR method
   [Benettin et al. 1980; Eckmann & Ruelle 1985]: Q_{k+1} R_k = DP(y_k) Q_k and
   lambda_i = mean log |R_k[i, i]|.  DP(y_k) is the Jacobian of eqs. (36)–(38)
-  at a general section point, from the generated code compiled by numba
-  (:mod:`symvi._compiled`; :func:`jacobian` gives the same matrix in Python).
+  at a general section point, compiled by numba: the flight's state transition
+  with the flight time eliminated, eq. (30) (:func:`symvi.orbits._shooting.monodromy`;
+  :func:`jacobian` gives the same matrix from the generated code in Python).
 * The rotation number of an invariant circle: mean turning angle per impact
   around the circle's centre in its principal plane.
 * A classification: period-k point, invariant circle, doubled torus, chaos.
@@ -21,9 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._compiled import qr_logs
+import numba as nb
+
 from .flow import compiled as cf
-from .jets import jacobian_at, jet_inputs
+from .orbits import _shooting
 
 TWO_PI = 2 * math.pi
 #: a bounded attractor is chaotic when its largest exponent (per impact) exceeds
@@ -32,25 +34,15 @@ CHAOS_THRESHOLD = 1e-3
 CHAOS_SIGMAS = 4.0
 
 
-def _is_model(params):
-    from .model import Model
-    return isinstance(params, Model)
-
-
 def jacobian(params, omega, y, t_e=None):
     """DP at the section point y with flight time t_e, eqs. (36)–(38), tau unwrapped
-    (generated code, :func:`symvi.jets.jacobian_at`; any model:
-    :func:`symvi.codegen.jets.jacobian_at`)."""
-    if _is_model(params):
-        from .codegen.jets import jacobian_at as model_jacobian
-        from .maps.impact import poincare_map
-        if t_e is None:
-            t_e = poincare_map(params, omega, y).t
-        return model_jacobian(params, omega, y, t_e)
+    (generated code, :func:`symvi.codegen.jets.jacobian_at`; a Params is its preset)."""
+    from .codegen.jets import jacobian_at
+    from .model import Model
+    model = Model.of(params)
     if t_e is None:
-        from .model import Model
-        t_e = cf.step(cf.constants(Model.of(params), omega), [float(v) for v in y])[1]
-    return jacobian_at(params, omega, y, t_e)
+        t_e = cf.step(cf.constants(model, omega), [float(v) for v in y])[1]
+    return jacobian_at(model, omega, y, t_e)
 
 
 @dataclass(frozen=True)
@@ -79,34 +71,50 @@ def lyapunov(sim, n=None):
     k0 = 0 if n is None else max(0, len(sec) - 1 - int(n))
     te = np.diff(t)
     m = len(sec) - 1 - k0
-    if _is_model(sim.params):
-        logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
-    else:
-        # the compiled generated Jacobian (eqs. 36-38) and QR, one loop: ~1 µs per point
-        const = jet_inputs(sim.params, sim.omega, sec[0], te[0])[:11]
-        logs = qr_logs(const, sec[k0:-1], te[k0:])
+    logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
+    if not np.isfinite(logs).all():
+        from .errors import SingularCaseError
+        raise SingularCaseError("grazing", "an impact of the stored section has zero "
+                                "velocity (grazing): DP, eq. (30), is undefined there")
     # columns of Q stay ordered by growth once converged: column 0 carries lambda_1
     blocks = [b[:, 0].mean() for b in np.array_split(logs, 10) if len(b)]
     err = float(np.std(blocks, ddof=1) / math.sqrt(len(blocks))) if len(blocks) > 1 else math.nan
     return Lyapunov(np.sort(logs.mean(axis=0))[::-1], m, float(np.mean(te[k0:])), err)
 
 
-def _qr_logs_model(model, omega, sec, te):
-    """log |R_k[i, i]| of the QR method for any model: the generated order-1 Jacobian
-    of the N-mass structure at each point (Python evaluator; ~30 µs a point for N = 3)."""
-    from .codegen.jets import evaluate
+def _qr_logs_model(params, omega, sec, te):
+    """log |R_k[i, i]| of the QR method (compiled, ~1 µs a point for N = 2)."""
     from .flow.linear import LinearFlow
-    flow = LinearFlow.of(model)
+    from .model import Model
+    flow = LinearFlow.of(Model.of(params))
     F = flow.forcing(float(omega))
-    d = sec.shape[1]
-    logs = np.empty((len(te), d))
+    lam, W, Winv, A = flow.modal64
+    return _qr_logs(lam, W, Winv, A, F.U, F.V, F.omega, flow.b, flow.r,
+                    np.ascontiguousarray(sec, dtype=float), np.ascontiguousarray(te, dtype=float))
+
+
+@nb.njit(cache=True)
+def _qr_logs(lam, W, Winv, A, U, V, w, b, r, sec, te):
+    """Q_{k+1} R_k = DP(y_k) Q_k along the section, DP of one flight by eq. (30)."""
+    m, d = sec.shape
+    logs = np.empty((m, d))
     Q = np.eye(d)
-    for k in range(len(te)):
-        J = evaluate(flow, F, tuple(sec[k]), float(te[k]), 1)["J"]
+    u = np.empty(d + 1)
+    for k in range(m):
+        u[:d] = sec[k]
+        u[d] = te[k]
+        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, b, r, 1, u, 1, True, False)[1]
+        _, J, ok = _shooting.monodromy(Gu, 1, d)
+        if not ok:                       # an impact at zero velocity: DP is undefined
+            logs[k, :] = np.nan
+            continue
         Q, R = np.linalg.qr(J @ Q)
-        dg = np.diag(R)
-        logs[k] = np.log(np.abs(dg))
-        Q = Q * np.where(dg < 0, -1.0, 1.0)        # keep Q's columns continuous
+        Q = np.ascontiguousarray(Q)
+        for i in range(d):
+            dg = R[i, i]
+            logs[k, i] = math.log(abs(dg))
+            if dg < 0.0:                 # keep Q's columns continuous
+                Q[:, i] = -Q[:, i]
     return logs
 
 

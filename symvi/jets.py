@@ -1,4 +1,11 @@
-"""Taylor jets of the Poincaré map from the generated code, eqs. (33)–(38).
+"""Taylor jets of the Poincaré map of the paper's model, eqs. (33)–(38).
+
+Since issue 11 :func:`jet` and :func:`jacobian_at` evaluate the generated jets of the
+N = 2 structure (:mod:`symvi.codegen.jets`) on ``Model.luo_xie``, the chain of every
+model; this module presents them in the paper's terms (:class:`Jet` with F01 … F11).
+The paper's own modal evaluators (``generated/order<K>.py``, 16 inputs psi11 … t_e)
+stay as a published interface, :func:`jet_inputs` and :func:`compiled`, and as the
+independent oracle the tests hold the N = 2 structure to.
 
 The tensors are raw derivatives in the paper's variable order
 (dx1dot+, dx20, dx20dot, dtau):
@@ -10,8 +17,8 @@ The tensors are raw derivatives in the paper's variable order
   with p = q = 1): the explicit omega-derivative plus d2 · dy*/domega, where
   dy*/domega = (I - J)^{-1} dP/domega follows from P(y*(omega); omega) = y*(omega).
 
-Order K imports ``symvi._generated.order<K>`` only: a multiplier-only job never
-imports second- or third-order code.
+Order K imports the generated order K only: a multiplier-only job never imports
+second- or third-order code.
 """
 import math
 from dataclasses import dataclass
@@ -19,12 +26,10 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from ._backend import MP
 from .errors import ParameterError, SingularCaseError
 from .params import Params, _finite, check_omega
 from .params import modal as _modal
-from ._paper_eval import _evaluate, _gen, _inputs, _orbit_inputs  # noqa: F401
-from ._paper_eval import multipliers_of as multipliers_of
+from ._paper_eval import _gen, _inputs
 from .codegen.jets import eigenvalues as eigenvalues  # one owner, any size
 
 
@@ -34,12 +39,15 @@ def jacobian_at(params, omega, y, t_e, digits=None):
     Valid at any impact point, not only at the period-1 orbit, so it serves the
     Lyapunov exponents along a simulated orbit.
     """
-    if digits is None:
-        return _evaluate(1, jet_inputs(params, omega, y, t_e), False)["J"]
-    with mpmath.mp.workdps(digits):
-        inp = _inputs(_modal(params, MP), MP.num(omega), MP.num(params.r), MP.num(params.b),
-                      tuple(MP.num(v) for v in y), MP.num(t_e))
-        return _evaluate(1, inp, True)["J"]
+    from .codegen.jets import jacobian_at as any_model
+    from .model import Model
+    return any_model(Model.of(params), omega, y, t_e, digits=digits)
+
+
+def multipliers_of(params, orbit):
+    """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit."""
+    te = 2 * (mpmath.pi if orbit.digits else math.pi) / orbit.omega
+    return eigenvalues(jacobian_at(params, orbit.omega, orbit.y, te, digits=orbit.digits))
 
 
 def jet_inputs(params, omega, y, t_e):
@@ -171,36 +179,16 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
         raise ParameterError("order", order, "1, 2 or 3")
     if orbit is None:
         orbit = select_orbit(params, omega, branch, digits)
+    from .codegen.jets import jet_at
     from .model import Model
+    w = orbit.omega
+    T = 2 * (mpmath.pi if digits else math.pi) / w
+    jt = jet_at(Model.of(params), w, orbit.y, T, order, digits=digits)
     if isinstance(params, Model):         # any model: the jet of its N-mass structure
-        from .codegen.jets import jet_at
-        w = orbit.omega
-        T = 2 * (mpmath.pi if digits else math.pi) / w
-        return jet_at(params, w, orbit.y, T, order, digits=digits)
-    if digits is None:
-        return _jet(params, orbit, order, False)
-    with mpmath.mp.workdps(digits):
-        return _jet(params, orbit, order, True)
-
-
-def _jet(params, orbit, order, mp):
-    vals = _evaluate(order, _orbit_inputs(params, orbit), mp)
-    g_th = vals["g_theta"]
-    # theta1 = -g_x / g_theta, so |theta1| |g_theta| is the scale of dg/dx
-    scale = abs(g_th) * (1 + float(np.max(np.abs(vals["theta1"].astype(float)))))
-    if abs(g_th) <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
-        raise SingularCaseError("grazing", "dg/d(dtheta) = 0 at the orbit: the impact is "
-                                "grazing and the implicit function theorem of eq. (30) fails")
-    kw = dict(orbit=orbit, omega=orbit.omega, order=order, jacobian=vals["J"],
-              theta1=vals["theta1"], g_theta=g_th, digits=orbit.digits)
-    if order >= 2:
-        J, d2, dwP = vals["J"], vals["d2"], vals["dwP"]
-        dy = _solve(np.eye(4, dtype=object if mp else float) - J, dwP, mp)
-        kw.update(d2=d2, dP_domega=dwP, dy_domega=dy,
-                  dA=vals["dwJ"] + d2 @ dy)
-    if order >= 3:
-        kw.update(d3=vals["d3"])
-    return Jet(**kw)
+        return jt
+    return Jet(orbit=orbit, omega=w, order=order, jacobian=jt.jacobian, theta1=jt.theta1,
+               g_theta=jt.g_theta, d2=jt.d2, d3=jt.d3, dA=jt.dA, dP_domega=jt.dP_domega,
+               dy_domega=jt.dy_domega, digits=orbit.digits)
 
 
 def _solve(M, v, mp):

@@ -1,40 +1,25 @@
-"""Period-1 one-impact orbits, eqs. (10)–(18), derived from conditions (10).
+"""Period-1 one-impact orbits of the paper's model (``Params``), eqs. (10)–(18).
 
-Derivation (ours; the printed eqs. (11)–(16) are audited separately in
-:mod:`symvi.paper.audit`).  With xi_j = a_j cos w_j t + b_j sin w_j t + A_j sin(omega t + tau)
-and T = 2 pi / omega, c_j = cos w_j T, s_j = sin w_j T:
-
-* x(T) = x(0) (both components, psi invertible) gives xi_j(T) = xi_j(0), i.e.
-  a_j = kappa_j b_j with kappa_j = s_j / (1 - c_j) = cot(pi w_j / omega)   eq. (15)
-* then xi_j'(T) = xi_j'(0) - 2 w_j b_j, and x2'(T) = x2'(0) gives
-  psi21 w1 b1 + psi22 w2 b2 = 0, so b = u (psi22 w2, -psi21 w1)           eq. (14)
-* the impact law x1'(0) = -r x1'(T) gives
-  (1 - r) w1 w2 D u = (1 + r) omega d cos tau,  d = -(psi11 A1 + psi12 A2)   eq. (13)
-* x1(0) = b gives  K u - d sin tau = b,  K = psi11 psi22 w2 kappa1 - psi12 psi21 w1 kappa2.
-
-Eliminating u:  K gamma cos tau - alpha d sin tau = alpha b  with
-alpha = (1 - r) w1 w2 D, gamma = (1 + r) omega d, i.e. rho cos(tau - phi) = alpha b:
-two branches tau = phi +- arccos(alpha b / rho) when |alpha b| <= rho (eq. 16).
-This form stays regular at r = 1 and b = 0.
+Since issue 11 the paper's model is solved by the chain of every model,
+:func:`symvi.orbits.period1_orbits` on ``Model.luo_xie`` (the state-space closed form;
+multipliers from the monodromy of eq. (30)).  This module only presents its orbits
+in the paper's terms: :class:`Orbit` with (x1dot+, x20, x20dot, tau0) and the modal
+integration constants a_j, b_j of eqs. (13)–(15).  The paper's own modal derivation
+stays as the independent oracle, :mod:`symvi.paper.modal_orbit`.
 """
-import warnings
-from dataclasses import dataclass
+import dataclasses
+import functools
+from dataclasses import dataclass, field
 
 import mpmath
 
 from ._backend import FLOAT, MP
-from .errors import NearSingularWarning, ParameterError, SingularCaseError
-from .flow import first_impact, forcing_amplitudes, motion_from
-from .params import check_omega, modal as _modal
-
-#: |sin(pi w_j / omega)| below which 1 - cos(2 pi w_j / omega) -> 0 is refused
-KAPPA_REFUSE = 1e-9
-KAPPA_WARN = 1e-4
+from .params import check_omega
 
 
 @dataclass(frozen=True)
 class Orbit:
-    """A period-1 one-impact orbit at forcing frequency omega, eqs. (17)–(18).
+    """A period-1 one-impact orbit of the paper's model at forcing frequency omega, eqs. (17)–(18).
 
     ``y`` = (x1dot+, x20, x20dot, tau0) is the fixed point of P in the paper's
     variable order.  Numbers are float, or mpf when computed with ``digits``.
@@ -47,17 +32,38 @@ class Orbit:
     x20_dot: object
     tau0: object
     impact_velocity: object   # x1dot- at t = 2 pi / omega, > 0 on the physical branch
-    a: tuple                  # integration constants of eq. (15)
-    b: tuple                  # integration constants of eqs. (13)–(14)
     admissible: bool
     reason: str               # why not admissible ("" when admissible)
     multipliers: tuple = ()   # eigenvalues of DP at y (complex), |.| descending
     stable: bool = False
     digits: object = None     # None for float64, else mpmath digits
+    params: object = field(default=None, repr=False, compare=False)
 
     @property
     def y(self):
         return (self.v1_plus, self.x20, self.x20_dot, self.tau0)
+
+    @functools.cached_property
+    def _constants(self):
+        """(a, b): the modal constants of xi_j = a_j cos w_j t + b_j sin w_j t + A_j sin(omega t + tau)."""
+        from .flow import motion_from
+        from .params import modal
+        lib = FLOAT if self.digits is None else MP
+        ctx = mpmath.workdps(self.digits) if self.digits else _Null()
+        with ctx:
+            mot = motion_from(modal(self.params, lib), self.omega, (lib.num(self.params.b),
+                              self.x20), (self.v1_plus, self.x20_dot), self.tau0, lib)
+        return mot.a, mot.b
+
+    @property
+    def a(self):
+        """Integration constants a_j of eq. (15)."""
+        return self._constants[0]
+
+    @property
+    def b(self):
+        """Integration constants b_j of eqs. (13)–(14)."""
+        return self._constants[1]
 
     def as_dict(self):
         """The JSON shape of issue 2: floats, multipliers as [re, im] pairs."""
@@ -70,67 +76,19 @@ class Orbit:
                 "stable": bool(self.stable)}
 
 
-def _branches(params, omega, m, lib):
-    """Solve conditions (10) in backend ``lib``: a list of raw branch tuples, or raise."""
-    pi = lib.pi
-    w1, w2 = m.omegas
-    p = m.psi
-    r, b = lib.num(params.r), lib.num(params.b)
-    kappa = []
-    for j, wj in enumerate((w1, w2), start=1):
-        sn = lib.sin(pi * wj / omega)
-        if lib.fabs(sn) < KAPPA_REFUSE:
-            raise SingularCaseError(
-                "one-minus-cos",
-                f"1 - cos(2 pi omega_{j} / omega) = {float(2 * sn * sn):.3e} at omega = "
-                f"{float(omega):.12g}: omega_{j} / omega is an integer, eq. (15) divides by zero "
-                "and the period-1 orbit is not isolated. Move omega away from omega_"
-                f"{j} / n.")
-        if lib is FLOAT and abs(sn) < KAPPA_WARN:
-            warnings.warn(f"1 - cos(2 pi omega_{j}/omega) = {2 * sn * sn:.2e} is small: "
-                          "eq. (15) is ill-conditioned", NearSingularWarning, stacklevel=3)
-        kappa.append(lib.cos(pi * wj / omega) / sn)
-    A = forcing_amplitudes(m, omega)
-    d = -(p[0][0] * A[0] + p[0][1] * A[1])
-    alpha = (1 - r) * w1 * w2 * m.D
-    gamma = (1 + r) * omega * d
-    K = p[0][0] * p[1][1] * w2 * kappa[0] - p[0][1] * p[1][0] * w1 * kappa[1]
-    Ac, Bs = K * gamma, -alpha * d
-    rho = lib.sqrt(Ac * Ac + Bs * Bs)
-    scale = (lib.fabs(K) + lib.fabs(alpha)) * (lib.fabs(gamma) + lib.fabs(d)) + lib.eps
-    if rho <= 1e3 * lib.eps * scale:
-        raise SingularCaseError("degenerate-forcing",
-                                "d = -(psi11 A1 + psi12 A2) = 0: the forcing does not move mass 1 "
-                                "and conditions (10) do not fix the orbit")
-    phi = lib.atan2(Bs, Ac)
-    ratio = alpha * b / rho
-    if lib.fabs(ratio) > 1:
-        return [], float(ratio)
-    ac = lib.acos(ratio)
-    out = []
-    for branch, tau in (("+", phi + ac), ("-", phi - ac)):
-        tau = tau % (2 * pi)
-        ct, st = lib.cos(tau), lib.sin(tau)
-        u = (alpha * gamma * ct + K * (b + d * st)) / (alpha * alpha + K * K)
-        bj = (p[1][1] * w2 * u, -p[1][0] * w1 * u)
-        aj = (kappa[0] * bj[0], kappa[1] * bj[1])
-        v1p = sum(p[0][j] * (m.omegas[j] * bj[j] + A[j] * omega * ct) for j in range(2))
-        vimp = sum(p[0][j] * (-m.omegas[j] * bj[j] + A[j] * omega * ct) for j in range(2))
-        x20 = sum(p[1][j] * (aj[j] + A[j] * st) for j in range(2))
-        x20d = sum(p[1][j] * (m.omegas[j] * bj[j] + A[j] * omega * ct) for j in range(2))
-        out.append((branch, tau, aj, bj, v1p, vimp, x20, x20d))
-    return out, float(ratio)
+class _Null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
 
 
-def _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d):
-    """(admissible, reason) of :func:`symvi.orbits.admissibility.check_flight`, on the
-    paper's modal flow: x1 < b on (0, 2 pi / omega)."""
-    from .orbits.admissibility import END_TOL, check_flight
-    b = lib.num(params.b)
-    mot = motion_from(m, omega, (b, x20), (v1p, x20d), tau, lib)
-    return check_flight(lambda t_max: first_impact(mot, b, lib, t_max=t_max), 2 * lib.pi / omega,
-                        v1p, vimp, mass=1, tol=END_TOL if lib is FLOAT else lib.eps ** 0.5,
-                        require_return=True)
+def _preset(params, o):
+    """The paper's view of an any-model orbit of ``Model.luo_xie`` (same section order)."""
+    v1, x2, v2, tau = o.y
+    return Orbit(o.branch, o.omega, v1, x2, v2, tau, o.impact_velocity, o.admissible,
+                 o.reason, o.multipliers, o.stable, o.digits, params)
 
 
 def period1_orbits(params, omega, *, digits=None, multipliers=True):
@@ -140,37 +98,17 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
     negative: no orbit exists).  Inadmissible orbits are returned with
     ``admissible=False`` and a reason, never silently analysed.  ``digits``
     selects mpmath at that precision.  ``multipliers=False`` skips the Jacobian.
-    A :class:`symvi.Model` is solved by :func:`symvi.orbits.period1_orbits`.
+    A :class:`symvi.Model` gets the any-model :class:`symvi.orbits.Orbit`.
     """
     from .model import Model
+    from .orbits import period1_orbits as any_model
     if isinstance(params, Model):
-        from .orbits import period1_orbits as any_model
         return any_model(params, omega, digits=digits, multipliers=multipliers)
-    omega_f = check_omega(params, omega)
-    if digits is not None:
-        if not isinstance(digits, int) or digits < 16 or digits > 10000:
-            raise ParameterError("digits", digits, "an integer from 16 to 10000")
-        with mpmath.mp.workdps(digits):
-            # keep an mpf omega at full precision (a 50-digit v_c must not be rounded)
-            w = MP.num(omega) if isinstance(omega, (mpmath.mpf, str)) else MP.num(omega_f)
-            return _orbits(params, w, MP, multipliers, digits)
-    return _orbits(params, omega_f, FLOAT, multipliers, None)
-
-
-def _orbits(params, omega, lib, want_multipliers, digits):
-    m = _modal(params, lib)
-    raw, _ = _branches(params, omega, m, lib)
-    orbits = []
-    for branch, tau, aj, bj, v1p, vimp, x20, x20d in raw:
-        ok, why = _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d)
-        orb = Orbit(branch, omega, v1p, x20, x20d, tau, vimp, aj, bj, ok, why, digits=digits)
-        if want_multipliers:
-            from ._paper_eval import multipliers_of
-            lam = multipliers_of(params, orb)
-            orb = _replace(orb, multipliers=lam,
-                           stable=bool(ok and max(abs(complex(l)) for l in lam) < 1))
-        orbits.append(orb)
-    return orbits
+    omega_f = check_omega(params, omega)      # the paper's ranges and messages first
+    if digits is not None and isinstance(omega, (mpmath.mpf, str)):
+        omega_f = omega                       # a 50-digit omega must not be rounded
+    return [_preset(params, o) for o in any_model(Model.of(params), omega_f, digits=digits,
+                                                  multipliers=multipliers)]
 
 
 def admissible_orbits(params, omega, *, digits=None, multipliers=True):
@@ -184,20 +122,20 @@ def admissible_orbits(params, omega, *, digits=None, multipliers=True):
 
 def multiplier_path(params, omegas):
     """Multipliers of the admissible orbit along omega (figs. 4, 10), eq. (36); see
-    :func:`symvi.orbits.multiplier_path` (which this calls with the paper's chain)."""
-    from .orbits.period1 import multiplier_path as path
+    :func:`symvi.orbits.multiplier_path`."""
     from .model import Model
-    if isinstance(params, Model):
-        return path(params, omegas)
-    return path(lambda w: admissible_orbits(params, w), omegas, 4)
+    from .orbits.period1 import multiplier_path as path
+    return path(Model.of(params), omegas)
 
 
 def _replace(obj, **kw):
-    import dataclasses
     return dataclasses.replace(obj, **kw)
 
 
 def existence_ratio(params, omega):
-    """alpha b / rho: the period-1 orbit exists iff |ratio| <= 1 (eq. 16, corrected)."""
+    """The orbit exists iff |ratio| <= 1 (eq. 16, corrected; for any model
+    :func:`symvi.orbits.existence_ratio`)."""
+    from .model import Model
+    from .orbits import existence_ratio as any_model
     omega = check_omega(params, omega, warn=False)
-    return _branches(params, omega, _modal(params), FLOAT)[1]
+    return any_model(Model.of(params), omega)

@@ -39,10 +39,19 @@ def evaluate(flow, forcing, y, te, order, tangent=None):
 
 
 def eigenvalues(J):
-    """Eigenvalues of a Jacobian sorted by modulus descending (float or mpmath)."""
+    """Eigenvalues of a Jacobian sorted by modulus descending, then imaginary part
+    descending (float or mpmath).  J is real, so complex eigenvalues come in conjugate
+    pairs: a pair shares one modulus for the sort, so its order (Im > 0 first) does not
+    depend on rounding (LAPACK returns exact conjugates; mpmath's eig does not)."""
     if J.dtype == object:
-        ev = mpmath.eig(mpmath.matrix(J.tolist()), left=False, right=False)
-        return tuple(sorted(ev, key=lambda z: (-abs(z), -mpmath.im(z))))
+        ev = list(mpmath.eig(mpmath.matrix(J.tolist()), left=False, right=False))
+        mods = [abs(z) for z in ev]
+        for i, z in enumerate(ev):
+            if mpmath.im(z) > 0:          # its partner: the nearest conjugate
+                j = min(range(len(ev)), key=lambda k: abs(ev[k] - mpmath.conj(z)))
+                mods[i] = mods[j] = (mods[i] + mods[j]) / 2
+        order = sorted(range(len(ev)), key=lambda i: (-mods[i], -mpmath.im(ev[i])))
+        return tuple(ev[i] for i in order)
     ev = np.linalg.eigvals(J)
     return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
 

@@ -22,6 +22,7 @@ its mirror too (the matrices stay symmetric).  :meth:`Model.tangent` gives the
 exact derivative of (M, C, K, P, b, r) with respect to any name: the data the
 exact parameter derivatives of the map are built from.
 """
+import functools
 import math
 import re
 from dataclasses import dataclass
@@ -272,7 +273,7 @@ class Model:
     def of(cls, system):
         """``system`` itself when it is a Model, else the preset of the paper's
         :class:`symvi.Params` (what a Model-only analysis takes from the preset flags)."""
-        return system if isinstance(system, cls) else cls.luo_xie(**system.as_dict())
+        return system if isinstance(system, cls) else _preset_of(system)
 
     # ---- named parameters ------------------------------------------------------
     def parameter_names(self):
@@ -432,3 +433,9 @@ class Tangent:
     def zero(self):
         return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
                 and not np.any(self.dC) and not np.any(self.dP))
+
+
+@functools.lru_cache(maxsize=256)
+def _preset_of(params):
+    """``Model.luo_xie`` of a Params, built once (its flows are cached by the model)."""
+    return Model.luo_xie(**params.as_dict())
