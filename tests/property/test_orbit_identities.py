@@ -68,10 +68,11 @@ def test_fixed_point_and_determinant(params, omega):
 def _gen(order, params, omega, y, te):
     """Generated values at a general section point y with flight time te.
 
-    Uses jets' internal evaluator (the public jet() works at the orbit only);
-    jets.jacobian_at is the public first-order equivalent.
+    The paper's modal evaluators (generated/order<K>.py, the oracle of the N = 2
+    structure that symvi.jets now evaluates), at any point.
     """
-    return jets._evaluate(order, jets._inputs(modal(params), omega, params.r, params.b,
+    from symvi._paper_eval import _evaluate
+    return _evaluate(order, jets._inputs(modal(params), omega, params.r, params.b,
                                               tuple(y), te), False)
 
 
