@@ -308,45 +308,6 @@ class HopfResult:
 
 
 # --------------------------------------------------------------------------- systems
-class _PaperSystem:
-    """The paper's model through its own chain (Params): eqs. (10)-(18), (33)-(38)."""
-
-    names = STATE_NAMES
-    paper = True               # the paper's own reduction, eq. (60), is reported
-
-    def __init__(self, params):
-        from .model import Model
-        self.params = params
-        self.model = Model.of(params)      # where the continuation locates the crossings
-        # Params has no damping: r = 1 alone makes the map volume preserving
-        self.conservative = params.r == 1.0
-
-    def orbits(self, w):
-        from .orbit import period1_orbits
-        return period1_orbits(self.params, w)
-
-    def existence_ratio(self, w):
-        from .orbit import existence_ratio
-        return existence_ratio(self.params, w)
-
-    def undamped_frequencies(self):
-        from .params import modal
-        return tuple(modal(self.params).omegas)
-
-    def jet3(self, w, orbit):
-        from .jets import jet
-        return jet(self.params, w, order=3, orbit=orbit)
-
-    def accuracy(self, omega_c, branch, nf, jt):
-        from .precision import auto_hopf_point
-        # the jet and normal form just computed are the base point: computed once
-        return auto_hopf_point(self.params, omega_c, branch=branch, dmod=float(nf.dmod_dv),
-                               l1=float(nf.l1), base=(jt, nf))
-
-    def as_dict(self):
-        return {"params": self.params.as_dict()}
-
-
 class _ModelSystem:
     """Any model (symvi.model.Model): period-1 orbits and jets of the any-model layers."""
 
@@ -360,30 +321,52 @@ class _ModelSystem:
 
     def orbits(self, w):
         from .orbits import period1_orbits
-        return period1_orbits(self.params, w)
+        return period1_orbits(self.model, w)
 
     def existence_ratio(self, w):
         from .orbits import existence_ratio
-        return existence_ratio(self.params, w)
+        return existence_ratio(self.model, w)
 
     def undamped_frequencies(self):
         """Frequencies of the modes with no damping: there forcing is resonant and
         1 - cos(2 pi omega_j / omega) -> 0 makes the period-1 orbit non-isolated."""
         from .flow.linear import LinearFlow
-        lam = LinearFlow.of(self.params).lam
+        lam = LinearFlow.of(self.model).lam
         return tuple(sorted(float(z.imag) for z in lam
                             if z.imag > 0 and abs(z.real) <= 1e-12 * abs(z)))
 
     def jet3(self, w, orbit):
         from .codegen.jets import jet_at
-        return jet_at(self.params, w, orbit.y, 2 * math.pi / w, 3)
+        return jet_at(self.model, w, orbit.y, 2 * math.pi / w, 3)
 
     def accuracy(self, omega_c, branch, nf, jt):
         from .precision import estimate_model_hopf
-        return estimate_model_hopf(self.params, omega_c, branch, nf, jt)
+        # the jet and normal form just computed are the base point: computed once
+        return estimate_model_hopf(self.model, omega_c, branch, nf, jt)
 
     def as_dict(self):
         return {"model": self.params.as_dict()}
+
+
+class _PaperSystem(_ModelSystem):
+    """The paper's model (Params): the chain of every model on ``Model.luo_xie``, with
+    the paper's names, its orbits' fields and its own reduction, eq. (60), reported."""
+
+    names = STATE_NAMES
+    paper = True
+
+    def __init__(self, params):
+        from .model import Model
+        super().__init__(Model.of(params))
+        self.params = params
+        self.names = STATE_NAMES
+
+    def orbits(self, w):
+        from .orbit import period1_orbits
+        return period1_orbits(self.params, w)
+
+    def as_dict(self):
+        return {"params": self.params.as_dict()}
 
 
 def _system(params):

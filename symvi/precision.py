@@ -7,13 +7,16 @@ l1) gets a relative-error estimate of the form
 
 * ``kappa`` is a relative condition number, the largest of
 
-  - the **input condition**: the relative change of the result under a relative
-    change delta of each input (omega, mu_m, mu_k, f2, b, r), by two one-sided
-    differences (the larger is kept).  Rounding an input, or an intermediate
-    quantity computed from the inputs, moves the result by about kappa * eps.
-    This is what picks up forcing resonance (A_j = F_j / (omega_j^2 - omega^2),
-    eq. 7), 1 - cos(2 pi omega_j / omega) -> 0 (eq. 15), the merging of the two
-    branches (arccos near +-1, eq. 16) and grazing (dg/d(dtheta) -> 0, eq. 30);
+  - the **input condition**: the relative change of the result per relative
+    change of each named parameter of the model (omega, the entries of M, K, C,
+    P, the gap and r; for ``Params`` those of ``Model.luo_xie``), from the exact
+    derivatives of :func:`symvi.codegen.jets.parameter_derivatives` (no
+    perturbed re-solves).  Rounding an input, or an intermediate quantity
+    computed from the inputs, moves the result by about kappa * eps.  This is
+    what picks up forcing resonance, 1 - cos(2 pi omega_j / omega) -> 0 (eq. 15),
+    the merging of the two branches (eq. 16) and grazing (eq. 30); the
+    cancellation of the large steady-state terms near resonance, which no input
+    derivative sees, is added from the period-1 solve itself;
   - the **linear-algebra condition**: the eigenvalue condition numbers
     1 / |y^H x| (unit left/right eigenvectors) times ||J|| / |lambda|, the
     condition numbers of I - A and e^{2 i theta} I - A (Kuznetsov's h11, h20),
@@ -54,7 +57,6 @@ import mpmath
 import numpy as np
 
 from .errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-from .params import Params
 
 #: significant digits below which a result is recomputed at higher precision
 MIN_DIGITS = 8
@@ -66,8 +68,6 @@ GUARD = 6
 C_EVAL = 256.0
 #: float64 unit roundoff used throughout (2^-52, as in symvi._backend)
 EPS64 = 2.0 ** -52
-#: the inputs whose relative perturbation defines the input condition
-INPUTS = ("omega", "mu_m", "mu_k", "f2", "b", "r")
 
 
 # --------------------------------------------------------------------------- results
@@ -199,73 +199,6 @@ def _eps(digits):
     return EPS64 if digits is None else 10.0 ** (1 - digits)
 
 
-def _delta(digits):
-    """Relative perturbation of the inputs: above the noise, below nonlinearity."""
-    if digits is None:
-        return 2.0 ** -22          # ~2.4e-7: noise kappa*eps/delta ~ 1e-9 kappa
-    return max(10.0 ** (-digits / 2.5), 1e-13)
-
-
-def _perturbed(params, omega, name, h):
-    """(params', omega', actual relative step) with input ``name`` scaled by (1 + h)."""
-    if name == "omega":
-        w2 = omega * (1 + h)
-        return params, w2, (w2 - omega) / omega if omega else 0.0
-    d = params.as_dict()
-    x = d[name]
-    if x == 0:
-        return None
-    x2 = float(x * (1 + h))
-    d[name] = x2
-    return Params(**d), omega, (x2 - x) / x
-
-
-def _vec_norm(v):
-    return max(abs(complex(x)) for x in v) if len(v) else 0.0
-
-
-def _rel_change(a, b):
-    """Normwise relative change between two vectors of numbers."""
-    nrm = _vec_norm(a)
-    if nrm == 0:
-        return math.inf if _vec_norm(b) else 0.0
-    return max(abs(complex(x) - complex(y)) for x, y in zip(a, b)) / nrm
-
-
-def _input_condition(fn, params, omega, digits, base):
-    """{input: relative condition} of the vector function fn(params, omega) at ``base``.
-
-    Two one-sided differences per input, the larger kept.  A perturbation that
-    meets a singular case (SymviError) within delta gives kappa >= 1/delta,
-    recorded as a lower bound with the reason.
-    """
-    h = _delta(digits)
-    out, notes = {}, []
-    for name in INPUTS:
-        best = 0.0
-        for sgn in (1, -1):
-            try:
-                pert = _perturbed(params, omega, name, sgn * h)
-            except ParameterError:      # e.g. r = 1 cannot grow
-                continue
-            if pert is None:
-                continue
-            p2, w2, hh = pert
-            if hh == 0:
-                continue
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", NearSingularWarning)
-                    val = fn(p2, w2)
-            except SymviError as exc:
-                best = max(best, 1.0 / abs(hh))
-                notes.append(f"{name} {'+' if sgn > 0 else '-'}{abs(hh):.0e}: {exc}")
-                continue
-            best = max(best, _rel_change(base, val) / abs(hh))
-        out[name] = best
-    return out, notes
-
-
 def _digits_needed(kappa, min_digits):
     return int(math.ceil(min_digits + math.log10(C_EVAL + kappa) + GUARD))
 
@@ -319,90 +252,14 @@ def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
 def estimate_orbit(params, orbit, *, input_condition=True, reuse=None):
     """Error estimate of an orbit's y* and multipliers, at the orbit's own precision.
 
-    The orbit may be float64 (``orbit.digits is None``) or mpmath.  ``reuse``: an
-    earlier :class:`OrbitEstimate` of the same orbit whose input condition numbers
-    are taken over (they do not depend on the precision; near a singular case
-    the perturbed mpmath orbits are expensive, see benchmarks/results_stress.md).
+    The paper's model is estimated as ``Model.luo_xie`` by :func:`estimate_model_orbit`
+    (exact input condition from the derivatives with respect to every named
+    parameter, no perturbed re-solves); ``input_condition`` is kept for callers of
+    the earlier perturbation estimate, which it switched off: the exact one is cheap
+    and always computed.  ``reuse``: an earlier estimate of the same orbit.
     """
-    from .jets import jet
-    digits = orbit.digits
-    eps = _eps(digits)
-    omega = orbit.omega
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NearSingularWarning)
-        try:
-            j = jet(params, omega, order=1, digits=digits, orbit=orbit)
-            J, g_theta = j.jacobian, j.g_theta
-            grazing = ""
-        except SingularCaseError as exc:
-            J, g_theta, grazing = None, 0.0, str(exc)
-    y = list(orbit.y)
-    lam = list(orbit.multipliers)
-
-    if reuse is not None:
-        kin_y, notes_y = dict(reuse.input_condition), []
-        kin_l, notes_l = dict(reuse.input_condition_multipliers), []
-    elif input_condition:
-        def f_y(p2, w2):
-            o = _orbit_on(p2, w2, orbit.branch, digits, False, orbit.admissible)
-            return list(o.y)
-
-        def f_lam(p2, w2):
-            o = _orbit_on(p2, w2, orbit.branch, digits, True, orbit.admissible)
-            return _match(o.multipliers, lam)
-
-        ctx = mpmath.mp.workdps(digits) if digits else _null()
-        with ctx:
-            kin_y, notes_y = _input_condition(f_y, params, omega, digits, y)
-            kin_l, notes_l = (_input_condition(f_lam, params, omega, digits, lam)
-                              if lam else ({}, []))
-    else:
-        kin_y, notes_y, kin_l, notes_l = {}, [], {}, []
-    ky = max(kin_y.values(), default=0.0)
-    cancel = _cancellation(params, orbit)
-    err_y = eps * (C_EVAL + 16 * cancel + ky)
-
-    eig_conds = ()
-    err_l = math.inf if J is None else 0.0
-    kl = math.inf if J is None else 0.0
-    if J is not None and lam:
-        vals, conds = _mp_eig_condition(J)
-        conds = [conds[min(range(len(vals)), key=lambda i: abs(vals[i] - complex(l)))]
-                 for l in lam]
-        eig_conds = tuple(conds)
-        Jn = float(np.max(np.abs(np.array(J, dtype=complex))))
-        # |d lambda| <= cond * ||dJ||, ||dJ|| ~ ||J|| eps (C_EVAL + kappa_y) * graze:
-        # J inherits y*'s error, and eq. (37) divides by g_theta (rounded at the scale of y*)
-        lam_max = max(abs(complex(l)) for l in lam)
-        k_lin = (max(conds) * Jn * (C_EVAL + 16 * cancel + ky) * _graze_factor(y, g_theta)
-                 / max(lam_max, 1e-300) / C_EVAL)
-        kl = max(max(kin_l.values(), default=0.0), k_lin * C_EVAL)
-        err_l = eps * (C_EVAL + kl)
-    note_y = "; ".join(notes_y[:2])
-    note_l = "; ".join(([grazing] if grazing else []) + notes_l[:2])
-    est_y = _make("y*", y, err_y, ky, digits, note_y)
-    est_l = _make("multipliers", lam, err_l, kl, digits, note_l)
-    return OrbitEstimate(est_y, est_l, float(abs(complex(g_theta))), eig_conds, kin_y, kin_l)
-
-
-def _cancellation(params, orbit):
-    """(largest modal term) / |y*|: the cancellation in the sums of eqs. (17)–(18), (21)–(24).
-
-    Near forcing resonance A_j = F_j / (omega_j^2 - omega^2) and kappa_j = cot(pi omega_j /
-    omega) both blow up while y* stays finite: the input condition does not see it, the
-    rounding of the large terms does (eps * largest term).
-    """
-    from .flow import forcing_amplitudes
-    from .params import modal as _modal
-    m = _modal(params)
-    w = float(orbit.omega)
-    A = forcing_amplitudes(m, w)
-    terms = [1.0]
-    for j in range(2):
-        wj = m.omegas[j]
-        terms += [abs(float(orbit.a[j])), abs(float(orbit.b[j])) * wj, abs(A[j]) * max(1.0, w)]
-    ymax = max(abs(float(v)) for v in orbit.y[:3])
-    return max(1.0, max(terms) / max(ymax, 1e-300))
+    from .model import Model
+    return estimate_model_orbit(Model.of(params), orbit, reuse=reuse)
 
 
 def _graze_factor(y, g_theta):
@@ -460,7 +317,11 @@ def _auto_orbits(orbits, estimate, recompute, min_digits, max_digits):
 
 
 def _enough(o, est, min_digits):
-    """y* always needs min_digits; multipliers only for an admissible orbit."""
+    """y* always needs min_digits; multipliers only for an admissible orbit.  A float64
+    verdict of grazing is decided within a rounding tolerance (END_TOL of
+    :mod:`symvi.orbits.admissibility`), whatever y*'s digits: mpmath settles it."""
+    if o.digits is None and "grazing" in o.reason:
+        return False
     return est.y.digits >= min_digits and (not o.admissible or
                                            est.multipliers.digits >= min_digits)
 
@@ -568,79 +429,40 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
     ``omega_c`` is the located root of |lambda1| = 1 (float64 or mpf at
     ``digits``).  The residual |lambda1(omega_c)| - 1 over d|lambda1|/dv is added
     to the error of omega_c (a root finder that stopped early shows up here).
-    ``dmod``/``l1``, if given, are the values to attach (else recomputed here).
+    ``dmod``/``l1``, if given, are the values to attach (else computed here).
     ``base`` = (jet, normal form) already computed at ``omega_c`` (float64) by the
-    caller: then nothing at the base point is computed again.
+    caller: then nothing at the base point is computed again.  The conditions are
+    those of any model (:func:`_model_estimate`, on ``Model.luo_xie`` for Params).
     """
     from .jets import select_orbit
+    from .model import Model
+    model = Model.of(params)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         if branch is None:
             branch = select_orbit(params, float(omega_c)).branch
-        eps = _eps(digits)
         ctx = mpmath.mp.workdps(digits) if digits else _null()
         with ctx:
             w = mpmath.mpf(omega_c) if digits else float(omega_c)
             if base is not None and digits is None:
-                jt, e = base
-                resid, dm, l = abs(e.lam) - 1, e.dmod_dv, e.l1
+                jt, nf = base
             else:
-                resid, dm, l, (jt, e) = _hopf_quantities(params, w, branch, digits)
-            dmod = dm if dmod is None else dmod
-            l1 = l if l1 is None else l1
-
-            def f(p2, w2):
-                r2, d2_, l2, _ = _hopf_quantities(p2, w2, branch, digits)
-                # v_c moves by -(|lambda1| - 1)/dmod; the others at the moved point to first order
-                return [w - r2 / dm, d2_, l2]
-
-        # per-quantity input condition (componentwise)
-        kin_c, notes = _componentwise_condition(f, params, w, digits, [w, dm, l])
-        lin = _linear_condition(jt, e, digits)
-        gf = _graze_factor(jt.orbit.y, jt.g_theta) * _cancellation(params, jt.orbit)
-        lin = {k: (v * gf if k in ("eig", "vec", "solve") else v) for k, v in lin.items()}
-        dmf, lf = float(dm), float(l)
-        # v_c: |lambda1| carries the eigenvalue error, divided by the crossing speed
-        k_vc = max(kin_c[0], lin["eig"] * (C_EVAL) / max(abs(dmf) * float(w), 1e-300))
-        err_vc = eps * (C_EVAL + k_vc) + abs(float(resid)) / max(abs(dmf) * float(w), 1e-300)
-        k_dm = max(kin_c[1], lin["vec"] * lin["dmod_terms"] / max(abs(dmf), 1e-300))
-        err_dm = eps * (C_EVAL + k_dm)
-        k_l1 = max(kin_c[2], (lin["solve"] + lin["vec"]) * lin["l1_terms"] / max(abs(lf), 1e-300))
-        err_l1 = eps * (C_EVAL + k_l1)
-    note = "; ".join(notes[:2])
-    return HopfEstimate(_make("omega_c", w, err_vc, k_vc, digits, note),
-                        _make("dmod_domega", dmod, err_dm, k_dm, digits, note),
-                        _make("l1", l1, err_l1, k_l1, digits, note), branch)
+                _, jt, nf = _model_hopf_at(model, w, branch, digits)
+            est = _model_estimate(model, w, branch, nf, jt, digits)
+            resid = float(abs(abs(nf.lam) - 1))
+    dmf = float(nf.dmod_dv)
+    wc = est.omega_c
+    err_vc = wc.rel_err + resid / max(abs(dmf) * float(w), 1e-300)
+    return HopfEstimate(_make("omega_c", w, err_vc, wc.condition, digits, wc.note),
+                        _attach(est.dmod_domega, dmod, digits), _attach(est.l1, l1, digits),
+                        branch)
 
 
-def _componentwise_condition(f, params, omega, digits, base):
-    """Relative condition of each component of f (a short vector), max over inputs."""
-    h = _delta(digits)
-    out, notes = [0.0] * len(base), []
-    for name in INPUTS:
-        for sgn in (1, -1):
-            try:
-                pert = _perturbed(params, omega, name, sgn * h)
-            except ParameterError:
-                continue
-            if pert is None or pert[2] == 0:
-                continue
-            p2, w2, hh = pert
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", NearSingularWarning)
-                    ctx = mpmath.mp.workdps(digits) if digits else _null()
-                    with ctx:
-                        val = f(p2, w2)
-            except SymviError as exc:
-                out = [max(o, 1.0 / abs(hh)) for o in out]
-                notes.append(f"{name} {'+' if sgn > 0 else '-'}{abs(hh):.0e}: {exc}")
-                continue
-            for i, (a, b) in enumerate(zip(base, val)):
-                a, b = complex(a), complex(b)
-                out[i] = max(out[i], abs(b - a) / abs(a) / abs(hh) if a != 0 else
-                             (math.inf if b != a else 0.0))
-    return out, notes
+def _attach(e, value, digits):
+    """Estimate e with ``value`` (the caller's number for the same quantity) attached."""
+    if value is None:
+        return e
+    return _make(e.name, value, e.rel_err, e.condition, digits, e.note)
 
 
 def _linear_condition(jt, e, digits):
