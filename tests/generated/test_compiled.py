@@ -94,31 +94,3 @@ def test_jet_inputs_names_the_bad_parameter(kw, name):
     with pytest.raises(ParameterError) as e:
         jet_inputs(**args)
     assert e.value.name == name
-
-
-@pytest.mark.slow
-def test_lyapunov_loop_recompiles_when_generated_code_changes(monkeypatch):
-    """numba caches _qr_logs by its own file only; the stamp of generated/order1.py frozen
-    into it must force a recompile when it no longer matches (as after `symvi regenerate`)."""
-    from symvi import _compiled
-    pts = _general_points()
-    const = jet_inputs(*pts[0])[:11]
-    sec = np.array([c[2] for c in pts[:-1]])
-    te = np.array([c[3] for c in pts[:-1]])
-    ref = _compiled.qr_logs(const, sec, te)
-    real = _compiled._STAMP
-    calls = []
-    orig = _compiled._qr_logs.recompile
-
-    def spy():
-        calls.append(1)
-        orig()
-    monkeypatch.setattr(_compiled._qr_logs, "recompile", spy)
-    try:
-        monkeypatch.setattr(_compiled, "_STAMP", real + 1)      # "the generated file changed"
-        assert np.array_equal(_compiled.qr_logs(const, sec, te), ref) and calls == [1]
-        assert np.array_equal(_compiled.qr_logs(const, sec, te), ref) and calls == [1]
-    finally:
-        _compiled._STAMP = real                                # leave a matching cache behind
-        _compiled.qr_logs(const, sec, te)
-    assert len(calls) == 2
