@@ -18,7 +18,9 @@ HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE.parent))
 
 import symvi  # noqa: E402
+from symvi import _paper_eval as pe  # noqa: E402
 from symvi import jets  # noqa: E402
+from symvi.codegen.jets import fixed_point_motion  # noqa: E402
 from symvi._io import write_text  # noqa: E402
 from symvi.poincare import fd_jacobian  # noqa: E402
 
@@ -62,11 +64,21 @@ def _in_loop(kernel, inp, n=20000):
     return median_time(lambda: loop(inp, n), 1) / n
 
 
+def _paper_jet(p, orb, K):
+    """The jet at the orbit as symvi.jet computed it for Params before issue 11 moved it
+    to the N = 2 structure: the paper's evaluator, then dy*/domega and F11."""
+    v = pe._evaluate(K, pe._orbit_inputs(p, orb), False)
+    if K >= 2:
+        dy = fixed_point_motion(v["J"], v["dwP"], False)
+        v["dA"] = v["dwJ"] + v["d2"] @ dy
+    return v
+
+
 def main():
     p = symvi.Params(2, 5, 0, 1.5, 0.8)
     omega = 0.7369
     orb = [o for o in symvi.period1_orbits(p, omega) if o.admissible][0]
-    inp = jets._orbit_inputs(p, orb)
+    inp = pe._orbit_inputs(p, orb)
     # regeneration of all orders into a temporary folder
     from symvi._derivations import poincare_jets as pj
     regen = []
@@ -82,7 +94,8 @@ def main():
         mod, _ = jets._gen(K)
         res[K] = {
             "gen": median_time(lambda: mod.f64(inp), 2000),
-            "arrays": median_time(lambda: jets._evaluate(K, inp, False), 2000),
+            "arrays": median_time(lambda: pe._evaluate(K, inp, False), 2000),
+            "paper_jet": median_time(lambda: _paper_jet(p, orb, K), 1000),
             "jet_at_orbit": median_time(lambda: jets.jet(p, omega, K, orbit=orb), 1000),
             "jet_full": median_time(lambda: jets.jet(p, omega, K), 300),
             "mp50": median_time(lambda: jets.jet(p, omega, K, orbit=None, digits=50), 3, reps=3),
@@ -118,9 +131,11 @@ def main():
         "",
     ]
     lines += md_table(
-        ["order", "generated f64 call", "+ numpy tensors", "`jet(orbit=...)` (with F11)",
-         "`jet()` incl. orbit solve", "mpmath 50 digits", "mp50 / f64"],
-        [[K, us(r["gen"]), us(r["arrays"]), us(r["jet_at_orbit"]), us(r["jet_full"]),
+        ["order", "paper's generated f64 call", "+ numpy tensors", "+ F11 (the paper's "
+         "evaluator path, before issue 11)", "`jet(orbit=...)` (N = 2 structure, since "
+         "issue 11)", "ratio", "`jet()` incl. orbit solve", "mpmath 50 digits", "mp50 / f64"],
+        [[K, us(r["gen"]), us(r["arrays"]), us(r["paper_jet"]), us(r["jet_at_orbit"]),
+          f"{r['jet_at_orbit'] / r['paper_jet']:.2f}×", us(r["jet_full"]),
           f"{r['mp50'] * 1e3:.1f} ms", f"{r['mp50'] / r['jet_full']:.0f}×"]
          for K, r in res.items()])
     lines += ["", "Compiled evaluators (`symvi.jets.compiled(K)`: the same generated code "

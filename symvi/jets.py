@@ -179,13 +179,16 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
         raise ParameterError("order", order, "1, 2 or 3")
     if orbit is None:
         orbit = select_orbit(params, omega, branch, digits)
-    from .codegen.jets import jet_at
+    from .codegen.jets import jet_at, jet_of_orbit
     from .model import Model
     w = orbit.omega
-    T = 2 * (mpmath.pi if digits else math.pi) / w
-    jt = jet_at(Model.of(params), w, orbit.y, T, order, digits=digits)
-    if isinstance(params, Model):         # any model: the jet of its N-mass structure
-        return jt
+    if isinstance(params, Model) or digits != orbit.digits:
+        T = 2 * (mpmath.pi if digits else math.pi) / w
+        jt = jet_at(Model.of(params), w, orbit.y, T, order, digits=digits)
+        if isinstance(params, Model):     # any model: the jet of its N-mass structure
+            return jt
+    else:
+        jt = jet_of_orbit(Model.of(params), orbit, order)   # our own orbit: checked already
     return Jet(orbit=orbit, omega=w, order=order, jacobian=jt.jacobian, theta1=jt.theta1,
                g_theta=jt.g_theta, d2=jt.d2, d3=jt.d3, dA=jt.dA, dP_domega=jt.dP_domega,
                dy_domega=jt.dy_domega, digits=orbit.digits)

@@ -140,6 +140,19 @@ def jet_at(model, omega, y, te, order=3, *, digits=None):
         return _jet(flow, F, tuple(mpmath.mpf(v) for v in y), mpmath.mpf(te), order, True)
 
 
+def jet_of_orbit(model, orbit, order):
+    """:func:`jet_at` at a period-1 orbit symvi computed (its omega, y and digits; te =
+    2 pi / omega), without re-validating them."""
+    w, digits = orbit.omega, orbit.digits
+    if digits is None:
+        flow, F = _at(model, w, None)
+        return _jet(flow, F, tuple(orbit.y), 2 * math.pi / w, order, False)
+    with mpmath.mp.workdps(digits):
+        flow, F = _at(model, w, digits)
+        return _jet(flow, F, tuple(mpmath.mpf(v) for v in orbit.y), 2 * mpmath.pi / w,
+                    order, True)
+
+
 def _check_grazing(vals, mp):
     g_th = vals["g_theta"]
     scale = abs(g_th) * (1 + float(np.max(np.abs(vals["theta1"].astype(float)))))

@@ -117,6 +117,13 @@ def tangent_data(flow, forcing, te, tangent):
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
+    if la is NUMPY_LA and (tangent is None or tangent.zero):
+        from ._assemble import assemble64
+        lam, W, Winv, A = flow.modal64
+        F = forcing
+        return tuple(assemble64(lam, W, Winv, A, F.U, F.V, F.dU, F.dV, float(F.omega),
+                                float(flow.r), float(flow.b), np.asarray(y, dtype=float),
+                                float(te), order, order in PARAMETER_ORDERS).tolist())
     parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
     scal_p = []

@@ -247,6 +247,7 @@ class LinearFlow:
                     "and the modal form of the flow would lose all accuracy")
             self.Winv = la.inv(self.W)
         self._forcing_cache = {}
+        self._resonance_cache = {}
 
     @classmethod
     def of(cls, model, digits=None):
@@ -292,7 +293,12 @@ class LinearFlow:
         lo, hi = OMEGA_RANGE
         if not (math.isfinite(w) and lo <= w <= hi):
             raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
-        rel, j = _resonance(self.model, w)
+        hit = self._resonance_cache.get(w)
+        if hit is None:
+            if len(self._resonance_cache) > 256:
+                self._resonance_cache.clear()
+            hit = self._resonance_cache[w] = _resonance(self.model, w)
+        rel, j = hit
         wj = float(self.omegas[j])
         if rel < RESONANCE_REFUSE:
             raise SingularCaseError(
