@@ -1,8 +1,9 @@
-"""Evaluation of the paper's generated jets (``generated/order<K>.py``): loading,
-the input tuple of eqs. (21)–(29) and the multipliers at a period-1 orbit.
+"""Evaluation of the paper's generated modal jets (``generated/order<K>.py``):
+loading, the input tuple of eqs. (21)–(29) and the multipliers at a period-1 orbit.
 
-Below both :mod:`symvi.orbit` (which needs the multipliers) and :mod:`symvi.jets`
-(the jets and tensors), so neither imports the other's module.
+Not on the analysis path (``Params`` runs on the N = 2 structure since issue 11):
+it serves the published 16-input evaluators of :mod:`symvi.jets` and the oracle
+:mod:`symvi.paper.modal_orbit`.
 """
 import importlib
 
