@@ -90,17 +90,27 @@ def main():
     t_k = median_time(lambda: loop(inp, n), 1) / n
     rows.append(("N = 3 damped, order-3 kernel compiled, in a numba loop",
                  f"{t_k * 1e6:.2f} µs (first compile {t_comp:.0f} s, then cached)", "<= 5 µs"))
-    # the paper: its own chain (baseline) against the N = 2 structure, same run
+    # the paper: its own modal chain (the oracle since issue 11; symvi's Params path before
+    # it) as the baseline, against Params on the N = 2 structure, same run
+    from symvi import _paper_eval as pe
+    from symvi.codegen.jets import fixed_point_motion
+    from symvi.paper import modal_orbit
     p = symvi.Params(2, 5, 0, 1.5, 0.8)
     pm = Model.luo_xie(2, 5, 0, 1.5, 0.8)
     wp = 0.7369
-    op = [x for x in period1_orbits(pm, wp) if x.admissible][0]
-    t_old = median_time(lambda: symvi.jet(p, wp, 3), 100)
-    t_new = median_time(lambda: jet_at(pm, wp, op.y, 2 * math.pi / wp, 3), 100)
-    rows.append(("paper model, order-3 jet: paper chain `symvi.jet` (baseline)",
-                 f"{t_old * 1e6:.0f} µs", ""))
-    rows.append(("paper model, order-3 jet: N = 2 structure `jet_at`",
-                 f"{t_new * 1e6:.0f} µs ({t_new / t_old:.2f}x the baseline)", ""))
+    op = [x for x in symvi.period1_orbits(p, wp) if x.admissible][0]
+
+    def paper_jet():
+        v = pe._evaluate(3, pe._orbit_inputs(p, op), False)
+        v["dA"] = v["dwJ"] + v["d2"] @ fixed_point_motion(v["J"], v["dwP"], False)
+        return v
+    t_old = median_time(paper_jet, 100)
+    t_new = median_time(lambda: symvi.jet(p, wp, 3, orbit=op), 100)
+    rows.append(("paper model, order-3 jet with F11 at the orbit: the paper's modal "
+                 "evaluator (baseline, `symvi.jet` before issue 11)", f"{t_old * 1e6:.0f} µs", ""))
+    rows.append(("paper model, order-3 jet with F11 at the orbit: `symvi.jet(Params)` on the "
+                 "N = 2 structure", f"{t_new * 1e6:.0f} µs ({t_new / t_old:.2f}x the baseline)",
+                 ""))
     # period-1 orbits: the compiled any-model solver and its numpy reference (COMPILED =
     # False, the solver before it), per omega over a scan of ex. 1's interval
     ws = [float(x) for x in np.linspace(0.70, 0.76, 50)]
@@ -108,13 +118,15 @@ def main():
     def scan(f, model):
         return median_time(lambda: [f(model, x) for x in ws], 1, reps=9) / len(ws)
 
-    t_o_old = scan(symvi.period1_orbits, p)
-    t_o_new = scan(period1_orbits, pm)
+    t_o_old = scan(modal_orbit.period1_orbits, p)
+    t_o_new = scan(symvi.period1_orbits, p)
     with reference_period1():
         t_o_ref = scan(period1_orbits, pm)
-    rows.append(("paper model, both period-1 orbits with multipliers: paper chain (baseline)",
+    rows.append(("paper model, both period-1 orbits with multipliers: the paper's modal closed "
+                 "form (baseline, `symvi.period1_orbits(Params)` before issue 11)",
                  f"{t_o_old * 1e6:.0f} µs", ""))
-    rows.append(("paper model, both period-1 orbits with multipliers: any-model chain",
+    rows.append(("paper model, both period-1 orbits with multipliers: `symvi.period1_orbits"
+                 "(Params)` on the any-model chain",
                  f"{t_o_new * 1e6:.0f} µs ({t_o_new / t_o_old:.2f}x the baseline)", "<= 1x"))
     rows.append(("paper model, both period-1 orbits: any-model chain, numpy reference "
                  "(`period1.COMPILED = False`, before)",
@@ -134,15 +146,11 @@ def main():
                  "precision estimates)", f"{t_h3 * 1e3:.0f} ms", "<= 300 ms"))
     t_hp = median_time(lambda: hopf_points(p, 0.70, 0.76), 1, reps=9)
     t_hm = median_time(lambda: hopf_points(pm, 0.70, 0.76), 1, reps=9)
-    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: paper chain (baseline)",
+    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: `Params` (the any-model "
+                 "chain since issue 11; against the commit before, see bench_hopf_client.py)",
                  f"{t_hp * 1e3:.1f} ms", ""))
-    with reference_period1():
-        t_hr = median_time(lambda: hopf_points(pm, 0.70, 0.76), 1, reps=9)
-    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: any-model chain",
-                 f"{t_hm * 1e3:.1f} ms ({t_hm / t_hp:.2f}x the baseline)", "<= 1.2x"))
-    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: any-model chain, numpy "
-                 "reference period-1 solver (before)",
-                 f"{t_hr * 1e3:.1f} ms ({t_hr / t_hp:.2f}x the baseline)", ""))
+    rows.append(("paper model, `hopf_points` ex. 1 on [0.70, 0.76]: `Model.luo_xie`",
+                 f"{t_hm * 1e3:.1f} ms ({t_hm / t_hp:.2f}x `Params`)", ""))
     print("\n".join(md_table(["what", "median", "target"], rows)))
 
 
