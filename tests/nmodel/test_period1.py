@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from symvi import Params
-from symvi import period1_orbits as paper_orbits
+from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal oracle
 from symvi.errors import NearSingularWarning, SingularCaseError
 from symvi.maps.impact import poincare_map
 from symvi.model import Model
@@ -58,7 +58,8 @@ def test_fixed_point_and_determinant_identity(name):
                                           (Params(2, 5, 0, 1.5, 1.0), 0.7369),
                                           (Params(2, 5, 0, -0.4, 0.8), 0.7369)])
 def test_paper_model_through_Model_gives_todays_numbers(params, omega):
-    """Model.luo_xie and a model file give the paper chain's orbits to 1e-12, branch names too."""
+    """Model.luo_xie (and so Params, its preset) gives the orbits of the paper's own modal
+    closed form (the oracle, symvi.paper.modal_orbit) to 1e-12, branch names too."""
     old = {o.branch: o for o in paper_orbits(params, omega)}
     new = {o.branch: o for o in period1_orbits(Model.luo_xie(**params.as_dict()), omega)}
     assert set(old) == set(new)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from symvi import Params
-from symvi import period1_orbits as paper_orbits
+from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal oracle
 from symvi.errors import NearSingularWarning
 from symvi.flow.linear import LinearFlow
 from symvi.orbits import period1_orbits
