@@ -149,3 +149,31 @@ def test_mpmath_backend_of_generated_code_agrees():
     f = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2)
     m = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2, digits=30)
     assert np.abs(np.array(m.d2, dtype=float) - f.d2).max() < 1e-11 * np.abs(f.d2).max()
+
+
+@pytest.mark.parametrize("name", ["paper", "three", "four"])
+def test_compiled_input_assembly_equals_numpy(name):
+    """codegen/_assemble.py (one numba call) builds the layout of codegen.layout exactly as
+    the numpy expressions do: Phi(t) A^k = Re(W diag(e^{lambda t} lambda^k) W^-1), U, V,
+    the omega-derivatives, zero parameter slots, omega, r, b, y, t_e."""
+    from symvi.codegen.layout import assemble, module
+    from symvi.flow.linear import LinearFlow
+    model = ALL[name]
+    fl = LinearFlow.of(model)
+    F = fl.forcing(0.95)
+    y = tuple(np.random.default_rng(3).normal(size=2 * fl.n))
+    te = 5.3
+    for K in (1, 2, 3):
+        got = assemble(fl, F, y, te, K)
+        e = np.exp(fl.lam * te)
+        parts = [((fl.W * (e * fl.lam ** k)) @ fl.Winv).real.ravel() for k in range(K + 1)]
+        parts += [F.U, F.V]
+        extra = ()
+        if K in (2, 3):
+            z, zn = np.zeros((2 * fl.n) ** 2), np.zeros(fl.n)
+            parts += [F.dU, F.dV, z, z, zn, zn]
+            extra = (0.0, 0.0)
+        ref = np.array(list(np.concatenate(parts)) + [0.95, fl.r, fl.b, *extra, *y, te])
+        assert len(got) == len(ref) == len(module(fl.n, K)[0].INPUTS)
+        scale = max(1.0, float(np.abs(ref).max()))
+        assert np.abs(np.array(got) - ref).max() < 1e-13 * scale, (name, K)
