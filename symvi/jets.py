@@ -20,6 +20,7 @@ The tensors are raw derivatives in the paper's variable order
 Order K imports the generated order K only: a multiplier-only job never imports
 second- or third-order code.
 """
+import contextlib
 import math
 from dataclasses import dataclass
 
@@ -45,9 +46,12 @@ def jacobian_at(params, omega, y, t_e, digits=None):
 
 
 def multipliers_of(params, orbit):
-    """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit."""
-    te = 2 * (mpmath.pi if orbit.digits else math.pi) / orbit.omega
-    return eigenvalues(jacobian_at(params, orbit.omega, orbit.y, te, digits=orbit.digits))
+    """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit, at its precision."""
+    from .codegen.jets import jet_of_orbit
+    from .model import Model
+    J = jet_of_orbit(Model.of(params), orbit, 1).jacobian
+    with mpmath.mp.workdps(orbit.digits) if orbit.digits else contextlib.nullcontext():
+        return eigenvalues(J)
 
 
 def jet_inputs(params, omega, y, t_e):
@@ -181,14 +185,15 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
         orbit = select_orbit(params, omega, branch, digits)
     from .codegen.jets import jet_at, jet_of_orbit
     from .model import Model
-    w = orbit.omega
-    if isinstance(params, Model) or digits != orbit.digits:
-        T = 2 * (mpmath.pi if digits else math.pi) / w
-        jt = jet_at(Model.of(params), w, orbit.y, T, order, digits=digits)
-        if isinstance(params, Model):     # any model: the jet of its N-mass structure
-            return jt
+    model, w = Model.of(params), orbit.omega
+    if digits == orbit.digits:            # our own orbit, checked already
+        jt = jet_of_orbit(model, orbit, order)
     else:
-        jt = jet_of_orbit(Model.of(params), orbit, order)   # our own orbit: checked already
+        with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
+            T = 2 * (mpmath.pi if digits else math.pi) / w      # at the jet's precision
+            jt = jet_at(model, w, orbit.y, T, order, digits=digits)
+    if isinstance(params, Model):         # any model: the jet of its N-mass structure
+        return jt
     return Jet(orbit=orbit, omega=w, order=order, jacobian=jt.jacobian, theta1=jt.theta1,
                g_theta=jt.g_theta, d2=jt.d2, d3=jt.d3, dA=jt.dA, dP_domega=jt.dP_domega,
                dy_domega=jt.dy_domega, digits=orbit.digits)

@@ -12,6 +12,7 @@ Raw derivatives in the section's variable order (:class:`symvi.maps.Section`):
 Order K imports ``impact_n<N>_order<K>`` only: a multiplier-only job never
 imports second- or third-order code.
 """
+import contextlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -132,25 +133,26 @@ def jet_at(model, omega, y, te, order=3, *, digits=None):
     if order not in (1, 2, 3):
         raise ParameterError("order", order, "1, 2 or 3")
     y, te = _checked(model, y, te)
+    return _jet_in(model, omega, y, te, order, digits)
+
+
+def jet_of_orbit(model, orbit, order):
+    """:func:`jet_at` at a period-1 orbit symvi computed (its omega, y and digits),
+    without re-validating them; te = 2 pi / omega at the orbit's own precision."""
+    digits = orbit.digits
+    with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
+        te = 2 * (mpmath.pi if digits else math.pi) / orbit.omega
+        return _jet_in(model, orbit.omega, orbit.y, te, order, digits)
+
+
+def _jet_in(model, omega, y, te, order, digits):
+    """The jet at checked (y, te), on float64 or at ``digits``."""
     if digits is None:
         flow, F = _at(model, omega, None)
         return _jet(flow, F, tuple(float(v) for v in y), float(te), order, False)
     with mpmath.mp.workdps(digits):
         flow, F = _at(model, omega, digits)
         return _jet(flow, F, tuple(mpmath.mpf(v) for v in y), mpmath.mpf(te), order, True)
-
-
-def jet_of_orbit(model, orbit, order):
-    """:func:`jet_at` at a period-1 orbit symvi computed (its omega, y and digits; te =
-    2 pi / omega), without re-validating them."""
-    w, digits = orbit.omega, orbit.digits
-    if digits is None:
-        flow, F = _at(model, w, None)
-        return _jet(flow, F, tuple(orbit.y), 2 * math.pi / w, order, False)
-    with mpmath.mp.workdps(digits):
-        flow, F = _at(model, w, digits)
-        return _jet(flow, F, tuple(mpmath.mpf(v) for v in orbit.y), 2 * mpmath.pi / w,
-                    order, True)
 
 
 def _check_grazing(vals, mp):
@@ -197,8 +199,7 @@ def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point
     """
     y, te = _checked(model, y, te)
     tangent = None if name == "omega" else model.tangent(name)
-    ctx = mpmath.mp.workdps(digits) if digits else _Null()
-    with ctx:
+    with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
         flow, F = _at(model, omega, digits)
         mp = digits is not None
         num = mpmath.mpf if mp else float
@@ -208,14 +209,6 @@ def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point
             return ParameterDerivative(name, dP, dJ)
         dy = fixed_point_motion(vals["J"], dP, mp)
         return ParameterDerivative(name, dP, dJ, dy, dJ + vals["d2"] @ dy)
-
-
-class _Null:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False
 
 
 def fixed_point_motion(J, dP, mp):

@@ -177,3 +177,22 @@ def test_compiled_input_assembly_equals_numpy(name):
         assert len(got) == len(ref) == len(module(fl.n, K)[0].INPUTS)
         scale = max(1.0, float(np.abs(ref).max()))
         assert np.abs(np.array(got) - ref).max() < 1e-13 * scale, (name, K)
+
+
+def test_jet_and_multipliers_at_digits_keep_the_flight_time_at_that_precision():
+    """symvi.jet(model, digits=50) and jets.multipliers_of at a 50-digit orbit take
+    te = 2 pi / omega at 50 digits (it was once formed at mpmath's default 15 digits,
+    which left the 50-digit Jacobian right to 2e-15 only)."""
+    import symvi
+    from symvi.jets import multipliers_of
+    m = ALL["paper"]
+    j = jet(m, 0.7369, 2, digits=50)
+    o = [x for x in period1_orbits(m, 0.7369, digits=50) if x.admissible][0]
+    with mpmath.workdps(50):
+        ref = jet_at(m, o.omega, o.y, 2 * mpmath.pi / o.omega, 2, digits=50)
+        assert max(abs(a - b) for a, b in zip(j.jacobian.ravel(), ref.jacobian.ravel())) \
+            < mpmath.mpf(10) ** -40
+        po = [x for x in symvi.period1_orbits(Params(2, 5, 0, 1.5, 0.8), 0.7369, digits=50)
+              if x.admissible][0]
+        lam = multipliers_of(Params(2, 5, 0, 1.5, 0.8), po)
+        assert max(abs(a - b) for a, b in zip(lam, po.multipliers)) < mpmath.mpf(10) ** -40
