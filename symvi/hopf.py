@@ -352,7 +352,6 @@ class _PaperSystem(_ModelSystem):
     """The paper's model (Params): the chain of every model on ``Model.luo_xie``, with
     the paper's names, its orbits' fields and its own reduction, eq. (60), reported."""
 
-    names = STATE_NAMES
     paper = True
 
     def __init__(self, params):

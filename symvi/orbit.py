@@ -7,7 +7,7 @@ in the paper's terms: :class:`Orbit` with (x1dot+, x20, x20dot, tau0) and the mo
 integration constants a_j, b_j of eqs. (13)–(15).  The paper's own modal derivation
 stays as the independent oracle, :mod:`symvi.paper.modal_orbit`.
 """
-import dataclasses
+import contextlib
 import functools
 from dataclasses import dataclass, field
 
@@ -49,8 +49,7 @@ class Orbit:
         from .flow import motion_from
         from .params import modal
         lib = FLOAT if self.digits is None else MP
-        ctx = mpmath.workdps(self.digits) if self.digits else _Null()
-        with ctx:
+        with mpmath.workdps(self.digits) if self.digits else contextlib.nullcontext():
             mot = motion_from(modal(self.params, lib), self.omega, (lib.num(self.params.b),
                               self.x20), (self.v1_plus, self.x20_dot), self.tau0, lib)
         return mot.a, mot.b
@@ -74,14 +73,6 @@ class Orbit:
                 "multipliers": [[float(complex(l).real), float(complex(l).imag)]
                                 for l in self.multipliers],
                 "stable": bool(self.stable)}
-
-
-class _Null:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False
 
 
 def _preset(params, o):
@@ -126,10 +117,6 @@ def multiplier_path(params, omegas):
     from .model import Model
     from .orbits.period1 import multiplier_path as path
     return path(Model.of(params), omegas)
-
-
-def _replace(obj, **kw):
-    return dataclasses.replace(obj, **kw)
 
 
 def existence_ratio(params, omega):

@@ -5,6 +5,7 @@ flight ends at the first crossing x1 = b (first-impact finder of
 :mod:`symvi.flow`), where the impact law of eq. (2), x1dot+ = -r x1dot-, is
 applied and tau' = tau + omega t_e (mod 2 pi), eq. (26).
 """
+import contextlib
 from dataclasses import dataclass
 
 from ._backend import FLOAT, MP
@@ -60,8 +61,7 @@ def fd_jacobian(params, omega, y, h=1e-6, digits=None):
     """
     import numpy as np
     import mpmath
-    ctx = mpmath.mp.workdps(digits) if digits else _Null()
-    with ctx:
+    with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
         lib = MP if digits else FLOAT
         m = _modal(params, lib)
         om, b, r = lib.num(omega), lib.num(params.b), lib.num(params.r)
@@ -79,11 +79,3 @@ def fd_jacobian(params, omega, y, h=1e-6, digits=None):
         if digits:
             return mpmath.matrix([[cols[j][i] for j in range(4)] for i in range(4)])
         return np.array(cols, dtype=float).T
-
-
-class _Null:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False

@@ -49,6 +49,7 @@ Integration points (for the owners of hopf.py and the CLI)
   recomputed at mpmath precision when needed; ``refine(params, omega, digits,
   branch)`` may be hopf.py's own high-precision root polish.
 """
+import contextlib
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -278,14 +279,6 @@ def _make(name, value, err, kappa, digits, note, recomputed=False):
                     trusted, recomputed, note, raw=None if trusted else value)
 
 
-class _null:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False
-
-
 def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
     """Every period-1 orbit at omega with at least ``min_digits`` trustworthy digits.
 
@@ -380,7 +373,7 @@ def _hopf_quantities(params, omega, branch, digits):
     o = _orbit_on(params, omega, branch, digits, False)
     jt = jet(params, omega, order=3, digits=digits, orbit=o)
     kw = {} if digits is None else {"digits": digits}
-    ctx = mpmath.mp.workdps(digits) if digits else _null()
+    ctx = mpmath.mp.workdps(digits) if digits else contextlib.nullcontext()
     with ctx:
         e = nf.eigen(jt.jacobian, **kw)
         _, dmod = nf.dmod_A3(jt.jacobian, jt.dA, **kw)
@@ -403,7 +396,7 @@ def refine_omega_c(params, omega_c, *, digits=None, branch=None, tol_digits=None
         branch = select_orbit(params, float(omega_c)).branch
     eps = _eps(digits)
     kw = {} if digits is None else {"digits": digits}
-    ctx = mpmath.mp.workdps(digits + 10) if digits else _null()
+    ctx = mpmath.mp.workdps(digits + 10) if digits else contextlib.nullcontext()
     with ctx:
         w = mpmath.mpf(omega_c) if digits else float(omega_c)
         prev = None
@@ -441,7 +434,7 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
         warnings.simplefilter("ignore", NearSingularWarning)
         if branch is None:
             branch = select_orbit(params, float(omega_c)).branch
-        ctx = mpmath.mp.workdps(digits) if digits else _null()
+        ctx = mpmath.mp.workdps(digits) if digits else contextlib.nullcontext()
         with ctx:
             w = mpmath.mpf(omega_c) if digits else float(omega_c)
             if base is not None and digits is None:
@@ -569,7 +562,7 @@ def _model_hopf_at(model, w, branch, digits):
     if o is None or not o.admissible:
         raise SingularCaseError("no-admissible-orbit", f"branch {branch} is not admissible "
                                 f"at omega = {float(w):.12g}")
-    ctx = mpmath.mp.workdps(digits) if digits else _null()
+    ctx = mpmath.mp.workdps(digits) if digits else contextlib.nullcontext()
     with ctx:
         T = 2 * mpmath.pi / w if digits else 2 * math.pi / w
         jt = jet_at(model, w, o.y, T, 3, digits=digits)

@@ -293,12 +293,7 @@ class LinearFlow:
         lo, hi = OMEGA_RANGE
         if not (math.isfinite(w) and lo <= w <= hi):
             raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
-        hit = self._resonance_cache.get(w)
-        if hit is None:
-            if len(self._resonance_cache) > 256:
-                self._resonance_cache.clear()
-            hit = self._resonance_cache[w] = _resonance(self.model, w)
-        rel, j = hit
+        rel, j = _memo(self._resonance_cache, w, lambda: _resonance(self.model, w))
         wj = float(self.omegas[j])
         if rel < RESONANCE_REFUSE:
             raise SingularCaseError(
@@ -314,15 +309,9 @@ class LinearFlow:
 
     def forcing(self, omega):
         """U, V and their omega-derivatives at omega (no checks; see :meth:`check_omega`)."""
-        key = omega if self.la is NUMPY_LA else None
-        hit = self._forcing_cache.get(key) if key is not None else None
-        if hit is None:
-            hit = self._forcing(omega)
-            if key is not None:
-                if len(self._forcing_cache) > 256:
-                    self._forcing_cache.clear()
-                self._forcing_cache[key] = hit
-        return hit
+        if self.la is not NUMPY_LA:
+            return self._forcing(omega)
+        return _memo(self._forcing_cache, omega, lambda: self._forcing(omega))
 
     def _forcing(self, omega):
         la, lib = self.la, self.lib
@@ -409,6 +398,16 @@ def _flow_mp(model, digits):
             _MP_CACHE.clear()
         f = _MP_CACHE[key] = LinearFlow(model, MP_LA)
     return f
+
+
+def _memo(cache, key, compute):
+    """cache[key], computed once; the cache is emptied past 256 entries."""
+    hit = cache.get(key)
+    if hit is None:
+        if len(cache) > 256:
+            cache.clear()
+        hit = cache[key] = compute()
+    return hit
 
 
 def _resonance(model, w):
