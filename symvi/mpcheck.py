@@ -92,10 +92,7 @@ def _is_model(params):
 
 def _orbit_mp(params, omega, branch, digits):
     """The period-1 orbit of ``branch`` at an mpf omega, at ``digits`` (Params or Model)."""
-    if _is_model(params):
-        from .orbits import period1_orbits
-    else:
-        from .orbit import period1_orbits
+    from .orbit import period1_orbits
     orbs = {o.branch: o for o in period1_orbits(params, omega, digits=digits)}
     o = orbs.get(branch)
     if o is None or not o.admissible:
@@ -123,11 +120,7 @@ def chain_a(params, omega0, branch, digits, lam0):
         wc = mpmath.findroot(f, (w0, w0 + mpmath.mpf("1e-9")), solver="secant",
                              tol=mpmath.mpf(10) ** (-2 * digits + 4), maxsteps=60)
         o = _orbit_mp(params, wc, branch, digits)
-        if _is_model(params):
-            from .codegen.jets import jet_at
-            j = jet_at(params, wc, o.y, 2 * mpmath.pi / wc, 3, digits=digits)
-        else:
-            j = jet(params, wc, order=3, digits=digits, orbit=o)
+        j = jet(params, wc, order=3, digits=digits, orbit=o)
         nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, digits=digits)
         return ChainResult("A: orbit + generated jets + normal_form (mpmath)", digits, wc,
                            tuple(o.y), nf.lam, nf.dmod_dv, nf.l1, nf.c1,
@@ -142,10 +135,7 @@ class _MapFD:
         self.params, self.dps, self.n = params, dps, n
 
     def P(self, w, y):
-        if _is_model(self.params):
-            from .maps.impact import poincare_map
-        else:
-            from .poincare import poincare_map
+        from .poincare import poincare_map       # the modal map for Params, else maps.impact
         s = poincare_map(self.params, w, y, digits=self.dps)
         if s.status != "impact":
             raise SingularCaseError("grazing", f"P is not smooth here (flight ends in {s.status})")
