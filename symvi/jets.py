@@ -32,6 +32,9 @@ from .params import Params, _finite, check_omega
 from .params import modal as _modal
 from ._paper_eval import _gen, _inputs
 from .codegen.jets import eigenvalues as eigenvalues  # one owner, any size
+from .codegen.jets import fixed_point_motion, jet_at, jet_of_orbit
+from .codegen.jets import jacobian_at as _any_model_jacobian
+from .model import Model
 
 
 def jacobian_at(params, omega, y, t_e, digits=None):
@@ -40,15 +43,11 @@ def jacobian_at(params, omega, y, t_e, digits=None):
     Valid at any impact point, not only at the period-1 orbit, so it serves the
     Lyapunov exponents along a simulated orbit.
     """
-    from .codegen.jets import jacobian_at as any_model
-    from .model import Model
-    return any_model(Model.of(params), omega, y, t_e, digits=digits)
+    return _any_model_jacobian(Model.of(params), omega, y, t_e, digits=digits)
 
 
 def multipliers_of(params, orbit):
     """Multipliers (eigenvalues of DP, eq. 36) at a period-1 orbit, at its precision."""
-    from .codegen.jets import jet_of_orbit
-    from .model import Model
     J = jet_of_orbit(Model.of(params), orbit, 1).jacobian
     with mpmath.mp.workdps(orbit.digits) if orbit.digits else contextlib.nullcontext():
         return eigenvalues(J)
@@ -183,8 +182,6 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
         raise ParameterError("order", order, "1, 2 or 3")
     if orbit is None:
         orbit = select_orbit(params, omega, branch, digits)
-    from .codegen.jets import jet_at, jet_of_orbit
-    from .model import Model
     model, w = Model.of(params), orbit.omega
     if digits == orbit.digits:            # our own orbit, checked already
         jt = jet_of_orbit(model, orbit, order)
@@ -202,6 +199,5 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
 def _solve(M, v, mp):
     """(I - J)^{-1} v for M = I - J, with the fold checks of
     :func:`symvi.codegen.jets.fixed_point_motion` (one owner)."""
-    from .codegen.jets import fixed_point_motion
     n = M.shape[0]
     return fixed_point_motion(np.eye(n, dtype=M.dtype) - M, v, mp)

@@ -23,6 +23,7 @@ import numpy as np
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..flow.linear import LinearFlow
 from ..model import Model
+from ._assemble import fixed_solve64
 from .layout import assemble, module
 
 
@@ -31,7 +32,8 @@ def evaluate(flow, forcing, y, te, order, tangent=None):
     mod, layout = module(flow.n, order)
     inp = assemble(flow, forcing, y, te, order, tangent)
     if flow.la.digits is None:
-        flat = np.array(mod.f64(inp))
+        vals = mod.f64(inp)
+        flat = np.fromiter(vals, float, len(vals))
     else:
         vals = mod.mp(inp)
         flat = np.empty(len(vals), dtype=object)
@@ -57,9 +59,10 @@ def eigenvalues(J):
     return tuple(sorted((complex(z) for z in ev), key=lambda z: (-abs(z), -z.imag)))
 
 
-def _at(model, omega, digits):
+def _at(model, omega, digits, checked=False):
     flow = LinearFlow.of(model, digits)
-    LinearFlow.of(model).check_omega(float(omega), warn=False)
+    if not checked:                   # an orbit symvi computed was checked at its omega
+        LinearFlow.of(model).check_omega(float(omega), warn=False)
     if digits is None:
         return flow, flow.forcing(float(omega))
     return flow, flow.forcing(mpmath.mpf(omega))
@@ -142,23 +145,23 @@ def jet_of_orbit(model, orbit, order):
     digits = orbit.digits
     with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
         te = 2 * (mpmath.pi if digits else math.pi) / orbit.omega
-        return _jet_in(model, orbit.omega, orbit.y, te, order, digits)
+        return _jet_in(model, orbit.omega, orbit.y, te, order, digits, checked=True)
 
 
-def _jet_in(model, omega, y, te, order, digits):
+def _jet_in(model, omega, y, te, order, digits, checked=False):
     """The jet at checked (y, te), on float64 or at ``digits``."""
     if digits is None:
-        flow, F = _at(model, omega, None)
+        flow, F = _at(model, omega, None, checked)
         return _jet(flow, F, tuple(float(v) for v in y), float(te), order, False)
     with mpmath.mp.workdps(digits):
-        flow, F = _at(model, omega, digits)
+        flow, F = _at(model, omega, digits, checked)
         return _jet(flow, F, tuple(mpmath.mpf(v) for v in y), mpmath.mpf(te), order, True)
 
 
 def _check_grazing(vals, mp):
-    g_th = vals["g_theta"]
-    scale = abs(g_th) * (1 + float(np.max(np.abs(vals["theta1"].astype(float)))))
-    if abs(g_th) <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
+    g_th = abs(vals["g_theta"])
+    scale = g_th * (1 + float(max(map(abs, vals["theta1"].tolist()))))
+    if g_th <= 1e3 * (mpmath.mp.eps if mp else 2.2e-16) * max(scale, 1):
         raise SingularCaseError("grazing", "dg/d(dtheta) = 0 at the point: the impact is "
                                 "grazing and the implicit function theorem of eq. (30) fails")
 
@@ -220,8 +223,8 @@ def fixed_point_motion(J, dP, mp):
         out = np.empty(n, dtype=object)
         out[:] = [x[i] for i in range(n)]
         return out
-    M = np.eye(n) - J
-    had = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
+    x, had = fixed_solve64(np.ascontiguousarray(J, dtype=float),
+                           np.ascontiguousarray(dP, dtype=float))
     if not had > 1e-6:
         lam = np.linalg.eigvals(J)
         if np.abs(lam).max() > 1e8:
@@ -236,4 +239,5 @@ def fixed_point_motion(J, dP, mp):
             warnings.warn(f"a multiplier is within {gap:.1e} of 1 (near a fold): derivatives "
                           f"along the branch lose about {-np.log10(gap):.0f} digits",
                           NearSingularWarning, stacklevel=4)
-    return np.linalg.solve(M, dP)
+        return np.linalg.solve(np.eye(n) - J, dP)    # LAPACK's, for the ill-conditioned
+    return x

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..flow.linear import NUMPY_LA
+from ._assemble import assemble64
 
 _LOADED = {}
 #: orders whose modules take the parameter groups (derivations.impact_jets.has_parameters)
@@ -118,7 +119,6 @@ def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
     if la is NUMPY_LA and (tangent is None or tangent.zero):
-        from ._assemble import assemble64
         lam, W, Winv, A = flow.modal64
         F = forcing
         return tuple(assemble64(lam, W, Winv, A, F.U, F.V, F.dU, F.dV, float(F.omega),

@@ -24,23 +24,8 @@ def _steady(K, M, C, P, w):
         for j in range(n):
             D[i, j] = complex(K[i, j] - w * w * M[i, j], w * C[i, j])
     perm = np.arange(n)
-    for k in range(n):                       # LU with partial pivoting, D <- L\U
-        p, best = k, -1.0
-        for i in range(k, n):
-            a = abs(D[i, k].real) + abs(D[i, k].imag)
-            if a > best:
-                p, best = i, a
-        if best == 0.0:
-            return False, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
-        if p != k:
-            for j in range(n):
-                D[k, j], D[p, j] = D[p, j], D[k, j]
-            perm[k], perm[p] = perm[p], perm[k]
-        inv = 1.0 / D[k, k]
-        for i in range(k + 1, n):
-            D[i, k] *= inv
-            for j in range(k + 1, n):
-                D[i, j] -= D[i, k] * D[k, j]
+    if not _lu_factor(D, perm):
+        return False, np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     X = np.empty(n, np.complex128)
     for i in range(n):
         X[i] = P[perm[i]]
@@ -56,6 +41,31 @@ def _steady(K, M, C, P, w):
         dX[i] = R[perm[i]]
     _lu_solve(D, dX)
     return True, X.real.copy(), X.imag.copy(), dX.real.copy(), dX.imag.copy()
+
+
+@nb.njit(cache=True)
+def _lu_factor(D, perm):
+    """D <- L\\U in place by partial pivoting (LAPACK's getrf rule, |Re| + |Im|; real
+    or complex D), the row swaps recorded in perm; False on an exactly zero pivot."""
+    n = D.shape[0]
+    for k in range(n):
+        p, best = k, -1.0
+        for i in range(k, n):
+            a = abs(D[i, k].real) + abs(D[i, k].imag)
+            if a > best:
+                p, best = i, a
+        if best == 0.0:
+            return False
+        if p != k:
+            for j in range(n):
+                D[k, j], D[p, j] = D[p, j], D[k, j]
+            perm[k], perm[p] = perm[p], perm[k]
+        inv = 1.0 / D[k, k]
+        for i in range(k + 1, n):
+            D[i, k] *= inv
+            for j in range(k + 1, n):
+                D[i, j] -= D[i, k] * D[k, j]
+    return True
 
 
 @nb.njit(cache=True)

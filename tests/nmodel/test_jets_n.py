@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from symvi import Params, jet
-from symvi.codegen.jets import jacobian_at, jet_at, parameter_derivatives
-from symvi.errors import NearSingularWarning
+from symvi.codegen.jets import fixed_point_motion, jacobian_at, jet_at, parameter_derivatives
+from symvi.errors import NearSingularWarning, SingularCaseError
 from symvi.maps.impact import poincare_map
 from symvi.orbits import period1_orbits
 
@@ -177,6 +177,25 @@ def test_compiled_input_assembly_equals_numpy(name):
         assert len(got) == len(ref) == len(module(fl.n, K)[0].INPUTS)
         scale = max(1.0, float(np.abs(ref).max()))
         assert np.abs(np.array(got) - ref).max() < 1e-13 * scale, (name, K)
+
+
+def test_compiled_fixed_point_solve_equals_numpy():
+    """codegen/_assemble.fixed_solve64 (one numba call) gives numpy's (I - J)^-1 dP and the
+    Hadamard ratio |det(I - J)| / prod of row norms that fixed_point_motion's fold test
+    reads; an exactly singular I - J gives ratio 0 (so the fold checks run)."""
+    from symvi.codegen._assemble import fixed_solve64
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 4, 8, 16):
+        for _ in range(10):
+            J, d = rng.normal(size=(n, n)), rng.normal(size=n)
+            M = np.eye(n) - J
+            x, h = fixed_solve64(J, d)
+            h0 = abs(np.linalg.det(M)) / np.prod(np.linalg.norm(M, axis=1))
+            assert np.abs(x - np.linalg.solve(M, d)).max() < 1e-9 * max(1, np.abs(x).max())
+            assert abs(h - h0) <= 1e-10 * h0
+    assert fixed_solve64(np.eye(3), np.ones(3))[1] == 0.0
+    with pytest.raises(SingularCaseError, match="multiplier-one"):
+        fixed_point_motion(np.diag([1.0, 0.5]), np.ones(2), False)
 
 
 def test_jet_and_multipliers_at_digits_keep_the_flight_time_at_that_precision():
