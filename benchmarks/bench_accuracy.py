@@ -12,7 +12,7 @@ Methods, each run as a whole chain (params, interval) -> (v_c, d|lambda1|/dv, l1
 * ``symvi-mp{20,30,50}``: the same chain with the generated mpmath evaluators
   (``digits=``) at that precision, scan included.
 * ``fd-P h=...``: the same chain, but J, F11, d2 and d3 by central finite
-  differences of the numeric map P (symvi.poincare.step, float64) with step h;
+  differences of the numeric map P (symvi.paper.modal_map.step, float64) with step h;
   y* from the closed-form orbit; l1 and d|lambda1|/dv from symvi.normal_form.
 * ``plain solve_ivp``: what a user would write without symvi: the ODE of
   eq. (3) integrated by scipy's DOP853 (rtol = atol = 1e-12) with a terminal
@@ -45,7 +45,8 @@ import numpy as np
 
 import symvi
 from symvi import normal_form as nf
-from symvi import poincare, precision
+from symvi import precision
+from symvi.paper import modal_map as poincare
 from symvi._backend import FLOAT, MP
 from symvi._io import write_text
 from symvi.errors import NearSingularWarning, SymviError
@@ -174,7 +175,7 @@ class _Null:
 
 # --------------------------------------------------------------------------- FD of the map P
 class MapFD:
-    """Central finite differences of the numeric map P (symvi.poincare.step) with step h."""
+    """Central finite differences of the numeric map P (symvi.paper.modal_map.step) with step h."""
 
     def __init__(self, params, h, lib=FLOAT):
         self.p, self.h, self.lib = params, h, lib

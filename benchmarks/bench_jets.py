@@ -3,7 +3,7 @@
 Run:  python benchmarks/bench_jets.py            (writes benchmarks/results_jets.md)
 
 Baseline measured in the same run: central finite differences of the numeric
-map P (`symvi.poincare.fd_jacobian`) for the Jacobian, and the mpmath backend of
+map P (`symvi.paper.modal_map.fd_jacobian`) for the Jacobian, and the mpmath backend of
 the same generated expressions at 50 digits.
 """
 import statistics
@@ -22,7 +22,7 @@ from symvi import _paper_eval as pe  # noqa: E402
 from symvi import jets  # noqa: E402
 from symvi.codegen.jets import fixed_point_motion  # noqa: E402
 from symvi._io import write_text  # noqa: E402
-from symvi.poincare import fd_jacobian  # noqa: E402
+from symvi.paper.modal_map import fd_jacobian  # noqa: E402
 
 
 def median_time(fn, n, reps=7):

@@ -8,7 +8,7 @@ the paper's examples):
 * symvi: the compiled finder and map (``symvi.flow.compiled``, on which
   ``simulate`` runs ``Params`` as ``Model.luo_xie``), one trajectory and a
   parallel batch over many omegas (numba threads);
-* the pure-Python reference map ``symvi.poincare.poincare_map`` (float64);
+* the pure-Python reference map ``symvi.paper.modal_map.poincare_map`` (float64);
 * baseline: ``scipy.integrate.solve_ivp`` on eq. (3) with a terminal event at
   x1 = b, as a user would write it, at the default and at tight tolerances.
 
@@ -33,7 +33,7 @@ from symvi._io import write_text  # noqa: E402
 from symvi.flow import compiled as cf  # noqa: E402
 
 from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
-from symvi.poincare import poincare_map  # noqa: E402
+from symvi.paper.modal_map import poincare_map  # noqa: E402
 from symvi.simulation import simulate  # noqa: E402
 
 CASES = [(Params(2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),

@@ -7,7 +7,8 @@ of :mod:`symvi.normal_form` (eigen-decomposition, (A1)–(A3), Kuznetsov, the
 paper's reduction), all at ``digits``.
 
 Chain B (shares no derivation code with chain A): only the numeric map P of
-:mod:`symvi.poincare` evaluated in mpmath at ``digits + 30``.  The fixed point
+:mod:`symvi.paper.modal_map` (the paper's modal closed form; for a Model,
+:mod:`symvi.maps.impact`) evaluated in mpmath at ``digits + 30``.  The fixed point
 is found by Newton's method on P(y) - y - (0, 0, 0, 2 pi); the Jacobian, d2 and
 d3 by Richardson-extrapolated central differences (steps h and 2h, h balanced
 against the working precision for each order); v_c by the secant method on
@@ -135,7 +136,11 @@ class _MapFD:
         self.params, self.dps, self.n = params, dps, n
 
     def P(self, w, y):
-        from .poincare import poincare_map       # the modal map for Params, else maps.impact
+        from .model import Model
+        if isinstance(self.params, Model):
+            from .maps.impact import poincare_map
+        else:                                     # the paper's modal map: independent
+            from .paper.modal_map import poincare_map
         s = poincare_map(self.params, w, y, digits=self.dps)
         if s.status != "impact":
             raise SingularCaseError("grazing", f"P is not smooth here (flight ends in {s.status})")

@@ -1,81 +1,25 @@
-"""The numeric Poincaré map P on the section x1 = b, eqs. (19)–(31).
+"""The Poincaré map P of the paper's model or of any model, eq. (31): one owner,
+:mod:`symvi.maps.impact`; a :class:`symvi.Params` runs as ``Model.luo_xie``.
 
-y = (x1dot+, x2, x2dot, tau) just after an impact, t reset to 0 there.  The
-flight ends at the first crossing x1 = b (first-impact finder of
-:mod:`symvi.flow`), where the impact law of eq. (2), x1dot+ = -r x1dot-, is
-applied and tau' = tau + omega t_e (mod 2 pi), eq. (26).
+``step``, ``MapStep`` and ``fd_jacobian`` (the paper's modal map and its finite
+differences) keep their import path here; they live in :mod:`symvi.paper.modal_map`,
+the independent oracle.
 """
-import contextlib
-from dataclasses import dataclass
-
-from ._backend import FLOAT, MP
-from .flow import first_impact, motion_from
-from .params import modal as _modal
+_ORACLE = ("MapStep", "fd_jacobian", "step")
 
 
-@dataclass(frozen=True)
-class MapStep:
-    """One application of P: the image, the flight time and the impact velocity."""
-
-    y: tuple             # (x1dot+, x2, x2dot, tau mod 2 pi) after the impact
-    t: object            # flight time t_e of eq. (26)
-    impact_velocity: object   # x1dot- just before the impact
-    status: str          # "impact", "grazing" or "no-impact" (flow statuses)
-    tau_unwrapped: object     # tau + omega t_e, before reduction mod 2 pi
-
-
-def step(m, omega, b, r, y, lib=FLOAT, t_max=None):
-    """Apply P once from y with modal data m (already in backend ``lib``)."""
-    v1, x2, v2, tau = y
-    mot = motion_from(m, omega, (b, x2), (v1, v2), tau, lib)
-    hit = first_impact(mot, b, lib, t_max=t_max)
-    x1, x2n, v1m, v2n = hit.state
-    tau_u = tau + omega * hit.t
-    return MapStep((-r * v1m, x2n, v2n, tau_u % (2 * lib.pi)), hit.t, v1m, hit.status, tau_u)
-
-
-def poincare_map(params, omega, y, *, digits=None):
-    """P(y; omega), eq. (31), on float64 or (``digits``) mpmath.
-
-    Raises nothing for a flight that grazes or never returns; inspect
-    ``MapStep.status``.  A :class:`symvi.Model` goes to :func:`symvi.maps.impact.poincare_map`.
-    """
-    import mpmath
-
+def poincare_map(system, omega, y, *, digits=None):
+    """P(y; omega), eq. (31), of a :class:`symvi.Params` or :class:`symvi.Model`, on float64
+    or (``digits``) mpmath: :func:`symvi.maps.impact.poincare_map`.  Raises nothing for a
+    flight that grazes or never returns; inspect ``MapStep.status``."""
+    from .maps.impact import poincare_map as impact_map    # numba: not on import symvi
     from .model import Model
-    if isinstance(params, Model):
-        from .maps.impact import poincare_map as any_model
-        return any_model(params, omega, y, digits=digits)
-    if digits is None:
-        return step(_modal(params), omega, params.b, params.r, tuple(map(float, y)))
-    with mpmath.mp.workdps(digits):
-        m = _modal(params, MP)
-        return step(m, MP.num(omega), MP.num(params.b), MP.num(params.r),
-                    tuple(MP.num(v) for v in y), MP)
+    return impact_map(Model.of(system), omega, y, digits=digits)
 
 
-def fd_jacobian(params, omega, y, h=1e-6, digits=None):
-    """Central finite-difference Jacobian of P at y (a check, not the production path).
-
-    The tau component is differenced unwrapped, so the 2 pi cut does not matter.
-    """
-    import numpy as np
-    import mpmath
-    with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
-        lib = MP if digits else FLOAT
-        m = _modal(params, lib)
-        om, b, r = lib.num(omega), lib.num(params.b), lib.num(params.r)
-        yy = [lib.num(v) for v in y]
-        hh = lib.num(h)
-        cols = []
-        for k in range(4):
-            out = []
-            for sgn in (1, -1):
-                z = list(yy)
-                z[k] += sgn * hh
-                s = step(m, om, b, r, tuple(z), lib)
-                out.append((*s.y[:3], s.tau_unwrapped))
-            cols.append([(out[0][i] - out[1][i]) / (2 * hh) for i in range(4)])
-        if digits:
-            return mpmath.matrix([[cols[j][i] for j in range(4)] for i in range(4)])
-        return np.array(cols, dtype=float).T
+def __getattr__(name):
+    # the oracle's published names, imported only when asked for (off the production path)
+    if name in _ORACLE:
+        from .paper import modal_map
+        return getattr(modal_map, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

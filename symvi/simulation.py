@@ -7,7 +7,8 @@ points have the 2N components of :mod:`symvi.maps.section`.  A
 :meth:`symvi.model.Model.luo_xie`, whose section layout is the paper's
 (x1dot+, x2, x2dot, tau) of eq. (9); it keeps the paper's validation and
 period-1 orbit (:mod:`symvi.orbit`).  :func:`simulate_mp` runs the paper's map
-through :func:`symvi.poincare.step` on mpmath, as an independent reference.
+through the modal map :func:`symvi.paper.modal_map.step` on mpmath, as an
+independent reference.
 
 A run ends early, with a stop reason, on
 
@@ -176,7 +177,7 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     """Reference run of the same map on mpmath at ``digits`` (slow: about 1 ms per impact).
 
-    Uses :func:`symvi.poincare.step` with the MP backend, so it shares no code
+    Uses :func:`symvi.paper.modal_map.step` with the MP backend, so it shares no code
     with the compiled kernels.  Values are rounded to float64 only on output.
     """
     import mpmath
@@ -185,7 +186,7 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
         return _simulate_model_mp(params, omega, y0, n_impacts, digits)
     from ._backend import MP
     from .params import modal as _modal
-    from .poincare import step
+    from .paper.modal_map import step
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     y0 = _check_start(y0)

@@ -28,3 +28,28 @@ def test_model_api_is_public_and_import_stays_light():
             "print(m.n, callable(symvi.load_model), 'numba' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "1 True False"
+
+
+def test_poincare_map_of_params_is_the_any_model_map_held_to_the_modal_oracle():
+    """symvi.poincare_map(Params) runs maps.impact on Model.luo_xie (one owner of the map,
+    issue 11); the paper's modal map (symvi.paper.modal_map) agrees with it, and the old
+    names symvi.poincare.step / MapStep / fd_jacobian still load that oracle."""
+    import pytest
+
+    import symvi
+    from symvi.errors import ParameterError
+    from symvi.maps.impact import poincare_map as impact_map
+    from symvi.paper import modal_map
+    from symvi.poincare import MapStep, fd_jacobian, step  # noqa: F401
+    p = symvi.Params(2, 5, 0, 1.5, 0.8)
+    assert step is modal_map.step and fd_jacobian is modal_map.fd_jacobian
+    y = (-0.4, 0.3, 0.2, 1.0)
+    got = symvi.poincare_map(p, 0.74, y)
+    same = impact_map(symvi.Model.luo_xie(2, 5, 0, 1.5, 0.8), 0.74, y)
+    ref = modal_map.poincare_map(p, 0.74, y)
+    assert got.status == ref.status == "impact"
+    assert got.y == same.y
+    assert max(abs(a - b) for a, b in zip(got.y, ref.y)) < 1e-12
+    assert abs(got.t - ref.t) < 1e-12
+    with pytest.raises(ParameterError, match="omega"):
+        symvi.poincare_map(p, -1.0, y)

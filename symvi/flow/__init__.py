@@ -3,7 +3,7 @@
 * :mod:`symvi.flow.linear` -- any model (N masses, damping, stop on any mass):
   the state-space flow in modal form and the provably safe first-impact finder;
 * :mod:`symvi.flow.modal2` -- the paper's 2-DOF undamped modal form, eqs. (7)–(8),
-  kept as the independent oracle (the paper's modal map :mod:`symvi.poincare`, the
+  kept as the independent oracle (the paper's modal map :mod:`symvi.paper.modal_map`, the
   closed form :mod:`symvi.paper.modal_orbit`); ``Params`` itself runs on ``linear``.
 """
 from .modal2 import GRAZING as GRAZING

@@ -200,7 +200,7 @@ def _gtilde(params, omega, orb, dX, dth):
 
 def _implicit_rows(params, omega, orb):
     from ..jets import jet
-    from ..poincare import fd_jacobian
+    from .modal_map import fd_jacobian
     h = 1e-5
     z = np.zeros(4)
 

@@ -11,7 +11,7 @@ import pytest
 from symvi import Params, period1_orbits
 from symvi.jets import jet
 from symvi.params import modal
-from symvi.poincare import step
+from symvi.paper.modal_map import step
 from symvi._backend import MP
 
 from ..conftest import EX1, EX2, OWN

@@ -7,7 +7,7 @@ import pytest
 
 from symvi import NearSingularWarning, ParameterError, Params, SingularCaseError, modal
 from symvi import period1_orbits, poincare_map
-from symvi.poincare import fd_jacobian
+from symvi.paper.modal_map import fd_jacobian
 
 from ..conftest import EX1, EX2, OWN
 

@@ -6,7 +6,7 @@ import pytest
 
 from symvi import diagnostics as dg
 from symvi.orbit import period1_orbits
-from symvi.poincare import fd_jacobian
+from symvi.paper.modal_map import fd_jacobian
 from symvi.simulation import Simulation, simulate
 
 from ..conftest import EX1, EX2

@@ -7,7 +7,7 @@ import pytest
 from symvi import Model, ParameterError, SingularCaseError
 from symvi.flow import compiled as cf
 from symvi.diagnostics import jacobian, lyapunov
-from symvi.poincare import poincare_map
+from symvi.paper.modal_map import poincare_map
 from symvi.simulation import (DEFAULT_PERTURBATION, fixed_point, simulate, simulate_mp,
                             sweep)
 
