@@ -20,7 +20,8 @@ from .poincare import poincare_map as poincare_map
 
 __version__ = "0.1.0"
 
-_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "hopf", "simulate": "simulation"}
+_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "analysis.hopf",
+         "simulate": "simulations.simulation"}
 
 
 def __getattr__(name):

@@ -87,10 +87,10 @@ def section_view(params):
     """(labels, projections, names) of the section of the preset or of a model."""
     from ..model import Model
     if isinstance(params, Model):
-        from ..report import _section_view
+        from ..reporting.report import _section_view
         v = _section_view(params)
         return v["labels"], v["projections"], v["labels"]
-    from ..figures import LABELS, PROJECTIONS
+    from ..reporting.figures import LABELS, PROJECTIONS
     return LABELS, PROJECTIONS, ("x1dot+", "x20", "x20dot", "tau")
 
 

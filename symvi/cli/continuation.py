@@ -136,7 +136,7 @@ def run(args):
         if w is None:
             raise ParameterError("omega", None, "--set omega=VALUE when --param is not omega")
         if (n, p) != (1, 1):
-            from ..simulation import simulate
+            from ..simulations.simulation import simulate
             sim = simulate(at, w, n_impacts=400, transient=4000)
             if detect_period(sim) != (n, p):
                 raise ParameterError("--orbit", args.orbit, f"an orbit the simulation at "
@@ -171,7 +171,7 @@ def run(args):
                             warnings.warn(f"branch switching at the flip at {sp.value:.12g} "
                                           f"failed: {exc}")
     if args.plot:
-        from .. import figures
+        from ..reporting import figures
         names = branches[0].points[0].orbit.names
         fig = figures.branches([b.curve(0) for b in branches], args.param, ylabel=names[0],
                                title=f"{describe(model)}  ({args.param} continuation)")

@@ -75,7 +75,7 @@ def run(args):
                                            index=args.index, bounds=bounds or None,
                                            max_points=args.max_points, through=args.through)
     if args.plot:
-        from .. import figures
+        from ..reporting import figures
         fig = figures.two_parameter([curve.plot_data()], names,
                                     title=f"{describe(model)}  ({args.kind} curve)")
         figures.save(fig, args.plot)

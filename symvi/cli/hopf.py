@@ -18,14 +18,14 @@ def register(sub):
 
 def run(args):
     from ..errors import ParameterError
-    from ..hopf import CONSERVATIVE, hopf_points
+    from ..analysis.hopf import CONSERVATIVE, hopf_points
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
     res = hopf_points(params, args.omega_min, args.omega_max)
     checks = []
     if args.digits is not None:
-        from ..mpcheck import check_point
+        from ..studies.mpcheck import check_point
         checks = [check_point(params, pt, digits=args.digits) for pt in res.points]
     if args.json:
         obj = res.as_dict()

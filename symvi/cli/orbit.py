@@ -12,7 +12,7 @@ def register(sub):
 
 def run(args):
     from ..params import check_omega, modal
-    from ..precision import auto_orbits
+    from ..analysis.precision import auto_orbits
     params = params_from(args)
     from ..model import Model
     if isinstance(params, Model):
@@ -57,7 +57,7 @@ def run(args):
 def _run_model(model, args):
     """Any model (``--model FILE``): y in the section layout, with its names."""
     from ..flow.linear import LinearFlow
-    from ..precision import auto_model_orbits
+    from ..analysis.precision import auto_model_orbits
     flow = LinearFlow.of(model)
     omega = flow.check_omega(args.omega)
     # error estimates; mpmath recomputation where float64 gives < 8 digits

@@ -16,7 +16,7 @@ def register(sub):
 def run(args):
     import os
 
-    from .. import figures
+    from ..reporting import figures
     from ..errors import ParameterError
     from ..plane import PlaneStore
     if not args.out.lower().endswith((".png", ".pdf")):

@@ -13,8 +13,8 @@ def register(sub):
 
 
 def run(args):
-    from ..report import build_report
-    from ..scenes import paper_scenes
+    from ..reporting.report import build_report
+    from ..reporting.scenes import paper_scenes
     scenes = paper_scenes()
     rep = build_report(scenes, args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]))

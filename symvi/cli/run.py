@@ -14,12 +14,12 @@ def register(sub):
 
 
 def run(args):
-    from ..report import build_report
-    from ..scenes import load_scene
+    from ..reporting.report import build_report
+    from ..reporting.scenes import load_scene
     scene = load_scene(args.scene)          # validates before anything is written
     if args.model:
         from ..model import load_model
-        from ..scenes import with_model
+        from ..reporting.scenes import with_model
         scene = with_model(scene, load_model(args.model), f"{args.scene} with --model")
     rep = build_report([scene], args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]), title=scene.title)

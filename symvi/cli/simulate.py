@@ -24,7 +24,7 @@ def run(args):
 
     from .._io import atomic_path
     from ..errors import ParameterError
-    from ..simulation import simulate
+    from ..simulations.simulation import simulate
     params = params_from(args)
     for name in ("out", "plot"):
         path = getattr(args, name)
@@ -45,7 +45,7 @@ def run(args):
     out = {"omega": sim.omega, "n": sim.n, "stop": sim.stop, "y0": list(sim.y0),
            "transient": sim.transient, "out": args.out}
     if args.classify and sim.n >= 3:
-        from ..diagnostics import classify
+        from ..simulations.diagnostics import classify
         cl = classify(sim)
         out["class"] = cl.kind
         if cl.lyapunov is not None:
@@ -53,7 +53,7 @@ def run(args):
         if cl.rotation is not None:
             out["rotation_number"] = cl.rotation
     if args.plot:
-        from .. import figures
+        from ..reporting import figures
         title = f"{describe(params)}  omega={sim.omega:g}  ({sim.n} impacts, {sim.stop})"
         figures.save(figures.sections(sim.section, title, sim.fixed_point, projections,
                                       labels=labels), args.plot)

@@ -67,7 +67,7 @@ def run(args):
         curves, special = diagram_branches(params, args.omega_min, args.omega_max,
                                            args.component)
     if figs:
-        from .. import figures
+        from ..reporting import figures
         title = describe(params)
         for path in figs:
             fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,

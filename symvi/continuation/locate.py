@@ -1,5 +1,5 @@
 """Special points between two orbits of one period-1 branch, for a caller that brackets
-the crossings itself: :func:`symvi.hopf.hopf_points`, whose certified scan of the
+the crossings itself: :func:`symvi.analysis.hopf.hopf_points`, whose certified scan of the
 closed-form branches (eqs. (10)–(16)) finds each sign change and hands it here.
 
 The two orbits become two points X = (y, T = 2 pi / omega, omega) of the 1-1 shooting

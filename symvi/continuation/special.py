@@ -16,11 +16,11 @@ and t the unit tangent of :mod:`symvi.continuation.branch`:
 A sign change between two points is located by Brent's method in the arclength s,
 each trial point corrected on the hyperplane t_a . (X - X_a) = s, to |ds| <= 1e-14 (s).
 Coefficients (all with ||q||_2 = 1 and <p, q> = 1, p the adjoint vector paired with
-q explicitly, :func:`symvi.normal_form.real_critical`):
+q explicitly, :func:`symvi.normal_forms.normal_form.real_critical`):
 
 * fold: a = <p, B(q, q)> / 2 of eta -> eta + a eta^2;
-* flip: c of eta -> -eta + c eta^3 (c > 0 supercritical), :func:`symvi.normal_form.flip_coefficient`;
-* NS: l1 = Re(e^{-i theta} c1) (Kuznetsov), :func:`symvi.normal_form.normal_form`.
+* flip: c of eta -> -eta + c eta^3 (c > 0 supercritical), :func:`symvi.normal_forms.normal_form.flip_coefficient`;
+* NS: l1 = Re(e^{-i theta} c1) (Kuznetsov), :func:`symvi.normal_forms.normal_form.normal_form`.
 
 B, C are the second and third derivatives of P^p from the generated jets, composed.
 """
@@ -32,7 +32,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ..errors import NearSingularWarning, SymviError
-from ..normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
+from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
 from .points import SpecialPoint, correct, root_on_arc
 

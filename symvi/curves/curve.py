@@ -23,7 +23,7 @@ import numpy as np
 
 from ..continuation.points import correct, tangent
 from ..errors import ParameterError, SymviError
-from ..normal_form import flip_coefficient, fold_coefficient
+from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
 from .points import NORMALISATION, Codim2Point, CurvePoint, first_lyapunov, mono
 from .special import Tracker
@@ -64,7 +64,7 @@ class Curve:
         return np.array([pt.params[name] for pt in self.points])
 
     def plot_data(self, sides=24):
-        """Plain data for :func:`symvi.figures.two_parameter`; the stable side computed at
+        """Plain data for :func:`symvi.reporting.figures.two_parameter`; the stable side computed at
         about ``sides`` points along the curve."""
         a, b = self.names
         sub = [(pt.l1 is not None and pt.l1 > 0) if self.kind == "ns" else
@@ -95,7 +95,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
 
     ``orbit`` is a :class:`PeriodicOrbit` at (or near) a point of the curve, or what
     holds one: a special point that :func:`symvi.continuation.continue_branch` located,
-    a :class:`symvi.hopf.HopfPoint` of :func:`symvi.hopf_points`, or a period-1 orbit;
+    a :class:`symvi.analysis.hopf.HopfPoint` of :func:`symvi.hopf_points`, or a period-1 orbit;
     ``model`` a :class:`symvi.Model` or the paper's Params; ``fixed`` gives the model's other parameters (omega included when it is
     not one of ``names``), and the start values of a and b are the orbit's (omega)
     or the model's.  ``bounds`` maps a name to (lo, hi); by default each parameter may

@@ -9,7 +9,7 @@
   basin of the stable fixed point bounded by it.
 
 Both return a JSON-able dict and a dict of section arrays (``result``, ``arrays``), for
-:func:`symvi.figures.codim2_evidence`.
+:func:`symvi.reporting.figures.codim2_evidence`.
 
 The Chenciner wedge
 -------------------
@@ -37,7 +37,7 @@ import math
 
 import numpy as np
 
-from ..codim2 import chenciner, resonance_1_3, resonance_1_4
+from ..normal_forms.codim2 import chenciner, resonance_1_3, resonance_1_4
 from ..errors import ParameterError, SingularCaseError
 from ..orbits.periodic import ConvergenceError, periodic_orbit
 
@@ -107,7 +107,7 @@ def _half_widths(sec, ys):
 
 def _run(model_at, omega, y0, n, transient, p):
     """simulate, keeping every p-th point from the first (the section of P^p)."""
-    from ..simulation import simulate
+    from ..simulations.simulation import simulate
     if n + transient > MAX_RUN:
         raise ParameterError("transient", transient, f"n_impacts + transient <= {MAX_RUN}")
     sim = simulate(model_at, omega, y0=tuple(float(v) for v in y0), n_impacts=n * p,
@@ -116,7 +116,7 @@ def _run(model_at, omega, y0, n, transient, p):
 
 
 def _classify(sim):
-    from ..diagnostics import classify
+    from ..simulations.diagnostics import classify
     c = classify(sim)
     out = {"kind": c.kind, "period": c.period, "rotation": c.rotation}
     if c.lyapunov is not None:

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import NearSingularWarning, SymviError
-from ..normal_form import kuznetsov_resolved
+from ..normal_forms.normal_form import kuznetsov_resolved
 from ..orbits.periodic import PeriodicOrbit
 
 NORMALISATION = ("||q||_2 = 1, <p,q> = conj(p)^T q = 1; l1 = Re(e^{-i theta} c1) (l1 < 0: "
@@ -87,7 +87,7 @@ def mono(system, X):
 def first_lyapunov(orbit, lam):
     """(l1, noise) of the pair of multiplier ``lam`` of the orbit; (None, None) at a strong
     resonance (no cubic normal form).  ``noise`` bounds l1's rounding error
-    (:func:`symvi.normal_form.kuznetsov_resolved`; near grazing the jets blow up)."""
+    (:func:`symvi.normal_forms.normal_form.kuznetsov_resolved`; near grazing the jets blow up)."""
     A, d2, d3 = orbit.jet(3)
     try:
         with warnings.catch_warnings():

@@ -17,14 +17,14 @@ A sign change between two points is located by Brent's method along the arclengt
 (:func:`symvi.continuation.points.root_on_arc`); a zero of a pair product that turns
 out real (a neutral saddle) is dropped.  Admissibility lost between two points ends
 the curve; the grazing (an impact velocity through 0, or a flight touching the stop)
-is located the same way.  Normal-form coefficients come from :mod:`symvi.codim2`
+is located the same way.  Normal-form coefficients come from :mod:`symvi.normal_forms.codim2`
 (Kuznetsov & Meijer 2005; ||q||_2 = 1, <p, q> = 1 throughout).
 """
 import numpy as np
 
 from ..continuation.points import root_on_arc
 from ..errors import SymviError
-from ..normal_form import flip_coefficient, fold_coefficient
+from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import orbit_of
 from .points import Codim2Point, first_lyapunov, mono
 from .system import kappa_pair
@@ -250,7 +250,7 @@ MEANING = {
 
 
 def describe(kind, curve_kind, orbit, pair, others):
-    """(coefficients, detail) of a located codimension-two point, from :mod:`symvi.codim2`."""
+    """(coefficients, detail) of a located codimension-two point, from :mod:`symvi.normal_forms.codim2`."""
     coeffs = {"multipliers_critical": [complex(z) for z in pair]}
     detail = MEANING.get(kind, kind)
     try:
@@ -261,7 +261,7 @@ def describe(kind, curve_kind, orbit, pair, others):
 
 
 def _normal_form(kind, orbit):
-    from .. import codim2
+    from ..normal_forms import codim2
     if kind in ("CH", "GPD"):
         args = orbit.jet(5)                   # orders 4-5, composed over the p impacts
         res = codim2.chenciner(*args) if kind == "CH" else codim2.degenerate_flip(*args)

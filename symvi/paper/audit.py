@@ -14,7 +14,7 @@
     central finite differences and combined as printed, against the generated
     Jacobian (:func:`symvi.jet`);
   - eqs. (46), (54), (60), (A2)–(A17): the printed appendix formulas
-    (:func:`symvi.normal_form.appendix_printed`, ``*_printed`` values of the
+    (:func:`symvi.normal_forms.normal_form.appendix_printed`, ``*_printed`` values of the
     reduction) against coefficients read off the truncated map itself by
     sampling it on a circle |z| = eps and taking Fourier modes (no derivative
     bookkeeping), against Kuznetsov's n-dimensional c1 and h20, h11, and
@@ -267,7 +267,7 @@ def _W(Wd, z, cubic=True, printed=False):
 def _nf_rows(params, pt, circle_evidence):
     """Eqs. (46), (54), (60), (A2)–(A17) at the Hopf point ``pt``."""
     from ..jets import jet
-    from ..normal_form import appendix_printed, f1_eq60, transform_jet
+    from ..normal_forms.normal_form import appendix_printed, f1_eq60, transform_jet
     nf = pt.normal_form
     red = nf.paper
     j = jet(params, pt.omega_c, order=3, orbit=pt.orbit)
@@ -469,7 +469,7 @@ def _dlam_branch(params, pt, h=1e-4):
 
 
 def _first_hopf(params, omin, omax):
-    from ..hopf import hopf_points
+    from ..analysis.hopf import hopf_points
     pts = [p for p in hopf_points(params, omin, omax).points if p.normal_form is not None]
     return pts[0] if pts else None
 
@@ -477,7 +477,7 @@ def _first_hopf(params, omin, omax):
 def _circle_evidence(params, pt, f1_printed):
     """Measured circle half-width at one mu against the corrected and printed (60)."""
     try:
-        from ..circle_check import measure
+        from ..studies.circle_check import measure
     except ModuleNotFoundError:
         return "circle check not available"
     if pt.circle is None:
@@ -539,7 +539,7 @@ _HOPF_MEMO = {}
 def _hopf_cached(params, omin, omax):
     key = (params.key(), omin, omax)
     if key not in _HOPF_MEMO:
-        from ..hopf import hopf_points
+        from ..analysis.hopf import hopf_points
         _HOPF_MEMO[key] = hopf_points(params, omin, omax)
     return _HOPF_MEMO[key]
 
@@ -643,13 +643,13 @@ def _check_interval(params, row, quick):
 
 
 def _sim_counts(row, quick):
-    from ..simulation import quick_counts
+    from ..simulations.simulation import quick_counts
     return quick_counts(row, quick, default_impacts=2000, default_transient=row["transient"])
 
 
 def _classify_at(params, omega, n, tr, pert):
-    from ..diagnostics import classify
-    from ..simulation import simulate
+    from ..simulations.diagnostics import classify
+    from ..simulations.simulation import simulate
     kw = {"perturbation": tuple(pert)} if pert else {}
     sim = simulate(params, omega, n_impacts=n, transient=tr, **kw)
     return sim, classify(sim)
@@ -690,8 +690,8 @@ def _check_attractor(params, row, quick):
 
 
 def _check_onset(params, row, quick):
-    from ..diagnostics import branch_count
-    from ..simulation import sweep
+    from ..simulations.diagnostics import branch_count
+    from ..simulations.simulation import sweep
     steps = row["steps"]
     tr = row["transient"]
     if quick:
@@ -724,7 +724,7 @@ def _check_onset(params, row, quick):
 
 
 def _check_escape(params, row, quick):
-    from ..simulation import fixed_point, simulate
+    from ..simulations.simulation import fixed_point, simulate
     ys = fixed_point(params, row["omega"])
     if ys is None:
         return "not checkable", None, "no admissible period-1 orbit to start from"

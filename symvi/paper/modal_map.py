@@ -1,7 +1,7 @@
 """The paper's numeric Poincaré map P on the section x1 = b, eqs. (19)–(31), through
 its 2-DOF modal closed form (:mod:`symvi.flow.modal2`): the independent oracle of the
-impact map of every model (:mod:`symvi.maps.impact`), chain B of :mod:`symvi.mpcheck` and
-the reference run :func:`symvi.simulation.simulate_mp`.  ``symvi.poincare_map`` runs
+impact map of every model (:mod:`symvi.maps.impact`), chain B of :mod:`symvi.studies.mpcheck` and
+the reference run :func:`symvi.simulations.simulation.simulate_mp`.  ``symvi.poincare_map`` runs
 :mod:`symvi.maps.impact` on ``Model.luo_xie`` since issue 11.
 
 y = (x1dot+, x2, x2dot, tau) just after an impact, t reset to 0 there.  The

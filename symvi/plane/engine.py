@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from ..simulation import STOP_NAMES
+from ..simulations.simulation import STOP_NAMES
 from .grid import PlaneSpec, block_inputs
 from .store import PlaneStore
 
@@ -252,17 +252,17 @@ def _counts(store):
 
 
 def _sweep_block(params, omegas, starts, n_impacts, transient):
-    # one Dask task of a sweep: the compiled batch of symvi.simulation.sweep
-    from ..simulation import sweep
+    # one Dask task of a sweep: the compiled batch of symvi.simulations.simulation.sweep
+    from ..simulations.simulation import sweep
     return sweep(params, omegas, n_impacts=n_impacts, transient=transient, starts=starts)
 
 
 def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=None,
               chunk=None, progress=None, client=None):
-    """:func:`symvi.simulation.sweep` as tasks of ``chunk`` omegas on this engine (a local
+    """:func:`symvi.simulations.simulation.sweep` as tasks of ``chunk`` omegas on this engine (a local
     cluster, ``scheduler``, or in-process with ``workers=0``); the same Sweep, bit for
     bit, as one call of ``sweep``."""
-    from ..simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
+    from ..simulations.simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
     check_workers(scheduler, workers)
     omegas = np.asarray(omegas, dtype=float)
     m = len(omegas)

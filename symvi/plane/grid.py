@@ -193,13 +193,13 @@ def block_inputs(spec, r0, r1):
     """Constants (m, L) and start points (m, 2N) of rows r0 .. r1-1, row-major.
 
     A start is the point's admissible period-1 orbit plus the default perturbation
-    (:func:`symvi.simulation.start_point`); where a point has none, the nearest
+    (:func:`symvi.simulations.simulation.start_point`); where a point has none, the nearest
     point of its row that has one lends its start; where no point of the row has one,
     the model's generic start (v_k+ = -1, the other coordinates 0) is used.  Returns
     (C, Y0, has_orbit (m,) bool).
     """
     from ..flow import compiled as cf
-    from ..simulation import start_point
+    from ..simulations.simulation import start_point
     nx, dim = spec.x.n, spec.model.dim
     generic = np.zeros(dim)
     generic[0] = -1.0

@@ -7,7 +7,7 @@ Layout (zarr format 2, whose fixed-width strings are stable)::
                      escape | grazing ("" = not computed yet)
     period, impacts_per_orbit   int32        k forcing periods, q impacts (0 if not periodic)
     lyapunov, rotation, impacts_per_period, max_velocity   float64 (NaN: not defined)
-    stop      str    how the run ended (symvi.simulation stop names)
+    stop      str    how the run ended (symvi.simulations.simulation stop names)
     own_start bool   the point started from its own period-1 orbit
     done      bool (<y name>)                rows whose block is written
 

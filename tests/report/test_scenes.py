@@ -133,10 +133,12 @@ def test_cache_keys_hash_every_module_an_output_imports():
     """Issue 11: precision.py and _compiled.py (and the flow package) enter the keys."""
     from symvi import scenes as sc
     hopf = sc.module_closure(sc.ENTRY["hopf"])
-    for m in ("precision", "_compiled", "flow.modal2", "flow.linear", "normal_form", "jets"):
+    for m in ("analysis.precision", "_compiled", "flow.modal2", "flow.linear",
+              "normal_forms.normal_form", "jets"):
         assert m in hopf, m
     sec = sc.module_closure(sc.ENTRY["section"])
-    assert "flow.compiled" in sec and "flow.linear" in sec and "diagnostics" in sec
+    assert "flow.compiled" in sec and "flow.linear" in sec
+    assert "simulations.diagnostics" in sec
     assert "paper.audit" not in hopf        # only what is imported
 
 

@@ -1,0 +1,322 @@
+"""Long runs of the Poincaré map P, eqs. (26) and (31): impact sections and sweeps.
+
+The float64 path runs the compiled exact flow and first-impact finder of
+:mod:`symvi.flow.compiled` for any :class:`symvi.model.Model`, whose section
+points have the 2N components of :mod:`symvi.maps.section`.  A
+:class:`symvi.Params` (the paper's model) runs there as
+:meth:`symvi.model.Model.luo_xie`, whose section layout is the paper's
+(x1dot+, x2, x2dot, tau) of eq. (9); it keeps the paper's validation and
+period-1 orbit (:mod:`symvi.orbit`).  :func:`simulate_mp` runs the paper's map
+through the modal map :func:`symvi.paper.modal_map.step` on mpmath, as an
+independent reference.
+
+A run ends early, with a stop reason, on
+
+* ``grazing``  -- a contact with x1dot- below the grazing speed and x1'' < 0,
+* ``sticking`` -- such a contact with x1'' > 0: the stop would hold the mass,
+* ``chatter``  -- CHATTER_COUNT flights in a row shorter than CHATTER_FLIGHT
+  forcing periods (an accumulation of impacts),
+* ``no-impact`` -- no return to the stop within 1000 forcing periods,
+
+never with a hang or a section point past an unresolved contact.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError, SingularCaseError
+from ..flow import check_omega
+from ..flow import compiled as cf
+from ..model import Model
+
+#: default start: the admissible period-1 orbit y* plus this vector (x1dot+, x2, x2dot, tau)
+DEFAULT_PERTURBATION = (1e-4, 1e-4, 1e-4, 1e-4)
+
+STOP_NAMES = cf.STOP_NAMES
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A finished run: section points after the transient, in the order of eq. (9)."""
+
+    params: object
+    omega: float
+    y0: tuple                 # start point used (x1dot+, x2, x2dot, tau); 2N for a Model
+    section: np.ndarray       # (n, 4): x1dot+, x2, x2dot, tau in [0, 2 pi); (n, 2N) for a Model
+    t: np.ndarray             # (n,) impact times since the start, transient included
+    impact_velocity: np.ndarray   # (n,) x1dot- just before each stored impact
+    stop: str                 # "completed", "grazing", "chatter", "sticking", "no-impact"
+    transient: int            # images dropped before the first stored one
+    fixed_point: tuple = None     # the period-1 orbit y* at omega, when it exists
+
+    @property
+    def n(self):
+        return len(self.section)
+
+    @property
+    def flight_times(self):
+        """t_e of eq. (26) from each stored point to the next impact (n - 1 values)."""
+        return np.diff(self.t)
+
+
+def _frozen(a):
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    a.flags.writeable = False
+    return a
+
+
+#: stored impacts are 32 bytes each: 5e7 of them is 1.6 GB
+MAX_STORED = 50_000_000
+MAX_TRANSIENT = 1_000_000_000
+
+
+def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer))
+            or not minimum <= value <= maximum):
+        raise ParameterError(name, value, f"an integer from {minimum} to {maximum}")
+    return int(value)
+
+
+def _is_model(params):
+    return isinstance(params, Model)
+
+
+def fixed_point(params, omega):
+    """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
+    if _is_model(params):
+        from ..orbits import admissible_orbits
+    else:
+        from ..orbit import admissible_orbits
+    try:
+        ok = admissible_orbits(params, omega, multipliers=False)
+    except SingularCaseError:
+        return None
+    return tuple(float(v) for v in ok[0].y) if ok else None
+
+
+def _check_start(y0):
+    try:
+        y = tuple(float(v) for v in y0)
+    except (TypeError, ValueError):
+        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)") from None
+    if len(y) != 4 or not all(math.isfinite(v) for v in y):
+        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)")
+    if not y[0] < 0:
+        raise ParameterError("y0", y0, "x1dot+ < 0: the mass must leave the stop")
+    return (y[0], y[1], y[2], y[3] % (2 * math.pi))
+
+
+def _check_system_start(params, y0, name="y0"):
+    """y0 checked for the system: 4 numbers for the paper's Params, 2N for a Model."""
+    return _check_model_start(params, y0, name) if _is_model(params) else _check_start(y0)
+
+
+def _check_model_start(model, y0, name="y0"):
+    """A 2N section point (:mod:`symvi.maps.section`) that leaves the stop, tau mod 2 pi."""
+    from ..maps import Section
+    sec = Section.of(model)
+    y = tuple(float(v) for v in sec.check(y0, name))
+    names = sec.names
+    if not y[0] < 0:
+        raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
+    return y[:-1] + (y[-1] % (2 * math.pi),)
+
+
+def _perturbation(params, perturbation):
+    """The start offset for params: a Model takes 2N numbers, the default 1e-4 each."""
+    if not _is_model(params):
+        return perturbation
+    dim = params.dim
+    if perturbation is DEFAULT_PERTURBATION:
+        return (DEFAULT_PERTURBATION[0],) * dim
+    try:
+        d = tuple(float(v) for v in perturbation)
+    except (TypeError, ValueError):
+        d = ()
+    if len(d) != dim or not all(math.isfinite(v) for v in d):
+        raise ParameterError("perturbation", perturbation, f"{dim} finite numbers")
+    return d
+
+
+def start_point(params, omega, perturbation=DEFAULT_PERTURBATION):
+    """Default start y* + perturbation, and y*; raises if no admissible orbit exists."""
+    perturbation = _perturbation(params, perturbation)
+    ys = fixed_point(params, omega)
+    if ys is None:
+        raise SingularCaseError(
+            "no-orbit", f"no admissible period-1 orbit at omega = {omega!r} to start from; "
+            "pass y0 explicitly")
+    return tuple(a + d for a, d in zip(ys, perturbation)), ys
+
+
+def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
+             perturbation=DEFAULT_PERTURBATION):
+    """Iterate the Poincaré map P of eq. (31) on float64 with the exact flow.
+
+    ``y0`` defaults to the admissible period-1 orbit y* plus ``perturbation``
+    (the paper starts from the "theoretical fixed point"; an exact fixed point
+    would stay there).  The first ``transient`` images are dropped and the next
+    ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
+    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).
+    """
+    omega = check_omega(params, omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    perturbation = _perturbation(params, perturbation)
+    ys = fixed_point(params, omega)
+    if y0 is None:
+        y0, ys = start_point(params, omega, perturbation)
+    y0 = _check_system_start(params, y0)
+    c = cf.constants(Model.of(params), omega)
+    code, sec, t, vimp, _ = cf.run(c, y0, n_impacts, transient)
+    return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
+                      STOP_NAMES[code], transient, ys)
+
+
+def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
+    """Reference run of the same map on mpmath at ``digits`` (slow: about 1 ms per impact).
+
+    Uses :func:`symvi.paper.modal_map.step` with the MP backend, so it shares no code
+    with the compiled kernels.  Values are rounded to float64 only on output.
+    """
+    import mpmath
+
+    if _is_model(params):
+        return _simulate_model_mp(params, omega, y0, n_impacts, digits)
+    from .._backend import MP
+    from ..params import modal as _modal
+    from ..paper.modal_map import step
+    omega = check_omega(params, omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    y0 = _check_start(y0)
+    out, times, vimp = [], [], []
+    stop = "completed"
+    with mpmath.mp.workdps(digits):
+        m = _modal(params, MP)
+        om, b, r = MP.num(omega), MP.num(params.b), MP.num(params.r)
+        y = tuple(MP.num(v) for v in y0)
+        T = MP.num(0)
+        for _ in range(n_impacts):
+            s = step(m, om, b, r, y, MP)
+            if s.status != "impact":
+                stop = s.status
+                break
+            y, T = s.y, T + s.t
+            out.append([float(v) for v in y])
+            times.append(float(T))
+            vimp.append(float(s.impact_velocity))
+    return Simulation(params, omega, y0, _frozen(np.array(out).reshape(-1, 4)), _frozen(times),
+                      _frozen(vimp), stop, 0, fixed_point(params, omega))
+
+
+def _simulate_model_mp(model, omega, y0, n_impacts, digits):
+    """:func:`simulate_mp` for a Model: :func:`symvi.maps.impact.step` on mpmath."""
+    import mpmath
+
+    from ..flow.linear import LinearFlow
+    from ..maps.impact import step
+    omega = LinearFlow.of(model).check_omega(omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    y0 = _check_model_start(model, y0)
+    out, times, vimp = [], [], []
+    stop = "completed"
+    flow = LinearFlow.of(model, digits)
+    with mpmath.mp.workdps(digits):
+        F = flow.forcing(mpmath.mpf(omega))
+        y = np.array([mpmath.mpf(v) for v in y0], dtype=object)
+        T = mpmath.mpf(0)
+        for _ in range(n_impacts):
+            s = step(flow, F, y)
+            if s.status != "impact":
+                stop = s.status
+                break
+            y, T = np.array(s.y, dtype=object), T + s.t
+            out.append([float(v) for v in y])
+            times.append(float(T))
+            vimp.append(float(s.impact_velocity))
+    return Simulation(model, omega, y0, _frozen(np.array(out).reshape(-1, model.dim)),
+                      _frozen(times), _frozen(vimp), stop, 0, fixed_point(model, omega))
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Section points of many runs over a grid of omega (a bifurcation diagram)."""
+
+    params: object
+    omegas: np.ndarray        # (m,)
+    section: np.ndarray       # (m, n, 4), (m, n, 2N) for a Model; rows past counts[i] are NaN
+    counts: np.ndarray        # (m,) points stored per omega
+    stops: tuple              # stop reason per omega
+    starts: np.ndarray        # (m, 4) start points used; (m, 2N) for a Model
+    transient: int
+    impacts_total: int        # map iterations requested (runs that stop early do fewer)
+
+
+def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
+    """Start points for a sweep: y* + perturbation at each omega.
+
+    Where no admissible orbit exists the nearest omega's start is reused; if
+    none exists anywhere, raise.
+    """
+    perturbation = _perturbation(params, perturbation)
+    ys = [fixed_point(params, w) for w in omegas]
+    have = [i for i, y in enumerate(ys) if y is not None]
+    if not have:
+        raise SingularCaseError("no-orbit", "no admissible period-1 orbit anywhere on the "
+                                "omega grid to start from")
+    starts = np.empty((len(omegas), params.dim if _is_model(params) else 4))
+    for i in range(len(omegas)):
+        j = min(have, key=lambda k: abs(k - i))
+        starts[i] = np.add(ys[j], perturbation)
+    return starts
+
+
+def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
+          perturbation=DEFAULT_PERTURBATION, chunk=None, progress=None):
+    """Independent runs at each omega in parallel (numba threads).
+
+    ``progress(done, total)`` is called after each chunk of omegas.  ``params``
+    is a :class:`symvi.Params` or any :class:`symvi.model.Model`.
+    """
+    omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
+    n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    if starts is None:
+        starts = sweep_starts(params, omegas, perturbation)
+    try:
+        rows = list(starts)
+    except TypeError:
+        raise ParameterError("starts", starts, f"{len(omegas)} start points") from None
+    if len(rows) != len(omegas):
+        raise ParameterError("starts", starts, f"{len(omegas)} start points, one per omega")
+    starts = np.array([_check_system_start(params, y, "starts") for y in rows])
+    m = len(omegas)
+    model = Model.of(params)
+    C = np.array([cf.constants(model, w) for w in omegas])
+    sec = np.full((m, n_impacts, starts.shape[1]), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
+    codes = np.zeros(m, dtype=np.int64)
+    chunk = chunk or max(1, m // 50)
+    for lo in range(0, m, chunk):
+        hi = min(m, lo + chunk)
+        cd, ct, s, _, _, _ = cf.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
+        sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
+        if progress is not None:
+            progress(hi, m)
+    return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
+                 _frozen(starts), transient, int(m * (n_impacts + transient)))
+
+
+def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):
+    """(impacts, transient, note): the counts a simulation uses, reduced in quick mode."""
+    n, tr = spec["impacts"], spec.get("transient", 0)
+    if not quick:
+        return n, tr, ""
+    qn = spec.get("quick_impacts") or min(n, default_impacts)
+    qt = spec.get("quick_transient")
+    qt = min(tr, default_transient) if qt is None else qt
+    if (qn, qt) == (n, tr):
+        return n, tr, ""
+    return qn, qt, (f"quick mode: {qn} impacts after a transient of {qt} "
+                    f"(full run: {n} after {tr})")
