@@ -580,16 +580,12 @@ def _paper(bk, A, d2, d3, e):
         W["W20"] = bk.solve(lam * lam * I - D, H["H20"])
         W["W11"] = bk.solve(lam * lb * I - D, H["H11"])
         W["W02"] = bk.solve(lb * lb * I - D, H["H02"])
-        # (conj(lambda) I - D) W02 = H02    eq. (A10) as printed
-        W["W02_printed"] = bk.solve(lb * I - D, H["H02"])
         W20, W11, W02 = W["W20"], W["W11"], W["W02"]
         G20, G11, G02 = G["G20"], G["G11"], G["G02"]
         H10, H01 = H["H10"], H["H01"]
-        # eq. (46), W30 corrected and as printed
+        # eq. (46), W30 corrected (as printed: symvi.paper.audit.printed_W, the errata)
         W["W30"] = bk.solve(lam ** 3 * I - D, H["H30"] + 3 * np.dot(H10, W20)
                             - 3 * lam * G20 * W20 - 3 * lam * G02.conjugate() * W11)
-        W["W30_printed"] = bk.solve(lam ** 3 * I - D, H["H30"] + 3 * np.dot(H10, W20)
-                                    - 3 * lam * G20 * W11 - 3 * lam * G20 * W20)
         # eq. (46), W21 (right as printed)
         W["W21"] = bk.solve(lam * lam * lb * I - D,
                             np.dot(H01, W20) + 2 * np.dot(H10, W11) - lb * G20 * W11

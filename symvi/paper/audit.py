@@ -264,6 +264,23 @@ def _W(Wd, z, cubic=True, printed=False):
     return w
 
 
+def printed_W(red, lam):
+    """The centre-manifold coefficients exactly as printed, the errata of the reduction
+    ``red`` (:class:`symvi.normal_forms.normal_form.PaperReduction`, n > 2) at lambda:
+    W02 of eq. (A10), (conj(lambda) I - D) W02 = H02 (corrected: conj(lambda)^2), and W30
+    of eq. (46) with -3 lambda G20 W11 where -3 lambda conj(G02) W11 belongs.  Complex
+    float64; computed only here, for the audit and its tests."""
+    D = np.asarray(red.D, dtype=complex)
+    H = {k: np.asarray(v, dtype=complex) for k, v in red.H.items()}
+    W20, W11 = (np.asarray(red.W[k], dtype=complex) for k in ("W20", "W11"))
+    G20 = complex(red.G["G20"])
+    lam = complex(lam)
+    I = np.eye(D.shape[0])
+    return {"W02_printed": np.linalg.solve(lam.conjugate() * I - D, H["H02"]),
+            "W30_printed": np.linalg.solve(lam ** 3 * I - D, H["H30"] + H["H10"] @ W20 * 3
+                                           - 3 * lam * G20 * W11 - 3 * lam * G20 * W20)}
+
+
 def _nf_rows(params, pt, circle_evidence):
     """Eqs. (46), (54), (60), (A2)–(A17) at the Hopf point ``pt``."""
     from ..jets import jet
@@ -281,6 +298,7 @@ def _nf_rows(params, pt, circle_evidence):
     F = _poly(AY, d2Y, d3Y)
     n = AY.shape[0]
     Wd = {k: np.asarray(v, dtype=complex) for k, v in red.W.items()}
+    Wd.update(printed_W(red, lam))
     G, g = red.G, red.g
     pr = appendix_printed(d2Y, d3Y)
     rows = []

@@ -3,7 +3,10 @@ import numpy as np
 import pytest
 
 from ._nf_maps import conjugated, eval_poly, family_dA
+from dataclasses import replace
+
 from symvi.normal_form import appendix_printed, normal_form, transform_jet
+from symvi.paper.audit import printed_W
 
 THETA = 1.1
 D0 = np.array([[0.3, -0.4], [0.5, 0.2]])          # a stable complex pair
@@ -57,6 +60,9 @@ def test_invariance_residual_order():
     assert order(w1, w2) > 3.8 and order(z1, z2) > 3.8
     # reality of the manifold needs W02 = conj(W20); the printed (A10) breaks it
     assert np.allclose(pr.W["W02"], np.conj(pr.W["W20"]), atol=1e-13)
+    # the errata variants live with the audit (symvi.paper), off the production path
+    assert "W02_printed" not in pr.W and "W30_printed" not in pr.W
+    pr = replace(pr, W={**pr.W, **printed_W(pr, lam)})
     assert not np.allclose(pr.W["W02_printed"], np.conj(pr.W["W20"]), atol=1e-3)
     (w1, _), (w2, _) = (_residuals(f, pr, lam, e, key02="W02_printed") for e in (2e-2, 1e-2))
     assert 1.8 < order(w1, w2) < 2.2
