@@ -32,7 +32,7 @@ from .params import Params, _finite, check_omega
 from .params import modal as _modal
 from ._paper_eval import _gen, _inputs
 from .codegen.jets import eigenvalues as eigenvalues  # one owner, any size
-from .codegen.jets import fixed_point_motion, jet_at, jet_of_orbit
+from .codegen.jets import jet_at, jet_of_orbit
 from .codegen.jets import jacobian_at as _any_model_jacobian
 from .model import Model
 
@@ -194,10 +194,3 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
     return Jet(orbit=orbit, omega=w, order=order, jacobian=jt.jacobian, theta1=jt.theta1,
                g_theta=jt.g_theta, d2=jt.d2, d3=jt.d3, dA=jt.dA, dP_domega=jt.dP_domega,
                dy_domega=jt.dy_domega, digits=orbit.digits)
-
-
-def _solve(M, v, mp):
-    """(I - J)^{-1} v for M = I - J, with the fold checks of
-    :func:`symvi.codegen.jets.fixed_point_motion` (one owner)."""
-    n = M.shape[0]
-    return fixed_point_motion(np.eye(n, dtype=M.dtype) - M, v, mp)

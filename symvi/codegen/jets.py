@@ -239,5 +239,6 @@ def fixed_point_motion(J, dP, mp):
             warnings.warn(f"a multiplier is within {gap:.1e} of 1 (near a fold): derivatives "
                           f"along the branch lose about {-np.log10(gap):.0f} digits",
                           NearSingularWarning, stacklevel=4)
-        return np.linalg.solve(np.eye(n) - J, dP)    # LAPACK's, for the ill-conditioned
+        if had == 0:                  # an exactly zero pivot: LAPACK says what it can
+            return np.linalg.solve(np.eye(n) - J, dP)
     return x

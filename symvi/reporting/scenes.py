@@ -446,9 +446,9 @@ _PKG = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _CLOSURE = {}
 
 
-def _module_file(pkg_dir, dotted):
+def _module_file(dotted):
     """The source file of ``symvi.<dotted>`` (module or package), or None."""
-    base = os.path.join(pkg_dir, *dotted.split(".")) if dotted else pkg_dir
+    base = os.path.join(_PKG, *dotted.split(".")) if dotted else _PKG
     for f in (base + ".py", os.path.join(base, "__init__.py")):
         if os.path.isfile(f):
             return f
@@ -459,8 +459,7 @@ def module_imports(name):
     """The symvi modules ``symvi.<name>`` imports directly (ast of its source, imports
     inside functions included; parent packages, whose ``__init__`` runs, included)."""
     import ast
-    pkg = _PKG
-    f = _module_file(pkg, name)
+    f = _module_file(name)
     if f is None:
         return ()
     here = name if f.endswith("__init__.py") else name.rpartition(".")[0]
@@ -489,7 +488,7 @@ def module_imports(name):
             parts = t.split(".")
             for i in range(1, len(parts) + 1):
                 m = ".".join(parts[:i])
-                if _module_file(pkg, m) is not None and m != name:
+                if _module_file(m) is not None and m != name:
                     out.add(m)
     return tuple(sorted(out))
 
@@ -507,8 +506,7 @@ def module_closure(names):
             continue
         seen.add(name)
         todo += module_imports(name)
-    pkg = _PKG
-    _CLOSURE[key] = tuple(sorted(m for m in seen if _module_file(pkg, m) is not None))
+    _CLOSURE[key] = tuple(sorted(m for m in seen if _module_file(m) is not None))
     return _CLOSURE[key]
 
 
@@ -517,10 +515,9 @@ def source_hash(modules):
     key = module_closure(modules)
     if key not in _SRC:
         h = hashlib.sha256()
-        pkg = _PKG
         for name in key:
             h.update(name.encode() + b"\0")
-            with open(_module_file(pkg, name), "rb") as fh:
+            with open(_module_file(name), "rb") as fh:
                 h.update(fh.read())
         _SRC[key] = h.hexdigest()[:16]
     return _SRC[key]

@@ -136,8 +136,7 @@ class _MapFD:
         self.params, self.dps, self.n = params, dps, n
 
     def P(self, w, y):
-        from ..model import Model
-        if isinstance(self.params, Model):
+        if _is_model(self.params):
             from ..maps.impact import poincare_map
         else:                                     # the paper's modal map: independent
             from ..paper.modal_map import poincare_map

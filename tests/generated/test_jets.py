@@ -129,7 +129,7 @@ def test_bad_order():
 def test_near_fold_warns_and_fold_refuses():
     """dy*/domega = (I - J)^{-1} dP/domega: a multiplier near 1 is said, at 1 refused."""
     from symvi import NearSingularWarning, SingularCaseError
-    from symvi.jets import _solve
+    from symvi.codegen.jets import fixed_point_motion
     rng = np.random.default_rng(0)
     V = rng.normal(size=(4, 4))
     for gap, expect in [(1e-8, "warn"), (1e-12, "refuse"), (0.3, "quiet")]:
@@ -137,13 +137,13 @@ def test_near_fold_warns_and_fold_refuses():
         M = np.eye(4) - J
         if expect == "refuse":
             with pytest.raises(SingularCaseError, match="multiplier-one"):
-                _solve(M, np.ones(4), False)
+                fixed_point_motion(J, np.ones(4), False)
         elif expect == "warn":
             with pytest.warns(NearSingularWarning, match="fold"):
-                x = _solve(M, np.ones(4), False)
+                x = fixed_point_motion(J, np.ones(4), False)
             assert np.allclose(M @ x, np.ones(4), atol=1e-6 * np.abs(x).max())
         else:
             import warnings
             with warnings.catch_warnings():
                 warnings.simplefilter("error")
-                _solve(M, np.ones(4), False)
+                fixed_point_motion(J, np.ones(4), False)
