@@ -524,6 +524,9 @@ def _escalate_hopf(model, omega_c, branch, est, min_digits, max_digits, refine=N
                                 _re(est2.l1, note), branch)
         kappa = max(est2.omega_c.condition, est2.dmod_domega.condition, est2.l1.condition,
                     10 * kappa)
+        if not math.isfinite(kappa):        # a singular case at d digits: more will not help
+            return _untrust_hopf(est, f"mpmath-{d}: "
+                                      f"{est2.omega_c.note or 'infinite condition'}")
         d = max(2 * d, _digits_needed(kappa, min_digits))
     return _untrust_hopf(est, f"fewer than {min_digits} digits even at mpmath {tried} digits "
                               f"(condition {kappa:.1e})")

@@ -1,6 +1,7 @@
 """Automatic precision of period-1 orbits of any model: the estimate bounds the true
 error (40-digit reference) near forcing resonance and near 1 - cos -> 0, and an
 orbit float64 cannot resolve is recomputed in mpmath."""
+import math
 import warnings
 
 import numpy as np
@@ -55,3 +56,19 @@ def test_benign_orbit_stays_float64_with_its_digits():
     assert a.digits_used is None and a.estimate.y.digits > 11
     assert a.estimate.multipliers.digits > 10
     assert np.isfinite(a.estimate.multipliers.rel_err)
+
+
+def test_escalation_ends_untrusted_at_an_infinite_condition(monkeypatch):
+    """A recomputation at d digits that meets a singular case (an infinite condition) ends
+    the escalation untrusted, saying why.  It once raised OverflowError: hypothesis found a
+    near-grazing NS point of a random N = 4 model (tests/property/test_models_random.py)."""
+    from symvi.analysis import precision as pr
+
+    def est(cond, note=""):
+        return pr.HopfEstimate(*(pr._make(n, 1.0, 1e-3, cond, None, note)
+                                 for n in ("omega_c", "dmod_domega", "l1")), "+")
+    monkeypatch.setattr(pr, "_hopf_estimate",
+                        lambda *a, **k: est(math.inf, "gap: near-singular-map"))
+    out = pr._escalate_hopf(None, 1.0, "+", est(1e10), 8, 160, refine=lambda d: 1.0)
+    assert not out.omega_c.trusted and out.omega_c.value is None
+    assert "mpmath-" in out.omega_c.note and "near-singular-map" in out.omega_c.note
