@@ -1,36 +1,141 @@
-"""Atomic file output: write to a temporary name in the same folder, then rename.
+"""Output paths: checked before any computation, written atomically, never over a special file.
 
-Nothing already written is lost when a run fails halfway.  The renamed file gets the
-mode an ordinary ``open(path, "w")`` would give (0666 less the umask), or the mode of the
-file it replaces; ``mkstemp``'s private 0600 is not kept.
+``check_output`` validates a path the user named (``--out``, ``--plot``, a scene's output
+folder) before the work starts, so a bad path costs nothing and gives one line naming the
+flag.  ``atomic_path`` writes to a temporary name in the same folder and renames it onto the
+target, so nothing already written is lost when a run fails halfway.  It refuses to replace
+anything but a regular file: a device node, a FIFO, a socket or a symlink stays as it was
+(as root, ``os.replace`` would otherwise turn ``/dev/full`` into a data file).  The renamed
+file gets the permission bits an ordinary ``open(path, "w")`` would give (0666 less the
+umask), or those of the file it replaces; never setuid, setgid or sticky bits, and never
+``mkstemp``'s private 0600.
 """
+import errno
 import os
+import stat
 import tempfile
 from contextlib import contextmanager
+
+from .errors import OutputError, ParameterError
+
+_SPECIAL = "a regular file or a new name (not a folder, device, FIFO, socket or symlink)"
+
+
+def _kind(mode):
+    if stat.S_ISLNK(mode):
+        return "a symlink"
+    if stat.S_ISDIR(mode):
+        return "a folder"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    return "not a regular file"
+
+
+def _writable_parent(path, flag, valid):
+    """The nearest existing ancestor folder of ``path`` must be a writable folder."""
+    folder = os.path.dirname(os.path.abspath(path))
+    probe = folder
+    while not os.path.lexists(probe):
+        parent = os.path.dirname(probe)
+        if parent == probe:
+            break
+        probe = parent
+    if not os.path.isdir(probe):
+        raise ParameterError(flag, path, valid, f"{probe} is not a folder")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise ParameterError(flag, path, valid, f"folder {probe} is not writable")
+    return folder
+
+
+def check_output(path, *, flag, suffixes=None, folder=False):
+    """Validate an output path before computing; return it (raise ``ParameterError``).
+
+    ``folder=False``: a regular file to create or replace, with one of ``suffixes``
+    (case-insensitive, e.g. ``(".png", ".pdf")``) when given.  ``folder=True``: a folder to
+    create or reuse.  The folder that will hold the output must be writable.
+    """
+    if path is None:
+        return None
+    path = os.fspath(path)
+    if folder:
+        valid = "a writable folder"
+        if path.strip() == "":
+            raise ParameterError(flag, path, valid, "empty path")
+        if os.path.lexists(path):
+            if not os.path.isdir(path):
+                raise ParameterError(flag, path, valid, "exists and is not a folder")
+            if not os.access(path, os.W_OK | os.X_OK):
+                raise ParameterError(flag, path, valid, "folder is not writable")
+            return path
+        _writable_parent(path.rstrip(os.sep) or path, flag, valid)
+        return path
+    exts = tuple(s.lower() for s in suffixes) if suffixes else ()
+    valid = _SPECIAL + (f" ending in {'/'.join(exts)}" if exts else "")
+    if path.strip() == "":
+        raise ParameterError(flag, path, valid, "empty path")
+    if path.endswith(os.sep) or (os.altsep and path.endswith(os.altsep)):
+        raise ParameterError(flag, path, valid, "names a folder")
+    if os.path.lexists(path):
+        mode = os.lstat(path).st_mode
+        if not stat.S_ISREG(mode):
+            raise ParameterError(flag, path, valid, f"it is {_kind(mode)}")
+    if exts and not path.lower().endswith(exts):
+        raise ParameterError(flag, path, valid, "unknown file extension")
+    _writable_parent(path, flag, valid)
+    return path
+
+
+def _refuse_special(path):
+    """Raise ``OutputError`` if ``path`` exists and is not a regular file (checked again at
+    rename time: the target may have changed since ``check_output``)."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return
+    if not stat.S_ISREG(mode):
+        raise OutputError(f"refusing to replace {path}: it is {_kind(mode)}, not a regular file")
 
 
 @contextmanager
 def atomic_path(path, suffix=None):
-    """Yield a temporary path beside ``path``; rename it onto ``path`` on success."""
+    """Yield a temporary path beside ``path``; rename it onto ``path`` on success.
+
+    Raises ``OutputError`` (one line) when the target is a special file or the write fails
+    (full disk, read-only folder); the target is then left as it was.
+    """
     path = os.fspath(path)
+    _refuse_special(path)
     folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
     sfx = suffix if suffix is not None else os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=sfx, dir=folder)
+    try:
+        os.makedirs(folder, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=sfx, dir=folder)
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from None
     os.close(fd)
     try:
         yield tmp
+        _refuse_special(path)
         os.chmod(tmp, _mode_for(path))
         os.replace(tmp, path)
+    except OSError as exc:
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EACCES, errno.EROFS, errno.EPERM,
+                         errno.EISDIR, errno.ENOTDIR, errno.EFBIG):
+            raise OutputError(f"cannot write {path}: {exc.strerror}") from None
+        raise
     finally:
-        if os.path.exists(tmp):
+        if os.path.lexists(tmp):
             os.unlink(tmp)
 
 
 def _mode_for(path):
-    """The mode a plain write of ``path`` would leave: the old file's, else 0666 & ~umask."""
+    """Permission bits a plain write of ``path`` would leave: the old file's, else 0666 & ~umask."""
     try:
-        return os.stat(path).st_mode & 0o7777
+        return os.stat(path).st_mode & 0o777
     except FileNotFoundError:
         return 0o666 & ~current_umask()
 

@@ -41,3 +41,8 @@ class SingularCaseError(SymviError):
 
 class NearSingularWarning(UserWarning):
     """The problem is close to a singular case; results may lose digits."""
+
+
+class OutputError(SymviError):
+    """An output could not be written (special file, full disk, unwritable folder); the
+    target is left as it was."""

@@ -162,6 +162,19 @@ def main(argv=None):
         import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    except OSError as exc:
+        # a file the user named could not be read or written (full disk, permissions)
+        where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        sys.stderr.write(f"symvi: error:{where} {exc.strerror or exc}\n")
+        return 2
+    except Exception as exc:   # a bug: one line, not a traceback; SYMVI_DEBUG=1 shows it
+        import os
+        if os.environ.get("SYMVI_DEBUG"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        sys.stderr.write(f"symvi: internal error (a bug, please report it; SYMVI_DEBUG=1 "
+                         f"shows the traceback): {type(exc).__name__}: {text}\n")
+        return 70
 
 
 if __name__ == "__main__":
