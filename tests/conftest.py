@@ -3,11 +3,12 @@ import os
 import pytest
 from hypothesis import settings
 
-# CI explores a fixed set of examples (a landing must not depend on luck);
-# local runs keep exploring new ones.
-settings.register_profile("ci", derandomize=True, database=None)
-if os.environ.get("CI"):
-    settings.load_profile("ci")
+# The test command explores a fixed set of examples with no example database (a landing
+# must not depend on luck or on files left by an earlier run).  SYMVI_HYPOTHESIS=explore
+# draws new examples; what it finds becomes an explicit @example.
+settings.register_profile("ci", derandomize=True, database=None, print_blob=True)
+settings.register_profile("explore", database=None, print_blob=True)
+settings.load_profile("explore" if os.environ.get("SYMVI_HYPOTHESIS") == "explore" else "ci")
 
 from symvi import Params
 
