@@ -35,8 +35,20 @@ def _kind(mode):
     return "not a regular file"
 
 
+def _probe(folder, flag, path, valid):
+    """Create and remove a file in ``folder``: the only test that holds as root (for whom
+    ``os.access`` says yes to everything) and on a read-only file system."""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".tmp-probe-", dir=folder)
+    except OSError as exc:
+        raise ParameterError(flag, path, valid, f"cannot create a file in {folder}: "
+                             f"{exc.strerror or exc}") from None
+    os.close(fd)
+    os.unlink(tmp)
+
+
 def _writable_parent(path, flag, valid):
-    """The nearest existing ancestor folder of ``path`` must be a writable folder."""
+    """The nearest existing ancestor folder of ``path`` must be a folder we can write in."""
     folder = os.path.dirname(os.path.abspath(path))
     probe = folder
     while not os.path.lexists(probe):
@@ -48,6 +60,7 @@ def _writable_parent(path, flag, valid):
         raise ParameterError(flag, path, valid, f"{probe} is not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise ParameterError(flag, path, valid, f"folder {probe} is not writable")
+    _probe(probe, flag, path, valid)
     return folder
 
 
@@ -56,22 +69,43 @@ def check_output(path, *, flag, suffixes=None, folder=False):
 
     ``folder=False``: a regular file to create or replace, with one of ``suffixes``
     (case-insensitive, e.g. ``(".png", ".pdf")``) when given.  ``folder=True``: a folder to
-    create or reuse.  The folder that will hold the output must be writable.
+    create or reuse (a trailing separator is allowed; a symlink to a folder is used as the
+    folder).  The folder that will hold the output must exist or be creatable, and a file
+    must be creatable in it.
     """
     if path is None:
         return None
     path = os.fspath(path)
+    try:
+        return _check_output(path, flag, suffixes, folder)
+    except (OSError, ValueError) as exc:
+        if isinstance(exc, ParameterError):
+            raise
+        # a name the OS refuses (too long, embedded NUL, ...)
+        raise ParameterError(flag, path, "a usable file name",
+                             getattr(exc, "strerror", None) or str(exc)) from None
+
+
+def _check_output(path, flag, suffixes, folder):
+    if "\0" in path:
+        raise ParameterError(flag, path, "a file name", "it contains a NUL character")
     if folder:
-        valid = "a writable folder"
+        valid = "a writable folder (new or existing)"
+        bare = path.rstrip(os.sep + (os.altsep or ""))
         if path.strip() == "":
             raise ParameterError(flag, path, valid, "empty path")
-        if os.path.lexists(path):
-            if not os.path.isdir(path):
-                raise ParameterError(flag, path, valid, "exists and is not a folder")
-            if not os.access(path, os.W_OK | os.X_OK):
+        if bare == "":
+            raise ParameterError(flag, path, valid, "the root folder")
+        if os.path.lexists(bare):
+            if not os.path.isdir(bare):
+                mode = os.lstat(bare).st_mode
+                what = "a dangling symlink" if stat.S_ISLNK(mode) else _kind(mode)
+                raise ParameterError(flag, path, valid, f"it is {what}, not a folder")
+            if not os.access(bare, os.W_OK | os.X_OK):
                 raise ParameterError(flag, path, valid, "folder is not writable")
+            _probe(bare, flag, path, valid)
             return path
-        _writable_parent(path.rstrip(os.sep) or path, flag, valid)
+        _writable_parent(bare, flag, valid)
         return path
     exts = tuple(s.lower() for s in suffixes) if suffixes else ()
     valid = _SPECIAL + (f" ending in {'/'.join(exts)}" if exts else "")
@@ -83,10 +117,25 @@ def check_output(path, *, flag, suffixes=None, folder=False):
         mode = os.lstat(path).st_mode
         if not stat.S_ISREG(mode):
             raise ParameterError(flag, path, valid, f"it is {_kind(mode)}")
+        if not os.access(path, os.W_OK):
+            raise ParameterError(flag, path, valid, "the file is read-only")
     if exts and not path.lower().endswith(exts):
         raise ParameterError(flag, path, valid, "unknown file extension")
     _writable_parent(path, flag, valid)
     return path
+
+
+def distinct_outputs(*pairs):
+    """Refuse two output flags naming the same file: ``pairs`` of (flag, path or None)."""
+    seen = {}
+    for flag, path in pairs:
+        if path is None:
+            continue
+        key = os.path.realpath(os.fspath(path))
+        if key in seen:
+            raise ParameterError(flag, path, f"a file other than {seen[key][0]}",
+                                 f"both write {path}")
+        seen[key] = (flag, path)
 
 
 def _refuse_special(path):

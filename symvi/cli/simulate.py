@@ -1,18 +1,27 @@
 """``symvi simulate``: iterate the Poincaré map and save the section (npz), optionally a plot."""
 from . import add_params, data_key, describe, params_from, print_json, section_view
 
+#: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY,
+#: repeated here so that registering the command imports nothing heavy)
+MIN_CLASSIFY = 50
+#: figure suffixes, never the name of the data file
+FIGURES = (".png", ".pdf")
+
 
 def register(sub):
     p = sub.add_parser("simulate", help="simulate impacts and save the Poincaré section, eq. (31)")
     add_params(p, model=True)
     p.add_argument("--omega", type=float, required=True, help="forcing frequency (> 0)")
-    p.add_argument("--impacts", type=int, default=5000, help="section points to store")
+    p.add_argument("--impacts", type=int, default=5000,
+                   help=f"section points to store (with --classify at least {MIN_CLASSIFY})")
     p.add_argument("--transient", type=int, default=0, help="impacts dropped first")
     p.add_argument("--y0", type=float, nargs="+", metavar="Y",
                    help="start point: X1DOT X2 X2DOT TAU for the preset, the 2N section "
                         "coordinates for --model (default: the period-1 orbit, slightly "
                         "perturbed)")
-    p.add_argument("--out", required=True, help="output .npz with arrays section (n,4) and t")
+    p.add_argument("--out", required=True,
+                   help="output .npz with arrays section (n,4) and t (other names than "
+                        "*.npz are deprecated)")
     p.add_argument("--plot", help="also draw projected sections to this .png/.pdf")
     p.add_argument("--classify", action="store_true",
                    help="report the attractor class and Lyapunov exponents")
@@ -24,17 +33,25 @@ def run(args):
 
     from .._io import atomic_path
     from ..errors import ParameterError
-    from ..simulations.simulation import simulate
+    from ..simulations.simulation import MAX_STORED, MAX_TRANSIENT, simulate
+    check_paths(args)
+    lo = MIN_CLASSIFY if args.classify else 1
+    if not lo <= args.impacts <= MAX_STORED:
+        raise ParameterError("--impacts", args.impacts, f"an integer in {lo} .. {MAX_STORED}"
+                             + (" with --classify" if args.classify else ""),
+                             f"too few impacts to classify (need >= {lo})"
+                             if args.classify and args.impacts < lo else "")
+    if not 0 <= args.transient <= MAX_TRANSIENT:
+        raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     params = params_from(args)
-    for name in ("out", "plot"):
-        path = getattr(args, name)
-        if path is not None and not path.strip():
-            raise ParameterError(f"--{name}", path, "a file name")
-    if args.plot and not args.plot.lower().endswith((".png", ".pdf")):
-        raise ParameterError("--plot", args.plot, "a file name ending in .png or .pdf")
     labels, projections, names = section_view(params)
     if args.y0 is not None and len(args.y0) != len(names):
         raise ParameterError("--y0", args.y0, f"{len(names)} numbers: {' '.join(names)}")
+    if not args.out.lower().endswith(".npz"):
+        # after every check: a refused run prints one line only
+        import warnings
+        warnings.warn(f"--out {args.out!r}: an output name not ending in .npz is deprecated "
+                      "and will be refused by a future version", FutureWarning)
     sim = simulate(params, args.omega, y0=args.y0, n_impacts=args.impacts,
                    transient=args.transient)
     with atomic_path(args.out, suffix=".npz") as tmp:
@@ -44,12 +61,13 @@ def run(args):
                      stop=sim.stop, names=np.array(names), **data_key(params))
     out = {"omega": sim.omega, "n": sim.n, "stop": sim.stop, "y0": list(sim.y0),
            "transient": sim.transient, "out": args.out}
-    if args.classify and sim.n >= 3:
+    if args.classify:
         from ..simulations.diagnostics import classify
         cl = classify(sim)
         out["class"] = cl.kind
-        if cl.lyapunov is not None:
-            out["lyapunov"] = [float(v) for v in cl.lyapunov.exponents]
+        # null only where the run stopped or was too short (the class says which)
+        out["lyapunov"] = (None if cl.lyapunov is None
+                           else [float(v) for v in cl.lyapunov.exponents])
         if cl.rotation is not None:
             out["rotation_number"] = cl.rotation
     if args.plot:
@@ -60,3 +78,15 @@ def run(args):
         out["plot"] = args.plot
     print_json(out)
     return 0
+
+
+def check_paths(args):
+    """--out (a new or regular .npz file) and --plot (.png/.pdf), before any work."""
+    from .._io import check_output, distinct_outputs
+    from ..errors import ParameterError
+    if args.out.lower().endswith(FIGURES):
+        raise ParameterError("--out", args.out, "a data file name ending in .npz",
+                             "a figure name: draw the figure with --plot")
+    check_output(args.out, flag="--out")
+    check_output(args.plot, flag="--plot", suffixes=FIGURES)
+    distinct_outputs(("--out", args.out), ("--plot", args.plot))

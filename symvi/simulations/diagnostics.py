@@ -32,6 +32,9 @@ TWO_PI = 2 * math.pi
 #: this floor and CHAOS_SIGMAS block standard errors
 CHAOS_THRESHOLD = 1e-3
 CHAOS_SIGMAS = 4.0
+#: stored impacts below which a run is not classified: period detection compares
+#: points k apart (k <= n/2) and the chaos test needs 10 blocks of exponents
+MIN_CLASSIFY = 50
 
 
 def jacobian(params, omega, y, t_e=None):
@@ -217,16 +220,26 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
              chaos_threshold=CHAOS_THRESHOLD):
     """Classify the attractor sampled by ``sim`` (use a run past its transient).
 
-    Period-k when the points repeat (to ``tol``); else chaos when the largest
-    Lyapunov exponent is positive beyond ``chaos_threshold`` and CHAOS_SIGMAS
-    block standard errors; else an invariant circle (one sheet) or a doubled
-    torus (two sheets, :func:`branch_count`).
+    Period-k when the points repeat (to ``tol``), with the exponents of the orbit
+    (log |multipliers of P^k| / k); else chaos when the largest Lyapunov exponent is
+    positive beyond ``chaos_threshold`` and CHAOS_SIGMAS block standard errors; else an
+    invariant circle (one sheet) or a doubled torus (two sheets, :func:`branch_count`).
+    A completed run of fewer than MIN_CLASSIFY impacts is not classified (its kind says
+    so).
     """
     if sim.stop != "completed":
         return Classification(f"stopped: {sim.stop}", None, None, None, None)
+    if len(sim.section) < MIN_CLASSIFY:
+        return Classification(f"too few impacts to classify ({len(sim.section)}; need >= "
+                              f"{MIN_CLASSIFY})", None, None, None, None)
     k = period_of(sim.section, max_period, tol)
     if k is not None:
-        return Classification(f"period-{k}", k, None, None, None)
+        from ..errors import SingularCaseError
+        try:
+            lya = lyapunov(sim, n=lyap_points)
+        except SingularCaseError:        # a grazing point on the orbit: DP undefined there
+            lya = None
+        return Classification(f"period-{k}", k, lya, None, None)
     lya = lyapunov(sim, n=lyap_points)
     if lya.largest > max(chaos_threshold, CHAOS_SIGMAS * lya.stderr):
         return Classification("chaos", None, lya, None, None)
