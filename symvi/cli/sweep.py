@@ -1,14 +1,24 @@
 """``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
 from . import add_engine, add_params, data_key, describe, params_from, print_json, section_view
 
+#: most omega values of one sweep (each needs its period-1 start and a task's share)
+MAX_STEPS = 100_000
+#: most stored section values (--steps x --impacts x 2N float64: 320 MB); the transient
+#: is dropped as it runs and costs time only
+MAX_VALUES = 40_000_000
+FIGURES = (".png", ".pdf")
+
 
 def register(sub):
     p = sub.add_parser("sweep", help="bifurcation diagram over omega (parallel simulations)")
     add_params(p, model=True)
     p.add_argument("--omega-min", type=float, required=True)
     p.add_argument("--omega-max", type=float, required=True)
-    p.add_argument("--steps", type=int, required=True, help="number of omega values (>= 2)")
-    p.add_argument("--impacts", type=int, default=200, help="section points kept per omega")
+    p.add_argument("--steps", type=int, required=True,
+                   help=f"number of omega values (2 .. {MAX_STEPS})")
+    p.add_argument("--impacts", type=int, default=200,
+                   help="section points kept per omega (--steps x --impacts x 2N at most "
+                        f"{MAX_VALUES:.0e} stored values)")
     p.add_argument("--transient", type=int, default=2000, help="impacts dropped per omega")
     p.add_argument("--component", type=int, default=0,
                    help="plotted section coordinate: 0 x1dot+, 1 x2, 2 x2dot, 3 tau for the "
@@ -31,25 +41,28 @@ def run(args):
     from .._io import atomic_path
     from ..errors import ParameterError
     from ..plane.engine import run_sweep
+    from ..simulations.simulation import MAX_TRANSIENT
+    data, figs = check_paths(args)
+    if not 2 <= args.steps <= MAX_STEPS:
+        raise ParameterError("--steps", args.steps, f"an integer in 2 .. {MAX_STEPS}")
     params = params_from(args)
     from ..flow import check_omega
     labels, _, names = section_view(params)
+    most = max(1, MAX_VALUES // (args.steps * len(names)))
+    if not 1 <= args.impacts <= most:
+        raise ParameterError("--impacts", args.impacts, f"an integer in 1 .. {most}",
+                             f"--steps x --impacts x {len(names)} coordinates <= {MAX_VALUES}"
+                             if args.impacts > most else "")
+    if not 0 <= args.transient <= MAX_TRANSIENT:
+        raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,
                              f"0 .. {len(names) - 1} ({', '.join(names)})")
     check_omega(params, args.omega_min, "--omega-min", warn=False)
     check_omega(params, args.omega_max, "--omega-max", warn=False)
-    if not args.steps >= 2:
-        raise ParameterError("--steps", args.steps, "an integer >= 2")
     if not args.omega_min < args.omega_max:
         raise ParameterError("--omega-max", args.omega_max,
                              f"greater than --omega-min = {args.omega_min!r}")
-    figs = [p for p in (args.out, args.plot) if p and p.lower().endswith((".png", ".pdf"))]
-    data = args.out if args.out.lower().endswith(".npz") else None
-    if args.plot and args.plot not in figs:
-        raise ParameterError("--plot", args.plot, "a file name ending in .png or .pdf")
-    if data is None and args.out not in figs:
-        raise ParameterError("--out", args.out, "a file name ending in .npz, .png or .pdf")
     omegas = np.linspace(args.omega_min, args.omega_max, args.steps)
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
     workers = 0 if args.workers is None and args.scheduler is None else args.workers
@@ -82,3 +95,14 @@ def run(args):
         out["special"] = special
     print_json(out)
     return 0
+
+
+def check_paths(args):
+    """(data path or None, figure paths): --out is .npz, .png or .pdf, --plot a figure;
+    both usable and distinct, checked before any work."""
+    from .._io import check_output, distinct_outputs
+    check_output(args.out, flag="--out", suffixes=(".npz", *FIGURES))
+    check_output(args.plot, flag="--plot", suffixes=FIGURES)
+    distinct_outputs(("--out", args.out), ("--plot", args.plot))
+    data = args.out if args.out.lower().endswith(".npz") else None
+    return data, [p for p in (args.out, args.plot) if p and p.lower().endswith(FIGURES)]
