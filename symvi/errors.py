@@ -22,7 +22,16 @@ class ParameterError(SymviError, ValueError):
         self.name = name
         self.value = value
         self.valid = valid
-        msg = f"{name} = {value!r} is invalid; valid range: {valid}"
+
+        def plain(v):
+            # numpy scalars and arrays as plain Python numbers and lists: one line, no
+            # np.float64(...) reprs
+            if hasattr(v, "tolist") and hasattr(v, "dtype"):
+                return v.tolist()
+            if isinstance(v, (tuple, list)):
+                return type(v)(plain(x) for x in v)
+            return v
+        msg = f"{name} = {plain(value)!r} is invalid; valid range: {valid}"
         if detail:
             msg += f" ({detail})"
         super().__init__(msg)

@@ -8,6 +8,7 @@ imports second- or third-order generated code.
 import argparse
 import importlib
 import json
+import re
 import sys
 
 from ..errors import ParameterError, SymviError
@@ -17,9 +18,52 @@ COMMANDS = ["orbit", "regenerate", "hopf", "continuation", "curve", "simulate", 
             "plot", "run", "reproduce"]
 
 
+#: a negative number as an option's value, not an option: argparse's own pattern
+#: (``^-\d+$|^-\d*\.\d+$``) misses exponents (``--y0 -1e-3 ...``), ``-1.`` and ``-inf``
+_NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?$|^-(?:inf|infinity|nan)$",
+                              re.IGNORECASE)
+
+#: actions meant to be given more than once (``--set``, ``--bounds``)
+_REPEATABLE = (argparse._AppendAction, argparse._AppendConstAction, argparse._CountAction,
+               argparse._HelpAction, argparse._VersionAction)
+_ONCE = {}
+
+
+def _once(cls):
+    """``cls`` refusing a second occurrence of its flag (the last value would silently win)."""
+    if cls not in _ONCE:
+        def __call__(self, parser, namespace, values, option_string=None):
+            if self in parser._given:
+                flag = next((s for s in self.option_strings if s.startswith("--")),
+                            self.option_strings[0])
+                raise argparse.ArgumentError(None, f"argument {flag}: given more than once; "
+                                                   "give it once")
+            parser._given.add(self)
+            cls.__call__(self, parser, namespace, values, option_string)
+        _ONCE[cls] = type(f"_Once{cls.__name__}", (cls,), {"__call__": __call__})
+    return _ONCE[cls]
+
+
 class _Parser(argparse.ArgumentParser):
+    """One-line errors (exit 2); negative numbers with exponents are values; a flag given
+    twice is refused (every subcommand's parser is one of these)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+        self._given = set()
+
+    def parse_known_args(self, args=None, namespace=None):
+        for action in self._actions:
+            if (action.option_strings and not isinstance(action, _REPEATABLE)
+                    and type(action) not in _ONCE.values()):
+                action.__class__ = _once(type(action))
+        self._given = set()
+        return super().parse_known_args(args, namespace)
+
     def error(self, message):
         # one line, exit 2 (argparse's default prints the whole usage)
+        message = " ".join(str(message).split())
         sys.stderr.write(f"symvi: error: {message}\n")
         sys.exit(2)
 

@@ -47,18 +47,69 @@ def _orbit_spec(text):
     return n, p
 
 
-def _sets(items):
+def _sets(items, model):
+    """{name: value} of the ``--set NAME=VALUE`` items: known names, each once, finite values."""
+    import math
+
     from ..errors import ParameterError
     out = {}
     for item in items:
         name, eq, val = item.partition("=")
+        name = name.strip()
         try:
-            out[name.strip()] = float(val)
+            v = float(val)
         except ValueError:
             eq = ""
-        if not eq or not name.strip():
+        if not eq or not name:
             raise ParameterError("--set", item, "NAME=VALUE with a number VALUE")
+        if not math.isfinite(v):
+            raise ParameterError("--set", item, "NAME=VALUE with a finite number VALUE")
+        if name in out:
+            raise ParameterError("--set", item, f"each name once ({name} is set twice)")
+        if name != "omega":
+            _known(model, name, "--set")
+        out[name] = v
     return out
+
+
+def _known(model, name, flag):
+    """Refuse a name that is not a parameter of ``model``, naming ``flag``."""
+    from ..errors import ParameterError
+    try:
+        model.value(name)
+    except ParameterError as exc:
+        raise ParameterError(flag, name, exc.valid) from None
+
+
+def check_value(model, param, value, flag, *, resonance=True):
+    """``value`` of ``param`` must be valid for ``model`` (one-line error naming ``flag`` and
+    the range otherwise): omega in OMEGA_RANGE and, with ``resonance``, not at a forcing
+    resonance; another parameter where the model it makes is valid (restitution in (0, 1],
+    a positive definite mass, ...).  The valid values of one parameter form an interval
+    (the positive definite matrices are a convex cone), so both ends of a range being valid
+    makes all of it valid."""
+    import math
+
+    from ..errors import ParameterError, SingularCaseError
+    if param == "omega":
+        from ..flow import check_omega
+        from ..params import OMEGA_RANGE
+        lo, hi = OMEGA_RANGE
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise ParameterError(flag, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
+        try:
+            check_omega(model, value, name=flag, warn=False)
+        except SingularCaseError:
+            if resonance:
+                raise
+        return value
+    if not math.isfinite(value):
+        raise ParameterError(flag, value, f"a finite value of {param}")
+    try:
+        model.with_(**{param: value})
+    except ParameterError as exc:
+        raise ParameterError(flag, value, exc.valid, f"the value of {param}") from None
+    return value
 
 
 def _section_start(path, model):
@@ -83,19 +134,39 @@ def _section_start(path, model):
 def run(args):
     import warnings
 
+    from .._io import check_output
     from ..continuation import continue_branch, same_branch, switch_at_flip
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
     from ..orbits.periodic import detect_period
     model = Model.of(params_from(args))
     n, p = _orbit_spec(args.orbit)
-    fixed = _sets(args.sets)
+    if args.param != "omega":
+        _known(model, args.param, "--param")
+    fixed = _sets(args.sets, model)
     if args.param in fixed:
         raise ParameterError("--set", args.param, "a parameter other than --param")
-    if args.plot and not args.plot.lower().endswith((".png", ".pdf")):
-        raise ParameterError("--plot", args.plot, "a file name ending in .png or .pdf")
+    check_output(args.plot, flag="--plot", suffixes=(".png", ".pdf"))
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
+    # the model with the --set values: the ranges of --from, --to are those of this model
+    others = {k: v for k, v in fixed.items() if k != "omega"}
+    try:
+        at = model.with_(**others) if others else model
+    except ParameterError as exc:
+        raise ParameterError("--set", " ".join(args.sets), exc.valid,
+                             f"the model's {exc.name}") from None
+    if args.param != "omega" and "omega" not in fixed and not args.from_section:
+        raise ParameterError("--set omega", None, "a fixed forcing frequency: give --set "
+                             "omega=VALUE when --param is not omega")
+    if "omega" in fixed:
+        check_value(at, "omega", fixed["omega"], "--set omega")
+    starts_here = args.start_omega is None and not args.from_section
+    check_value(at, args.param, args.start, "--from", resonance=starts_here)
+    check_value(at, args.param, args.stop, "--to", resonance=False)
+    if args.start == args.stop:
+        raise ParameterError("--to", args.stop, f"a value != --from = {args.start:g} (the "
+                             "branch lies between them)")
     lo, hi = sorted((args.start, args.stop))
     if args.start_omega is not None:
         if args.param != "omega":
@@ -103,6 +174,7 @@ def run(args):
                                  "(fix omega with --set omega=W otherwise)")
         if not lo <= args.start_omega <= hi:
             raise ParameterError("--start-omega", args.start_omega, f"a value in [{lo}, {hi}]")
+        check_value(at, "omega", args.start_omega, "--start-omega")
         a, stops = args.start_omega, (lo, hi)
     else:
         a, stops = args.start, (args.stop,)
@@ -128,13 +200,9 @@ def run(args):
         guesses = [sim.section[-p:]]
     else:
         # the model and omega at the start, with the --set values
-        others = {k: v for k, v in fixed.items() if k != "omega"}
-        at = model.with_(**others) if others else model
         if args.param != "omega":
             at = at.with_(**{args.param: a})
-        w = a if args.param == "omega" else fixed.get("omega")
-        if w is None:
-            raise ParameterError("omega", None, "--set omega=VALUE when --param is not omega")
+        w = a if args.param == "omega" else fixed["omega"]
         if (n, p) != (1, 1):
             from ..simulations.simulation import simulate
             sim = simulate(at, w, n_impacts=400, transient=4000)

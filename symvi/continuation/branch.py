@@ -47,7 +47,7 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed)
     lo, hi = sorted((float(start), float(stop)))
     if not hi > lo:
-        raise ParameterError("stop", stop, f"a value != start = {start!r}")
+        raise ParameterError("stop", stop, f"a value != start = {float(start)!r}")
     lo, hi, cut = _resonance_bounds(problem, float(start), lo, hi)
     h, h_max = _steps(lo, hi, h, h_max)
     e = np.zeros(problem.size + 1)

@@ -47,5 +47,5 @@ def locate_between(model, kind, a, b, *, coefficients=True):
     try:
         return tracker.locate(kind, Xa, ta, Xb)
     except (ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
-        raise SymviError(f"locating the {kind} point between omega = {Xa[m]!r} and "
-                         f"{Xb[m]!r} failed: {exc}") from None
+        raise SymviError(f"locating the {kind} point between omega = {float(Xa[m])!r} and "
+                         f"{float(Xb[m])!r} failed: {exc}") from None
