@@ -116,6 +116,37 @@ def params_from(args):
     return Params(args.mu_m, args.mu_k, args.f2, args.b, args.r)
 
 
+def check_value(model, param, value, flag, *, resonance=True):
+    """``value`` of ``param`` must be valid for ``model`` (one-line error naming ``flag`` and
+    the range otherwise): omega in OMEGA_RANGE and, with ``resonance``, not at a forcing
+    resonance; another parameter where the model it makes is valid (restitution in (0, 1],
+    a positive definite mass, ...).  The valid values of one parameter form an interval
+    (the positive definite matrices are a convex cone), so both ends of a range being valid
+    makes all of it valid."""
+    import math
+
+    from ..errors import ParameterError, SingularCaseError
+    if param == "omega":
+        from ..flow import check_omega
+        from ..params import OMEGA_RANGE
+        lo, hi = OMEGA_RANGE
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise ParameterError(flag, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
+        try:
+            check_omega(model, value, name=flag, warn=False)
+        except SingularCaseError:
+            if resonance:
+                raise
+        return value
+    if not math.isfinite(value):
+        raise ParameterError(flag, value, f"a finite value of {param}")
+    try:
+        model.with_(**{param: value})
+    except ParameterError as exc:
+        raise ParameterError(flag, value, exc.valid, f"the value of {param}") from None
+    return value
+
+
 def describe(params):
     """A one-line description of the preset parameters or of a model (titles, headers)."""
     from ..model import Model

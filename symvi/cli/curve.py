@@ -1,6 +1,6 @@
 """``symvi curve``: continue an NS, flip or fold curve in two parameters from the point of
 that kind found in [omega_min, omega_max], with its codimension-two points."""
-from . import add_params, describe, params_from, print_json, print_special
+from . import add_params, check_value, describe, params_from, print_json, print_special
 
 
 def register(sub):
@@ -29,51 +29,101 @@ def register(sub):
     return p
 
 
-def parse_bounds(items, names):
+def parse_bounds(items, names, model=None):
+    """{name: (lo, hi)} of the ``--bounds NAME=LO:HI`` items: a curve parameter each, once,
+    finite LO < HI inside the parameter's valid range (of ``model``, when given)."""
+    import math
+
     from ..errors import ParameterError
     out = {}
     for item in items:
         name, eq, rng = item.partition("=")
+        name = name.strip()
         lo, colon, hi = rng.partition(":")
         try:
             lo, hi = float(lo), float(hi)
-            ok = bool(eq and colon and name.strip()) and lo < hi
+            ok = bool(eq and colon and name) and math.isfinite(lo) and math.isfinite(hi) \
+                and lo < hi
         except ValueError:
             ok = False
         if not ok:
-            raise ParameterError("--bounds", item, "NAME=LO:HI with numbers LO < HI")
-        if name.strip() not in names:
+            raise ParameterError("--bounds", item, "NAME=LO:HI with finite numbers LO < HI")
+        if name not in names:
             raise ParameterError("--bounds", item, f"a bound of a curve parameter "
                                  f"({', '.join(names)})")
-        out[name.strip()] = (lo, hi)
+        if name in out:
+            raise ParameterError("--bounds", item, f"one range per parameter ({name} has two)")
+        if model is not None:
+            for v in (lo, hi):
+                try:
+                    check_value(model, name, v, "--bounds", resonance=False)
+                except ParameterError as exc:
+                    raise ParameterError("--bounds", item, exc.valid,
+                                         f"{name} = {v:g} is outside it") from None
+        out[name] = (lo, hi)
     return out
 
 
+def _names(model, text):
+    """The two curve parameters of ``--params``: names of ``model``, not the same one twice
+    (``b`` and ``gap``, ``mass[1,2]`` and ``mass[2,1]`` are one parameter)."""
+    import numpy as np
+
+    from ..curves import parse_params
+    from ..errors import ParameterError
+    names = parse_params(text)
+    for nm in names:
+        if nm != "omega":
+            try:
+                model.value(nm)
+            except ParameterError as exc:
+                raise ParameterError("--params", nm, exc.valid) from None
+    if "omega" not in names:
+        ta, tb = (model.tangent(nm) for nm in names)
+        if all(np.array_equal(getattr(ta, f), getattr(tb, f))
+               for f in ("dM", "dK", "dC", "dP", "db", "dr")):
+            raise ParameterError("--params", text, "two different parameters (these two "
+                                 "names are one parameter)")
+    return names
+
+
 def run(args):
-    import math
     import warnings
 
-    from ..curves import curve_from_interval, parse_params
+    from .._io import check_output
+    from ..curves import curve_from_interval
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
     model = Model.of(params_from(args))
-    names = parse_params(args.params)
-    for nm in names:
-        if nm != "omega":
-            model.value(nm)                       # names it or exits 2 with the valid names
-    bounds = parse_bounds(args.bounds, names)
+    names = _names(model, args.params)
+    bounds = parse_bounds(args.bounds, names, model)
     a, b = args.omega_min, args.omega_max
-    if not (math.isfinite(a) and math.isfinite(b) and 0 < a < b):
-        raise ParameterError("--omega-min/--omega-max", (a, b), "finite 0 < A < B")
-    if args.plot and not args.plot.lower().endswith((".png", ".pdf")):
-        raise ParameterError("--plot", args.plot, "a file name ending in .png or .pdf")
+    check_value(model, "omega", a, "--omega-min", resonance=False)
+    check_value(model, "omega", b, "--omega-max", resonance=False)
+    if not a < b:
+        raise ParameterError("--omega-max", b, f"greater than --omega-min = {a:g}")
+    if args.index < 1:
+        raise ParameterError("--index", args.index, "an integer >= 1")
+    check_output(args.plot, flag="--plot", suffixes=(".png", ".pdf"))
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        curve, start = curve_from_interval(model, a, b, names, kind=args.kind,
-                                           index=args.index, bounds=bounds or None,
-                                           max_points=args.max_points, through=args.through)
+        try:
+            curve, start = curve_from_interval(model, a, b, names, kind=args.kind,
+                                               index=args.index, bounds=bounds or None,
+                                               max_points=args.max_points,
+                                               through=args.through)
+        except ParameterError as exc:
+            # the library names its arguments; name the flags the user gave
+            flag = {"index": "--index"}.get(exc.name) or (
+                "--bounds" if str(exc.name).startswith("bounds") else None)
+            if flag is None:
+                raise
+            value = exc.value
+            if flag == "--bounds" and isinstance(value, tuple) and len(value) == 2:
+                value = f"{exc.name[7:-1]}={value[0]:g}:{value[1]:g}"
+            raise ParameterError(flag, value, exc.valid) from None
     if args.plot:
         from ..reporting import figures
         fig = figures.two_parameter([curve.plot_data()], names,

@@ -7,12 +7,23 @@ from .curve import continue_curve
 _BRANCH_KIND = {"ns": "ns", "flip": "flip", "fold": "fold"}
 
 
-def parse_params(text):
-    """The two curve parameters from "NAME,NAME" (the CLI's --params, a scene's plane)."""
-    names = tuple(s.strip() for s in str(text).split(","))
-    if len(names) != 2 or not all(names) or names[0] == names[1]:
-        raise ParameterError("--params", text, "two different names separated by a comma, "
-                             "e.g. omega,b")
+def parse_params(text, flag="--params"):
+    """The two curve parameters from "NAME,NAME" (the CLI's --params, a scene's plane).
+    Commas inside brackets belong to a name: ``omega,stiffness[1,2]``."""
+    names, depth, cur = [], 0, ""
+    for ch in str(text):
+        depth += {"[": 1, "]": -1}.get(ch, 0)
+        if depth < 0 or depth > 1:
+            break
+        if ch == "," and depth == 0:
+            names.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    names = tuple(n.strip() for n in names + [cur])
+    if depth != 0 or len(names) != 2 or not all(names) or names[0] == names[1]:
+        raise ParameterError(flag, text, "two different names separated by a comma, "
+                             "e.g. omega,b or omega,stiffness[1,2]")
     return names
 
 
