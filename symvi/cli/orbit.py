@@ -49,7 +49,7 @@ def run(args):
             f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
         if not o.admissible:
             print(f"       reason: {o.reason}")
-        print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
+        print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
               + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
 
@@ -87,9 +87,28 @@ def _run_model(model, args):
             f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
         if not o.admissible:
             print(f"       reason: {o.reason}")
-        print(f"       precision: {a.estimate.y.text()}; {a.estimate.multipliers.text()}"
+        print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
               + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
+
+
+def _number(z, fmt=".10g"):
+    """A real number as itself, a complex one as a+bi (as the multipliers line prints it);
+    an imaginary part below the 10 printed digits (rounding of a real multiplier) as 0."""
+    z = complex(z)
+    if abs(z.imag) <= 1e-10 * abs(z):
+        return format(z.real, fmt)
+    return f"{format(z.real, fmt)}{format(z.imag, '+' + fmt)}i"
+
+
+def _text(estimate):
+    """An estimate's value (complex multipliers in full), digits and backend, or UNTRUSTED."""
+    if not estimate.trusted:
+        return f"{estimate.name}: UNTRUSTED ({estimate.note})"
+    v = estimate.value
+    vs = ", ".join(_number(x) for x in v) if isinstance(v, (list, tuple)) else _number(v)
+    extra = f", recomputed with {estimate.backend}" if estimate.recomputed else ""
+    return f"{estimate.name} = {vs}  (~{estimate.digits:.1f} digits{extra})"
 
 
 def _json_items(autos):

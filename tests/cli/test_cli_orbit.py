@@ -48,3 +48,24 @@ def test_bad_input_exits_2_with_one_line(args, word):
     assert r.stdout == ""
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and word in lines[0]
+
+
+def test_precision_line_prints_complex_multipliers(capsys):
+    """Issue 23 (14): the precision line printed only the real parts of the multipliers."""
+    import re
+
+    from symvi.cli import main
+    assert main(["orbit", *BASE, "--omega", "0.73"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    mult = [ln for ln in lines if ln.strip().startswith("multipliers:")]
+    prec = [ln for ln in lines if ln.strip().startswith("precision:")]
+    assert len(mult) == len(prec) == 2
+    for m, p in zip(mult, prec):
+        shown = [complex(s.replace("i", "j")) for s in m.split(":", 1)[1].split(", ")]
+        text = re.search(r"multipliers = (.*?)  \(", p).group(1)
+        estimated = [complex(s.replace("i", "j")) if s.endswith("i") else complex(float(s))
+                     for s in text.split(", ")]
+        assert len(estimated) == len(shown) == 4
+        for a, b in zip(estimated, shown):
+            assert abs(a - b) < 1e-7, (a, b)       # imaginary parts included
+        assert any(z.imag != 0 for z in estimated)
