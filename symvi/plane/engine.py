@@ -14,19 +14,26 @@ import functools
 import json
 import math
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, SymviError
 from ..simulations.simulation import STOP_NAMES
 from .grid import PlaneSpec, block_inputs
 from .store import PlaneStore
 
-#: seconds to wait for a scheduler given by address
+#: seconds to wait for a scheduler given by address: connection and Dask's handshake
+#: (read at each call, so tests may shorten it)
 CONNECT_TIMEOUT = 10
+#: what --scheduler accepts
+SCHEDULER_FORM = "tcp://host:port (or tls://host:port; host a name, an IPv4 address or [IPv6], " \
+                 "port 1 .. 65535)"
+_ADDRESS = re.compile(r"(?:tcp|tls)://(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_](?:[A-Za-z0-9_.-]{0,252}"
+                      r"[A-Za-z0-9_])?):([0-9]{1,5})")
 
 
 @functools.lru_cache(maxsize=8)
@@ -94,6 +101,7 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
     from .. import __version__
     t0 = time.perf_counter()
     check_workers(scheduler, workers)
+    check_scheduler(scheduler)
     store = PlaneStore(out, spec)
     exists = store.check()                 # refuses a path holding anything else
     todo = store.missing_blocks() if exists else spec.blocks()
@@ -124,6 +132,74 @@ def check_workers(scheduler, workers):
     if scheduler is not None and workers is not None:
         raise ParameterError("--workers", workers, "not with --scheduler (the cluster has "
                              "its own workers)")
+
+
+def check_scheduler(address):
+    """--scheduler: ``tcp://host:port`` (or ``tls://``), checked before any connection
+    (distributed would try a malformed address for its whole timeout).  None passes."""
+    if address is None:
+        return None
+    m = _ADDRESS.fullmatch(address) if isinstance(address, str) else None
+    if m is None or not 1 <= int(m.group(1)) <= 65535:
+        raise ParameterError("--scheduler", address, SCHEDULER_FORM)
+    return address
+
+
+def reach_scheduler(address, timeout=None):
+    """Check within ``timeout`` seconds (default :data:`CONNECT_TIMEOUT`) that a Dask
+    scheduler answers at ``address``: connect, Dask's handshake, its ``identity``.
+
+    distributed's ``connect`` bounds the TCP connection but not the handshake that
+    follows, so a port that accepts and never speaks blocks ``Client`` for ever; here the
+    whole exchange runs under one ``asyncio.wait_for`` on a loop of its own (a thread, so
+    a caller's running loop is no obstacle).  Raises :class:`SymviError` (one line) if
+    nothing answers in time, or if what answers is not a scheduler."""
+    import asyncio
+    import threading
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
+
+    async def identify():
+        from distributed.comm import connect
+        from distributed.security import Security
+        # the TCP part gives up a little earlier, so the outer timeout means: connected,
+        # but no answer
+        comm = await connect(address, timeout=0.9 * timeout,
+                             **Security().get_connection_args("client"))
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    def run():
+        try:
+            state["reply"] = asyncio.run(asyncio.wait_for(identify(), timeout))
+        except BaseException as exc:   # noqa: BLE001 -- reported below, in the caller
+            state["error"] = exc
+    state = {}
+    probe = threading.Thread(target=run, name="symvi-scheduler-probe", daemon=True)
+    probe.start()
+    probe.join(timeout + 5)            # wait_for ends it by then; never wait for ever
+    reply, exc = state.get("reply"), state.get("error")
+    if isinstance(reply, dict) and reply.get("type") == "Scheduler":
+        return reply
+    if isinstance(reply, dict):
+        why = f"a Dask {str(reply.get('type', 'server'))[:40]} answers there, not a scheduler"
+    elif exc is None or isinstance(exc, (TimeoutError, asyncio.TimeoutError)):
+        why = "the port accepts connections but does not answer Dask's handshake"
+    else:
+        while str(exc).startswith("Timed out") and (exc.__cause__ or exc.__context__):
+            exc = exc.__cause__ or exc.__context__    # why the attempts failed
+        if "Connection refused" in str(exc):
+            exc = "connection refused"
+        why = _first_line(exc)
+    raise SymviError(f"--scheduler: could not reach scheduler {address} within "
+                     f"{timeout:g} s ({why})")
+
+
+def _first_line(exc):
+    text = re.sub(r"^in <[^>]*>: ", "", str(exc).strip())     # distributed's connector prefix
+    return text.splitlines()[0][:200] if text else type(exc).__name__
 
 
 def run_tasks(fn, tasks, on_result, *, scheduler=None, workers=None, client=None,
@@ -216,13 +292,17 @@ class _client:
 
         from distributed import Client, LocalCluster
         if self.scheduler is not None:
+            import dask
+            address = check_scheduler(self.scheduler)
+            timeout = CONNECT_TIMEOUT
+            reach_scheduler(address, timeout)      # bounded: connection and handshake
             try:
-                cl = Client(self.scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
+                with dask.config.set({"distributed.comm.timeouts.connect": f"{timeout}s"}):
+                    cl = Client(address, timeout=timeout, set_as_default=False)
             except (OSError, TimeoutError, ValueError, TypeError) as exc:
-                raise ParameterError("--scheduler", self.scheduler, "the address of a running "
-                                     "Dask scheduler, e.g. tcp://host:8786",
-                                     f"cannot connect: {str(exc).splitlines()[0][:200]}") \
-                    from None
+                # it answered a moment ago (reach_scheduler): gone since
+                raise SymviError(f"--scheduler: could not reach scheduler {address} within "
+                                 f"{timeout:g} s ({_first_line(exc)})") from None
             self._own.append(cl)
             return cl
         n = self.workers or os.cpu_count() or 1
@@ -264,6 +344,7 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     bit, as one call of ``sweep``."""
     from ..simulations.simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
     check_workers(scheduler, workers)
+    check_scheduler(scheduler)
     omegas = np.asarray(omegas, dtype=float)
     m = len(omegas)
     # the limits of one sweep call over all omegas (chunks would allow more)
