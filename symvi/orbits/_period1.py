@@ -60,7 +60,8 @@ def _line(lam, W, Winv, U, V, w, b, r):
         s2 = 0.0
         for a in range(n2 + 1):
             s2 += G[a, c] * G[a, c]
-        D[c] = math.sqrt(s2)
+        # a zero column (no steady forcing on the stop's mass) stays zero: NO_PHASE below
+        D[c] = math.sqrt(s2) if s2 > 0.0 else 1.0
     for a in range(n2 + 1):
         for c in range(n2 + 2):
             G[a, c] /= D[c]
@@ -69,8 +70,8 @@ def _line(lam, W, Winv, U, V, w, b, r):
     share = Vt[n2 + 1, n2] ** 2 + Vt[n2 + 1, n2 + 1] ** 2
     # pseudo-inverse solutions of G x = e b and G x = e (e the last unit vector)
     q = np.empty(n2 + 1)
-    for k in range(n2 + 1):
-        q[k] = Uq[n2, k] / sig[k]
+    for k in range(n2 + 1):                 # sig[k] = 0 only when DEGENERATE (rank gap 0)
+        q[k] = Uq[n2, k] / sig[k] if sig[k] > 0.0 else 0.0
     p1 = np.empty(n2 + 2)
     Xp = np.empty(n2 + 2)
     for c in range(n2 + 2):
@@ -78,7 +79,8 @@ def _line(lam, W, Winv, U, V, w, b, r):
         sb = 0.0
         for k in range(n2 + 1):
             s1 += Vt[k, c] * q[k]
-            sb += Vt[k, c] * ((Uq[n2, k] * b) / sig[k])
+            if sig[k] > 0.0:
+                sb += Vt[k, c] * ((Uq[n2, k] * b) / sig[k])
         p1[c] = s1 / D[c]
         Xp[c] = sb / D[c]
     return Phi, Pc, Ps, sig, null, Xp, p1, share
@@ -90,6 +92,8 @@ def _normal(null, n2):
     up to sign."""
     nc, ns = null[n2], null[n2 + 1]
     nrm = math.sqrt(nc * nc + ns * ns)
+    if nrm == 0.0:                          # only on the reference line of a NO_PHASE case
+        return 0.0, 0.0
     return ns / nrm, -nc / nrm
 
 

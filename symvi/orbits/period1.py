@@ -51,6 +51,9 @@ ORIENT_NOISE = 1e-12
 ORIENT_DR = 1e-6
 #: float64 orbits from the compiled kernel (False: the numpy reference, same results)
 COMPILED = True
+#: the stop mass's steady amplitude |X_k|, relative to the largest |X_i|, below which it
+#: is compared with the rounding level of the steady-state solve (and warned about)
+STOP_FORCING_WARN = 1e-6
 
 
 @dataclass(frozen=True)
@@ -174,12 +177,149 @@ class _Line:
 
 
 def _line(model, omega, digits):
+    """(flow, the solution line), or (flow, None) with the reason where the stop mass
+    gets no steady forcing (:func:`_stop_forcing`)."""
     flow = LinearFlow.of(model, digits)
     d, j = flow.one_minus_exp(omega)
     _check_isolated(flow, omega, d, j)
+    F = flow.forcing(omega)
+    why = _stop_forcing(flow, F, omega)
+    if why:
+        return flow, why
     L = _Line(flow, omega)
     _check_fixed(flow.lib, L.rank_gap, L.phase_share)
     return flow, L
+
+
+def _stop_forcing(flow, F, omega):
+    """The reason no period-1 one-impact orbit exists where the stop mass k gets no
+    steady-state forcing, else "" (then the line of the module docstring is regular).
+
+    With X_k = U_k + i V_k = 0 the phase columns of the period-1 conditions vanish:
+    they become (I - E Phi) w = 0, e_k^T w = b, whose only solution for an invertible
+    I - E Phi is w = 0, i.e. x_k(0) = 0 != b.  Three causes: no forcing at all, forcing
+    only on masses decoupled from k, or an anti-resonance of mass k at this omega.
+    |X_k| at the rounding level of the solve, delta = 64 eps cond(D) max_i |X_i|
+    (D = K - omega^2 M + i omega C), counts as 0 when the bound
+    |x_k(0)| <= delta (1 + (1 + r) omega ||(I - E Phi)^-1||) (which any period-1 orbit
+    with |X_k| <= delta meets) excludes b (delta = 0 where X_k = 0 by structure: no
+    forcing, or none coupled to k); SingularCaseError where it does not.  Where
+    I - E Phi is singular (r = 1 without damping) an exact X_k = 0 leaves no orbit if b
+    is out of the range of the stacked conditions, else a solution at every phase (not
+    isolated: SingularCaseError).  A small |X_k| above delta warns
+    (:func:`_warn_stop_forcing`)."""
+    if _stop_forced(F):
+        return ""
+    U, V = np.asarray(F.U, dtype=float), np.asarray(F.V, dtype=float)
+    xk, top = math.hypot(U[0], V[0]), math.sqrt(float((U * U + V * V).max()))
+    w = float(omega)
+    k, n = flow.perm[0] + 1, flow.n
+    P = np.array([float(x) for x in flow.P])
+    structural = not np.any(P) or not _reaches(flow)
+    if structural:
+        delta = 0.0                        # X_k = 0 exactly, whatever the rounding
+    else:
+        M, K, C = (np.asarray(a, dtype=float) for a in (flow.M, flow.K, flow.C))
+        cond = float(np.linalg.cond(K - w * w * M + 1j * w * C))
+        delta = 64 * float(flow.lib.eps) * cond * top
+        if xk > delta:
+            return ""                      # small but resolved: _warn_stop_forcing
+    if not np.any(P):
+        cause = "the model has no forcing (every forcing[i] = 0)"
+    elif structural:
+        cause = (f"the forcing acts only on masses not coupled to mass {k}, so mass {k} "
+                 "gets no steady forcing")
+    else:
+        cause = (f"mass {k}'s steady forcing amplitude is 0 at omega = {w!r}, an "
+                 f"anti-resonance (computed |X_{k}| = {xk:.3g})")
+    T = 2 * math.pi / w
+    Phi = np.asarray(flow.phi(T) if flow.la is NUMPY_LA else
+                     LinearFlow.of(flow.model).phi(T), dtype=float)
+    E = np.ones(2 * n)
+    E[n] = -float(flow.r)
+    H = np.eye(2 * n) - E[:, None] * Phi
+    s = np.linalg.svd(H, compute_uv=False)
+    b = float(flow.b)
+    none = f"{cause}; no period-1 one-impact orbit: the period-1 conditions reduce to "
+    if s[-1] > 64 * 2.0 ** -52 * s[0]:
+        reach = delta * (1 + (1 + float(flow.r)) * w / s[-1])
+        if abs(b) > 2 * reach:
+            return none + (f"(I - E Phi(T)) w = 0, whose only solution w = 0 is the steady "
+                           f"state x_{k} = 0, which has no impact at the gap b = {b:g}")
+        raise SingularCaseError(
+            "degenerate-forcing",
+            f"{cause}, and the gap |b| = {abs(b):.3g} is within its rounding level "
+            f"{reach:.3g}: a period-1 orbit here, if any, has an impact velocity at rounding "
+            "level (grazing) and cannot be resolved in float64")
+    # I - E Phi singular (e.g. r = 1 without damping): solvable only if b is in the range
+    # of the stacked system; solvable means a solution for every phase (not isolated)
+    Ha = np.vstack([H, np.eye(2 * n)[:1]])
+    rhs = np.zeros(2 * n + 1)
+    rhs[-1] = b
+    sol = np.linalg.lstsq(Ha, rhs, rcond=1e-10)[0]
+    if structural and b != 0 and np.linalg.norm(Ha @ sol - rhs) > 1e-8 * abs(b):
+        return none + (f"(I - E Phi(T)) w = 0 with x_{k}(0) = b, which has no solution: "
+                       f"I - E Phi(T) is singular at omega = {w!r}, but its kernel does not "
+                       f"reach the gap b = {b:g}")
+    raise SingularCaseError(
+        "degenerate-forcing",
+        f"{cause}, and I - E Phi(T) is singular at omega = {w!r}: the period-1 conditions "
+        "do not fix the impact phase (a solution, if any, exists for every phase), so no "
+        "period-1 orbit is isolated")
+
+
+def _stop_forced(F):
+    """The fast test: the stop mass's steady amplitude is not small (relative)."""
+    U, V = F.U, F.V
+    xk = float(U[0]) ** 2 + float(V[0]) ** 2
+    top = max(float(u) ** 2 + float(v) ** 2 for u, v in zip(U, V))
+    return top > 0 and xk >= STOP_FORCING_WARN ** 2 * top
+
+
+def _reaches(flow):
+    """Whether the forcing reaches the stop's mass (index 0) through the coupling of
+    M, K and C (a path of nonzero off-diagonal entries to a forced mass)."""
+    n = flow.n
+    link = np.zeros((n, n), dtype=bool)
+    for a in (flow.M, flow.K, flow.C):
+        link |= np.asarray(a, dtype=float) != 0
+    forced = np.array([float(x) != 0 for x in flow.P])
+    seen, todo = {0}, [0]
+    while todo:
+        i = todo.pop()
+        for j in np.flatnonzero(link[i]):
+            if int(j) not in seen:
+                seen.add(int(j))
+                todo.append(int(j))
+    return bool(forced[sorted(seen)].any())
+
+
+def _warn_stop_forcing(F, digits):
+    """NearSingularWarning where the stop mass's steady amplitude |X_k| is small relative
+    to the largest |X_i|: the impact phase of the orbits found loses that many digits."""
+    if digits is not None:
+        return
+    amp = np.hypot(np.asarray(F.U, dtype=float), np.asarray(F.V, dtype=float))
+    rel = float(amp[0] / amp.max())
+    if rel < STOP_FORCING_WARN:
+        warnings.warn(f"the stop mass's steady forcing amplitude is {rel:.1e} of the largest "
+                      f"(near an anti-resonance): the impact phase loses about "
+                      f"{-math.log10(rel):.0f} digits", NearSingularWarning, stacklevel=5)
+
+
+def no_orbit_reason(model, omega):
+    """Why ``model`` has no period-1 one-impact orbit at omega: a sentence, or "" when
+    the period-1 conditions have solutions (admissible or not).  SingularCaseError
+    where the case is singular (as :func:`period1_orbits`)."""
+    flow = LinearFlow.of(model)
+    omega = flow.check_omega(omega, warn=False)
+    flow, L = _line(model, omega, None)
+    if isinstance(L, str):
+        return L
+    if abs(L.ratio) > 1:
+        return (f"the period-1 conditions have no solution on the unit circle "
+                f"(|rho| = {abs(float(L.ratio)):.6g} > 1)")
+    return ""
 
 
 def _check_isolated(flow, omega, d, j):
@@ -241,9 +381,12 @@ def _orbits(model, omega, digits, want_multipliers):
     if digits is None and COMPILED:
         return _orbits_compiled(model, omega, want_multipliers)
     flow, L = _line(model, omega, digits)
+    if isinstance(L, str):
+        return []
     lib = flow.lib
     if lib.fabs(L.ratio) > 1:
         return []
+    _warn_stop_forcing(L.forcing, digits)
     ac = lib.acos(L.ratio)
     sec = Section(flow.n, flow.perm)
     T = 2 * lib.pi / omega
@@ -271,6 +414,10 @@ def _orbits_compiled(model, omega, want_multipliers):
     flow = LinearFlow.of(model)
     F = flow.forcing(omega)
     lam, W, Winv, A = flow.modal64
+    if not _stop_forced(F):                 # checked before the kernel meets zero columns
+        _check_isolated(flow, omega, *flow.one_minus_exp(omega))
+        if _stop_forcing(flow, F, omega):
+            return []
     st, d, j, gap, share, Y, vimp, M, has_M = _period1.period1(
         lam, W, Winv, A, F.U, F.V, omega, flow.b, flow.r, flow.r - ORIENT_DR,
         ISOLATION_REFUSE, ORIENT_NOISE, bool(want_multipliers))
@@ -278,6 +425,7 @@ def _orbits_compiled(model, omega, want_multipliers):
     _check_fixed(flow.lib, gap, share)
     if st == _period1.NO_ORBIT:
         return []
+    _warn_stop_forcing(F, None)
     sec = Section.of(model)
     T = 2 * math.pi / omega
     finder = CompiledFinder(flow)
@@ -342,7 +490,8 @@ def multiplier_path(admissible, omegas, dim=None):
 def existence_ratio(model, omega):
     """rho of nu . (cos tau, sin tau) = rho: the orbit exists iff |rho| <= 1 (eq. 16 generalised)."""
     flow = LinearFlow.of(model)
-    return float(_line(model, flow.check_omega(omega, warn=False), None)[1].ratio)
+    L = _line(model, flow.check_omega(omega, warn=False), None)[1]
+    return math.inf if isinstance(L, str) else float(L.ratio)
 
 
 def _with(obj, **kw):

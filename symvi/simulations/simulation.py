@@ -95,6 +95,15 @@ def fixed_point(params, omega):
     return tuple(float(v) for v in ok[0].y) if ok else None
 
 
+def _no_orbit_reason(params, omega):
+    """Why no period-1 orbit exists at omega ("" if one exists but is inadmissible)."""
+    from ..orbits.period1 import no_orbit_reason
+    try:
+        return no_orbit_reason(Model.of(params), omega)
+    except SingularCaseError as exc:
+        return str(exc)
+
+
 def _check_start(y0):
     try:
         y = tuple(float(v) for v in y0)
@@ -144,9 +153,10 @@ def start_point(params, omega, perturbation=DEFAULT_PERTURBATION):
     perturbation = _perturbation(params, perturbation)
     ys = fixed_point(params, omega)
     if ys is None:
+        why = _no_orbit_reason(params, omega)
         raise SingularCaseError(
-            "no-orbit", f"no admissible period-1 orbit at omega = {omega!r} to start from; "
-            "pass y0 explicitly")
+            "no-orbit", f"no admissible period-1 orbit at omega = {omega!r} to start from "
+            "(pass y0 explicitly)" + (f": {why}" if why else ""))
     return tuple(a + d for a, d in zip(ys, perturbation)), ys
 
 
@@ -263,8 +273,10 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     ys = [fixed_point(params, w) for w in omegas]
     have = [i for i, y in enumerate(ys) if y is not None]
     if not have:
+        why = {_no_orbit_reason(params, float(w)) for w in omegas} - {""}
         raise SingularCaseError("no-orbit", "no admissible period-1 orbit anywhere on the "
-                                "omega grid to start from")
+                                "omega grid to start from"
+                                + (f": {why.pop()}" if len(why) == 1 else ""))
     starts = np.empty((len(omegas), params.dim if _is_model(params) else 4))
     for i in range(len(omegas)):
         j = min(have, key=lambda k: abs(k - i))
