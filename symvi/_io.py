@@ -99,7 +99,8 @@ def _check_output(path, flag, suffixes, folder):
         if os.path.lexists(bare):
             if not os.path.isdir(bare):
                 mode = os.lstat(bare).st_mode
-                what = "a dangling symlink" if stat.S_ISLNK(mode) else _kind(mode)
+                what = ("a dangling symlink" if stat.S_ISLNK(mode) else
+                        "a file" if stat.S_ISREG(mode) else _kind(mode))
                 raise ParameterError(flag, path, valid, f"it is {what}, not a folder")
             if not os.access(bare, os.W_OK | os.X_OK):
                 raise ParameterError(flag, path, valid, "folder is not writable")

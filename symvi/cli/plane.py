@@ -18,8 +18,10 @@ def register(sub):
     p.add_argument("--transient", type=int, required=True, metavar="T",
                    help="impacts dropped per point")
     p.add_argument("--out", required=True, metavar="PLANE.zarr",
-                   help="zarr store; an interrupted run restarted with the same command "
-                        "computes only what is missing")
+                   help="zarr store (a folder; names not ending in .zarr are deprecated); "
+                        "an interrupted run restarted with the same command computes only "
+                        "what is missing; a second run on the same store is refused while "
+                        "the first holds PLANE.zarr.lock")
     add_engine(p, "default: the CPU count")
     p.add_argument("--follow", action="store_true",
                    help="start each point from the previous point's attractor along a row")
@@ -33,22 +35,31 @@ def register(sub):
 
 def run(args):
     import shlex
+    import warnings
 
+    from .._io import check_output
     from ..model import Model
-    from ..plane import PlaneSpec, parse_axis, run_plane
+    from ..plane import PlaneSpec, PlaneStore, parse_axis, run_plane
+    check_output(args.out, flag="--out", folder=True)
     model = Model.of(params_from(args))
     spec = PlaneSpec(model=model, x=parse_axis(args.x, "--x"), y=parse_axis(args.y, "--y"),
                      impacts=args.impacts, transient=args.transient, follow=args.follow,
                      omega=args.omega, chunk_rows=args.chunk_rows)
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
     command = "symvi " + " ".join(shlex.quote(a) for a in args._argv)
-    res = run_plane(spec, args.out, scheduler=args.scheduler, workers=args.workers,
-                    progress=enabled, command=command)
+    store = PlaneStore(args.out, spec)
+    with store.lock():
+        if not store.path.lower().endswith(".zarr"):
+            # after the checks: a refused run prints one line only
+            warnings.warn(f"--out {args.out!r}: a plane store name not ending in .zarr is "
+                          "deprecated and will be refused by a future version", FutureWarning)
+        res = run_plane(spec, store.path, scheduler=args.scheduler, workers=args.workers,
+                        progress=enabled, command=command)
     out = res.as_dict()
     if args.json:
         print_json(out)
     else:
-        print(f"{out['points']} points ({spec.y.n} x {spec.x.n}) in {args.out}: "
+        print(f"{out['points']} points ({spec.y.n} x {spec.x.n}) in {store.path}: "
               f"{out['computed_blocks']} blocks computed, {out['resumed_blocks']} already "
               f"there; {out['seconds']:.1f} s on {out['workers']} workers")
         for k, v in sorted(out["attractors"].items(), key=lambda kv: -kv[1]):

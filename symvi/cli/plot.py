@@ -16,11 +16,10 @@ def register(sub):
 def run(args):
     import os
 
-    from ..reporting import figures
-    from ..errors import ParameterError
+    from .._io import check_output
     from ..plane import PlaneStore
-    if not args.out.lower().endswith((".png", ".pdf")):
-        raise ParameterError("--out", args.out, "a file name ending in .png or .pdf")
+    from ..reporting import figures
+    check_output(args.out, flag="--out", suffixes=(".png", ".pdf"))
     st = PlaneStore.read(args.store)
     ds = st.dataset()
     done = int(ds["done"].sum())

@@ -15,6 +15,8 @@ def register(sub):
 def run(args):
     from ..reporting.report import build_report
     from ..reporting.scenes import paper_scenes
+    from .run import check_out
+    check_out(args.out)
     scenes = paper_scenes()
     rep = build_report(scenes, args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]))

@@ -17,6 +17,7 @@ def run(args):
     from ..reporting.report import build_report
     from ..reporting.scenes import load_scene
     scene = load_scene(args.scene)          # validates before anything is written
+    check_out(args.out)
     if args.model:
         from ..model import load_model
         from ..reporting.scenes import with_model
@@ -27,3 +28,12 @@ def run(args):
     print(f"wrote {rep.path} ({len(rep.figures)} figures; {len(rep.parts)} parts, {n} from the "
           f"cache) in {rep.seconds:.1f} s")
     return 0
+
+
+def check_out(out):
+    """The output folder, and the report.md in it, usable before any work."""
+    import os
+
+    from .._io import check_output
+    check_output(out, flag="--out", folder=True)
+    check_output(os.path.join(out, "report.md"), flag="--out")

@@ -14,17 +14,26 @@ Layout (zarr format 2, whose fixed-width strings are stable)::
 A block's data are written before its ``done`` flags, so a run killed at any moment
 leaves only blocks that are complete and flagged, or unflagged (recomputed on restart).
 The store is created under a temporary name and renamed into place: an existing path is
-never overwritten.
+never overwritten.  A run holds ``<store>.lock`` (an advisory ``flock`` with its pid in
+it) while it writes, so a second run on the same store is refused; the kernel drops the
+lock of a process that dies, so a killed run's leftover lock file is simply taken over.
+
+A store is read only after its layout is checked against its own spec (every variable
+present with the shape and dtype above, the ``done`` flags readable), so a damaged or
+forged store is refused with one line naming it instead of failing halfway.
 """
+import contextlib
+import errno
 import json
 import os
 import shutil
+import stat
 import tempfile
 
 import numpy as np
 
 from .._io import current_umask
-from ..errors import ParameterError
+from ..errors import ParameterError, SymviError
 
 #: version of this layout, in the attrs
 FORMAT = 1
@@ -36,6 +45,10 @@ INTS = ("period", "impacts_per_orbit")
 STRINGS = ("attractor", "stop")
 #: every (y, x) variable, as a block of rows carries them
 GRID_VARS = (*FLOATS, *INTS, *STRINGS, "own_start")
+#: the dtype of each variable (the layout's contract, checked on every read)
+DTYPES = {**{v: np.dtype(np.float64) for v in FLOATS}, **{v: np.dtype(np.int32) for v in INTS},
+          **{v: np.dtype(f"<U{LABEL_WIDTH}") for v in STRINGS},
+          "own_start": np.dtype(bool), "done": np.dtype(bool)}
 
 DESCRIPTIONS = {
     "attractor": "kind of attractor reached from the point's start: period-k (a periodic "
@@ -97,7 +110,9 @@ class PlaneStore:
     """A plane store on disk: create it or reopen it for the same run, write blocks."""
 
     def __init__(self, path, spec):
-        self.path, self.spec = os.fspath(path), spec
+        path = os.fspath(path)
+        # "P.zarr/" is the folder P.zarr (the rename that creates it takes no trailing /)
+        self.path, self.spec = path.rstrip(os.sep) or path, spec
 
     def check(self):
         """True if the path holds this run's store, False if it is free; raise (naming
@@ -109,17 +124,28 @@ class PlaneStore:
 
     @classmethod
     def read(cls, path):
-        """An existing store, its spec read from its attrs (for plotting and reading)."""
+        """An existing store, its spec read from its attrs (for plotting and reading); a
+        store whose layout does not match its spec is refused naming it."""
         from .grid import PlaneSpec
         path = os.fspath(path)
         valid = "a zarr store written by symvi plane"
         if not os.path.isdir(path):
-            raise ParameterError("store", path, valid, "no such directory")
+            raise ParameterError("store", path, valid, "not a folder" if os.path.lexists(path)
+                                 else "no such folder")
         fmt, spec = _stored(path, "store", valid)
         if fmt != FORMAT:
-            raise ParameterError("store", path, valid, f"store format {fmt}, this symvi "
+            raise ParameterError("store", path, valid, f"store format {fmt!r}, this symvi "
                                  f"reads {FORMAT}")
-        return cls(path, PlaneSpec.from_dict(spec))
+        try:
+            spec = PlaneSpec.from_dict(spec)
+        except (SymviError, KeyError, TypeError, ValueError, AttributeError,
+                RecursionError) as exc:
+            detail = " ".join(str(exc).split())[:200]
+            raise ParameterError("store", path, valid, "its spec attribute is not a valid "
+                                 f"plane: {type(exc).__name__}: {detail}") from None
+        st = cls(path, spec)
+        st._check_layout("store", valid)
+        return st
 
     def create(self, command, version):
         """Write the empty store (all blocks to do) under a temporary name, then rename."""
@@ -146,17 +172,79 @@ class PlaneStore:
         if fmt != FORMAT:
             raise ParameterError("--out", self.path, "a new path, or a plane store of the "
                                  "same run", f"store format {fmt}, this symvi writes {FORMAT}")
+        if not isinstance(have, dict):
+            have = {}
         diff = sorted(k for k in set(want) | set(have) if want.get(k) != have.get(k))
         if diff:
             raise ParameterError("--out", self.path, "a new path, or the store of the same "
                                  "run (same model, axes, --impacts, --transient, --follow) "
                                  "to resume it", "it holds another run; differs in: "
-                                 + ", ".join(diff))
+                                 + ", ".join(map(str, diff)))
+        self._check_layout("--out", "a new path, or an undamaged plane store of the same run "
+                           "to resume", resume=True)
+
+    def _check_layout(self, name, valid, resume=False):
+        """Every variable with the shape and dtype of the spec, the done flags readable
+        (and, to resume, the attractor labels of the done rows, which the run counts at
+        its end); else a ParameterError naming ``name``."""
+        import zarr
+        ny, nx = self.spec.shape
+        yn, xn = self.spec.y.name, self.spec.x.name
+        want = {**{v: ((ny, nx), DTYPES[v]) for v in GRID_VARS}, "done": ((ny,), DTYPES["done"]),
+                yn: ((ny,), np.dtype(np.float64)), xn: ((nx,), np.dtype(np.float64))}
+
+        def bad(detail):
+            return ParameterError(name, self.path, valid, f"damaged store: {detail}")
+        try:
+            g = zarr.open_group(self.path, mode="r")
+            for v, (shape, dtype) in want.items():
+                try:
+                    a = g[v]
+                except KeyError:
+                    raise bad(f"no array {v!r}") from None
+                if not hasattr(a, "dtype") or tuple(a.shape) != shape or a.dtype != dtype:
+                    raise bad(f"{v!r} is {getattr(a, 'dtype', 'a group')} "
+                              f"{tuple(getattr(a, 'shape', ()))}, the spec needs {dtype} "
+                              f"{shape}")
+            done = np.asarray(g["done"][:], dtype=bool)
+            if resume:
+                for r0, r1 in self.spec.blocks():
+                    if done[r0:r1].any():
+                        g["attractor"][r0:r1, :]
+        except SymviError:
+            raise
+        except Exception as exc:   # noqa: BLE001 -- unreadable chunk or metadata: one line
+            detail = " ".join(str(exc).split())[:200]
+            raise bad(f"cannot read it: {type(exc).__name__}: {detail}") from None
+
+    @contextlib.contextmanager
+    def lock(self):
+        """Hold ``<store>.lock`` while writing; a second run on this store is refused
+        (``ParameterError`` naming --out).  Re-entrant in one process."""
+        key = os.path.realpath(self.path)
+        if key in _HELD:
+            _HELD[key] += 1
+            try:
+                yield
+            finally:
+                _HELD[key] -= 1
+            return
+        fd = _acquire(self.path + ".lock", self.path)
+        _HELD[key] = 1
+        try:
+            yield
+        finally:
+            del _HELD[key]
+            _release(self.path + ".lock", fd)
 
     def done(self):
         """Bool per row: blocks already written."""
         import zarr
-        return np.asarray(zarr.open_group(self.path, mode="r")["done"][:], dtype=bool)
+        try:
+            return np.asarray(zarr.open_group(self.path, mode="r")["done"][:], dtype=bool)
+        except Exception as exc:   # noqa: BLE001 -- damaged after the check: one line
+            raise ParameterError("--out", self.path, "an undamaged plane store",
+                                 f"cannot read its done flags: {type(exc).__name__}") from None
 
     def missing_blocks(self):
         d = self.done()
@@ -174,8 +262,14 @@ class PlaneStore:
     def dataset(self):
         """The store as an xarray Dataset (loaded)."""
         import xarray as xr
-        with xr.open_zarr(self.path, consolidated=True) as ds:
-            return ds.load()
+        try:
+            with xr.open_zarr(self.path, consolidated=True) as ds:
+                return ds.load()
+        except Exception as exc:   # noqa: BLE001 -- a damaged chunk: one line naming the store
+            detail = " ".join(str(exc).split())[:200]
+            raise ParameterError("store", self.path, "a zarr store written by symvi plane",
+                                 f"damaged store: cannot read it: {type(exc).__name__}: "
+                                 f"{detail}") from None
 
 
 def _stored(path, name, valid):
@@ -187,3 +281,96 @@ def _stored(path, name, valid):
         return g.attrs.get("symvi_plane_format"), json.loads(g.attrs["spec"])
     except Exception:   # noqa: BLE001 -- any unreadable path: one clear line, touch nothing
         raise ParameterError(name, path, valid, "it is not a symvi plane store") from None
+
+
+#: realpaths of the stores this process holds locked, with a nesting count
+_HELD = {}
+
+
+def _acquire(lock_path, store):
+    """Open and lock ``lock_path`` (never through a symlink); write our pid in it."""
+    refuse = ParameterError
+    valid = "a plane store no other run is writing"
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    for _ in range(5):
+        try:
+            fd = os.open(lock_path, flags, 0o644)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise refuse("--out", store, valid, f"{lock_path} is a symlink") from None
+            raise refuse("--out", store, valid, f"cannot create {lock_path}: "
+                         f"{exc.strerror or exc}") from None
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise refuse("--out", store, valid, f"{lock_path} is not a regular file")
+            if not _try_lock(fd):
+                raise refuse("--out", store, valid, "another symvi plane run "
+                             f"{_holder(fd)}is writing it (lock {lock_path})")
+            # the holder before us may have removed the file after we opened it: only the
+            # file at the path counts
+            st, now = os.fstat(fd), _lstat(lock_path)
+            if now is None or (now.st_ino, now.st_dev) != (st.st_ino, st.st_dev):
+                os.close(fd)
+                continue
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()}\n".encode())
+            return fd
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.close(fd)
+            raise
+    raise refuse("--out", store, valid, f"{lock_path} keeps changing (another run?)")
+
+
+def _try_lock(fd):
+    """An exclusive lock on ``fd`` without waiting: True if taken.  Without ``fcntl`` the
+    file's pid decides (a live pid holds it; a dead one's lock is taken over)."""
+    try:
+        import fcntl
+    except ImportError:        # not POSIX: the pid in the file is the lock
+        pid = _pid_in(fd)
+        return pid is None or pid == os.getpid() or not _alive(pid)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError as exc:
+        if exc.errno in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
+            return False
+        raise
+    return True
+
+
+def _release(lock_path, fd):
+    # remove the file while still holding it (a waiting run then sees a new inode)
+    with contextlib.suppress(OSError):
+        os.unlink(lock_path)
+    os.close(fd)
+
+
+def _lstat(path):
+    try:
+        return os.lstat(path)
+    except FileNotFoundError:
+        return None
+
+
+def _pid_in(fd):
+    try:
+        text = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
+        return int(text) if text.isdigit() else None
+    except (OSError, AttributeError):
+        return None
+
+
+def _holder(fd):
+    pid = _pid_in(fd)
+    return f"(pid {pid}) " if pid else ""
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:            # exists but is not ours
+        return True
+    return True

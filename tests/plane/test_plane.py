@@ -215,7 +215,8 @@ def test_bad_input_one_line_exit_2_store_intact(tmp_path, capsys, args, key):
     assert main(good) == 0
     before = _tree(out)
     capsys.readouterr()
-    cmd = ["plane", *FLAGS, "--impacts", "20", "--transient", "20", "--out", str(out), *args]
+    counts = [] if "--impacts" in args else ["--impacts", "20"]
+    cmd = ["plane", *FLAGS, *counts, "--transient", "20", "--out", str(out), *args]
     assert main(cmd) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and key in err and "Traceback" not in err
@@ -235,7 +236,14 @@ def test_other_run_or_foreign_path_refused_intact(tmp_path, capsys):
     f = tmp_path / "notes.txt"
     f.write_text("mine")
     assert main([*base[:-1], str(f), "--impacts", "20"]) == 2
-    assert f.read_text() == "mine" and "not a symvi plane store" in capsys.readouterr().err
+    assert f.read_text() == "mine" and "not a folder" in capsys.readouterr().err
+    d = tmp_path / "mine"
+    d.mkdir()
+    (d / "notes.txt").write_text("mine")
+    assert main([*base[:-1], str(d), "--impacts", "20"]) == 2
+    assert "not a symvi plane store" in capsys.readouterr().err
+    assert os.listdir(d) == ["notes.txt"]
+    assert sorted(os.listdir(tmp_path)) == ["mine", "notes.txt", "p.zarr"]   # no lock left
 
 
 def test_unreachable_scheduler(tmp_path, capsys, monkeypatch):
