@@ -32,21 +32,27 @@ def save(fig, path, dpi=150):
     """Write ``fig`` to ``path`` (PNG or PDF by suffix) atomically and close it."""
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in (".png", ".pdf"):
-        raise ValueError(f"figure path {path!r}: use a .png or .pdf suffix")
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format=ext[1:])
-    plt.close(fig)
+        from ..errors import ParameterError      # a ValueError: one line on the CLI
+        raise ParameterError("figure path", os.fspath(path), "a file name ending in .png "
+                             "or .pdf")
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=ext[1:])
+    finally:
+        plt.close(fig)          # also when the write is refused: no figure left open
     return os.fspath(path)
 
 
 def save_all(fig, stem, formats=("png", "pdf")):
     """Write ``fig`` as ``stem.png`` and ``stem.pdf``; returns the paths."""
     paths = []
-    for f in formats:
-        with atomic_path(f"{stem}.{f}") as tmp:
-            fig.savefig(tmp, dpi=150, format=f)
-        paths.append(f"{stem}.{f}")
-    plt.close(fig)
+    try:
+        for f in formats:
+            with atomic_path(f"{stem}.{f}") as tmp:
+                fig.savefig(tmp, dpi=150, format=f)
+            paths.append(f"{stem}.{f}")
+    finally:
+        plt.close(fig)
     return paths
 
 
