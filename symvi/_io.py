@@ -96,7 +96,7 @@ def _check_output(path, flag, suffixes, folder):
             raise ParameterError(flag, path, valid, "empty path")
         if bare == "":
             raise ParameterError(flag, path, valid, "the root folder")
-        if os.path.lexists(bare):
+        if _lstat(bare) is not None:
             if not os.path.isdir(bare):
                 mode = os.lstat(bare).st_mode
                 what = ("a dangling symlink" if stat.S_ISLNK(mode) else
@@ -114,8 +114,9 @@ def _check_output(path, flag, suffixes, folder):
         raise ParameterError(flag, path, valid, "empty path")
     if path.endswith(os.sep) or (os.altsep and path.endswith(os.altsep)):
         raise ParameterError(flag, path, valid, "names a folder")
-    if os.path.lexists(path):
-        mode = os.lstat(path).st_mode
+    st = _lstat(path)
+    if st is not None:
+        mode = st.st_mode
         if not stat.S_ISREG(mode):
             raise ParameterError(flag, path, valid, f"it is {_kind(mode)}")
         if not os.access(path, os.W_OK):
@@ -124,6 +125,16 @@ def _check_output(path, flag, suffixes, folder):
         raise ParameterError(flag, path, valid, "unknown file extension")
     _writable_parent(path, flag, valid)
     return path
+
+
+def _lstat(path):
+    """lstat of ``path``, None if it does not exist (or a component is not a folder, which
+    the parent check reports); any other failure (name too long, a loop of symlinks,
+    no permission) raises OSError."""
+    try:
+        return os.lstat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        return None
 
 
 def distinct_outputs(*pairs):
