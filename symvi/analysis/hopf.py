@@ -86,13 +86,14 @@ of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4.
 """
 import math
 import warnings
+from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-from ..flow.linear import RESONANCE_CUT
+from ..flow.linear import OMEGA_RANGE, RESONANCE_CUT
 from ..normal_forms.normal_form import normal_form, resonance
 
 #: the crossing is located to this absolute tolerance in omega (plus 4 eps relative)
@@ -101,12 +102,21 @@ XTOL = 2e-13
 MIN_WIDTH = 1e-7
 #: initial number of segments
 N_INITIAL = 8
-#: step for differentiating |lambda1| along the branch (Richardson, h and 2h)
-BRANCH_H = 1e-5
+#: first step (relative to omega) of Ridders' differentiation of |lambda1| along the branch
+BRANCH_H = 1e-3
+#: the derivative along the branch is printed as uncertain above this estimated relative error
+BRANCH_REL_ERR = 1e-6
 #: (H2) is said to hold when min_m |lambda^m - 1| (m = 1..5) exceeds this
 H2_TOL = 1e-6
-#: cap on orbit evaluations per scan: past it no segment is split further (never hang)
+#: base budget of orbit evaluations per scan, raised by SAMPLES_PER_CUT for every cut at a
+#: singular frequency (each adds two segments to certify, with the orbit's folds between
+#: them); past it nothing is split or sampled further and what is left is uncertified
 MAX_SAMPLES = 20000
+SAMPLES_PER_CUT = 40
+#: at most this many singular frequencies omega_j / n (n >= 2) are cut, the largest ones:
+#: they accumulate at omega = 0, and below the last one cut the scan does not go (that
+#: region is reported uncertified).  Bounds the work and the events of a small omega_min
+MAX_SINGULAR = 300
 #: a located NS root is accepted only when ||lambda1|^2 - 1| there is below this (a jump
 #: between two pairs, e.g. colliding off the circle, also changes the sign)
 NS_RESIDUAL = 1e-6
@@ -149,8 +159,10 @@ class Event:
         return d
 
 
-_FLIPPING = ("the orbit's state (admissible, inadmissible, absent) changes faster than the "
-             f"scan resolves within {MAX_SAMPLES} orbit evaluations; events there may be missed")
+def _budget_why(budget):
+    return (f"the scan's budget of {budget} orbit evaluations ran out before this span was "
+            "certified (the interval needs finer resolution elsewhere: scan a narrower "
+            "interval); a crossing there may be missed")
 
 
 _SWITCH = ("|lambda| - 1 changes sign by a jump between two complex pairs (pairs colliding "
@@ -198,6 +210,8 @@ class HopfPoint:
     circle: object
     normal_form: object = field(repr=False, default=None)
     precision: object = field(repr=False, default=None)   # precision.HopfEstimate
+    #: estimated absolute error of dmod_domega_branch (Ridders' tableau; inf: not computable)
+    dmod_domega_branch_error: float = 0.0
 
     def trusted(self, name):
         """False when automatic precision could not make ``name`` trustworthy."""
@@ -216,6 +230,54 @@ class HopfPoint:
         """Whether d|lambda1|/domega is resolvably nonzero (see :attr:`detail`): a zero-speed
         touch of |lambda1| = 1, e.g. of a nearly conservative map, is no transversal crossing."""
         return not self.detail
+
+    @property
+    def branch_caveat(self):
+        """Why ``dmod_domega_branch`` does not confirm (A1)-(A3) to its printed digits, or ''.
+
+        Its error is estimated by Ridders' tableau; near grazing, a fold or a singular
+        frequency the branch varies on a scale below the steps (or its multipliers are
+        ill-conditioned) and the estimate is large: the value is then uncertain."""
+        v, e = self.dmod_domega_branch, self.dmod_domega_branch_error
+        if not (math.isfinite(v) and math.isfinite(e)):
+            return ("not computable along the branch (the branch is not defined on both "
+                    "sides of omega_c)")
+        if e > BRANCH_REL_ERR * abs(v):
+            return (f"uncertain along the branch: estimated error {e:.1e} (relative "
+                    f"{e / max(abs(v), 1e-300):.1e}); the branch varies on a scale below the "
+                    "differencing steps (near grazing, a fold or a singular frequency) or its "
+                    "multipliers are ill-conditioned")
+        d = self.dmod_domega
+        est = None if self.precision is None else self.precision.dmod_domega
+        tol = 10 * e + 1e-12 * abs(d)
+        if est is not None and math.isfinite(est.rel_err):
+            tol += 10 * est.rel_err * abs(d)
+        if self.trusted("dmod_domega") and math.isfinite(d) and abs(v - d) > tol:
+            return (f"along the branch {v:.12g} differs from (A1)-(A3) by "
+                    f"{abs(v - d) / max(abs(d), 1e-300):.1e} (relative), beyond both error "
+                    "estimates")
+        return ""
+
+    @property
+    def circle_caveat(self):
+        """Why the invariant circle (normal form (58), l1 and d|lambda1|/domega) is not
+        predicted here, or '' when its hypotheses hold: (H1) every other multiplier inside
+        the unit circle, (H2) no resonance lambda1^m = 1 for m <= 5, a transversal
+        crossing (resolved speed) and a trusted l1 != 0."""
+        why = []
+        if self.circle is None:
+            why.append("no normal form")
+        if not self.h1:
+            why.append("(H1) fails: another multiplier lies on or outside the unit circle")
+        if not self.h2:
+            m, _ = self.nearest_resonance
+            why.append(f"(H2) fails: lambda1^{m} = 1 (resonance 1:{m}), the cubic normal "
+                       "form is not the normal form")
+        if not self.crossing_resolved:
+            why.append("the crossing speed d|lambda1|/domega is not resolved")
+        if not self.trusted("l1") or not (math.isfinite(self.l1) and self.l1 != 0):
+            why.append("l1 is not trusted or zero")
+        return "; ".join(why)
 
     @property
     def h3(self):
@@ -257,6 +319,8 @@ class HopfPoint:
                                   for x in self.other_multipliers],
             "dmod_domega": num("dmod_domega"),
             "dmod_domega_branch": float(self.dmod_domega_branch),
+            "dmod_domega_branch_error": _finite(self.dmod_domega_branch_error),
+            "dmod_domega_branch_caveat": self.branch_caveat,
             "l1": num("l1"), "c1": [self.c1.real, self.c1.imag],
             # eq. (60) is the paper's own reduction: reported for its model only
             "f1_paper": None if paper_only_none else float(self.f1_paper),
@@ -266,6 +330,7 @@ class HopfPoint:
             "nearest_resonance": {"m": int(m), "distance": float(dist)},
             "orbit": orb,
             "circle": None if self.circle is None else self.circle.as_dict(),
+            "circle_predicted": not self.circle_caveat, "circle_caveat": self.circle_caveat,
             "precision": None if self.precision is None else self.precision.as_dict(),
             "normalisation": {
                 "l1": "Kuznetsov: ||q||_2 = 1, <p,q> = conj(p)^T q = 1, l1 = Re(e^{-i theta} c1),"
@@ -287,6 +352,16 @@ class HopfResult:
     events: tuple
     samples: int
     conservative: bool = False    # r = 1, no damping: no NS point is sought (CONSERVATIVE)
+    #: merged, sorted (lo, hi) spans the scan could not certify (any branch): a crossing
+    #: there may have been missed.  Empty: every crossing in the interval was found
+    uncertified: tuple = ()
+    #: a few words per distinct reason of those spans (their ``unresolved`` events say more)
+    uncertified_reasons: tuple = ()
+
+    @property
+    def complete(self):
+        """Whether the scan certified the whole interval (no crossing missed)."""
+        return not self.uncertified
 
     def __iter__(self):
         return iter(self.points)
@@ -303,6 +378,9 @@ class HopfResult:
                 "points": [p.as_dict() for p in self.points],
                 "events": [e.as_dict() for e in self.events],
                 "samples": self.samples,
+                "complete": self.complete,
+                "uncertified": [[float(lo), float(hi)] for lo, hi in self.uncertified],
+                "uncertified_reasons": list(self.uncertified_reasons),
                 "conservative": self.conservative,
                 "statement": CONSERVATIVE if self.conservative else None}
 
@@ -425,13 +503,16 @@ def _match(la, lb):
 
 # --------------------------------------------------------------------------- scan
 class _Scan:
-    def __init__(self, system, a, b):
+    def __init__(self, system, a, b, budget=MAX_SAMPLES):
         self.sys, self.a, self.b = system, a, b
         self.s = _Sampler(system)
         self.min_width = MIN_WIDTH * (b - a)
         self.delta = max(1e-10 * (b - a), 50 * XTOL)
         self.brackets = []     # (branch, kind, wl, wr, lam_l, lam_r)
         self.events = []
+        self.unres = {}        # (branch, reason) -> spans not certified
+        self.queue = deque()   # segments to certify: (branch, wa, wb, edges)
+        self.budget = budget
 
     # ---- transitions -------------------------------------------------------
     def _event(self, kind, w, br, detail=""):
@@ -494,58 +575,71 @@ class _Scan:
         return w
 
     def _unresolved(self, br, wa, wb, why=None):
-        """Record a segment the certification could not resolve (merged with its neighbours
-        of the same reason)."""
-        for i, e in enumerate(self.events):
-            if e.kind == "unresolved" and e.branch == br and \
-                    e.detail == _Unresolved(br, *e.span, why).detail:
-                lo, hi = e.span
-                if wa <= hi + self.min_width and wb >= lo - self.min_width:
-                    lo, hi = min(lo, wa), max(hi, wb)
-                    self.events[i] = _Unresolved(br, lo, hi, why)
-                    return
-        self.events.append(_Unresolved(br, wa, wb, why))
+        """Record a span the certification could not resolve (merged with its neighbours of
+        the same reason by :meth:`unresolved_events`)."""
+        self.unres.setdefault((br, why), []).append((float(wa), float(wb)))
+
+    def unresolved_events(self):
+        """One ``unresolved`` event per maximal run of spans of one branch and reason."""
+        out = []
+        for (br, why), spans in self.unres.items():
+            for lo, hi in _merge(spans, self.min_width):
+                out.append(_Unresolved(br, lo, hi, why))
+        return out
+
+    def uncertified(self):
+        """The merged, sorted spans where a crossing may have been missed (any branch)."""
+        return _merge([sp for spans in self.unres.values() for sp in spans], self.min_width)
+
+    @property
+    def exhausted(self):
+        return len(self.s.cache) >= self.budget
 
     # ---- certification -----------------------------------------------------
     def certify(self, br, wa, wb, edges=(False, False)):
-        """Certify [wa, wb] on branch ``br``; collect crossing brackets and events.
+        """Certify [wa, wb] on branch ``br``; collect crossing brackets and events."""
+        self.queue.append((br, wa, wb, tuple(edges)))
+        self.run()
 
-        ``edges``: whether the left / right end lies next to a located boundary
-        (fold, grazing, singular frequency), where a multiplier may approach the circle.
-        """
-        stack = [(wa, wb, tuple(edges))]
-        while stack:
-            wa, wb, (ea, eb) = stack.pop()
+    def run(self):
+        """Certify every queued segment, breadth first across all segments and branches.
+
+        ``edges``: whether the left / right end lies next to a located boundary (fold,
+        grazing, singular frequency), where a multiplier may approach the circle.  Breadth
+        first, so that a budget that runs out leaves uncertified the spans needing the finest
+        resolution, not the end of the interval scanned last; what is left is reported."""
+        q = self.queue
+        while q:
+            br, wa, wb, (ea, eb) = q.popleft()
+            if self.exhausted:
+                self._unresolved(br, wa, wb, _budget_why(self.budget))
+                continue
             ka, oa = self.s.state(br, wa)
             kb, ob = self.s.state(br, wb)
             if ka != kb:
-                if len(self.s.cache) >= MAX_SAMPLES:
-                    # states flipping faster than resolvable (never hang): say so
-                    self._unresolved(br, wa, wb, _FLIPPING)
-                    continue
                 w = self._transition(br, wa, wb, ka, kb)
                 # keep scanning the inner parts, a safe distance from the boundary
                 left, right = w - self.delta, w + self.delta
                 if left > wa + self.delta:
-                    stack.append((wa, left, (ea, True)))
+                    q.append((br, wa, left, (ea, True)))
                 if right < wb - self.delta:
-                    stack.append((right, wb, (True, eb)))
+                    q.append((br, right, wb, (True, eb)))
                 continue
             wm = 0.5 * (wa + wb)
             km, om = self.s.state(br, wm)
-            halves = [(wm, wb, (False, eb)), (wa, wm, (ea, False))]
+            halves = [(br, wa, wm, (ea, False)), (br, wm, wb, (False, eb))]
             if km != ka:
-                stack += halves
+                q.extend(halves)
                 continue
             if ka != _ADM:
                 # nothing to follow; split while the pieces are coarse, to catch a short
                 # admissible (or existing) stretch between two samples
                 if wb - wa > (self.b - self.a) / (4 * N_INITIAL):
-                    stack += halves
+                    q.extend(halves)
                 continue
             if not self._accept(br, (wa, wm, wb), (oa, om, ob), (ea, eb)):
-                if wb - wa > self.min_width and len(self.s.cache) < MAX_SAMPLES:
-                    stack += halves
+                if wb - wa > self.min_width:
+                    q.extend(halves)
                 else:
                     self._unresolved(br, wa, wb)
 
@@ -689,33 +783,60 @@ def _lam_near(system, orbit_branch, w, target):
     return min((complex(x) for x in o.multipliers), key=lambda x: abs(x - target))
 
 
-def dmod_along_branch(params, omega, branch, lam, h=BRANCH_H):
-    """d|lambda1|/domega along the branch: Richardson-extrapolated central differences.
+def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j):
+    """d|lambda1|/domega along the branch and an estimate of its error: (value, error).
 
-    Next to a singular frequency omega_j / n or a boundary the branch can vary on a
-    scale below ``h``: the step is then refined by 10 (four times at most) while the
-    estimates at h and h/10 disagree, and the most consistent pair is used."""
+    Ridders' extrapolation of central differences (Numerical Recipes, dfridr): steps
+    h, h/1.4, h/1.4^2, ..., a Neville tableau in h^2, each entry's error estimated from its
+    neighbours, stopping when rounding makes the estimates grow; the best entry and its
+    error.  Independent of eqs. (A1)-(A3): only orbits and eigenvalues at omega +/- h.
+    The multiplier is followed from ``lam`` at omega along ``lam + dlam (w - omega)``.
+    The first step is ``BRANCH_H`` * omega; unless the error is then below 1e-9 relative
+    it is divided by 10, four times at most (where the branch varies on a smaller scale or
+    is not defined that far: a fold, grazing, a singular frequency omega_j / n), and the
+    result of smallest estimated error is returned; ``error`` is inf when no step works."""
     system = params if isinstance(params, (_PaperSystem, _ModelSystem)) else _system(params)
+    omega = float(omega)
 
     def m(w):
-        return abs(_lam_near(system, branch, w, lam))
+        return abs(_lam_near(system, branch, w, lam + dlam * (w - omega)))
 
-    def rich(h):
-        d1 = (m(omega + h) - m(omega - h)) / (2 * h)
-        d2 = (m(omega + 2 * h) - m(omega - 2 * h)) / (4 * h)
-        return (4 * d1 - d2) / 3
-    est = [rich(h)]
-    for _ in range(4):
+    def central(h):
+        return (m(omega + h) - m(omega - h)) / (2 * h)
+    h0 = BRANCH_H * omega if h is None else float(h)
+    best = (math.nan, math.inf)
+    for _ in range(5):
         try:
-            est.append(rich(h / 10 ** len(est)))
+            d, e = _ridders(central, h0)
         except (SymviError, KeyError):
+            d, e = math.nan, math.inf
+        if e < best[1]:
+            best = (d, e)
+        if best[1] <= 1e-9 * abs(best[0]):
             break
-        if abs(est[-1] - est[-2]) <= 1e-6 * abs(est[-1]):
-            break
-    if len(est) == 1:
-        return est[0]
-    k = min(range(1, len(est)), key=lambda i: abs(est[i] - est[i - 1]) / max(abs(est[i]), 1e-300))
-    return est[k]
+        h0 /= 10
+    return best
+
+
+def _ridders(central, h, con=1.4, ntab=10, safe=2.0):
+    """Ridders' tableau on central(h), central(h/con), ...: (best value, its error)."""
+    con2 = con * con
+    prev = [central(h)]
+    best, err = prev[0], math.inf
+    for i in range(1, ntab):
+        h /= con
+        row = [central(h)]
+        fac = con2
+        for j in range(1, i + 1):
+            row.append((row[j - 1] * fac - prev[j - 1]) / (fac - 1))
+            fac *= con2
+            e = max(abs(row[j] - row[j - 1]), abs(row[j] - prev[j - 1]))
+            if e <= err:
+                best, err = row[j], e
+        if abs(row[i] - prev[i - 1]) >= safe * err:
+            break                     # higher orders only amplify rounding now
+        prev = row
+    return best, err
 
 
 def hopf_point(params, omega_c, branch, *, sampler=None):
@@ -733,10 +854,8 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
                           key=lambda z: -abs(z)))
     h1 = abs(abs(lam) - 1) < 1e-9 and abs(lam.imag) > 1e-9 and all(abs(z) < 1 for z in others)
     m, dist = resonance(lam)
-    try:
-        dbranch = dmod_along_branch(system, omega_c, branch, lam)
-    except (SymviError, KeyError):
-        dbranch = dmod_along_branch(system, omega_c, branch, lam, h=BRANCH_H / 20)
+    dbranch, dbranch_err = dmod_along_branch(system, omega_c, branch, lam,
+                                             dlam=complex(nf.dlam_dv))
     # error estimates; recomputed in mpmath when float64 gives < 8 digits
     acc = system.accuracy(omega_c, branch, nf, j)
     if acc.omega_c.recomputed and acc.trusted:
@@ -749,9 +868,15 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         theta_over_2pi=float(nf.theta) / (2 * math.pi), other_multipliers=others, h1=bool(h1),
         h2=bool(dist > H2_TOL), nearest_resonance=(m, float(dist)),
         dmod_domega=dmod, dmod_domega_branch=float(dbranch),
+        dmod_domega_branch_error=float(dbranch_err),
         dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=l1,
         f1_paper=_opt(nf.f1_printed), f1_wan=_opt(nf.f1_wan), wan_a=_opt(nf.wan_a),
         orbit=orbit, circle=nf.circle, normal_form=nf, precision=acc)
+
+
+def _finite(x):
+    # JSON has no inf / nan
+    return float(x) if math.isfinite(x) else None
 
 
 def _opt(x):
@@ -771,9 +896,11 @@ def _check_interval(system, omega_min, omega_max):
         try:
             w = float(w)
         except (TypeError, ValueError):
-            raise ParameterError(name, w, "a finite real number > 0") from None
-        if not (math.isfinite(w) and w > 0):
-            raise ParameterError(name, w, "a finite real number > 0")
+            raise ParameterError(name, w, f"a real number, {OMEGA_RANGE[0]:g} <= {name} <= "
+                                          f"{OMEGA_RANGE[1]:g}") from None
+        if not (math.isfinite(w) and OMEGA_RANGE[0] <= w <= OMEGA_RANGE[1]):
+            # checked before any work: the orbit code refuses omega outside this range
+            raise ParameterError(name, w, f"{OMEGA_RANGE[0]:g} <= {name} <= {OMEGA_RANGE[1]:g}")
     a, b = float(omega_min), float(omega_max)
     if not b > a:
         raise ParameterError("omega_max", omega_max, f"omega_max > omega_min = {a!r}")
@@ -802,28 +929,54 @@ def hopf_points(params, omega_min, omega_max):
     """
     system = _system(params)
     a, b = _check_interval(system, omega_min, omega_max)
-    scan = _Scan(system, a, b)
     # eq. (15) divides by 1 - cos(2 pi omega_j / omega): the orbit is not isolated at
     # omega = omega_j / n; those points cut the scan and are reported.  At n = 1 the
-    # forcing of eq. (7) itself is infinite: cut wider (RESONANCE_GAP)
+    # forcing of eq. (7) itself is infinite: cut wider (RESONANCE_GAP).  The omega_j / n
+    # accumulate at 0: only the MAX_SINGULAR largest are cut, below them nothing is scanned
+    sing, floor = _singular_frequencies(system, a, b)
+    scan = _Scan(system, a, b, MAX_SAMPLES + SAMPLES_PER_CUT * len(sing))
+    start = a
+    if floor is not None:
+        w, count = floor
+        start = w + _sing_gap(w)
+        for br in ("+", "-"):
+            scan._unresolved(br, a, start, _floor_why(w, count))
     gaps = {}
-    for w, what in _singular_frequencies(system, a, b):
+    for w, what in sing:
         scan._event("singular", w, "", what)
         gaps[w] = _sing_gap(w)
     for w, what in _resonant_frequencies(system, a, b):
         scan._event("forcing-resonance", w, "", what)
-        gaps[w] = RESONANCE_GAP * w
+        if w > start:
+            gaps[w] = RESONANCE_GAP * w
     # a uniform cut inside a gap would start a segment there, unflagged: drop it
-    grid = [w for w in np.linspace(a, b, N_INITIAL + 1).tolist()
-            if w in (a, b) or all(abs(w - c) > 2 * g for c, g in gaps.items())]
+    grid = [w for w in np.linspace(start, b, N_INITIAL + 1).tolist()
+            if w in (start, b) or all(abs(w - c) > 2 * g for c, g in gaps.items())]
     cuts = sorted(set(grid) | set(gaps))
+    pieces = []
     for br in ("+", "-"):
         for wa, wb in zip(cuts[:-1], cuts[1:]):
             ea, eb = wa in gaps, wb in gaps
             lo = wa + gaps[wa] if ea else wa
             hi = wb - gaps[wb] if eb else wb
             if hi > lo:
-                scan.certify(br, lo, hi, (ea, eb))
+                scan.queue.append((br, lo, hi, (ea, eb)))
+                pieces.append((br, lo, hi, wa if ea else None, wb if eb else None))
+            else:
+                # two cuts closer than their gaps: nothing between them is scanned
+                c = wa if ea else wb
+                scan._unresolved(br, wa, wb, _gap_why(c, gaps[c]))
+    scan.run()
+    # within a gap the orbit is not scanned: uncertified where the branch is admissible at
+    # the gap's edge, or that edge was never sampled (budget)
+    for br, lo, hi, cut_lo, cut_hi in pieces:
+        for w, edge in ((lo, cut_lo), (hi, cut_hi)):
+            if edge is None:
+                continue
+            k = scan.s.state(br, w)[0] if w in scan.s.cache else None
+            if k in (None, _ADM):
+                g = gaps[edge]
+                scan._unresolved(br, edge - g, edge + g, _gap_why(edge, g))
     points, seen = [], []
     i = 0
     while i < len(scan.brackets):
@@ -840,10 +993,12 @@ def hopf_points(params, omega_min, omega_max):
         w = None if sp is None else sp.value
         if w is None:
             # no root: certify the bracket's half anew, finer (brackets are appended)
-            if br_[3] - br_[2] > scan.min_width and len(scan.s.cache) < MAX_SAMPLES:
-                scan.certify(br_[0], br_[2], br_[3])
-            else:
+            if br_[3] - br_[2] <= scan.min_width:
                 scan._unresolved(br_[0], br_[2], br_[3], _SWITCH)
+            elif scan.exhausted:
+                scan._unresolved(br_[0], br_[2], br_[3], _budget_why(scan.budget))
+            else:
+                scan.certify(br_[0], br_[2], br_[3])
             continue
         if br_[1] == "ns":
             if any(br == br_[0] and abs(w - x) < 1e-9 * (b - a) for br, x in seen):
@@ -861,9 +1016,12 @@ def hopf_points(params, omega_min, omega_max):
     if system.conservative:
         # said once, over the whole interval; no "ns" bracket was formed
         scan.events.append(Event("conservative", a, "", CONSERVATIVE, (a, b)))
-    events = tuple(sorted(_dedupe(scan.events), key=lambda e: (e.omega, e.branch)))
+    events = tuple(sorted(_dedupe(scan.events + scan.unresolved_events()),
+                          key=lambda e: (e.omega, e.branch)))
     return HopfResult(params, a, b, tuple(sorted(points, key=lambda p: (p.omega_c, p.branch))),
-                      events, len(scan.s.cache), bool(system.conservative))
+                      events, len(scan.s.cache), bool(system.conservative),
+                      tuple(scan.uncertified()),
+                      tuple(sorted({_why_short(why) for _, why in scan.unres})))
 
 
 def _resonant_frequencies(system, a, b):
@@ -874,23 +1032,73 @@ def _resonant_frequencies(system, a, b):
             for j, wj in enumerate(system.undamped_frequencies(), start=1) if a < wj < b]
 
 
-def _singular_frequencies(system, a, b):
-    """The omega_j / n (n >= 1) of the undamped modes inside (a, b): (omega, description)."""
-    out = []
+def _singular_frequencies(system, a, b, cap=None):
+    """The omega_j / n (n >= 2) of the undamped modes inside (a, b), at most ``cap``
+    (default MAX_SINGULAR), the largest: ([(omega, description)], floor).
+
+    ``floor`` is None when every one is listed, else (the largest omega_j / n left out,
+    how many are left out).  Counted in closed form first, so that a tiny ``a`` (where they
+    accumulate) costs no more than ``cap`` of them."""
+    cap = MAX_SINGULAR if cap is None else cap
+    cand, total = [], 0
     for j, wj in enumerate(system.undamped_frequencies(), start=1):
-        n = max(1, math.ceil(wj / b))
-        while wj / n > a:
+        n_lo = max(2, math.floor(wj / b) + 1)              # omega_j / n < b
+        q = wj / a
+        n_hi = math.ceil(q) - 1 if math.isfinite(q) else math.inf    # omega_j / n > a
+        if n_hi < n_lo:
+            continue
+        total += n_hi - n_lo + 1
+        for n in range(n_lo, int(min(n_hi, n_lo + cap)) + 1):
             w = wj / n
-            if a < w < b and n > 1:
-                out.append((w, f"omega_{j} / omega = {n}: 1 - cos(2 pi omega_{j} / omega) = 0 in "
-                               "eq. (15), the period-1 orbit is not isolated"))
-            n += 1
-    return sorted(out)
+            if a < w < b:
+                cand.append((w, j, n))
+    cand.sort(reverse=True)
+    out = [(w, f"omega_{j} / omega = {n}: 1 - cos(2 pi omega_{j} / omega) = 0 in eq. (15), "
+               "the period-1 orbit is not isolated") for w, j, n in cand[:cap]]
+    floor = (cand[cap][0], total - cap) if len(cand) > cap else None
+    return sorted(out), floor
+
+
+def _floor_why(w, count):
+    c = f"{count:.3g}" if count > 1e15 else str(count)
+    return (f"below omega = {w:.12g} the singular frequencies omega_j / n accumulate ({c} more "
+            f"of them); only the {MAX_SINGULAR} largest are cut and this span is not scanned; "
+            "a crossing there may be missed (scan a part of it on its own)")
+
+
+def _gap_why(w, gap):
+    return (f"within a relative distance {gap / w:.3g} of the singular frequency {w:.12g} the "
+            "orbit is not scanned, and the branch is admissible at the edge of that gap; a "
+            "crossing there may be missed")
+
+
+def _why_short(why):
+    """A few words for the headline, from the detail of an ``unresolved`` span."""
+    if why is None:
+        return "multipliers at the unit circle not resolved (tangency, +1, near-singular map)"
+    for start, short in (("the scan's budget", "orbit-evaluation budget ran out"),
+                         ("below omega", "singular frequencies omega_j / n accumulate"),
+                         ("within a relative", "next to a singular frequency"),
+                         ("|lambda| - 1", "a jump between complex pairs")):
+        if why.startswith(start):
+            return short
+    return why
 
 
 def _sing_gap(w):
     # the orbit code refuses |sin(pi omega_j / omega)| < 1e-9; stay well clear of that
     return 1e-7 * w
+
+
+def _merge(spans, tol=0.0):
+    """Sorted union of the spans [lo, hi], joining those less than ``tol`` apart."""
+    out = []
+    for lo, hi in sorted(spans):
+        if out and lo <= out[-1][1] + tol:
+            out[-1][1] = max(out[-1][1], hi)
+        else:
+            out.append([lo, hi])
+    return [(lo, hi) for lo, hi in out]
 
 
 def _dedupe(events):

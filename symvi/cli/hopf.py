@@ -38,7 +38,10 @@ def run(args):
           f"   ({res.samples} orbit evaluations)")
     if res.conservative:
         print("conservative model: " + CONSERVATIVE)
-    elif not res.points:
+    if not res.complete:
+        # a budget that ran out, or a span not scanned, is never "nothing crosses"
+        print(_incomplete(res))
+    elif not res.points and not res.conservative:
         print("no complex pair of an admissible period-1 orbit crosses |lambda| = 1 here")
     for i, pt in enumerate(res.points):
         lam = pt.multiplier
@@ -56,8 +59,9 @@ def run(args):
               if pt.crossing_resolved else "NO (crossing speed not resolved, see below)")
         print(f"  (H1) {'yes' if pt.h1 else 'NO '}   (H2) {'yes' if pt.h2 else 'NO '} "
               f"(nearest lambda^{m} = 1 at distance {dist:.3e})   (H3) {h3}")
+        err = pt.dmod_domega_branch_error
         print(f"  d|lambda1|/domega = {val('dmod_domega')} (eqs. A1-A3)   "
-              f"{pt.dmod_domega_branch:.12g} (along the branch)")
+              f"{pt.dmod_domega_branch:.12g} +/- {err:.1g} (along the branch)")
         print(f"  l1 = {val('l1')}  (Kuznetsov, ||q|| = 1, <p,q> = 1)  -> {pt.kind}")
         if pt.precision is not None:
             print("  precision: " + "; ".join(
@@ -66,7 +70,10 @@ def run(args):
         if pt.f1_paper is not None:            # the paper's own f1 (eq. 60): its model only
             print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
                   "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
-        if pt.circle is not None:
+        if pt.circle_caveat:
+            # the circle of the normal form is a prediction only under its hypotheses
+            print(f"  circle: not predicted ({pt.circle_caveat})")
+        else:
             c = pt.circle
             side = "omega > omega_c" if c.side > 0 else "omega < omega_c"
             hw = ", ".join(f"{n} {2 * c.coefficient * a:.5g}" for n, a in zip(c.names, c.q_abs))
@@ -80,6 +87,8 @@ def run(args):
         if not pt.crossing_resolved:
             print(f"  caution: {pt.detail}; the kind and the circle above assume a transversal "
                   "crossing")
+        if pt.branch_caveat:
+            print(f"  caution: d|lambda1|/domega {pt.branch_caveat}")
         if not pt.h1:
             print("  caution: (H1) fails, another multiplier lies on or outside the unit circle: "
                   "a circle on the centre manifold is not attracting in all directions")
@@ -90,10 +99,44 @@ def run(args):
                   + "; float64 vs A: " + ", ".join(f"{k} {v['float-A']}" for k, v in ag.items()))
     if res.events:
         print("\nevents:")
+        counts = {}
         for e in res.events:
+            counts[e.kind] = counts.get(e.kind, 0) + 1
+        for e in res.events:
+            if counts[e.kind] > EVENT_LINES:
+                continue                      # summarised below
             br = f"branch {e.branch}" if e.branch else "        "
             if e.kind == "conservative":      # a statement over the whole interval
                 print(f"  omega in [{e.span[0]:.13g}, {e.span[1]:.13g}]  {e.kind}: see above")
                 continue
             print(f"  omega = {e.omega:.13g}  {br}  {e.kind}: {e.detail}")
+        for kind, n in counts.items():
+            if n > EVENT_LINES:
+                ws = [e.omega for e in res.events if e.kind == kind]
+                print(f"  {n} events '{kind}' between omega = {min(ws):.10g} and "
+                      f"{max(ws):.10g} (listed one by one with --json)")
     return 0
+
+
+#: events of one kind beyond this many are summarised in one line (all are in --json)
+EVENT_LINES = 20
+#: at most this many uncertified spans are named in the headline (all are in --json)
+SPAN_LINES = 6
+
+
+def _incomplete(res):
+    """The headline of a scan that could not certify the whole interval: the spans (the
+    widest SPAN_LINES of them when there are more) and why."""
+    spans = res.uncertified
+    n = len(res.points)
+    head = f"{n} Neimark-Sacker point{'s' if n != 1 else ''} found; NOT certified on "
+    why = "; ".join(res.uncertified_reasons)
+    fmt = lambda s: f"[{s[0]:.10g}, {s[1]:.10g}]"
+    if len(spans) <= SPAN_LINES:
+        return (head + ", ".join(map(fmt, spans)) + f" ({why}): a crossing there may be "
+                "missed, see the 'unresolved' events")
+    total = sum(hi - lo for lo, hi in spans)
+    widest = sorted(sorted(spans, key=lambda s: s[0] - s[1])[:SPAN_LINES])
+    return (head + f"{len(spans)} sub-intervals of total width {total:.3g}: a crossing there "
+            f"may be missed\n  widest: {', '.join(map(fmt, widest))} (all with --json)\n"
+            f"  why: {why}")
