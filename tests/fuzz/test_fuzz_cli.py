@@ -3,17 +3,20 @@
 Every bad value -- non-numbers, NaN, inf, out-of-range, missing options, huge
 values -- must give exactly one line on stderr (``symvi: error: ...``), no
 traceback, a non-zero exit, and leave the output folder as it was: files that
-were there unchanged, no new or temporary files.
+were there unchanged, no new or temporary files.  The runs are in process
+(``tests/fuzz/_cli.py``; issue 23): an interpreter start per case cost ~0.5 s.
 """
 import hashlib
 import os
 import re
-import subprocess
-import sys
+import signal
+from types import SimpleNamespace
 
 import pytest
 
 from symvi.cli import build_parser
+
+from ._cli import cli
 
 EX1 = {"--mu-m": "2", "--mu-k": "5", "--f2": "0", "--b": "1.5", "--r": "0.8"}
 BAD_NUMBERS = ["abc", "nan", "-nan", "inf", "-inf", "", "1e999", "0x1p3", "1,5", "--"]
@@ -25,9 +28,25 @@ def commands():
     return set(sub.choices)
 
 
+class _TooSlow(BaseException):
+    """A case ran longer than TIMEOUT: a hang, or work that a bad input should prevent."""
+
+
+@pytest.fixture(autouse=True)
+def _timeout():
+    def alarm(signum, frame):
+        raise _TooSlow(f"still running after {TIMEOUT} s")
+    old = signal.signal(signal.SIGALRM, alarm)
+    signal.alarm(TIMEOUT)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
 def run(args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True,
-                          text=True, timeout=TIMEOUT, cwd=cwd)
+    """``symvi ARGS`` in this process, as (returncode, stdout, stderr)."""
+    rc, out, err = cli(*args, cwd=cwd)
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
 
 
 def flat(d):
