@@ -56,3 +56,84 @@ def test_bad_input_one_line_exit_2(argv, tmp_path, monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err.startswith("symvi: error:") and err.count("\n") == 1
     assert not list(tmp_path.iterdir())
+
+
+# ------------------------------------------------------------------ issue 23 (items 8, 13, 14)
+from tests.fuzz._cli import assert_bad_input, cli, snapshot  # noqa: E402
+
+
+def test_classify_needs_enough_impacts(tmp_path):
+    from symvi.cli.simulate import MIN_CLASSIFY
+    from symvi.simulations import diagnostics
+    assert MIN_CLASSIFY == diagnostics.MIN_CLASSIFY
+    line = assert_bad_input(cli("simulate", *EX1, "--omega", "0.7372", "--impacts", "3",
+                                "--classify", "--out", tmp_path / "c.npz"),
+                            "--impacts", "too few impacts to classify", str(MIN_CLASSIFY))
+    assert "3" in line and not list(tmp_path.iterdir())
+
+
+def test_classify_of_a_short_run_says_so():
+    from symvi.simulations.diagnostics import MIN_CLASSIFY, classify
+    from symvi.simulations.simulation import simulate
+    sim = simulate(symvi_params(), 0.73, n_impacts=MIN_CLASSIFY - 1, transient=100)
+    cl = classify(sim)
+    assert cl.kind.startswith("too few impacts") and cl.lyapunov is None
+
+
+def symvi_params():
+    import symvi
+    return symvi.Params(2, 5, 0, 1.5, 0.8)
+
+
+def test_classify_json_has_lyapunov_for_a_periodic_orbit(tmp_path):
+    rc, out, err = cli("simulate", *EX1, "--omega", "0.73", "--impacts", "200",
+                       "--transient", "3000", "--classify", "--out", tmp_path / "p.npz")
+    assert rc == 0, err
+    got = json.loads(out)
+    assert got["class"] == "period-1"
+    # the exponents of a period-1 orbit are log |multipliers|: their sum converges at
+    # once (log |det DP| along the orbit), each one more slowly
+    from symvi.orbit import period1_orbits
+    orb = [o for o in period1_orbits(symvi_params(), 0.73) if o.admissible][0]
+    logs = np.sort(np.log(np.abs(np.array(orb.multipliers, dtype=complex))))[::-1]
+    lya = np.array(got["lyapunov"])
+    assert len(lya) == 4 and lya.max() < 0
+    assert abs(lya.sum() - logs.sum()) < 1e-6 * abs(logs.sum())
+    assert np.abs(lya - logs).max() < 0.03        # ~ 1/n over n = 200 impacts
+
+
+def test_out_names_a_figure_or_another_extension(tmp_path):
+    before = snapshot(tmp_path)
+    assert_bad_input(cli("simulate", *EX1, "--omega", "0.7372", "--impacts", "20",
+                         "--out", tmp_path / "s.png"), "--out", ".npz", "--plot")
+    assert snapshot(tmp_path) == before
+    rc, out, err = cli("simulate", *EX1, "--omega", "0.7372", "--impacts", "20",
+                       "--out", tmp_path / "legacy-name.dat")
+    assert rc == 0 and "deprecated" in err and "legacy-name.dat" in err
+    assert np.load(tmp_path / "legacy-name.dat")["section"].shape == (20, 4)
+
+
+def test_full_disk_while_saving_is_one_line_and_keeps_the_old_file(tmp_path, monkeypatch):
+    import errno
+    import os
+    out = tmp_path / "s.npz"
+    out.write_bytes(b"an older result")
+
+    def full(*a, **k):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    monkeypatch.setattr(np, "savez", full)
+    assert_bad_input(cli("simulate", *EX1, "--omega", "0.7372", "--impacts", "20",
+                         "--out", out), "No space left", "s.npz")
+    assert out.read_bytes() == b"an older result" and os.listdir(tmp_path) == ["s.npz"]
+
+
+@pytest.mark.parametrize("argv,flag", [
+    (["--steps", "100001"], "--steps"),
+    (["--steps", "100000", "--impacts", "200"], "--impacts"),
+    (["--steps", "10", "--impacts", "0"], "--impacts"),
+    (["--steps", "10", "--transient", "-1"], "--transient"),
+])
+def test_sweep_sizes_bounded_before_allocating(tmp_path, argv, flag):
+    assert_bad_input(cli("sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.74", *argv,
+                         "--out", tmp_path / "s.npz"), flag)
+    assert not list(tmp_path.iterdir())
