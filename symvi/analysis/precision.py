@@ -266,12 +266,28 @@ def estimate_orbit(params, orbit, *, input_condition=True, reuse=None):
 def _graze_factor(y, g_theta):
     """max(1, |y*|_inf / |dg/d(dtheta)|): amplification of rounding by eq. (37) near grazing."""
     g = abs(complex(g_theta))
-    scale = max(abs(complex(v)) for v in y[:3])
-    return math.inf if g == 0 else max(1.0, scale / g)
+    scale = _worst(abs(complex(v)) for v in y[:3])
+    return math.inf if g == 0 or math.isnan(g) else _worst([scale / g], 1.0)
+
+
+def _worst(values, default=0.0):
+    """max() that lets no NaN through: a condition that could not be computed (NaN) is
+    infinite.  (Python's max keeps its first argument when compared with NaN.)"""
+    out = default
+    for v in values:
+        v = float(v)
+        if math.isnan(v):
+            return math.inf
+        out = max(out, v)
+    return out
 
 
 def _make(name, value, err, kappa, digits, note, recomputed=False):
-    err = float(err)
+    err, kappa = float(err), float(kappa)
+    if math.isnan(err) or math.isnan(kappa):
+        # an estimate that cannot be computed is no estimate: untrusted, saying so
+        err = kappa = math.inf
+        note = note or "the condition number could not be computed (NaN)"
     trusted = math.isfinite(err) and err < 1
     if not trusted and not note:
         note = f"estimated relative error {err:.1e}"
@@ -583,7 +599,6 @@ def _model_estimate(model, w, branch, nf, jt, digits):
     fixed point); linear-algebra conditions as for the paper (:func:`_linear_condition`),
     amplified near grazing.
     """
-    from ..codegen.jets import parameter_derivatives
     eps = _eps(digits)
     lin = _linear_condition(jt, nf, digits)
     gf = _graze_factor(jt.y, jt.g_theta)
@@ -598,24 +613,28 @@ def _model_estimate(model, w, branch, nf, jt, digits):
     yf = tuple(float(v) for v in jt.y)
     for name in _model_inputs(model):
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", NearSingularWarning)
-                d = parameter_derivatives(model, wf, yf, T, name)
+            d = _parameter_derivatives(model, wf, yf, T, name)
         except SymviError as exc:
             k_in, note = math.inf, f"{name}: {exc}"
             break
-        dlam = np.vdot(p, np.asarray(d.dJ_branch, dtype=complex) @ q)
-        dmod_p = (lam.conjugate() * dlam).real / abs(lam)
-        k_in = max(k_in, abs(dmod_p / dmod) * abs(model.value(name)) / wf)
-    k_vc = max(k_in, lin["eig"] * C_EVAL / max(abs(dmod) * wf, 1e-300))
-    err_vc = eps * (C_EVAL + k_vc)
-    k_dm = max(k_in, lin["vec"] * lin["dmod_terms"] / max(abs(dmod), 1e-300))
-    k_l1 = max(k_in, (lin["solve"] + lin["vec"]) * lin["l1_terms"]
-               / max(abs(float(nf.l1)), 1e-300))
+        with np.errstate(all="ignore"):
+            dlam = np.vdot(p, np.asarray(d.dJ_branch, dtype=complex) @ q)
+            dmod_p = (lam.conjugate() * dlam).real / abs(lam)
+            k_in = _worst([k_in, abs(dmod_p / dmod) * abs(model.value(name)) / wf])
+    # the jets' rounding: C_EVAL eps, or the flow's when a stiff mode makes it larger
+    ev = _worst([C_EVAL, _flow_condition(model, T, digits)])
+    k_vc = _worst([k_in, lin["eig"] * ev / max(abs(dmod) * wf, 1e-300)])
+    err_vc = eps * (ev + k_vc)
+    k_dm = _worst([k_in, lin["vec"] * lin["dmod_terms"] / max(abs(dmod), 1e-300)
+                   * ev / C_EVAL])
+    k_l1 = _worst([k_in, (lin["solve"] + lin["vec"]) * lin["l1_terms"]
+                   / max(abs(float(nf.l1)), 1e-300) * ev / C_EVAL])
+    if not note and not math.isfinite(max(k_vc, k_dm, k_l1)):
+        note = "a condition number could not be computed"
     return HopfEstimate(_make("omega_c", w, err_vc, k_vc, digits, note),
-                        _make("dmod_domega", nf.dmod_dv, eps * (C_EVAL + k_dm), k_dm, digits,
+                        _make("dmod_domega", nf.dmod_dv, eps * (ev + k_dm), k_dm, digits,
                               note),
-                        _make("l1", nf.l1, eps * (C_EVAL + k_l1), k_l1, digits, note), branch)
+                        _make("l1", nf.l1, eps * (ev + k_l1), k_l1, digits, note), branch)
 
 
 def refine_model_omega_c(model, omega_c, branch, digits=None, max_iter=30):
@@ -668,7 +687,7 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
     grazing (eq. (37) divides by dg/d(dtheta)).  ``reuse``: an earlier estimate of
     the same orbit whose (precision independent) condition numbers are taken over.
     """
-    from ..codegen.jets import jet_at, parameter_derivatives
+    from ..codegen.jets import jet_at
     digits = orbit.digits
     eps = _eps(digits)
     w = float(orbit.omega)
@@ -682,7 +701,7 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
         g_theta, eig_conds = reuse.g_theta, reuse.eig_condition
     else:
         kin_y, kin_l = {}, {}
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore", NearSingularWarning)
             try:
                 jt = jet_at(model, w, yf, T, 1)
@@ -690,6 +709,9 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
             except SingularCaseError as exc:
                 J, g_theta = None, 0.0
                 notes.append(str(exc))
+            if J is not None and not np.isfinite(J).all():
+                J, g_theta = None, 0.0
+                notes.append("the Jacobian of the map is not finite in float64")
             if J is not None:
                 vals, V = np.linalg.eig(J)
                 U = np.linalg.inv(V)                       # rows: left eigenvectors, U V = I
@@ -698,7 +720,7 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
                 for name in ["omega"] + _model_inputs(model):
                     v = w if name == "omega" else abs(model.value(name))
                     try:
-                        d = parameter_derivatives(model, w, yf, T, name)
+                        d = _parameter_derivatives(model, w, yf, T, name)
                     except SymviError as exc:
                         kin_y[name] = kin_l[name] = math.inf
                         notes.append(f"{name}: {exc}")
@@ -706,27 +728,121 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
                     kin_y[name] = float(np.abs(d.dy).max()) * v / ynorm
                     dJ = np.asarray(d.dJ_branch, dtype=float)
                     dl = [abs(U[k] @ dJ @ V[:, k]) for k in order]
-                    kin_l[name] = max(x * v / max(abs(z), 1e-300) for x, z in zip(dl, lamc))
+                    kin_l[name] = _worst(x * v / max(abs(z), 1e-300) for x, z in zip(dl, lamc))
                 _, conds = _mp_eig_condition(J)
                 eig_conds = tuple(conds[k] for k in order)
             else:
                 eig_conds = ()
-    ky = max(kin_y.values(), default=math.inf if not kin_y and reuse is None and notes else 0.0)
+    ky = _worst(kin_y.values(),
+                math.inf if not kin_y and reuse is None and notes else 0.0)
     gf = _graze_factor(orbit.y, g_theta) if g_theta else math.inf
     # rounding of the solve itself: the steady-state terms ~ 1/|omega_j - omega| near
     # forcing resonance cancel in y* (the input condition cannot see that), and the
     # equilibrated period-1 system may be ill-conditioned (1 - cos -> 0)
-    ky = max(ky, _model_solve_condition(model, w, yf))
-    err_y = eps * (C_EVAL + ky)            # y* comes from the solve, not from the jet
+    ky = _worst([ky, _model_solve_condition(model, w, yf)])
+    # the rounding of the modal flow e^{At}: C_EVAL covers it unless a stiff mode makes
+    # the eigen-decomposition itself inaccurate (:func:`_flow_condition`)
+    ev = _worst([C_EVAL, _flow_condition(model, T, digits)])
+    err_y = eps * (ev + ky)                # y* comes from the solve, not from the jet
     if eig_conds:
-        kl = max(max(kin_l.values(), default=0.0), max(eig_conds) * C_EVAL * gf)
+        kl = _worst([_worst(kin_l.values()), _worst(eig_conds) * ev * gf])
     else:
         kl = math.inf
-    err_l = eps * (C_EVAL + kl)
+    err_l = eps * (ev + kl)
+    for what, k in (("y*", ky), ("the multipliers", kl)):
+        if not math.isfinite(k) and not notes:
+            notes.append(f"the condition number of {what} could not be computed")
     note = "; ".join(notes[:2])
     return OrbitEstimate(_make("y*", list(orbit.y), err_y, ky, digits, note),
                          _make("multipliers", lam, err_l, kl, digits, note),
                          g_theta, eig_conds, kin_y, kin_l)
+
+
+#: mpmath digits at which a parameter derivative is recomputed when float64 overflows
+COND_DIGITS = 20
+
+
+def _parameter_derivatives(model, w, y, T, name):
+    """:func:`symvi.codegen.jets.parameter_derivatives` in float64; recomputed with mpmath
+    at ``COND_DIGITS`` (a condition number needs few digits) when float64 gives a
+    non-finite value: e^{lambda t} of a stiff mode under- or overflows in the Fréchet
+    derivative of e^{At}.  Raises SingularCaseError when even that is not finite."""
+    from ..codegen.jets import ParameterDerivative, parameter_derivatives
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", NearSingularWarning)
+        d = parameter_derivatives(model, w, y, T, name)
+        if _finite_derivative(d):
+            return d
+        d = parameter_derivatives(model, w, y, T, name, digits=COND_DIGITS)
+        d = ParameterDerivative(name, *(np.array(np.asarray(x).tolist(), dtype=float)
+                                        for x in (d.dP, d.dJ, d.dy, d.dJ_branch)))
+    if not _finite_derivative(d):
+        raise SingularCaseError("condition", f"the derivative with respect to {name} is "
+                                "not finite even with mpmath: its condition number cannot "
+                                "be computed")
+    return d
+
+
+def _finite_derivative(d):
+    return all(np.isfinite(np.asarray(x, dtype=complex)).all()
+               for x in (d.dP, d.dJ, d.dy, d.dJ_branch))
+
+
+_FLOW_COND = {}
+
+
+def _flow_condition(model, t, digits=None):
+    """Relative error of the flow e^{At} = W e^{Lambda t} W^-1 as computed (float64, or
+    mpmath at ``digits``) over the unit roundoff :func:`_eps`, times 4.
+
+    The computed modes (Lambda, W) are the exact modes of A - E with E = R W^-1, where
+    R = A W - W Lambda is the residual of the computed eigen-decomposition, formed here
+    with mpmath at twice the precision (no rounding).  The flow's error is then the
+    Fréchet derivative W (G o (W^-1 R)) W^-1 of e^{At} in the direction E, G as in
+    :func:`symvi.codegen.layout.frechet_exp` but with the larger exponential factored
+    out (a stiff mode's e^{lambda t} under- and overflows).  About 300 for a benign
+    model; a stiff mode (a light mass, ||A|| ~ 1e8) raises it to ~1e6: the rounding of
+    the eigen-decomposition is of order eps ||A||, which no named input's condition
+    sees.  Against a 40-digit flow this predicts the flow's error within a few per
+    cent, and y*'s error is about half of it (tests/precision/test_model_precision.py);
+    4 is the safety factor of :func:`_model_solve_condition`.  Infinite if it cannot be
+    formed."""
+    from ..flow.linear import LinearFlow
+    try:
+        flow = LinearFlow.of(model, digits)
+    except SymviError:
+        return math.inf
+    if digits is None:
+        lam, W, Winv, A = flow.modal64
+        key = (lam.tobytes(), W.tobytes(), A.tobytes(), float(t))
+    else:
+        lam, W, Winv, A = flow.lam, flow.W, flow.Winv, flow.A
+        key = (model, digits, float(t))
+    hit = _FLOW_COND.get(key)
+    if hit is not None:
+        return hit
+    with mpmath.workdps(2 * (digits or 16) + 10):        # exact products of the data
+        Am, Wm = mpmath.matrix(np.asarray(A).tolist()), mpmath.matrix(np.asarray(W).tolist())
+        R = Am * Wm - Wm * mpmath.diag([mpmath.mpc(z) for z in lam])
+        R = np.array(R.tolist(), dtype=complex)
+    lam, W, Winv = (np.array(np.asarray(x).tolist(), dtype=complex) for x in (lam, W, Winv))
+    with np.errstate(all="ignore"):
+        lt = lam * float(t)
+        diff = lt[:, None] - lt[None, :]
+        safe = np.where(diff == 0, 1, diff)
+        # t (e^a - e^b) / (a - b), a = l_i t, b = l_j t: the larger exponential factored out
+        lo = np.expm1(diff) / safe * np.exp(lt)[None, :]
+        hi = -np.expm1(-diff) / safe * np.exp(lt)[:, None]
+        G = float(t) * np.where(diff == 0, np.exp(lt)[None, :] + 0j,
+                                np.where(diff.real > 0, hi, lo))
+        dPhi = W @ (G * (Winv @ R)) @ Winv
+        Phi = ((W * np.exp(lt)) @ Winv).real
+        rel = float(np.abs(dPhi).max() / np.abs(Phi).max())
+    out = 4 * rel / _eps(digits) if math.isfinite(rel) else math.inf
+    if len(_FLOW_COND) > 256:
+        _FLOW_COND.clear()
+    _FLOW_COND[key] = out
+    return out
 
 
 def _model_solve_condition(model, w, y):
@@ -740,9 +856,10 @@ def _model_solve_condition(model, w, y):
         warnings.simplefilter("ignore", NearSingularWarning)
         flow, L = _line(model, w, None)
     F = L.forcing
-    big = max(float(np.abs(F.U).max()), float(np.abs(F.V).max())) * max(1.0, w)
-    cancel = max(1.0, big / max(float(np.abs(y[:-1]).max()), 1e-300))
-    return 4 * max(cancel, float(L.sigma[0] / L.sigma[-1]))
+    with np.errstate(all="ignore"):
+        big = _worst([np.abs(F.U).max(), np.abs(F.V).max()]) * max(1.0, w)
+        cancel = _worst([big / max(float(np.abs(y[:-1]).max()), 1e-300)], 1.0)
+        return 4 * _worst([cancel, L.sigma[0] / L.sigma[-1]])
 
 
 def auto_model_orbits(model, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):

@@ -4,6 +4,7 @@ orbit float64 cannot resolve is recomputed in mpmath."""
 import math
 import warnings
 
+import mpmath
 import numpy as np
 import pytest
 
@@ -12,7 +13,7 @@ from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal 
 from symvi.errors import NearSingularWarning
 from symvi.flow.linear import LinearFlow
 from symvi.orbits import period1_orbits
-from symvi.precision import auto_model_orbits
+from symvi.precision import auto_model_orbits, estimate_model_orbit
 
 from ..nmodel.models import PAPER, THREE
 
@@ -72,3 +73,97 @@ def test_escalation_ends_untrusted_at_an_infinite_condition(monkeypatch):
     out = pr._escalate_hopf(None, 1.0, "+", est(1e10), 8, 160, refine=lambda d: 1.0)
     assert not out.omega_c.trusted and out.omega_c.value is None
     assert "mpmath-" in out.omega_c.note and "near-singular-map" in out.omega_c.note
+
+
+# ---- a stiff mode (issue 23, defect 5) ---------------------------------------------------
+#: the README's chain3 with a light first mass: an overdamped mode at lambda ~ -1.5e6
+STIFF = THREE.with_(**{"mass[1]": 1e-8})
+STIFF_TOML = """[model]
+mass = [1e-8, 1.5, 0.8]
+stiffness = [[1.0, -1.0, 0.0], [-1.0, 1.7, -0.7], [0.0, -0.7, 2.7]]
+damping = [[0.015, -0.005, 0.0], [-0.005, 0.0235, -0.0035], [0.0, -0.0035, 0.0215]]
+forcing = [1.0, 0.5, 0.0]
+[stop]
+mass = 2
+gap = 0.5
+restitution = 0.8
+"""
+
+
+def test_flow_condition_sees_the_rounding_of_a_stiff_mode():
+    """The float64 e^{At} of the stiff chain is good to ~1e-10 only (the eigen-decomposition
+    rounds at eps ||A||, ||A|| ~ 1e8): the flow condition predicts that error (4x, within
+    a factor 2) where the input conditions (~80) see nothing."""
+    from symvi.analysis.precision import EPS64, _flow_condition
+    t = 2 * math.pi / 0.95
+    phi = LinearFlow.of(STIFF).phi(t)
+    with mpmath.workdps(40):
+        ref = np.array(LinearFlow.of(STIFF, digits=40).phi(mpmath.mpf(t)).tolist(), dtype=float)
+    true = np.abs(phi - ref).max() / np.abs(ref).max()
+    pred = _flow_condition(STIFF, t) * EPS64 / 4
+    assert true > 1e-11 and true / 2 <= pred <= 2 * true, (true, pred)
+    assert _flow_condition(PAPER, t) < 1e3          # a benign model: within C_EVAL's range
+
+
+def test_an_uncomputable_condition_makes_the_estimate_untrusted(monkeypatch):
+    """A condition number that cannot be computed (NaN) is no reason to trust a result: it
+    once was, because max() drops NaN (float64 overflow in the Fréchet derivative of
+    e^{At}); the estimate now says untrusted and why, with no numpy warning."""
+    from symvi.analysis import precision as pr
+    from symvi.codegen import jets
+
+    real = jets.parameter_derivatives
+
+    def nan_for_gap(model, w, y, te, name, **kw):
+        if name != "gap":
+            return real(model, w, y, te, name, **kw)
+        d = real(model, w, y, te, name)            # NaN in float64 and in mpmath alike
+        if name == "gap":
+            d = jets.ParameterDerivative(name, d.dP * np.nan, d.dJ, d.dy * np.nan,
+                                         d.dJ_branch * np.nan)
+        return d
+    monkeypatch.setattr(jets, "parameter_derivatives", nan_for_gap)
+    o = [x for x in period1_orbits(PAPER, 0.7368) if x.admissible][0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        est = pr.estimate_model_orbit(PAPER, o)
+    assert not est.y.trusted and est.y.value is None and est.y.digits == 0
+    assert "gap" in est.y.note and "not finite" in est.y.note
+    assert not est.multipliers.trusted
+    assert pr._worst([1.0, float("nan"), 2.0]) == math.inf == pr._worst([float("nan")])
+    assert not pr._make("x", 1.0, 1e-10, float("nan"), None, "").trusted
+
+
+@pytest.mark.slow
+def test_stiff_chain_orbit_claims_no_more_digits_than_it_has(tmp_path):
+    """``symvi orbit`` on the stiff chain: it claimed ~13.1 digits where float64 has ~10.2
+    (every input condition was NaN, and max() dropped them), and leaked
+    "symvi: warning: overflow encountered in expm1".  Now every claim is at most the true
+    digits against a 40-digit reference, and stderr is empty."""
+    import json
+
+    from ..fuzz._cli import cli
+    (tmp_path / "stiff.toml").write_text(STIFF_TOML)
+    rc, out, err = cli("orbit", "--model", "stiff.toml", "--omega", "0.95", "--json",
+                       cwd=tmp_path)
+    assert rc == 0 and err == "", err
+    ref = {o.branch: o for o in period1_orbits(STIFF, 0.95, digits=40)}
+    f64 = {o.branch: o for o in period1_orbits(STIFF, 0.95)}
+    for o in json.loads(out)["orbits"]:
+        prec = o["precision"]["y"]
+        r = ref[o["branch"]]
+        # the float64 y*, whatever the escalation did, against the reference
+        true64 = (max(abs(float(a) - float(b)) for a, b in zip(f64[o["branch"]].y, r.y))
+                  / max(abs(float(b)) for b in r.y))
+        assert true64 > 1e-11                                 # float64 has ~10 digits
+        if prec["backend"] == "float64":
+            assert prec["digits"] <= -math.log10(true64), (o["branch"], prec)
+        else:                                                 # recomputed: at most the truth
+            y = o["y"]
+            err_mp = max(abs(a - float(b)) for a, b in zip(y, r.y)) / \
+                max(abs(float(b)) for b in r.y)
+            assert prec["trusted"] and err_mp < 1e-15
+    est = estimate_model_orbit(STIFF, f64["+"])               # the float64 claim itself
+    true = (max(abs(float(a) - float(b)) for a, b in zip(f64["+"].y, ref["+"].y))
+            / max(abs(float(b)) for b in ref["+"].y))
+    assert true <= est.y.rel_err < 100 * true, (true, est.y.rel_err)
