@@ -70,20 +70,32 @@ transient = 30
 
 BAD_NUMBERS = ["abc", "nan", "inf", "-inf", "", "1e999"]
 ZERO_NEG = ["0", "-1"]
-#: values of numeric flags that are invalid only there (0 and negatives where they are)
+TINY_HUGE = ["1e-300", "1e300"]
+HUGE_INT = ["999999999999"]
+#: values of numeric flags that are invalid only there (0, negatives, tiny and huge values
+#: where they are)
 INVALID = {
-    "--mu-m": ZERO_NEG, "--mu-k": ZERO_NEG, "--r": ZERO_NEG + ["1.5"],
-    "--omega": ZERO_NEG, "--omega-min": ZERO_NEG, "--omega-max": ZERO_NEG,
-    "--from": ZERO_NEG, "--to": ZERO_NEG, "--start-omega": ZERO_NEG,
-    "--impacts": ZERO_NEG, "--steps": ZERO_NEG, "--max-points": ZERO_NEG,
-    "--index": ZERO_NEG, "--chunk-rows": ZERO_NEG, "--digits": ZERO_NEG,
-    "--order": ZERO_NEG + ["9"], "--transient": ["-1"], "--component": ["-1", "9"],
-    "--workers": ["-1"], "--y0": ["1", "0"],      # x1dot+ < 0: leaving the stop
+    "--mu-m": ZERO_NEG + TINY_HUGE, "--mu-k": ZERO_NEG + TINY_HUGE, "--r": ZERO_NEG + ["1.5"],
+    "--f2": ["1e300"], "--b": ["1e300", "-1e300"],
+    "--omega": ZERO_NEG + TINY_HUGE, "--omega-min": ZERO_NEG + TINY_HUGE,
+    "--omega-max": ZERO_NEG + TINY_HUGE, "--from": ZERO_NEG + TINY_HUGE,
+    "--to": ZERO_NEG + TINY_HUGE, "--start-omega": ZERO_NEG + TINY_HUGE,
+    "--impacts": ZERO_NEG + HUGE_INT, "--steps": ZERO_NEG + HUGE_INT,
+    "--max-points": ZERO_NEG + HUGE_INT, "--index": ZERO_NEG,
+    "--chunk-rows": ZERO_NEG + HUGE_INT, "--digits": ZERO_NEG + ["29", "501"] + HUGE_INT,
+    "--order": ZERO_NEG + ["9"], "--transient": ["-1"] + HUGE_INT,
+    "--component": ["-1", "9"] + HUGE_INT, "--workers": ["-1"] + HUGE_INT,
+    "--y0": ["1", "0", "1e300"],                 # x1dot+ < 0: leaving the stop
 }
 
 #: cases (test id) that fail because of code outside the command-line slice; each with
 #: the reason.  Enabled once that code is fixed.
-KNOWN_OTHER_OWNER = {}
+KNOWN_OTHER_OWNER = {
+    "sweep --omega-min '0.85' --omega-max '0.9109714689436748' --steps '3'":
+        "symvi/cli/sweep.py, symvi/simulations/simulation.py: the grid's midpoint (an internal "
+        "omega) at the natural frequency omega_1 is named 'omega = 0.8804857344718373', not "
+        "the flags --omega-min/--omega-max/--steps that put it there",
+}
 
 
 # --------------------------------------------------------------------------- machinery
@@ -138,6 +150,9 @@ def _words(flag):
 
 
 def _names(line, flag):
+    """``line`` names ``flag`` (or one of a tuple of flags) as a word."""
+    if isinstance(flag, tuple):
+        return any(_names(line, f) for f in flag)
     for w in _words(flag):
         if re.search(rf"(?<![\w-]){re.escape(w)}(?![\w-])", line):
             return True
@@ -285,6 +300,9 @@ FORMS = [
     ("sweep", {"--progress": "sometimes"}, "--progress"),
     ("sweep", {"--omega-min": "0.8", "--omega-max": "0.7"}, "--omega-max"),
     ("hopf", {"--omega-min": "0.8", "--omega-max": "0.7"}, "--omega-max"),
+    # a grid point of the sweep (its midpoint) at the natural frequency omega_1
+    ("sweep", {"--omega-min": "0.85", "--omega-max": "0.9109714689436748", "--steps": "3"},
+     ("--omega-min", "--omega-max", "--steps")),
     # a model file that does not exist, and --model mixed with the preset flags
     *[(cmd, {"--model": "{tmp}/missing.toml"}, "missing.toml")
       for cmd in ("orbit", "hopf", "continue", "curve", "simulate", "sweep", "plane")],
