@@ -29,10 +29,15 @@ OMEGA_RANGE = (1e-4, 1e4)
 
 
 def _finite(name, value):
+    """A finite float; bools and strings are not numbers (``true``, ``"1.5"`` in a file)."""
+    if isinstance(value, (bool, str, bytes)) or type(value).__name__ == "bool_":
+        raise ParameterError(name, value, "a finite real number")
     try:
         v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "a finite real number") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(name, value if not isinstance(value, int) else
+                             f"an integer of ~{int(value.bit_length() * 0.30103) + 1} digits", "a finite real number") \
+            from None
     if not math.isfinite(v):
         raise ParameterError(name, value, "a finite real number")
     return v

@@ -3,6 +3,7 @@ preset and model files.  Nothing here imports any other layer of symvi."""
 from ._file import ModelFileError as ModelFileError
 from ._file import dumps as dumps
 from ._file import load_model as load_model
+from ._file import loads as loads
 from ._file import model_from_dict as model_from_dict
 from ._model import N_MAX as N_MAX
 from ._model import Model as Model

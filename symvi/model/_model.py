@@ -41,15 +41,43 @@ SYM_TOL = 1e-12
 DEF_TOL = 1e-12
 
 
-def _finite(name, value, valid="a finite real number"):
-    if isinstance(value, bool):
-        raise ParameterError(name, value, valid)
+def _short(value, limit=40):
+    """repr of ``value`` cut to ``limit`` characters (a message stays one short line)."""
     try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, valid) from None
+        text = repr(value.tolist() if isinstance(value, np.ndarray) else value)
+    except ValueError:                     # an int beyond the 4300-digit str limit
+        text = f"<an integer of {int(value.bit_length() * 0.30103) + 1} digits>"
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _shown(value):
+    """``value`` itself where its repr is short, else :func:`_short` (for ParameterError)."""
+    text = _short(value)
+    return text if text.endswith(("...", "digits>")) else value
+
+
+def _number(value):
+    """float(value) for a real number; None for anything else (bool and str included:
+    ``true`` and ``"1.0"`` in a model file are not numbers)."""
+    if isinstance(value, (bool, np.bool_, str, bytes, list, tuple, dict, np.ndarray)):
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def _toml(x):
+    """How a value reads in a model file (true, "1.0", ...), for messages."""
+    return ("true" if x else "false") if isinstance(x, (bool, np.bool_)) else _short(x, 20)
+
+
+def _finite(name, value, valid="a finite real number"):
+    v = _number(value)
+    if v is None:
+        raise ParameterError(name, _shown(value), valid, f"not a number: {_toml(value)}")
     if not math.isfinite(v):
-        raise ParameterError(name, value, valid)
+        raise ParameterError(name, v, valid)
     return v
 
 
@@ -63,10 +91,12 @@ class Stop:
 
     def __post_init__(self):
         if isinstance(self.mass, bool) or not isinstance(self.mass, (int, np.integer)):
-            raise ParameterError("stop.mass", self.mass, "a 1-based mass index (integer >= 1)")
+            raise ParameterError("stop.mass", _shown(self.mass),
+                                 "a 1-based mass index (integer >= 1)")
         object.__setattr__(self, "mass", int(self.mass))
-        if self.mass < 1:
-            raise ParameterError("stop.mass", self.mass, "a 1-based mass index (integer >= 1)")
+        if not 1 <= self.mass <= N_MAX:
+            raise ParameterError("stop.mass", _shown(self.mass),
+                                 f"a 1-based mass index (integer from 1 to {N_MAX})")
         g = _finite("stop.gap", self.gap)
         if not abs(g) <= ABS_MAX:
             raise ParameterError("stop.gap", g, f"|gap| <= {ABS_MAX:g}")
@@ -77,45 +107,115 @@ class Stop:
         object.__setattr__(self, "restitution", r)
 
 
+def _size(field, value, n, valid):
+    """len(value) for a list of at most N_MAX (or exactly n) items, checked before any
+    array is built (a file's 30000-entry list must not become a 30000 x 30000 matrix)."""
+    if isinstance(value, np.ndarray):
+        if value.ndim == 0:
+            raise ParameterError(field, _shown(value), valid)
+        size = value.shape[0]
+    elif isinstance(value, (list, tuple)):
+        size = len(value)
+    else:
+        raise ParameterError(field, _shown(value), valid)
+    if n is None and not 1 <= size <= N_MAX:
+        raise ParameterError(field, f"{size} entries", valid, f"it has {size}")
+    if n is not None and size != n:
+        raise ParameterError(field, f"{size} entries", valid, f"it has {size}, not {n}")
+    return size
+
+
+def _entry(field, x, where):
+    """One matrix or vector entry: a finite real number (not a bool or a string)."""
+    v = _number(x)
+    if v is None:
+        raise ParameterError(field, _shown(x), "finite real numbers only (not booleans, "
+                             "strings or nested lists)", f"entry {where} = {_toml(x)}")
+    if not math.isfinite(v):
+        raise ParameterError(field, v, "finite numbers only", f"entry {where}: NaN or infinity")
+    return v
+
+
+def _rows(value):
+    """The items of a list, tuple or array (a 2-D array as its rows)."""
+    return list(value) if not isinstance(value, np.ndarray) else [r for r in value]
+
+
+def _vector(field, value, n=None, valid=None):
+    """A float vector of n (or 1..N_MAX) finite numbers, checked entry by entry."""
+    valid = valid or f"a list of {n or 'N'} finite numbers"
+    size = _size(field, value, n, valid)
+    return np.array([_entry(field, x, f"[{i + 1}]") for i, x in
+                     enumerate(_rows(value))], dtype=float).reshape(size)
+
+
 def _matrix(field, value, n=None, diag_ok=False):
-    """A square float matrix from a list (diagonal, when ``diag_ok``) or a nested list."""
-    valid = (f"a list of {n or 'N'} numbers (the diagonal) or an {n or 'N'}x{n or 'N'} matrix"
-             if diag_ok else f"an {n or 'N'}x{n or 'N'} matrix (list of rows)")
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(field, value, valid) from None
-    if a.ndim == 1 and diag_ok:
-        a = np.diag(a)
-    if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
-        raise ParameterError(field, value, valid)
-    if n is not None and a.shape[0] != n:
-        raise ParameterError(field, value, valid, f"it is {a.shape[0]}x{a.shape[1]}")
-    if not np.all(np.isfinite(a)):
-        raise ParameterError(field, value, "finite numbers only", "found NaN or infinity")
+    """A symmetric square float matrix from a list (the diagonal, when ``diag_ok``) or a
+    list of rows.  Sizes, shapes and entry types are checked in Python first: nothing
+    larger than N_MAX x N_MAX is allocated and no nesting is followed past two levels."""
+    nn = n or "N"
+    an = "an" if str(nn) in ("N", "8") else "a"
+    valid = (f"a list of {nn} numbers (the diagonal) or {an} {nn}x{nn} matrix (list of rows)"
+             if diag_ok else f"{an} {nn}x{nn} matrix (list of rows)")
+    if n is None:
+        valid += f", 1 <= N <= {N_MAX}"
+    size = _size(field, value, n, valid)
+    rows = _rows(value)
+    flat = [not isinstance(r, (list, tuple, np.ndarray)) for r in rows]
+    if all(flat) and diag_ok:
+        a = np.diag([_entry(field, x, f"[{i + 1}]") for i, x in enumerate(rows)])
+    elif any(flat):
+        i = flat.index(True) if not all(flat) else 0
+        raise ParameterError(field, _shown(value), valid,
+                             f"row {i + 1} is {_short(rows[i], 20)}, not a list")
+    else:
+        for i, r in enumerate(rows):
+            if len(r) != size:
+                raise ParameterError(field, _shown(value), valid,
+                                     f"row {i + 1} has {len(r)} entr{'y' if len(r) == 1 else 'ies'}"
+                                     f", not {size}")
+        a = np.array([[_entry(field, x, f"[{i + 1},{j + 1}]") for j, x in enumerate(_rows(r))]
+                      for i, r in enumerate(rows)], dtype=float)
     if np.abs(a).max() > ABS_MAX:
-        raise ParameterError(field, value, f"entries with |a_ij| <= {ABS_MAX:g}")
+        i, j = np.unravel_index(np.argmax(np.abs(a)), a.shape)
+        raise ParameterError(field, _shown(a.tolist()), f"entries with |a_ij| <= {ABS_MAX:g}",
+                             f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r}")
     scale = np.abs(a).max()
     if np.abs(a - a.T).max() > SYM_TOL * max(scale, 1e-300):
         i, j = np.unravel_index(np.argmax(np.abs(a - a.T)), a.shape)
-        raise ParameterError(field, value, "a symmetric matrix",
+        raise ParameterError(field, _shown(a.tolist()), "a symmetric matrix",
                              f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r} but [{j + 1},{i + 1}] = "
                              f"{float(a[j, i])!r}")
     return 0.5 * (a + a.T)
 
 
 def _definite(field, a, semi):
+    """Refuse a matrix that is not positive (semi-)definite, or whose condition number
+    exceeds 1 / DEF_TOL: say which (an ill-conditioned positive definite matrix is not
+    "not positive definite")."""
     w = np.linalg.eigvalsh(a)
     top = max(abs(w).max(), 1e-300)
     if semi:
         if w.min() < -DEF_TOL * top:
-            raise ParameterError(field, a.tolist(), "a positive semi-definite matrix",
-                                 f"smallest eigenvalue {w.min():.3g}")
-    elif not w.min() > DEF_TOL * top:
-        what = ("every free-flight mode must oscillate: a rigid-body or unstable mode is not "
-                "supported" if field == "stiffness" else "")
-        raise ParameterError(field, a.tolist(), "a positive definite matrix",
-                             f"smallest eigenvalue {w.min():.3g}" + (f"; {what}" if what else ""))
+            raise ParameterError(field, _shown(a.tolist()), "a positive semi-definite matrix",
+                                 f"smallest eigenvalue {w.min():.3g}: not positive "
+                                 "semi-definite")
+        return
+    if w.min() > DEF_TOL * top:
+        return
+    valid = f"a positive definite matrix with condition number <= {1 / DEF_TOL:.0e}"
+    if w.min() > 64 * a.shape[0] * 2.0 ** -52 * top:
+        raise ParameterError(field, _shown(a.tolist()), valid,
+                             f"positive definite but ill-conditioned: condition number "
+                             f"{top / w.min():.3g}, limit {1 / DEF_TOL:.0e}")
+    what = ("; every free-flight mode must oscillate: a rigid-body or unstable mode is not "
+            "supported" if field == "stiffness" else "")
+    if w.min() > 0:
+        raise ParameterError(field, _shown(a.tolist()), valid,
+                             f"singular to rounding: smallest eigenvalue {w.min():.3g} of "
+                             f"largest {top:.3g}{what}")
+    raise ParameterError(field, _shown(a.tolist()), valid,
+                         f"not positive definite: smallest eigenvalue {w.min():.3g}{what}")
 
 
 def _tup(a):
@@ -145,21 +245,14 @@ class Model:
             raise ParameterError("stop", stop, "a symvi.Stop(mass=k, gap=b, restitution=r)")
         M = _matrix("mass", mass, diag_ok=True)
         n = M.shape[0]
-        if n > N_MAX:
-            raise ParameterError("mass", f"{n} masses", f"1 <= N <= {N_MAX}")
         K = _matrix("stiffness", stiffness, n)
         C = np.zeros((n, n)) if damping is None else _matrix("damping", damping, n)
         _definite("mass", M, semi=False)
         _definite("stiffness", K, semi=False)
         _definite("damping", C, semi=True)
-        try:
-            P = np.array(forcing, dtype=float)
-        except (TypeError, ValueError):
-            raise ParameterError("forcing", forcing, f"a list of {n} finite numbers") from None
-        if P.shape != (n,) or not np.all(np.isfinite(P)):
-            raise ParameterError("forcing", forcing, f"a list of {n} finite numbers")
+        P = _vector("forcing", forcing, n)
         if np.abs(P).max() > ABS_MAX:
-            raise ParameterError("forcing", forcing, f"|forcing[i]| <= {ABS_MAX:g}")
+            raise ParameterError("forcing", P.tolist(), f"|forcing[i]| <= {ABS_MAX:g}")
         if stop.mass > n:
             raise ParameterError("stop.mass", stop.mass, f"a mass index from 1 to {n}")
         object.__setattr__(self, "_M", _tup(M))
