@@ -57,6 +57,17 @@ def test_table_cautions_when_hypotheses_fail(capsys):
     out = capsys.readouterr().out
     assert "(H2) NO" in out and "strong resonance 1:3" in out
     assert "(H1) NO" in out and "caution: (H1) fails" in out
+    # the circle of the normal form is no prediction when its hypotheses fail (issue 23, 14)
+    assert "circle (stable" not in out and "circle (unstable" not in out
+    assert "circle: not predicted ((H1) fails" in out and "(H2) fails" in out
+
+
+def test_table_prints_the_circle_when_its_hypotheses_hold(capsys):
+    from symvi.cli import main
+    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    out = capsys.readouterr().out
+    assert "circle (stable, omega > omega_c): radius 4.92278 sqrt|mu|" in out
+    assert "not predicted" not in out and "NOT certified" not in out
 
 
 def test_table_has_no_caution_when_hypotheses_hold(capsys):
