@@ -133,6 +133,8 @@ class _Line:
         else:
             D = np.array([lib.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
                          dtype=object)
+        # a zero (or underflowing) column stays as it is: the rank tests below see it
+        D = np.array([x if x > 0 else one for x in D], dtype=D.dtype)
         U, s, Vt = _svd(la, G / D)
         self.sigma = s
         self.null = Vt[-1] / D
@@ -187,8 +189,39 @@ def _line(model, omega, digits):
     if why:
         return flow, why
     L = _Line(flow, omega)
-    _check_fixed(flow.lib, L.rank_gap, L.phase_share)
+    try:
+        _check_fixed(flow.lib, L.rank_gap, L.phase_share)
+    except SingularCaseError:
+        why = _out_of_reach(flow, F, omega)
+        if not why:
+            raise
+        return flow, why
     return flow, L
+
+
+def _out_of_reach(flow, F, omega):
+    """The reason no orbit exists where the stop mass's steady amplitude A = |X_k| is too
+    small to reach the gap, else "".  Any period-1 orbit has (module docstring)
+    (I - E Phi) w = (E - I) zp(0), whose only nonzero entry is -(1 + r) v_k,p(0), so
+    |x_k(0)| <= |w| + A <= A (1 + (1 + r) omega / sigma_min(I - E Phi)); a gap beyond
+    twice that bound leaves no orbit.  Used where the period-1 conditions look
+    degenerate (e.g. a forcing of 1e-300, whose squares underflow)."""
+    n = flow.n
+    A = math.hypot(float(F.U[0]), float(F.V[0]))
+    w = float(omega)
+    Phi = np.asarray(LinearFlow.of(flow.model).phi(2 * math.pi / w), dtype=float)
+    E = np.ones(2 * n)
+    E[n] = -float(flow.r)
+    smin = np.linalg.svd(np.eye(2 * n) - E[:, None] * Phi, compute_uv=False)[-1]
+    if not smin > 0:
+        return ""
+    reach = A * (1 + (1 + float(flow.r)) * w / smin)
+    b = abs(float(flow.b))
+    if not b > 2 * reach:
+        return ""
+    return (f"mass {flow.perm[0] + 1}'s steady forcing amplitude {A:.3g} is too small to "
+            f"reach the stop: a period-1 orbit would have |x_{flow.perm[0] + 1}(0)| <= "
+            f"{reach:.3g}, below the gap |b| = {b:g}")
 
 
 def _stop_forcing(flow, F, omega):
@@ -327,12 +360,15 @@ def _check_isolated(flow, omega, d, j):
     is not isolated; a warning where it is ill-conditioned (float64)."""
     lib = flow.lib
     if d < ISOLATION_REFUSE:
+        ratio = float(flow.omegas[j]) / float(omega)
         raise SingularCaseError(
             "one-minus-cos",
             f"1 - cos(2 pi omega_{j + 1} / omega) = {float(d) ** 2 / 2:.3e} at omega = "
-            f"{float(omega):.12g}: omega_{j + 1} / omega is an integer for an undamped mode, "
-            "so the period-1 orbit is not isolated. Move omega away from omega_"
-            f"{j + 1} / n.")
+            f"{float(omega):.12g}: omega_{j + 1} / omega = {ratio:.6g} is (close to) the "
+            f"integer {round(ratio)} for an undamped mode, so the period-1 orbit is not "
+            f"isolated. Move omega away from omega_{j + 1} / n"
+            + (" (a natural frequency near 0 is a nearly rigid mode: no omega helps)."
+               if round(ratio) == 0 else "."))
     if lib is NUMPY_LA.lib and d < ISOLATION_WARN:
         warnings.warn(f"1 - cos(2 pi omega_{j + 1}/omega) = {d * d / 2:.2e} is small: the "
                       "period-1 conditions are ill-conditioned", NearSingularWarning, stacklevel=5)
@@ -422,6 +458,8 @@ def _orbits_compiled(model, omega, want_multipliers):
         lam, W, Winv, A, F.U, F.V, omega, flow.b, flow.r, flow.r - ORIENT_DR,
         ISOLATION_REFUSE, ORIENT_NOISE, bool(want_multipliers))
     _check_isolated(flow, omega, d, j)
+    if st in (_period1.DEGENERATE, _period1.NO_PHASE) and _out_of_reach(flow, F, omega):
+        return []
     _check_fixed(flow.lib, gap, share)
     if st == _period1.NO_ORBIT:
         return []
