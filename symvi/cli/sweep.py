@@ -64,6 +64,7 @@ def run(args):
         raise ParameterError("--omega-max", args.omega_max,
                              f"greater than --omega-min = {args.omega_min!r}")
     omegas = np.linspace(args.omega_min, args.omega_max, args.steps)
+    check_grid(params, omegas)
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
     workers = 0 if args.workers is None and args.scheduler is None else args.workers
     res = run_sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
@@ -106,3 +107,18 @@ def check_paths(args):
     distinct_outputs(("--out", args.out), ("--plot", args.plot))
     data = args.out if args.out.lower().endswith(".npz") else None
     return data, [p for p in (args.out, args.plot) if p and p.lower().endswith(FIGURES)]
+
+
+def check_grid(params, omegas):
+    """Every inner grid point is a valid frequency (the ends were checked by flag): a point
+    at a natural frequency is refused naming the flags that put it there."""
+    from ..errors import ParameterError, SymviError
+    from ..flow import check_omega
+    for k, w in enumerate(omegas[1:-1], start=1):
+        try:
+            check_omega(params, float(w), "omega", warn=False)
+        except SymviError as exc:
+            raise ParameterError("--steps", len(omegas), "a grid (--omega-min, --omega-max, "
+                                 "--steps) with no point at a natural frequency",
+                                 f"grid point {k} is omega = {float(w)!r}: "
+                                 f"{str(exc).split(':', 1)[0]}") from None
