@@ -10,6 +10,7 @@ import datetime
 import hashlib
 import json
 import os
+import re
 import time
 from dataclasses import dataclass
 
@@ -37,10 +38,20 @@ class Report:
 
 def build_report(scene_list, out_dir, *, quick=False, use_cache=True, command="",
                  progress=None, title=None):
-    """Run ``scene_list`` into ``out_dir``: report.md, figures, cache.  Returns a :class:`Report`."""
+    """Run ``scene_list`` into ``out_dir``: report.md, figures, cache.  Returns a :class:`Report`.
+
+    Checked before any work: every scene has its parameters, and ``out_dir`` (flag ``--out``)
+    is a writable folder whose ``report.md`` can be written.  A cached part that cannot be
+    shown (written by something else) is computed again.
+    """
+    from .._io import check_output
     from ..progress import Progress
     t0 = time.perf_counter()
-    out_dir = os.fspath(out_dir)
+    for s in scene_list:
+        s.check_params()
+    out_dir = check_output(os.fspath(out_dir), flag="--out", folder=True)
+    path = os.path.join(out_dir, "report.md")
+    check_output(path, flag="--out", suffixes=(".md",))
     os.makedirs(out_dir, exist_ok=True)
     cache_dir = os.path.join(out_dir, ".cache")
     cache = sc.Cache(cache_dir)
@@ -48,18 +59,24 @@ def build_report(scene_list, out_dir, *, quick=False, use_cache=True, command=""
     parts, figures = [], []
     with Progress(total, "symvi", enabled=progress) as bar:
         for s in scene_list:
-            ps = sc.run_scene(s, cache_dir, quick=quick, use_cache=use_cache)
-            for p in ps:
-                f = _figure(p, out_dir, cache, use_cache)
+            for out in s.outputs:
+                p = sc.run_output(s, out, cache_dir, quick=quick, use_cache=use_cache)
+                try:
+                    f = _figure(p, out_dir, cache, use_cache)
+                    _part(p)
+                except Exception:      # noqa: BLE001 - only a cached result is retried
+                    if p.source != "cache":
+                        raise
+                    p = sc.run_output(s, out, cache_dir, quick=quick, use_cache=False)
+                    f = _figure(p, out_dir, cache, False)
                 if f:
                     figures.append(f)
                     p.result["_figure"] = os.path.basename(f[0])
                     p.result["_figure_source"] = f[1]
                 bar.update()
-            parts.extend(ps)
+                parts.append(p)
     seconds = time.perf_counter() - t0
     md = render(scene_list, parts, quick=quick, command=command, seconds=seconds, title=title)
-    path = os.path.join(out_dir, "report.md")
     write_text(path, md)
     return Report(path, [f[0] for f in figures], parts, seconds)
 
@@ -133,6 +150,32 @@ def _draw(figures, p):
 
 
 # --------------------------------------------------------------------------- markdown
+#: Markdown and HTML specials in user-provided text, made literal: entities for & < > (no raw
+#: HTML, no autolink), backslash escapes for [ ] (no link, image or link definition), ` (no
+#: code span) and the backslash itself (so an escape cannot be cancelled)
+_LITERAL = str.maketrans({"\\": "\\\\", "`": "\\`", "[": "\\[", "]": "\\]", "&": "&amp;",
+                          "<": "&lt;", ">": "&gt;"})
+
+
+def _text(x, lines=False):
+    """User-provided text (a scene's title, description, names, a row's label) as inert
+    Markdown: it reads the same, but cannot put HTML, a link or an image into report.md.
+    One line unless ``lines``."""
+    s = str(x)
+    if not lines:
+        s = re.sub(r"[\r\n]+", " ", s)
+    return s.translate(_LITERAL)
+
+
+def _code(x):
+    """``x`` as one inline code span (nothing inside one is HTML or Markdown): a fence of
+    more backticks than any run in ``x``."""
+    s = re.sub(r"[\r\n]+", " ", str(x))
+    fence = "`" * (max((len(r) for r in re.findall(r"`+", s)), default=0) + 1)
+    pad = " " if s[:1] == "`" or s[-1:] == "`" else ""
+    return f"{fence}{pad}{s}{pad}{fence}"
+
+
 def _cell(x):
     return str(x).replace("|", "\\|").replace("\n", " ")
 
@@ -153,8 +196,8 @@ def render(scene_list, parts, *, quick=False, command="", seconds=0.0, title=Non
         by_kind.setdefault(p.output.kind, []).append(p)
     stamp = sc.version_stamp()
     n_cache = sum(p.source == "cache" for p in parts)
-    L = [f"# {title or 'symvi reproduce: Luo & Xie (1998) cross-checked'}", ""]
-    L += [f"- command: `{command}`" if command else "- command: (library call)",
+    L = [f"# {_text(title) if title else 'symvi reproduce: Luo & Xie (1998) cross-checked'}", ""]
+    L += [f"- command: {_code(command)}" if command else "- command: (library call)",
           f"- written: {datetime.datetime.now().isoformat(timespec='seconds')}, in {seconds:.1f} s",
           f"- symvi {stamp['symvi']} (source {stamp['source']}, generated/ {stamp['generated']})",
           f"- parts: {len(parts)}, of which {n_cache} from the cache (`.cache/`, keyed by the "
@@ -171,11 +214,11 @@ def render(scene_list, parts, *, quick=False, command="", seconds=0.0, title=Non
         ps = [p for p in parts if p.scene is s]
         if all(p.output.kind in ("numbers", "audit") for p in ps):
             continue
-        L += [f"### {s.title}", ""]
+        L += [f"### {_text(s.title)}", ""]
         if s.paper:
-            L += [f"Reproduces: {s.paper}. Scene `{s.source}`.", ""]
+            L += [f"Reproduces: {_text(s.paper)}. Scene {_code(s.source)}.", ""]
         if s.description:
-            L += [s.description, ""]
+            L += [_text(s.description, lines=True), ""]
         for p in ps:
             L += _part(p)
     L += ["## Where each part came from", "",
@@ -204,7 +247,7 @@ def _summary(by_kind):
             continue
         rows = p.result["rows"]
         bad = sorted({r["eq"] for r in rows if r["status"] == "differs"})
-        L.append(f"- Formula audit at `{p.output.params_name}` (v_c = "
+        L.append(f"- Formula audit at {_code(p.output.params_name)} (v_c = "
                  f"{fmt(p.result.get('omega_c'), 10)}): {len(rows)} checks, "
                  f"{sum(r['status'] == 'agrees' for r in rows)} agree; differ: "
                  + (", ".join(bad) if bad else "none") + ".")
@@ -219,7 +262,7 @@ def _numbers(parts):
          "finding; *not checkable*: the paper does not give what the number depends on.", ""]
     for p in parts:
         if not p.available:
-            L += [f"**not available**: {p.result.get('why')}", ""]
+            L += [f"**not available**: {_text(p.result.get('why'))}", ""]
             continue
         if p.result.get("quick"):
             L += ["*Quick mode: simulation rows use fewer impacts and coarser grids (see each "
@@ -227,7 +270,8 @@ def _numbers(parts):
         L += ["| # | printed claim | where | paper | symvi | status | reason and evidence |",
               "|---|---|---|---|---|---|---|"]
         for i, r in enumerate(p.result["rows"], start=1):
-            L.append(f"| {i} | {_cell(r['label'])} | {_cell(r['where'])} | {_cell(r['printed'])} "
+            L.append(f"| {i} | {_cell(_text(r['label']))} | {_cell(_text(r['where']))} | "
+                     f"{_cell(_text(r['printed']))} "
                      f"| {_cell(fmt(r['symvi']) if r['symvi'] is not None else '—')} | "
                      f"{_status(r['status'])} | {_cell(r['reason'])} |")
         L.append("")
@@ -240,11 +284,11 @@ def _audit(parts):
          "same quantity (column *symvi*; the route is in the details). abs/rel: 2-norm of the "
          "difference, and relative to symvi's value.", ""]
     for p in parts:
-        L += [f"### At `{p.output.params_name}`: " + ", ".join(
+        L += [f"### At {_code(p.output.params_name)}: " + ", ".join(
             f"{k} = {v:g}" for k, v in p.scene.params_for(p.output).as_dict().items()),
               ""]
         if not p.available:
-            L += [f"**not available**: {p.result.get('why')}", ""]
+            L += [f"**not available**: {_text(p.result.get('why'))}", ""]
             continue
         r0 = p.result
         L += [f"Orbit formulas at ω = {fmt(r0['omega_orbit'], 10)}; normal form at the Hopf "
@@ -271,11 +315,11 @@ def _audit(parts):
 
 
 def _part(p):
-    L = [f"#### {p.output.spec.get('title') or p.output.id} "
+    L = [f"#### {_text(p.output.spec.get('title') or p.output.id)} "
          f"({'from the cache' if p.source == 'cache' else f'computed in {p.seconds:.2f} s'})", ""]
     r = p.result
     if not p.available:
-        return L + [f"**not available**: {r.get('why')}", ""]
+        return L + [f"**not available**: {_text(r.get('why'))}", ""]
     k = p.output.kind
     if r.get("quick_note"):
         L += [f"*{r['quick_note']}*", ""]
@@ -319,7 +363,7 @@ def _part(p):
     if r.get("_figure"):
         L += [f"![{p.output.id}]({r['_figure']})", ""]
     if r.get("warnings"):
-        L += ["Warnings: " + "; ".join(r["warnings"]), ""]
+        L += ["Warnings: " + _text("; ".join(r["warnings"])), ""]
     return L
 
 
@@ -425,6 +469,9 @@ def _circle_table(r):
               "the O(μ) error of a leading-order prediction). Coefficients k: predicted "
           f"{fmt(r['predicted_coefficients'])}, measured (extrapolated to μ → 0) "
           f"{fmt(r['measured_coefficients'])}."]
+    if r.get("lost"):
+        L.append("Lost (the run stopped before the circle was measured; left out above): "
+                 + "; ".join(f"μ = {x['mu']:.2e} ({_text(x['why'])})" for x in r["lost"]) + ".")
     if r.get("printed_eq60_factor"):
         L.append(f"With eq. (60) as printed (f1 = {r['f1_paper']:.6g} instead of "
                  f"{r['f1_wan']:.6g}) every predicted half-width would be "

@@ -38,13 +38,14 @@ import json
 import math
 import os
 import re
+import stat
 import time
 import tomllib
 import warnings
 from dataclasses import dataclass, field
 from importlib import resources
 
-from ..errors import ParameterError, SymviError
+from ..errors import ParameterError, SingularCaseError, SymviError
 
 #: the five parameters of eq. (4), in the order of :class:`symvi.Params`
 PARAM_KEYS = ("mu_m", "mu_k", "f2", "b", "r")
@@ -115,7 +116,9 @@ KINDS = {
                         branches=Field("bool", False)),
     # measured vs predicted circle size for v = v_c + mu
     "circle_check": dict(omega_min=_OMEGA, omega_max=_OMEGA,
-                         mu=Field("numbers", None),
+                         mu=Field("numbers", None, check=(
+                             lambda v: len(v) >= 2 and all(0 < abs(m) <= 0.1 for m in v),
+                             "two or more numbers with 0 < |mu| <= 0.1")),
                          quick=Field("bool", True, compute=False)),
     # printed formulas vs symvi, eqs. (11)-(16), (21)-(24), (37)-(38), (46), (54), (60), (A2)-(A17)
     "audit": dict(omega_min=_OMEGA, omega_max=_OMEGA, omega_orbit=Field("number", None,
@@ -170,8 +173,8 @@ _ROW_COMMON = dict(label=Field("str"), printed=Field("any"), check=Field("str", 
                    quote=Field("str", "", compute=False))
 
 
-def _fail(file, key, value, valid):
-    raise ParameterError(f"{file}: {key}", value, valid)
+def _fail(file, key, value, valid, detail=""):
+    raise ParameterError(f"{file}: {key}", value, valid, detail)
 
 
 def _convert(f, value, key, file):
@@ -203,7 +206,7 @@ def _convert(f, value, key, file):
             _fail(file, key, value, f"a list of {f.length} numbers")
         if not value:
             _fail(file, key, value, "a non-empty list of numbers")
-        return [float(v) for v in value]
+        value = [float(v) for v in value]
     elif t == "any":
         ok = isinstance(value, (int, float, str)) or (
             isinstance(value, list) and all(isinstance(v, (int, float)) for v in value))
@@ -243,10 +246,14 @@ def _table(tbl, spec, where, file):
 
 def _params(tbl, file, folder=""):
     """The [params] table: one set of the five keys (or ``model = "FILE.toml"``, a model
-    file relative to the scene), or named sub-tables of them."""
+    file relative to the scene), or named sub-tables of them.  A missing or empty [params]
+    gives one set ``default`` with no parameters yet (``None``): the scene then needs a
+    model from elsewhere (``symvi run SCENE --model FILE``, :func:`with_model`)."""
     from ..params import Params
-    if not isinstance(tbl, dict) or not tbl:
-        raise SceneError(f"{file}: '[params]' must be a non-empty table")
+    if tbl is None or tbl == {}:
+        return {"default": None}
+    if not isinstance(tbl, dict):
+        raise SceneError(f"{file}: '[params]' must be a table")
     nested = [isinstance(v, dict) for v in tbl.values()]
     if any(nested) and not all(nested):
         raise SceneError(f"{file}: '[params]' mixes parameter keys and named sets; use either "
@@ -257,8 +264,7 @@ def _params(tbl, file, folder=""):
         where = "params" if name == "default" and not all(nested) else f"params.{name}"
         if "model" in s:
             spec = _table(s, {"model": Field("str")}, where, file)
-            from ..model import load_model
-            out[name] = load_model(os.path.join(folder, spec["model"]))
+            out[name] = _load_model(spec["model"], f"{where}.model", file, folder)
             continue
         vals = _table(s, {k: Field("number") for k in PARAM_KEYS}, where, file)
         try:
@@ -266,6 +272,43 @@ def _params(tbl, file, folder=""):
         except ParameterError as exc:
             raise ParameterError(f"{file}: {where}.{exc.name}", exc.value, exc.valid) from None
     return out
+
+
+_MODEL_FILE = "a model file (a regular file ending in .toml; a relative path is read from " \
+              "the scene file's folder)"
+
+
+def model_path(value, key, file, folder):
+    """The model file a scene names at ``key``, checked before it is opened: a regular file
+    ending in ``.toml`` (also after following symlinks, so no device, FIFO, folder or other
+    file is read as a model), relative paths resolved against ``folder``, the scene's."""
+    if not value.strip() or "\0" in value:
+        _fail(file, key, value, _MODEL_FILE, "not a file name")
+    if not value.lower().endswith(".toml"):
+        _fail(file, key, value, _MODEL_FILE, "not a .toml file")
+    path = os.path.join(folder, value) if folder else value
+    try:
+        st = os.stat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        _fail(file, key, value, _MODEL_FILE, f"no such file: {path}")
+    except (OSError, ValueError) as exc:
+        _fail(file, key, value, _MODEL_FILE, getattr(exc, "strerror", None) or str(exc))
+    if not stat.S_ISREG(st.st_mode):
+        _fail(file, key, value, _MODEL_FILE,
+              "it is a folder" if stat.S_ISDIR(st.st_mode) else "not a regular file")
+    if not os.path.realpath(path).lower().endswith(".toml"):
+        _fail(file, key, value, _MODEL_FILE, "a symlink to a file that is not .toml")
+    return path
+
+
+def _load_model(value, key, file, folder):
+    """Load the model file a scene names (its errors, one line, prefixed by file and key)."""
+    from ..model import load_model
+    path = model_path(value, key, file, folder)
+    try:
+        return load_model(path)
+    except SymviError as exc:
+        raise SceneError(f"{file}: {key}: " + " ".join(str(exc).split())) from None
 
 
 @dataclass(frozen=True)
@@ -292,13 +335,24 @@ class Scene:
     title: str
     paper: str
     description: str
-    params: dict              # name -> Params
+    params: dict              # name -> Params or Model (None: not given, see with_model)
     outputs: tuple
     source: str               # file name, for messages
     text: str = field(repr=False, default="")
 
     def params_for(self, output):
-        return self.params[output.params_name]
+        p = self.params[output.params_name]
+        if p is None:
+            raise SceneError(f"{self.source}: missing key 'params' (the five parameters mu_m, "
+                             "mu_k, f2, b, r or model = \"FILE.toml\"; or give a model with "
+                             "symvi run --model FILE)")
+        return p
+
+    def check_params(self):
+        """Raise :class:`SceneError` unless every output has its parameters (a scene with
+        no [params] needs :func:`with_model` first)."""
+        for o in self.outputs:
+            self.params_for(o)
 
 
 _NAME = re.compile(r"^[a-z0-9][a-z0-9_-]{0,63}$")
@@ -314,7 +368,7 @@ def parse_scene(text, source="<scene>"):
     unknown = sorted(set(doc) - {"scene", "params", "output"})
     if unknown:
         raise SceneError(f"{file}: unknown key '{unknown[0]}' (allowed: output, params, scene)")
-    for k in ("scene", "params", "output"):
+    for k in ("scene", "output"):        # no [params]: parameters from symvi run --model
         if k not in doc:
             raise SceneError(f"{file}: missing key '{k}'")
     head = _table(doc["scene"], dict(name=Field("str"), title=Field("str"), paper=Field("str", ""),
@@ -322,7 +376,7 @@ def parse_scene(text, source="<scene>"):
     if not _NAME.match(head["name"]):
         _fail(file, "scene.name", head["name"], "lower-case letters, digits, '-' and '_'")
     folder = os.path.dirname(os.path.abspath(str(source))) if os.path.exists(str(source)) else ""
-    params = _params(doc["params"], file, folder)
+    params = _params(doc.get("params"), file, folder)
     outs = doc["output"]
     if not isinstance(outs, list) or not outs:
         raise SceneError(f"{file}: 'output' must be one or more [[output]] tables")
@@ -561,7 +615,12 @@ def cache_key(scene, output, quick):
 
 
 class Cache:
-    """Results on disk: ``<dir>/<key>.json`` (+ ``.npz`` arrays), written atomically."""
+    """Results on disk: ``<dir>/<key>.json`` (+ ``.npz`` arrays), written atomically.
+
+    An entry records the SHA-256 of its JSON text and of its arrays file; one that does not
+    match (truncated, corrupted, edited), is not a regular file, or does not parse is a miss
+    and is computed again, never a traceback.  Only regular files are opened (a FIFO in the
+    cache would block a reader)."""
 
     def __init__(self, folder):
         self.folder = os.fspath(folder)
@@ -569,39 +628,65 @@ class Cache:
     def _path(self, key, ext):
         return os.path.join(self.folder, f"{key}.{ext}")
 
-    def load(self, key):
-        import numpy as np
+    def _read(self, path):
+        """The bytes of ``path`` if it is a regular file (not a symlink), else None."""
         try:
-            with open(self._path(key, "json"), encoding="utf-8") as fh:
-                result = json.load(fh)
+            if not stat.S_ISREG(os.lstat(path).st_mode):
+                return None
+            with open(path, "rb") as fh:
+                return fh.read()
         except (OSError, ValueError):
+            return None
+
+    def load(self, key):
+        import io
+
+        import numpy as np
+        raw = self._read(self._path(key, "json"))
+        try:
+            entry = json.loads(raw) if raw is not None else None
+        except (ValueError, RecursionError):
+            return None
+        if not isinstance(entry, dict) or not isinstance(entry.get("result"), dict):
+            return None
+        result = entry["result"]
+        if entry.get("sha256") != _digest(_canonical(result)):
             return None
         arrays = {}
         if result.get("_arrays"):
+            data = self._read(self._path(key, "npz"))
+            if data is None or entry.get("arrays_sha256") != hashlib.sha256(data).hexdigest():
+                return None
             try:
-                with np.load(self._path(key, "npz")) as z:
+                with np.load(io.BytesIO(data), allow_pickle=False) as z:
                     arrays = {k: z[k] for k in z.files}
-            except (OSError, ValueError):
+            except Exception:        # noqa: BLE001 - any unreadable archive is a cache miss
                 return None
         return result, arrays
 
     def store(self, key, result, arrays):
+        import io
+
         import numpy as np
 
-        from .._io import atomic_path, write_text
-        result = dict(result, _arrays=bool(arrays))
+        from .._io import write_bytes, write_text
+        result = _jsonable(dict(result, _arrays=bool(arrays)))
+        entry = {"result": result, "sha256": _digest(_canonical(result))}
         if arrays:
-            with atomic_path(self._path(key, "npz")) as tmp:
-                with open(tmp, "wb") as fh:
-                    np.savez_compressed(fh, **arrays)
-        write_text(self._path(key, "json"), json.dumps(_jsonable(result), sort_keys=True))
+            buf = io.BytesIO()
+            np.savez_compressed(buf, **arrays)
+            data = buf.getvalue()
+            write_bytes(self._path(key, "npz"), data)
+            entry["arrays_sha256"] = hashlib.sha256(data).hexdigest()
+        write_text(self._path(key, "json"), json.dumps(entry, sort_keys=True))
 
     def figure_ok(self, key, path, render_key):
         """True if ``path`` is the figure rendered for ``render_key`` (by its recorded hash)."""
         rec = self._figs(key).get(os.path.basename(path))
-        if not rec or rec.get("render") != render_key or not os.path.exists(path):
+        if not isinstance(rec, dict) or rec.get("render") != render_key:
             return False
-        return rec.get("sha256") == _sha256_file(path)
+        data = self._read(path)
+        return data is not None and rec.get("sha256") == hashlib.sha256(data).hexdigest()
 
     def record_figure(self, key, path, render_key):
         from .._io import write_text
@@ -610,11 +695,20 @@ class Cache:
         write_text(self._path(key, "figs.json"), json.dumps(figs, sort_keys=True))
 
     def _figs(self, key):
+        raw = self._read(self._path(key, "figs.json"))
         try:
-            with open(self._path(key, "figs.json"), encoding="utf-8") as fh:
-                return json.load(fh)
-        except (OSError, ValueError):
+            figs = json.loads(raw) if raw is not None else {}
+        except (ValueError, RecursionError):
             return {}
+        return figs if isinstance(figs, dict) else {}
+
+
+def _canonical(result):
+    return json.dumps(result, sort_keys=True).encode()
+
+
+def _digest(data):
+    return hashlib.sha256(data).hexdigest()
 
 
 def _sha256_file(path):
@@ -671,23 +765,29 @@ def run_scene(scene, cache_dir, *, quick=False, use_cache=True, progress=None):
 
     ``progress(label)`` is called before each output.
     """
-    cache = Cache(cache_dir)
+    scene.check_params()
     parts = []
     for out in scene.outputs:
-        key = cache_key(scene, out, quick)
         if progress is not None:
             progress(f"{scene.name}:{out.id}")
-        t0 = time.perf_counter()
-        hit = cache.load(key) if use_cache else None
-        if hit is not None:
-            result, arrays = hit
-            parts.append(Part(scene, out, key, result, arrays, "cache", time.perf_counter() - t0))
-            continue
-        result, arrays = compute(scene, out, quick)
-        result = _jsonable(result)
-        cache.store(key, result, arrays)
-        parts.append(Part(scene, out, key, result, arrays, "computed", time.perf_counter() - t0))
+        parts.append(run_output(scene, out, cache_dir, quick=quick, use_cache=use_cache))
     return parts
+
+
+def run_output(scene, out, cache_dir, *, quick=False, use_cache=True):
+    """One output of ``scene`` as a :class:`Part`: from the cache if there, else computed
+    (and stored)."""
+    cache = Cache(cache_dir)
+    key = cache_key(scene, out, quick)
+    t0 = time.perf_counter()
+    hit = cache.load(key) if use_cache else None
+    if hit is not None:
+        result, arrays = hit
+        return Part(scene, out, key, result, arrays, "cache", time.perf_counter() - t0)
+    result, arrays = compute(scene, out, quick)
+    result = _jsonable(result)
+    cache.store(key, result, arrays)
+    return Part(scene, out, key, result, arrays, "computed", time.perf_counter() - t0)
 
 
 def compute(scene, output, quick=False):
@@ -865,7 +965,12 @@ def _curve(params, spec, quick, scene):
 
 
 def _circle_check(params, spec, quick, scene):
-    return _need("studies.circle_check").study(params, spec, quick)
+    # no Hopf point with a circle, a repelling circle, a circle too large to measure: a
+    # property of the model, said in the report (not an error of the scene)
+    try:
+        return _need("studies.circle_check").study(params, spec, quick)
+    except SingularCaseError as exc:
+        raise NotAvailable(str(exc)) from None
 
 
 def _audit(params, spec, quick, scene):

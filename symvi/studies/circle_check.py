@@ -133,9 +133,10 @@ class CircleCheck:
 
     @property
     def error_slope(self):
-        """Log-log slope of max |relative error| against mu (1 for an O(mu) error)."""
+        """Log-log slope of max |relative error| against |mu| (1 for an O(mu) error; mu < 0
+        where the circle lies below omega_c)."""
         e = np.abs(self.rel_error).max(axis=1)
-        return float(np.polyfit(np.log(self.mu), np.log(e), 1)[0])
+        return float(np.polyfit(np.log(np.abs(self.mu)), np.log(e), 1)[0])
 
     @property
     def measured_coefficients(self):
@@ -173,17 +174,37 @@ class CircleCheck:
 def check(params, point, mus, **measure_kw):
     """Compare the circle of ``point`` (``.omega_c`` and ``.circle.half_widths(mu)``,
     as from :func:`symvi.analysis.hopf.hopf_points`) with simulation at v_c + mu."""
-    from ..errors import SingularCaseError
+    return _check(params, point, mus, False, **measure_kw)[0]
+
+
+def _check(params, point, mus, skip_lost, **measure_kw):
+    """:func:`check`, and the values of mu whose run was lost (``skip_lost``: a run that
+    stops by chatter or grazing leaves its mu out, with the reason, instead of raising;
+    at least two must remain for the error's slope)."""
     mus = np.asarray(mus, dtype=float)
     if not point.circle.stable:
         raise SingularCaseError("repelling-circle", f"the circle born at omega_c = "
                                 f"{float(point.omega_c):.10g} is repelling (subcritical); forward "
                                 "simulation cannot measure it")
-    meas = [measure(params, point.omega_c + mu, **measure_kw) for mu in mus]
-    pred = np.array([point.circle.half_widths(mu) for mu in mus])
-    return CircleCheck(float(point.omega_c), mus, np.array([m.half_widths for m in meas]), pred,
-                       np.array([m.spread for m in meas]), tuple(m.converged for m in meas),
-                       _printed_scale(point), tuple(names_of(params)))
+    meas, kept, lost = [], [], []
+    for mu in mus:
+        try:
+            meas.append(measure(params, point.omega_c + mu, **measure_kw))
+            kept.append(mu)
+        except SingularCaseError as exc:
+            if not skip_lost or exc.kind != "circle-lost":
+                raise
+            lost.append({"mu": float(mu), "why": str(exc).removeprefix("circle-lost: ")})
+    if lost and len(kept) < 2:
+        raise SingularCaseError("circle-lost", f"{len(lost)} of {len(mus)} values of mu lost "
+                                f"next to omega_c = {float(point.omega_c):.10g}, fewer than two "
+                                f"measured (smaller |mu| may keep the run on the circle): "
+                                + lost[0]["why"])
+    kept = np.array(kept)
+    pred = np.array([point.circle.half_widths(mu) for mu in kept])
+    return (CircleCheck(float(point.omega_c), kept, np.array([m.half_widths for m in meas]), pred,
+                        np.array([m.spread for m in meas]), tuple(m.converged for m in meas),
+                        _printed_scale(point), tuple(names_of(params))), lost)
 
 
 def _printed_scale(point):
@@ -206,8 +227,11 @@ def hopf_point(params, omega_min, omega_max):
 
 def study(params, spec, quick):
     """The ``circle_check`` scene output: measured vs predicted half-widths at
-    v = v_c + mu for the first Hopf point with a circle in the scene's interval.
-    For the paper's model also the radius eq. (60) as printed would give."""
+    v = v_c + mu for the first Hopf point with a circle in the scene's interval, on the
+    paper's model or any other.  mu is taken on the side of omega_c where the circle is
+    stable; a mu whose run is lost (chatter, grazing: the circle reaches the stop) is listed
+    under ``lost`` with the reason.  For the paper's model also the radius eq. (60) as
+    printed would give."""
     pt = hopf_point(params, spec["omega_min"], spec["omega_max"])
     mus = spec["mu"] or [4e-4, 2e-4, 1e-4, 5e-5]
     note = ""
@@ -215,11 +239,11 @@ def study(params, spec, quick):
         note = f"quick mode: {3} of {len(mus)} values of μ"
         mus = sorted(mus, reverse=True)[:3]
     mus = [abs(m) * pt.circle.side for m in mus]
-    c = check(params, pt, [abs(m) for m in mus]) if pt.circle.side > 0 else check(params, pt, mus)
+    c, lost = _check(params, pt, [abs(m) for m in mus] if pt.circle.side > 0 else mus, True)
     d = c.as_dict()
-    k_pred = np.asarray(pt.circle.half_widths(1.0))
+    k_pred = np.asarray(pt.circle.half_widths(float(pt.circle.side)))     # at |mu| = 1
     paper = pt.f1_paper is not None and pt.f1_paper > 0 and pt.f1_wan > 0
-    d.update({"quick_note": note, "predicted_coefficients": k_pred.tolist(),
+    d.update({"quick_note": note, "lost": lost, "predicted_coefficients": k_pred.tolist(),
               "measured_coefficients": np.asarray(c.measured_coefficients).tolist(),
               "f1_paper": pt.f1_paper, "f1_wan": pt.f1_wan, "l1": pt.l1,
               "dmod_domega": pt.dmod_domega,
