@@ -35,9 +35,9 @@ def _finite(name, value):
     try:
         v = float(value)
     except (TypeError, ValueError, OverflowError):
-        raise ParameterError(name, value if not isinstance(value, int) else
-                             f"an integer of ~{int(value.bit_length() * 0.30103) + 1} digits", "a finite real number") \
-            from None
+        shown = (f"an integer of ~{int(value.bit_length() * 0.30103) + 1} digits"
+                 if isinstance(value, int) else value)
+        raise ParameterError(name, shown, "a finite real number") from None
     if not math.isfinite(v):
         raise ParameterError(name, value, "a finite real number")
     return v
