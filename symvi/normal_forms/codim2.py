@@ -145,7 +145,7 @@ def _scale(vals):
 def _solve(bk, M, b, what):
     """M^{-1} b, refused when M is numerically singular (a further critical multiplier)."""
     c = bk.cond(M)
-    if not c < 1e-3 / float(bk.eps):
+    if not c < 1e-3 / bk.eps:
         raise SingularCaseError("singular-solve", f"{what} is singular (cond {c:.2e}): a "
                                 "further multiplier is critical (higher codimension)")
     return bk.solve(M, b)

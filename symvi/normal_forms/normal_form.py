@@ -340,7 +340,7 @@ def _eigen(bk, A, index):
     n = A.shape[0]
     vals, V = bk.eig(A)
     scale = max(1.0, float(max(abs(e) for e in vals)))
-    tol = 1e3 * float(bk.eps) * scale
+    tol = 1e3 * bk.eps * scale          # in the backend: float(eps) is 0 past ~320 digits
     if index is None:
         cands = [i for i in range(n) if vals[i].imag > tol]
         if not cands:
@@ -433,7 +433,7 @@ def _eigenmatrix(bk, A, e):
     cols = [bk.re(r1), -bk.re(-1j * r1)]  # Im r1 = Re(-i r1)
     vals, V = e.values, e.vectors
     scale = max(1.0, float(max(abs(x) for x in vals)))
-    tol = 1e3 * float(bk.eps) * scale
+    tol = 1e3 * bk.eps * scale          # in the backend: float(eps) is 0 past ~320 digits
     used = {e.k, e.kbar}
     for i in range(n):
         if i in used:
@@ -452,7 +452,7 @@ def _eigenmatrix(bk, A, e):
                                 "(a complex pair without its conjugate)")
     P = np.stack(cols, axis=1)
     c = bk.cond(P)
-    if not c < 1e-3 / float(bk.eps):
+    if not c < 1e-3 / bk.eps:
         raise SingularCaseError("defective",
                                 f"the eigenmatrix P of eq. (39) is singular (cond {c:.2e}): "
                                 "A is not diagonalisable (colliding multipliers)")

@@ -8,7 +8,7 @@ paper's reduction), all at ``digits``.
 
 Chain B (shares no derivation code with chain A): only the numeric map P of
 :mod:`symvi.paper.modal_map` (the paper's modal closed form; for a Model,
-:mod:`symvi.maps.impact`) evaluated in mpmath at ``digits + 30``.  The fixed point
+:mod:`symvi.maps.impact`) evaluated in mpmath at ``digits`` + 30 or more.  The fixed point
 is found by Newton's method on P(y) - y - (0, 0, 0, 2 pi); the Jacobian, d2 and
 d3 by Richardson-extrapolated central differences (steps h and 2h, h balanced
 against the working precision for each order); v_c by the secant method on
@@ -86,6 +86,41 @@ def digits_of_agreement(a, b):
 
 
 # --------------------------------------------------------------------------- chain A
+def _secant_root(f, omega0, digits, chain, maxsteps=60):
+    """v_c: the root of f(omega) = |lambda1|^2 - 1 by the secant method from the float64
+    omega0, to the working precision of f.
+
+    The stopping rule is on the steps, not on |f|: f carries the rounding of the whole
+    chain (and, in chain B, the truncation of the finite differences), so a fixed
+    residual tolerance such as 10^(-digits) is either unreachable at high precision
+    (mpmath.findroot's ValueError from about 125 digits) or reached only after the
+    secant has divided by f1 - f0 = 0 at the noise floor (ZeroDivisionError).  The
+    iteration stops when the step is below 10^(-digits) relative, when f1 = f0 or
+    f1 = 0 (nothing left to resolve), or when the steps stop shrinking at a level
+    below 10^(-digits/2) (the noise floor of f; the secant converges superlinearly
+    above it).  The agreement of the two chains then says how many digits are right."""
+    x0 = mpmath.mpf(omega0)
+    x1 = x0 + mpmath.mpf("1e-9")
+    f0, f1 = f(x0), f(x1)
+    tiny = mpmath.mpf(10) ** (-digits)
+    prev = None
+    for _ in range(maxsteps):
+        if f1 == 0 or f1 == f0:
+            return x1
+        step = f1 * (x1 - x0) / (f1 - f0)
+        x0, f0 = x1, f1
+        x1 = x1 - step
+        if abs(step) <= tiny * abs(x1):
+            return x1
+        if prev is not None and abs(step) >= prev / 2 and abs(step) < mpmath.sqrt(tiny):
+            return x1 if abs(f(x1)) <= abs(f0) else x0      # at the noise floor: the better
+        prev = abs(step)
+        f1 = f(x1)
+    raise SingularCaseError("no-convergence", f"chain {chain}: the secant method on "
+                            f"|lambda1|^2 = 1 did not converge in {maxsteps} steps at "
+                            f"{digits} digits")
+
+
 def _is_model(params):
     from ..model import Model
     return isinstance(params, Model)
@@ -117,9 +152,7 @@ def chain_a(params, omega0, branch, digits, lam0):
 
         def f(w):
             return abs(lam1(w)) ** 2 - 1
-        w0 = mpmath.mpf(omega0)
-        wc = mpmath.findroot(f, (w0, w0 + mpmath.mpf("1e-9")), solver="secant",
-                             tol=mpmath.mpf(10) ** (-2 * digits + 4), maxsteps=60)
+        wc = _secant_root(f, omega0, digits, "A")
         o = _orbit_mp(params, wc, branch, digits)
         j = jet(params, wc, order=3, digits=digits, orbit=o)
         nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, digits=digits)
@@ -246,8 +279,11 @@ def kuznetsov_l1(A, d2, d3, target):
 
 
 def chain_b(params, omega0, branch, digits, lam0, y0):
-    """Finite differences of P only, at ``digits`` (+30 guard digits for the differences)."""
-    dps = digits + 30
+    """Finite differences of P only, at ``digits`` plus guard digits for the differences:
+    the Richardson-extrapolated Jacobian is good to ~4/5 of the working digits (h =
+    10^(-dps/5)), so the guard grows with ``digits`` (30, or digits/4 + 10 from 80 on)
+    for v_c to reach ``digits``."""
+    dps = digits + max(30, digits // 4 + 10)
     with mpmath.workdps(dps):
         fd = _MapFD(params, dps, len(y0))
         state = {"y": [mpmath.mpf(v) for v in y0], "lam": mpmath.mpc(lam0)}
@@ -260,9 +296,7 @@ def chain_b(params, omega0, branch, digits, lam0, y0):
             state["lam"] = z
             return z
 
-        w0 = mpmath.mpf(omega0)
-        wc = mpmath.findroot(lambda w: abs(lam1(w)) ** 2 - 1, (w0, w0 + mpmath.mpf("1e-9")),
-                             solver="secant", tol=mpmath.mpf(10) ** (-2 * digits), maxsteps=60)
+        wc = _secant_root(lambda w: abs(lam1(w)) ** 2 - 1, omega0, digits, "B")
         y = fd.fixed_point(wc, state["y"])
         A, d2, d3 = fd.jets(wc, y)
         lam, c1, l1 = kuznetsov_l1(A, d2, d3, state["lam"])
