@@ -40,6 +40,18 @@ Next to a located boundary (fold, admissibility change, a singular frequency
 omega_j / n) a multiplier that approaches the circle monotonically towards the
 boundary is accepted (e.g. the multiplier tending to +1 at a fold).
 
+What the scan does not certify it says: :attr:`HopfResult.uncertified` lists the merged
+spans where a crossing may have been missed, each also an ``unresolved`` event with its
+reason; an empty list (``complete``) is the statement that every crossing was found.
+Besides the unresolved segments above these are: the segments left when the budget of
+orbit evaluations (``MAX_SAMPLES`` plus ``SAMPLES_PER_CUT`` per cut) runs out -- the
+segments are certified breadth first, so what is left is where the finest resolution is
+needed, not the end of the interval; the gap around a singular frequency where the branch
+is admissible at the gap's edge; and, when more than ``MAX_SINGULAR`` of the omega_j / n
+(which accumulate at 0) lie inside, the span below the largest ``MAX_SINGULAR`` of them.
+So the points found on [a, c] are those found on [a, b] and [b, c] up to the spans
+either declares uncertified (tests/property/test_scan_union.py).
+
 Each bracket is handed to the continuation's locator
 (:func:`symvi.continuation.locate.locate_between`, the one owner of locating special
 points on any branch): the two closed-form orbits become two points of the 1-1
@@ -184,7 +196,9 @@ class HopfPoint:
 
     ``dmod_domega`` is d|lambda1|/dv from F11 by eqs. (A1)–(A3);
     ``dmod_domega_branch`` by differentiating |lambda1| along the branch
-    (Richardson-extrapolated central differences, step ``BRANCH_H``).
+    (Ridders' extrapolated central differences, first step ``BRANCH_H`` * omega), with its
+    estimated error ``dmod_domega_branch_error`` (:attr:`branch_caveat` says when it is
+    uncertain or disagrees with (A1)-(A3)).
     ``l1``: Kuznetsov, ||q||_2 = 1, <p,q> = 1, l1 < 0 stable.  ``f1_paper``:
     eq. (60) as printed; ``f1_wan``: eq. (60) corrected (= -l1/4), both in the
     paper's normalisation (||r1||_2 = 1, f1 > 0 attracting).
@@ -268,7 +282,12 @@ class HopfPoint:
         if self.circle is None:
             why.append("no normal form")
         if not self.h1:
-            why.append("(H1) fails: another multiplier lies on or outside the unit circle")
+            lam = self.multiplier
+            out = [z for z in self.other_multipliers if not abs(z) < 1]
+            why.append("(H1) fails: " + (
+                f"{len(out)} other multiplier(s) on or outside the unit circle" if out else
+                f"|lambda1| - 1 = {abs(lam) - 1:.1e}, lambda1 not resolvably on the unit circle"
+                if abs(lam.imag) > 1e-9 else "lambda1 is real"))
         if not self.h2:
             m, _ = self.nearest_resonance
             why.append(f"(H2) fails: lambda1^{m} = 1 (resonance 1:{m}), the cubic normal "
@@ -923,9 +942,11 @@ def hopf_points(params, omega_min, omega_max):
     the normal form and the predicted circle) sorted by omega, and ``events``
     (real multipliers through +/-1, admissibility changes, orbit appearing or
     vanishing, natural frequencies where the branches are cut).  See the module
-    docstring for why no crossing is missed.  A conservative model (r = 1, no
-    damping) has no Neimark–Sacker point: ``conservative`` is set, an event of that
-    kind spans the interval and only the other events are reported.
+    docstring for why no crossing is missed, and ``uncertified`` (empty: ``complete``) for
+    the spans where one may have been (a budget that ran out, a span not scanned).  A
+    conservative model (r = 1, no damping) has no Neimark–Sacker point: ``conservative``
+    is set, an event of that kind spans the interval and only the other events are
+    reported.  Both ends must lie in ``OMEGA_RANGE`` (checked before any work).
     """
     system = _system(params)
     a, b = _check_interval(system, omega_min, omega_max)

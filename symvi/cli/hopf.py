@@ -83,9 +83,9 @@ def run(args):
             # at lambda^m = 1 the cubic normal form (58) is not the normal form
             kind = "strong resonance" if m <= 4 else "resonance"
             print(f"  caution: (H2) fails, lambda1^{m} = 1 ({kind} 1:{m}); l1, f1 and the circle "
-                  "above assume (H2) and need not describe the dynamics here")
+                  "assume (H2) and need not describe the dynamics here")
         if not pt.crossing_resolved:
-            print(f"  caution: {pt.detail}; the kind and the circle above assume a transversal "
+            print(f"  caution: {pt.detail}; the kind and the circle assume a transversal "
                   "crossing")
         if pt.branch_caveat:
             print(f"  caution: d|lambda1|/domega {pt.branch_caveat}")
