@@ -78,6 +78,8 @@ class MpCheck:
 def digits_of_agreement(a, b):
     """-log10 of the relative difference (capped at the working precision)."""
     a, b = mpmath.mpmathify(a), mpmath.mpmathify(b)
+    if not (mpmath.isfinite(a) and mpmath.isfinite(b)):
+        return 0.0                       # min() and max() below would drop a NaN
     d = abs(a - b)
     s = max(abs(a), abs(b))
     if d == 0:
@@ -223,7 +225,7 @@ class _MapFD:
         tol = mpmath.mpf(10) ** (-self.dps + 8)
         for _ in range(40):
             r = self.residual(w, y)
-            if max(abs(v) for v in r) < tol:
+            if all(abs(v) < tol for v in r):       # False for a NaN, unlike max()
                 return y
             J = self.jacobian(w, y, richardson=False) - mpmath.eye(self.n)
             dy = mpmath.lu_solve(J, mpmath.matrix(r))
