@@ -294,7 +294,9 @@ FORMS = [
     # plane axes
     *[("plane", {"--x": v}, "--x")
       for v in ["zeta:0:1:3", "b:1:2", "b:1:2:3:4", "b:a:2:3", "b:nan:2:3", "b:1:2:0",
-                "b:2:1:3", "", "b:1:2:1e9", "a:b:c", "r:0.5:1.5:3", "=1"]],
+                "b:2:1:3", "", "b:1:2:1e9", "a:b:c", "=1", "mu_m:-1:2:2",
+                "mass[1,2]:-5:0.5:2"]],
+    ("plane", {"--y": "r:0.5:1.5:2"}, "--y"),                       # outside 0 < r <= 1
     ("plane", {"--y": "b:1.4:1.5:2"}, "--y"),                       # the same axis twice
     ("plane", {"--progress": "sometimes"}, "--progress"),
     ("sweep", {"--progress": "sometimes"}, "--progress"),
