@@ -43,8 +43,12 @@ DEF_TOL = 1e-12
 
 def _short(value, limit=40):
     """repr of ``value`` cut to ``limit`` characters (a message stays one short line)."""
+    def plain(v):                          # numpy scalars as Python numbers: no np.float64(...)
+        if isinstance(v, (np.ndarray, np.generic)):
+            return v.tolist()
+        return type(v)(plain(x) for x in v) if isinstance(v, (list, tuple)) else v
     try:
-        text = repr(value.tolist() if isinstance(value, np.ndarray) else value)
+        text = repr(plain(value))
     except ValueError:                     # an int beyond the 4300-digit str limit
         text = f"<an integer of {int(value.bit_length() * 0.30103) + 1} digits>"
     return text if len(text) <= limit else text[:limit - 3] + "..."

@@ -303,9 +303,9 @@ def _stop_forcing(flow, F, omega):
 
 def _stop_forced(F):
     """The fast test: the stop mass's steady amplitude is not small (relative)."""
-    U, V = F.U, F.V
-    xk = float(U[0]) ** 2 + float(V[0]) ** 2
-    top = max(float(u) ** 2 + float(v) ** 2 for u, v in zip(U, V))
+    u, v = F.U.tolist(), F.V.tolist()      # Python floats (or mpf): faster than numpy at N <= 8
+    xk = float(u[0] * u[0] + v[0] * v[0])
+    top = float(max([x * x + y * y for x, y in zip(u, v)]))
     return top > 0 and xk >= STOP_FORCING_WARN ** 2 * top
 
 
