@@ -1,7 +1,6 @@
 """``symvi continue``: the JSON contract, plots, starts from a simulation, one-line errors."""
 import json
-import subprocess
-import sys
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -11,12 +10,15 @@ from symvi.cli import main
 from symvi.model import dumps
 
 from ..continuation.models import ONE_DAMPED
+from ..fuzz._cli import cli
 
 PRESET = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
+    """``symvi ARGS`` in this process (tests/fuzz/_cli.py), as (returncode, stdout, stderr)."""
+    rc, out, err = cli(*args)
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
 
 
 def test_json_contract_and_plot(tmp_path, capsys):

@@ -1,18 +1,21 @@
 """``symvi curve``: the JSON contract (issue 13), the plot, one-line errors with exit 2."""
 import json
-import subprocess
-import sys
+from types import SimpleNamespace
 
 import pytest
 
 from symvi.cli import main
+
+from ..fuzz._cli import cli
 
 PRESET = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
 BASE = ["curve", *PRESET, "--omega-min", "0.70", "--omega-max", "0.76"]
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
+    """``symvi ARGS`` in this process (tests/fuzz/_cli.py), as (returncode, stdout, stderr)."""
+    rc, out, err = cli(*args)
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
 
 
 def test_json_contract_and_plot(tmp_path, capsys):

@@ -1,18 +1,20 @@
 """``--model FILE`` on the command line: orbits of any model, one-line errors, exit 2."""
 import json
-import subprocess
-import sys
+from types import SimpleNamespace
 
 import pytest
 
 from symvi.cli import main
 from symvi.model import dumps
 
+from ..fuzz._cli import cli
 from ..nmodel.models import PAPER, THREE
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
+    """``symvi ARGS`` in this process (tests/fuzz/_cli.py), as (returncode, stdout, stderr)."""
+    rc, out, err = cli(*args)
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
 
 
 def test_orbit_json_for_a_model_file(tmp_path, capsys):

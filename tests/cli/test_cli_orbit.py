@@ -2,18 +2,28 @@
 import json
 import subprocess
 import sys
+from types import SimpleNamespace
 
 import pytest
+
+from ..fuzz._cli import cli
 
 BASE = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
 
 
 def run(*args):
+    """``symvi ARGS`` in this process (tests/fuzz/_cli.py), as (returncode, stdout, stderr)."""
+    rc, out, err = cli(*args)
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
+
+
+def run_process(*args):
+    """``python -m symvi ARGS``: the entry point itself."""
     return subprocess.run([sys.executable, "-m", "symvi", *args], capture_output=True, text=True)
 
 
 def test_orbit_json_contract():
-    r = run("orbit", *BASE, "--omega", "0.7369", "--json")
+    r = run_process("orbit", *BASE, "--omega", "0.7369", "--json")
     assert r.returncode == 0, r.stderr
     obj = json.loads(r.stdout)
     assert set(obj) == {"params", "omega", "orbits"}
