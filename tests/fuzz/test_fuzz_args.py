@@ -90,12 +90,7 @@ INVALID = {
 
 #: cases (test id) that fail because of code outside the command-line slice; each with
 #: the reason.  Enabled once that code is fixed.
-KNOWN_OTHER_OWNER = {
-    "sweep --omega-min '0.85' --omega-max '0.9109714689436748' --steps '3'":
-        "symvi/cli/sweep.py, symvi/simulations/simulation.py: the grid's midpoint (an internal "
-        "omega) at the natural frequency omega_1 is named 'omega = 0.8804857344718373', not "
-        "the flags --omega-min/--omega-max/--steps that put it there",
-}
+KNOWN_OTHER_OWNER = {}
 
 
 # --------------------------------------------------------------------------- machinery
