@@ -9,7 +9,9 @@ state derivatives for l2, issue 13).  ``--order K`` stops at order K
 (``--order 3``: the ordinary jobs only).  ``--model FILE`` generates the
 structure of that model's N instead, orders 1..K (default 3), each order where
 the loader looks for it: generated/ when shipped, else the per-user cache
-(unless ``--out`` is given).
+(unless ``--out`` is given).  The per-user cache is created private and checked
+(:mod:`symvi.codegen._usercache`); there ``--check`` runs the derivation again and
+compares each module's text with it, never trusting the manifest in that folder.
 """
 import sys
 import time
@@ -54,13 +56,32 @@ def jobs_of(args):
             o = Path(args.out) if args.out else (target_dir(None) if ij.shipped(n, K)
                                                  else _user_dir())
             groups.setdefault(o, []).append(K)
-        return [("impact", ij, o, dict(ns=(n,), orders=tuple(ks))) for o, ks in groups.items()]
+        return [("impact", _UserCache if o == _user_dir() and not args.out else ij, o,
+                 dict(ns=(n,), orders=tuple(ks))) for o, ks in groups.items()]
     out = target_dir(args.out)
     jobs = [("paper", pj, out, dict(orders=low)),
             ("impact", ij, out, dict(ns=ij.NS_SHIPPED, orders=low))]
     if high:
         jobs.append(("impact", ij, out, dict(ns=ij.NS_HIGH, orders=high)))
     return jobs
+
+
+class _UserCache:
+    """``generate``/``check`` of derivations/impact_jets.py for the per-user cache: the
+    folder private (created 0700, ownership checked), and ``check`` compares each module
+    with the derivation run again instead of with the manifest stored there."""
+
+    @staticmethod
+    def generate(out, ns, orders, force=False):
+        from ..codegen._usercache import generate
+        (n,) = ns
+        return generate(out, n, orders, force=force)
+
+    @staticmethod
+    def check(out, ns, orders):
+        from ..codegen._usercache import stale_text
+        (n,) = ns
+        return stale_text(out, n, orders)
 
 
 def run(args):

@@ -14,9 +14,6 @@ derivative of the matrix exponential (eigen-decomposition form), the
 derivative of the steady-state solve, and the model's :class:`symvi.model.Tangent`.
 """
 import importlib
-import os
-import sys
-from pathlib import Path
 
 import mpmath
 import numpy as np
@@ -31,8 +28,9 @@ PARAMETER_ORDERS = (2, 3)
 
 
 def _user_dir():
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "symvi" / "generated"
+    """The per-user cache of generated code (:func:`symvi.codegen._usercache.cache_dir`)."""
+    from ._usercache import cache_dir
+    return cache_dir()
 
 
 def module(n, order):
@@ -53,22 +51,9 @@ def module(n, order):
 
 
 def _user_module(n, order, name):
-    import warnings
-
-    from .._derivations import impact_jets
-    d = _user_dir()
-    why = impact_jets.check(d, (n,), (order,))
-    if why:
-        high = order > max(impact_jets.ORDERS)
-        warnings.warn(f"generating the order-{order} jets of the {n}-mass structure into {d} "
-                      f"(once; may take {'minutes' if high else 'a minute'})", stacklevel=4)
-        # a high order serves l2 alone (it holds all lower state derivatives): only it
-        impact_jets.generate(d, (n,), (order,) if high else tuple(range(1, order + 1)))
-    spec = importlib.util.spec_from_file_location(f"symvi_user_generated.{name}", d / f"{name}.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    # generated on first use, run only after the checks of symvi.codegen._usercache
+    from ._usercache import load
+    return load(n, order)
 
 
 def frechet_exp(flow, t, dA):
