@@ -179,8 +179,9 @@ class _Line:
 
 
 def _line(model, omega, digits):
-    """(flow, the solution line), or (flow, None) with the reason where the stop mass
-    gets no steady forcing (:func:`_stop_forcing`)."""
+    """(flow, the solution line), or (flow, the reason) where no orbit exists because the
+    stop mass gets no (or too little) steady forcing (:func:`_stop_forcing`,
+    :func:`_out_of_reach`)."""
     flow = LinearFlow.of(model, digits)
     d, j = flow.one_minus_exp(omega)
     _check_isolated(flow, omega, d, j)
@@ -244,7 +245,7 @@ def _stop_forcing(flow, F, omega):
     if _stop_forced(F):
         return ""
     U, V = np.asarray(F.U, dtype=float), np.asarray(F.V, dtype=float)
-    xk, top = math.hypot(U[0], V[0]), math.sqrt(float((U * U + V * V).max()))
+    xk, top = math.hypot(U[0], V[0]), float(np.hypot(U, V).max())   # hypot: no underflow
     w = float(omega)
     k, n = flow.perm[0] + 1, flow.n
     P = np.array([float(x) for x in flow.P])
