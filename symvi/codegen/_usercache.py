@@ -269,7 +269,7 @@ def _check_module(tree):
             if node.name == "_jet":
                 width = w
             continue
-        raise _Refused(f"a {type(node).__name__} statement at line {node.lineno}")
+        raise _Refused(f"an unexpected statement ({type(node).__name__}) at line {node.lineno}")
     if seen != _MODULE_NAMES | _FUNCTIONS.keys():
         raise _Refused(f"missing {', '.join(sorted(_MODULE_NAMES | _FUNCTIONS.keys() - seen))}")
     return values, width
@@ -316,7 +316,8 @@ def _check_function(fn):
         raise _Refused(f"{fn.name} does not end in a return")
     for st in body[:-1]:
         if not jet or not isinstance(st, ast.Assign) or len(st.targets) != 1:
-            raise _Refused(f"a {type(st).__name__} statement in {fn.name} at line {st.lineno}")
+            raise _Refused(f"an unexpected statement ({type(st).__name__}) in {fn.name} at "
+                           f"line {st.lineno}")
         t = st.targets[0]
         names = t.elts if isinstance(t, ast.Tuple) else [t]
         for x in names:
