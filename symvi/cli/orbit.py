@@ -26,14 +26,17 @@ def run(args):
         for d, a in zip(items, autos):
             d["y"] = [float(v) for v in a.orbit.y]
             d["names"] = ["x1dot+", "x20", "x20dot", "tau0"]
-        print_json({"params": params.as_dict(), "omega": omega, "orbits": items})
+        out = {"params": params.as_dict(), "omega": omega, "orbits": items}
+        if not orbits:
+            out["reason"] = _why_none(Model.of(params), omega)
+        print_json(out)
         return 0
     m = modal(params)
     print(f"params: mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} "
           f"b={params.b:g} r={params.r:g}   omega={omega:.10g}")
     print(f"modal:  omega1={m.omega1:.10g} omega2={m.omega2:.10g}")
     if not orbits:
-        print("no period-1 one-impact orbit exists here (discriminant of eq. (16) negative)")
+        print("no period-1 one-impact orbit exists here: " + _why_none(Model.of(params), omega))
         return 0
     hdr = f"{'branch':6} {'x1dot+':>13} {'x20':>13} {'x20dot':>13} {'tau0':>13} " \
           f"{'v_impact':>13} {'max|lambda|':>11}  status"
@@ -64,15 +67,17 @@ def _run_model(model, args):
     autos = auto_model_orbits(model, omega)
     orbits = [a.orbit for a in autos]
     if args.json:
-        print_json({"model": model.as_dict(), "omega": omega, "orbits": _json_items(autos)})
+        out = {"model": model.as_dict(), "omega": omega, "orbits": _json_items(autos)}
+        if not orbits:
+            out["reason"] = _why_none(model, omega)
+        print_json(out)
         return 0
     print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap {model.stop.gap:g}, "
           f"r = {model.stop.restitution:g}{', damped' if model.damped else ''}   "
           f"omega={omega:.10g}")
     print("natural frequencies: " + " ".join(f"{float(w):.10g}" for w in flow.omegas))
     if not orbits:
-        print("no period-1 one-impact orbit exists here (the period-1 conditions have no "
-              "solution on the unit circle)")
+        print("no period-1 one-impact orbit exists here: " + _why_none(model, omega))
         return 0
     names = orbits[0].names
     print(f"{'branch':6} " + " ".join(f"{n:>12}" for n in names)
@@ -90,6 +95,12 @@ def _run_model(model, args):
         print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
               + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
+
+
+def _why_none(model, omega):
+    """The reason a model has no period-1 one-impact orbit at omega (one sentence)."""
+    from ..orbits.period1 import no_orbit_reason
+    return no_orbit_reason(model, omega) or "the period-1 conditions have no solution"
 
 
 def _number(z, fmt=".10g"):

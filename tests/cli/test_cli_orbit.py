@@ -79,3 +79,18 @@ def test_precision_line_prints_complex_multipliers(capsys):
         for a, b in zip(estimated, shown):
             assert abs(a - b) < 1e-7, (a, b)       # imaginary parts included
         assert any(z.imag != 0 for z in estimated)
+
+
+def test_no_orbit_names_the_reason():
+    """At the stop mass's anti-resonance the answer is 'no orbit', with the reason (was
+    ZeroDivisionError; before that, 'discriminant of eq. (16) negative')."""
+    from tests.fuzz._cli import cli
+    pre = ["--mu-m", "0.3333333333333333", "--mu-k", "0.3333333333333333", "--f2", "0",
+           "--b", "1.5", "--r", "0.8", "--omega", "2"]
+    rc, out, err = cli("orbit", *pre)
+    assert rc == 0 and err == "", err
+    assert "anti-resonance" in out and "discriminant" not in out
+    rc, out, _ = cli("orbit", *pre, "--json")
+    import json
+    d = json.loads(out)
+    assert rc == 0 and d["orbits"] == [] and "anti-resonance" in d["reason"]
