@@ -183,8 +183,10 @@ def run(args):
             from ..orbits.period1 import admissible_orbits
             guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
             if not guesses:
+                from ..orbits.period1 import no_orbit_reason
+                why = no_orbit_reason(at, w) or "every period-1 orbit there is inadmissible"
                 raise ParameterError("--from", a, f"a value where an admissible period-1 "
-                                     f"orbit exists (none at {args.param} = {a})")
+                                     f"orbit exists", f"none at {args.param} = {a}: {why}")
     branches = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)

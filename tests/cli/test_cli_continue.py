@@ -96,3 +96,13 @@ def test_sweep_overlays_the_branches(tmp_path, capsys):
     assert abs(got[("ns", "1-1")] - res.points[0].omega_c) < 1e-10
     assert ("flip", "2-2") in got or ("grazing", "2-2") in got     # the doubled branch
     assert png.stat().st_size > 10000
+
+
+def test_no_start_orbit_names_the_reason():
+    """--from where no period-1 orbit exists (the stop mass's anti-resonance): one line
+    naming --from, with the reason."""
+    from tests.fuzz._cli import assert_bad_input, cli
+    line = assert_bad_input(cli("continue", "--mu-m", "0.3333333333333333", "--mu-k",
+                                "0.3333333333333333", "--f2", "0", "--b", "1.5", "--r", "0.8",
+                                "--param", "omega", "--from", "2", "--to", "2.1"), "--from")
+    assert "anti-resonance" in line
