@@ -18,7 +18,7 @@ FLAGS = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
 PLANE = ["plane", *FLAGS, "--x", "omega:0.7:0.8:4", "--y", "b:1.3:1.7:4", "--impacts", "20",
          "--transient", "20"]
 SWEEP = ["sweep", *FLAGS, "--omega-min", "0.73", "--omega-max", "0.75", "--steps", "4"]
-SHORT = 0.5
+SHORT = 0.3
 
 
 class Server:
@@ -104,8 +104,8 @@ def test_no_scheduler_there_one_line(tmp_path, short, behaviour):
     srv = Server("garbage") if behaviour == "garbage" else None
     address = srv.address if srv else f"tcp://127.0.0.1:{_free_port()}"
     try:
-        out = tmp_path / "s.png"
-        line = assert_bad_input(cli(*SWEEP, "--out", out, "--scheduler", address),
+        argv, out = (PLANE, tmp_path / "p.zarr") if srv is None else (SWEEP, tmp_path / "s.png")
+        line = assert_bad_input(cli(*argv, "--out", out, "--scheduler", address),
                                 "--scheduler", "could not reach scheduler", address)
         assert not out.exists() and "0x" not in line      # no object reprs
         if behaviour == "refused":
@@ -131,6 +131,7 @@ def test_reach_a_real_scheduler_and_refuse_a_worker():
             eng.reach_scheduler(worker, 5)
 
 
+@pytest.mark.slow
 def test_nothing_printed_at_exit():
     """A fresh interpreter: a malformed address and a silent port, then exit; stderr holds
     exactly the two error lines (no 'Exception ignored ... Client.__del__' traceback)."""
