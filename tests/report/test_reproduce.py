@@ -25,8 +25,9 @@ def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
     out, _ = quick_report
     text = (out / "report.md").read_text(encoding="utf-8")
     scenes = {s.name: s for s in paper_scenes()}
+    from symvi.reporting.report import _cell, _text
     for row in scenes["numbers"].outputs[0].spec["row"]:
-        assert "| " + row["label"].replace("|", "\\|") + " |" in text
+        assert "| " + _cell(_text(row["label"])) + " |" in text
     for eq in ("(11)", "(12)", "(16)", "(21)–(24)", "(37)", "(38)", "(46)", "(54)", "(60)",
                "(A2)", "(A3)", "(A4)", "(A10)", "(A13)", "(A16)", "(A17)"):
         assert eq in text, eq
