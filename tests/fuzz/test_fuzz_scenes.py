@@ -5,8 +5,6 @@ one-line message naming the key.  Through the CLI (``symvi run``, when built):
 one line on stderr, non-zero exit, output folder untouched.
 """
 import os
-import subprocess
-import sys
 
 import pytest
 
@@ -63,7 +61,20 @@ def variants():
         out.append((f"missing-{key}", GOOD.replace(line + "\n", ""), key))
     out.append(("r=0", GOOD.replace("r = 0.8", "r = 0"), "r"))
     out.append(("r=1.5", GOOD.replace("r = 0.8", "r = 1.5"), "r"))
+    # a model file may only be a regular .toml file (issue 23)
+    block = "[params]\nmu_m = 2\nmu_k = 5\nf2 = 0\nb = 1.5\nr = 0.8\n"
+    for name, value in (("etc-passwd", "/etc/passwd"), ("dev-null", "/dev/null"),
+                        ("dev-zero-toml", "/dev/zero.toml"), ("folder", "."), ("empty", ""),
+                        ("number", 3), ("escape", "../../../../../../etc/shadow"),
+                        ("nul", "a\u0000.toml")):
+        out.append((f"model={name}", GOOD.replace(block, f"[params]\nmodel = {_toml(value)}\n"),
+                    "model"))
     return out
+
+
+def _toml(v):
+    import json
+    return json.dumps(v) if isinstance(v, str) else repr(v)
 
 
 VARIANTS = variants()
@@ -102,31 +113,32 @@ def _has_run():
     return "run" in sub.choices
 
 
+_CLI_CASES = [v for i, v in enumerate(VARIANTS) if i % 4 == 0 or v[0].startswith("model=")]
+
+
 @pytest.mark.skipif(not _has_run(), reason="symvi run not built")
-@pytest.mark.parametrize("text", [v[1] for v in VARIANTS[::4]], ids=[v[0] for v in VARIANTS[::4]])
-def test_run_bad_scene_leaves_folder(tmp_path, text):
-    from .test_fuzz_cli import assert_one_line_error, snapshot
+@pytest.mark.parametrize("text,word", [v[1:] for v in _CLI_CASES], ids=[v[0] for v in _CLI_CASES])
+def test_run_bad_scene_leaves_folder(tmp_path, text, word):
+    """Exit 2, one line (naming the key where the variant has one), nothing written."""
+    from ._cli import assert_bad_input, cli, snapshot
     scene = tmp_path / "bad.toml"
     scene.write_text(text)
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("precious")
     before = snapshot(out)
-    r = subprocess.run([sys.executable, "-m", "symvi", "run", str(scene), "--out", str(out)],
-                       capture_output=True, text=True, timeout=60)
-    assert_one_line_error(r)
+    assert_bad_input(cli("run", scene, "--out", out), *([word] if word else []))
     assert snapshot(out) == before
 
 
 @pytest.mark.skipif(not _has_run(), reason="symvi run not built")
 def test_run_good_scene_leaves_no_temp_files(tmp_path):
-    from .test_fuzz_cli import snapshot
+    from ._cli import cli, snapshot
     scene = tmp_path / "good.toml"
     scene.write_text(GOOD)
     out = tmp_path / "out"
-    r = subprocess.run([sys.executable, "-m", "symvi", "run", str(scene), "--out", str(out),
-                        "--quick"], capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
+    rc, _, err = cli("run", scene, "--out", out, "--quick")
+    assert rc == 0, err
     files = snapshot(out)
     assert "report.md" in files
     assert not [f for f in files if os.path.basename(f).startswith(".tmp")], files
