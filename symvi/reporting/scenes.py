@@ -10,9 +10,9 @@ outputs it wants::
     description = "..."            # optional
 
     [params]                       # the five parameters, or named sets [params.ex1] ...
-    mu_m = 2
-    mu_k = 5
-    f2 = 0
+    mu_m = 2                       # or model = "chain3.toml": a regular .toml model file,
+    mu_k = 5                       # a relative path read from the scene file's folder
+    f2 = 0                         # (no [params] at all: symvi run SCENE --model FILE)
     b = 1.5
     r = 0.8
 
@@ -31,7 +31,8 @@ output never computes a normal form.  Results are cached in ``DIR/.cache`` under
 a hash of their inputs (the output's keys, the parameters, the quick flag, the
 symvi version and source, and the generated code's input hash from
 ``generated/manifest.json``); a rerun with nothing changed loads them and
-does no work.
+does no work.  Each entry carries the SHA-256 of its content: a corrupt one is
+computed again, never a traceback.
 """
 import hashlib
 import json
