@@ -308,8 +308,25 @@ def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
     return _auto_orbits(
         period1_orbits(params, omega),
         lambda o, reuse: estimate_orbit(params, o, reuse=reuse),
-        lambda branch, d: _orbit_on(params, omega, branch, d, True, admissible=False),
+        _per_digits(lambda d: period1_orbits(params, omega, digits=d, multipliers=True)),
         min_digits, max_digits)
+
+
+def _per_digits(solve):
+    """recompute(branch, digits) for :func:`_auto_orbits`: ``solve(digits)`` (every
+    branch at once) is called once per precision, not once per branch (near forcing
+    resonance one mpmath solve costs a minute: its first-impact search takes tiny
+    steps)."""
+    done = {}
+
+    def recompute(branch, d):
+        if d not in done:
+            done[d] = {o.branch: o for o in solve(d)}
+        o = done[d].get(branch)
+        if o is None:
+            raise SingularCaseError("no-orbit", "the branch does not exist here")
+        return o
+    return recompute
 
 
 def _auto_orbits(orbits, estimate, recompute, min_digits, max_digits):
@@ -867,12 +884,7 @@ def auto_model_orbits(model, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIG
     trustworthy digits: float64 when its estimate allows, else mpmath at the digits
     the condition asks for; untrusted (value None) past ``max_digits``."""
     from ..orbits import period1_orbits
-
-    def recompute(branch, d):
-        o = {x.branch: x for x in period1_orbits(model, omega, digits=d)}.get(branch)
-        if o is None:
-            raise SingularCaseError("no-orbit", "the branch does not exist here")
-        return o
     return _auto_orbits(period1_orbits(model, omega),
                         lambda o, reuse: estimate_model_orbit(model, o, reuse=reuse),
-                        recompute, min_digits, max_digits)
+                        _per_digits(lambda d: period1_orbits(model, omega, digits=d)),
+                        min_digits, max_digits)
