@@ -13,9 +13,12 @@ the loader looks for it: generated/ when shipped, else the per-user cache
 (:mod:`symvi.codegen._usercache`); there ``--check`` runs the derivation again and
 compares each module's text with it, never trusting the manifest in that folder.
 """
+import os
 import sys
 import time
 from pathlib import Path
+
+from ..errors import ParameterError
 
 
 def register(sub):
@@ -85,6 +88,12 @@ class _UserCache:
 
 
 def run(args):
+    if args.out is not None:
+        from .._io import check_output
+        check_output(args.out, flag="--out", folder=True)
+        if args.check and not os.path.isdir(args.out):
+            raise ParameterError("--out", args.out, "an existing folder of generated code "
+                                 "(with --check)")
     jobs = jobs_of(args)
     where = ", ".join(sorted({str(o) for _, _, o, _ in jobs}))
     if args.check:

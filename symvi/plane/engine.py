@@ -98,11 +98,16 @@ def run_plane(spec, out, *, scheduler=None, workers=None, progress=None, command
     :class:`distributed.Client` (tests).  ``progress``: True, False or None (a bar on
     stderr when it is a terminal).
     """
-    from .. import __version__
     t0 = time.perf_counter()
     check_workers(scheduler, workers)
     check_scheduler(scheduler)
     store = PlaneStore(out, spec)
+    with store.lock():                     # a second run on this store is refused
+        return _run_plane(store, spec, scheduler, workers, progress, command, client, t0)
+
+
+def _run_plane(store, spec, scheduler, workers, progress, command, client, t0):
+    from .. import __version__
     exists = store.check()                 # refuses a path holding anything else
     todo = store.missing_blocks() if exists else spec.blocks()
     text = spec.text()

@@ -202,7 +202,11 @@ class PlaneStore:
                     a = g[v]
                 except KeyError:
                     raise bad(f"no array {v!r}") from None
-                if not hasattr(a, "dtype") or tuple(a.shape) != shape or a.dtype != dtype:
+                # xarray < 2026.9 stores a bool as int8 with the attribute dtype="bool"
+                as_bool = (dtype == np.dtype(bool) and getattr(a, "dtype", None) == np.int8
+                           and a.attrs.get("dtype") == "bool")
+                if not hasattr(a, "dtype") or tuple(a.shape) != shape or (
+                        a.dtype != dtype and not as_bool):
                     raise bad(f"{v!r} is {getattr(a, 'dtype', 'a group')} "
                               f"{tuple(getattr(a, 'shape', ()))}, the spec needs {dtype} "
                               f"{shape}")
