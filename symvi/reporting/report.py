@@ -413,11 +413,25 @@ def _short(v):
     return str(v)
 
 
+def _uncertified(r):
+    """The spans the scan could not certify, in words (none: [])."""
+    spans = r.get("uncertified") or []
+    if not spans:
+        return []
+    why = "; ".join(r.get("uncertified_reasons") or [])
+    return ["**Not certified** (a crossing there may have been missed): "
+            + ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in spans)
+            + (f" ({_text(why)})" if why else "") + ".", ""]
+
+
 def _hopf_table(r):
     pts = r.get("points", [])
+    head = [_text(r["conservative"]) + ".", ""] if r.get("conservative") else []
     if not pts:
-        return ["No Hopf point in the interval.", ""]
-    L = ["| v_c | branch | λ1 | θ/2π | d\\|λ1\\|/dv (A1–A3) | along branch | l1 | f1 (60) as printed "
+        if r.get("uncertified"):
+            return head + ["No Hopf point found where the scan is certified.", ""] + _uncertified(r)
+        return head + ["No Hopf point in the interval.", ""]
+    L = head + ["| v_c | branch | λ1 | θ/2π | d\\|λ1\\|/dv (A1–A3) | along branch | l1 | f1 (60) as printed "
          "| f1 (60) corrected | kind | H1 | H2 | H3 |", "|" + "---|" * 13]
     for q in pts:
         L.append(f"| {_num(q['omega_c'], '.12f')} | {q['branch']} | "
@@ -427,6 +441,11 @@ def _hopf_table(r):
                  f"{_na(q['f1_wan'])} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
     nm = pts[0].get("normalisation", {})
     L += ["", "Normalisation: " + "; ".join(f"{k}: {v}" for k, v in nm.items()), ""]
+    for q in pts:       # what a number in the table does not mean as stated
+        for key in ("dmod_domega_branch_caveat", "circle_caveat"):
+            if q.get(key):
+                L += [f"Caution at v_c = {_num(q['omega_c'], '.10g')}: {_text(q[key])}.", ""]
+    L += _uncertified(r)
     if r.get("events"):
         L += ["Events: " + "; ".join(f"{e.get('kind')} at ω = {e.get('omega'):.10g} "
                                      f"({e.get('detail', '')})" for e in r["events"]), ""]

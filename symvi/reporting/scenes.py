@@ -844,9 +844,15 @@ def _hopf(params, spec, quick, scene):
     pts = hopf.hopf_points(params, spec["omega_min"], spec["omega_max"])
     events = getattr(pts, "events", None)
     points = getattr(pts, "points", pts)
+    # what the scan could not certify: a crossing there may have been missed (never "none")
+    uncertified = [[float(lo), float(hi)] for lo, hi in getattr(pts, "uncertified", ())]
     return {"points": [p.as_dict() for p in points],
             "events": [e if isinstance(e, dict) else getattr(e, "as_dict", lambda: str(e))()
-                       for e in (events or [])]}, {}
+                       for e in (events or [])],
+            "uncertified": uncertified,
+            "uncertified_reasons": list(getattr(pts, "uncertified_reasons", ())),
+            "conservative": getattr(pts, "statement", None)
+            if getattr(pts, "conservative", False) else None}, {}
 
 
 def _section(params, spec, quick, scene):

@@ -219,9 +219,14 @@ def _printed_scale(point):
 def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.analysis.hopf)."""
     from ..analysis.hopf import hopf_points
-    pts = [h for h in hopf_points(params, omega_min, omega_max) if h.circle is not None]
+    res = hopf_points(params, omega_min, omega_max)
+    pts = [h for h in res if h.circle is not None]
     if not pts:
-        raise SingularCaseError("no-hopf", f"no Hopf point in [{omega_min}, {omega_max}]")
+        spans = getattr(res, "uncertified", ())
+        where = (" (not certified on " + ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in spans)
+                 + ": a point there may have been missed)") if spans else ""
+        raise SingularCaseError("no-hopf", f"no Hopf point with a predicted circle in "
+                                f"[{omega_min}, {omega_max}]{where}")
     return pts[0]
 
 
