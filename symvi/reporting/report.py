@@ -52,8 +52,10 @@ def build_report(scene_list, out_dir, *, quick=False, use_cache=True, command=""
     out_dir = check_output(os.fspath(out_dir), flag="--out", folder=True)
     path = os.path.join(out_dir, "report.md")
     check_output(path, flag="--out", suffixes=(".md",))
-    os.makedirs(out_dir, exist_ok=True)
     cache_dir = os.path.join(out_dir, ".cache")
+    if os.path.lexists(cache_dir):
+        check_output(cache_dir, flag="--out", folder=True)
+    os.makedirs(out_dir, exist_ok=True)
     cache = sc.Cache(cache_dir)
     total = sum(len(s.outputs) for s in scene_list)
     parts, figures = [], []

@@ -186,6 +186,17 @@ def test_cache_entry_replaced_by_a_fifo(tmp_path):
     assert "\n" not in str(exc.value)
 
 
+def test_cache_folder_replaced_by_a_fifo_is_refused_before_computing(tmp_path):
+    from symvi.errors import ParameterError
+    out = tmp_path / "out"
+    out.mkdir()
+    os.mkfifo(out / ".cache")
+    scene = parse_scene(HEAD + PAPER + HOPF, "s.toml")
+    with pytest.raises(ParameterError, match=r"--out = .*\.cache.*FIFO"):
+        report.build_report([scene], out)
+    assert sorted(os.listdir(out)) == [".cache"]
+
+
 def test_forged_cache_entry_is_recomputed_by_the_report(tmp_path):
     """A cached result with the right hash but the wrong content cannot be shown: the
     report computes that part again instead of failing."""
