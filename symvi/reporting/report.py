@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from . import scenes as sc
 from .._io import write_text
+from ..errors import SymviError
 from ..paper.audit import NOTES, fmt
 
 _FIG_KINDS = ("multipliers", "section", "bifurcation", "circle_check", "curve",
@@ -66,7 +67,9 @@ def build_report(scene_list, out_dir, *, quick=False, use_cache=True, command=""
                 try:
                     f = _figure(p, out_dir, cache, use_cache)
                     _part(p)
-                except Exception:      # noqa: BLE001 - only a cached result is retried
+                except SymviError:     # an unwritable figure: the same after recomputing
+                    raise
+                except Exception:      # noqa: BLE001 - a cached result that cannot be shown
                     if p.source != "cache":
                         raise
                     p = sc.run_output(s, out, cache_dir, quick=quick, use_cache=False)
