@@ -279,7 +279,7 @@ _MODEL_FILE = "a model file (a regular file ending in .toml; a relative path is 
               "the scene file's folder)"
 
 
-def model_path(value, key, file, folder):
+def _model_path(value, key, file, folder):
     """The model file a scene names at ``key``, checked before it is opened: a regular file
     ending in ``.toml`` (also after following symlinks, so no device, FIFO, folder or other
     file is read as a model), relative paths resolved against ``folder``, the scene's."""
@@ -305,7 +305,7 @@ def model_path(value, key, file, folder):
 def _load_model(value, key, file, folder):
     """Load the model file a scene names (its errors, one line, prefixed by file and key)."""
     from ..model import load_model
-    path = model_path(value, key, file, folder)
+    path = _model_path(value, key, file, folder)
     try:
         return load_model(path)
     except SymviError as exc:
