@@ -119,7 +119,7 @@ BRANCH_H = 1e-3
 #: the derivative along the branch is printed as uncertain above this estimated relative error
 BRANCH_REL_ERR = 1e-6
 #: Ridders' error estimate is multiplied by this (a heuristic estimate, made a safe one)
-RIDDERS_SAFETY = 3.0
+RIDDERS_SAFETY = 10.0
 #: (H2) is said to hold when min_m |lambda^m - 1| (m = 1..5) exceeds this
 H2_TOL = 1e-6
 #: base budget of orbit evaluations per scan, raised by SAMPLES_PER_CUT for every cut at a
@@ -806,13 +806,18 @@ def _lam_near(system, orbit_branch, w, target):
     return min((complex(x) for x in o.multipliers), key=lambda x: abs(x - target))
 
 
-def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j):
+def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0):
     """d|lambda1|/domega along the branch and an estimate of its error: (value, error).
 
     Ridders' extrapolation of central differences (Numerical Recipes, dfridr): steps
     h, h/1.4, h/1.4^2, ..., a Neville tableau in h^2, each entry's error estimated from its
-    neighbours, stopping when rounding makes the estimates grow; the best entry and its
-    error.  Independent of eqs. (A1)-(A3): only orbits and eigenvalues at omega +/- h.
+    neighbours, stopping when rounding makes the estimates grow; the best entry.  Two
+    tableaus, from h and 0.37 h: the error is the larger of the better one's estimate and
+    their difference, times ``RIDDERS_SAFETY`` (the estimates are biased low by picking the
+    smallest; with rounding noise of any size added to |lambda1| the actual error stayed
+    below 0.65 of it, tests/hopf/test_branch_derivative.py), plus |d2|lambda1|/domega2|
+    ``domega`` * 2 for an omega known to +/- ``domega``.  Independent of eqs. (A1)-(A3):
+    only orbits and eigenvalues at omega +/- h.
     The multiplier is followed from ``lam`` at omega along ``lam + dlam (w - omega)``.
     The first step is ``BRANCH_H`` * omega; unless the error is then below 1e-9 relative
     it is divided by 10, four times at most (where the branch varies on a smaller scale or
@@ -826,11 +831,17 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j):
 
     def central(h):
         return (m(omega + h) - m(omega - h)) / (2 * h)
+    def twice(h):
+        # two tableaus from incommensurate first steps: an accidental agreement inside one
+        # (which makes its own estimate too small) does not repeat in the other
+        d1, e1 = _ridders(central, h)
+        d2, e2 = _ridders(central, h * 0.37)
+        return (d1 if e1 <= e2 else d2), max(min(e1, e2), abs(d1 - d2))
     h0 = BRANCH_H * omega if h is None else float(h)
     best = (math.nan, math.inf)
     for _ in range(5):
         try:
-            d, e = _ridders(central, h0)
+            d, e = twice(h0)
         except (SymviError, KeyError):
             d, e = math.nan, math.inf
         if e < best[1]:
@@ -838,15 +849,23 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j):
         if best[1] <= 1e-9 * abs(best[0]):
             break
         h0 /= 10
-    return best
+    err = RIDDERS_SAFETY * best[1]
+    if domega > 0 and math.isfinite(err):
+        # omega itself known to +/- domega: the derivative there moves by |m''| domega
+        hh = BRANCH_H * omega
+        try:
+            m2 = (m(omega + hh) - 2 * m(omega) + m(omega - hh)) / hh ** 2
+            err += 2 * abs(m2) * domega
+        except (SymviError, KeyError):
+            pass
+    return best[0], err
 
 
 def _ridders(central, h, con=1.4, ntab=10, safe=2.0):
     """Ridders' tableau on central(h), central(h/con), ...: (best value, its error).
 
-    The error is the tableau's estimate times RIDDERS_SAFETY: with rounding noise of any
-    size added to |lambda1| (tests/hopf/test_branch_derivative.py) the actual error stayed
-    below 1.5 times the estimate."""
+    The error is the tableau's own estimate (a heuristic: consecutive entries that agree by
+    accident make it too small; :func:`dmod_along_branch` cross-checks two tableaus)."""
     con2 = con * con
     prev = [central(h)]
     best, err = prev[0], math.inf
@@ -863,7 +882,7 @@ def _ridders(central, h, con=1.4, ntab=10, safe=2.0):
         if abs(row[i] - prev[i - 1]) >= safe * err:
             break                     # higher orders only amplify rounding now
         prev = row
-    return best, RIDDERS_SAFETY * err
+    return best, err
 
 
 def hopf_point(params, omega_c, branch, *, sampler=None):
@@ -881,8 +900,6 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
                           key=lambda z: -abs(z)))
     h1 = abs(abs(lam) - 1) < 1e-9 and abs(lam.imag) > 1e-9 and all(abs(z) < 1 for z in others)
     m, dist = resonance(lam)
-    dbranch, dbranch_err = dmod_along_branch(system, omega_c, branch, lam,
-                                             dlam=complex(nf.dlam_dv))
     # error estimates; recomputed in mpmath when float64 gives < 8 digits
     acc = system.accuracy(omega_c, branch, nf, j)
     if acc.omega_c.recomputed and acc.trusted:
@@ -890,6 +907,11 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
     dmod = float(acc.dmod_domega) if acc.dmod_domega.recomputed and acc.dmod_domega.trusted \
         else float(nf.dmod_dv)
     l1 = float(acc.l1) if acc.l1.recomputed and acc.l1.trusted else float(nf.l1)
+    # at the reported omega_c, and for its uncertainty (a derivative at the true omega_c)
+    rel = acc.omega_c.rel_err
+    dbranch, dbranch_err = dmod_along_branch(
+        system, omega_c, branch, lam, dlam=complex(nf.dlam_dv),
+        domega=abs(omega_c) * rel if math.isfinite(rel) else 0.0)
     return HopfPoint(
         omega_c=float(omega_c), branch=branch, multiplier=lam,
         theta_over_2pi=float(nf.theta) / (2 * math.pi), other_multipliers=others, h1=bool(h1),

@@ -129,7 +129,8 @@ def _incomplete(res):
     widest SPAN_LINES of them when there are more) and why."""
     spans = res.uncertified
     n = len(res.points)
-    head = f"{n} Neimark-Sacker point{'s' if n != 1 else ''} found; NOT certified on "
+    head = (f"{n} Neimark-Sacker point{'s' if n != 1 else ''} found; " if not res.conservative
+            else "real multipliers through +1 or -1: ") + "NOT certified on "
     why = "; ".join(res.uncertified_reasons)
     fmt = lambda s: f"[{s[0]:.10g}, {s[1]:.10g}]"
     if len(spans) <= SPAN_LINES:
