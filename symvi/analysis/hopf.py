@@ -255,9 +255,12 @@ class HopfPoint:
         frequency the branch varies on a scale below the steps (or its multipliers are
         ill-conditioned) and the estimate is large: the value is then uncertain."""
         v, e = self.dmod_domega_branch, self.dmod_domega_branch_error
-        if not (math.isfinite(v) and math.isfinite(e)):
+        if not math.isfinite(v):
             return ("not computable along the branch (the branch is not defined on both "
                     "sides of omega_c)")
+        if not math.isfinite(e):
+            return ("uncertain along the branch: no error estimate (the branch is not "
+                    "defined on both sides of omega_c at every step)")
         if e > BRANCH_REL_ERR * abs(v):
             return (f"uncertain along the branch: estimated error {e:.1e} (relative "
                     f"{e / max(abs(v), 1e-300):.1e}); the branch varies on a scale below the "
@@ -807,22 +810,21 @@ def _lam_near(system, orbit_branch, w, target):
 
 
 def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0):
-    """d|lambda1|/domega along the branch and an estimate of its error: (value, error).
+    """d|lambda1|/domega along the branch and a bound on its error: (value, error).
 
-    Ridders' extrapolation of central differences (Numerical Recipes, dfridr): steps
-    h, h/1.4, h/1.4^2, ..., a Neville tableau in h^2, each entry's error estimated from its
-    neighbours, stopping when rounding makes the estimates grow; the best entry.  Two
-    tableaus, from h and 0.37 h: the error is the larger of the better one's estimate and
-    their difference, times ``RIDDERS_SAFETY`` (the estimates are biased low by picking the
-    smallest; with rounding noise of any size added to |lambda1| the actual error stayed
-    below 0.65 of it, tests/hopf/test_branch_derivative.py), plus |d2|lambda1|/domega2|
-    ``domega`` * 2 for an omega known to +/- ``domega``.  Independent of eqs. (A1)-(A3):
-    only orbits and eigenvalues at omega +/- h.
-    The multiplier is followed from ``lam`` at omega along ``lam + dlam (w - omega)``.
-    The first step is ``BRANCH_H`` * omega; unless the error is then below 1e-9 relative
-    it is divided by 10, four times at most (where the branch varies on a smaller scale or
-    is not defined that far: a fold, grazing, a singular frequency omega_j / n), and the
-    result of smallest estimated error is returned; ``error`` is inf when no step works."""
+    Independent of eqs. (A1)-(A3): only orbits and eigenvalues at omega +/- h, the
+    multiplier followed from ``lam`` at omega along ``lam + dlam (w - omega)``.  Ridders'
+    extrapolation of central differences (Numerical Recipes, dfridr, :func:`_ridders`),
+    twice, from h and 0.37 h: the error is the larger of the better tableau's estimate and
+    the two results' difference, times ``RIDDERS_SAFETY`` (each estimate is biased low, as
+    the smallest of many; with rounding noise of any size on |lambda1| the actual error
+    stayed below 0.65 of this, tests/hopf/test_branch_derivative.py), plus
+    2 |d2|lambda1|/domega2| ``domega`` for an omega known to +/- ``domega``.
+
+    h is ``BRANCH_H`` * omega first; unless the error is then below 1e-9 relative it is
+    divided by 10, four times at most (the branch varies on a smaller scale, or is not
+    defined that far, next to a fold, grazing or a singular frequency omega_j / n), and
+    the result of smallest error is returned; (nan, inf) when no step works."""
     system = params if isinstance(params, (_PaperSystem, _ModelSystem)) else _system(params)
     omega = float(omega)
 
@@ -831,33 +833,33 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0):
 
     def central(h):
         return (m(omega + h) - m(omega - h)) / (2 * h)
+
     def twice(h):
         # two tableaus from incommensurate first steps: an accidental agreement inside one
         # (which makes its own estimate too small) does not repeat in the other
         d1, e1 = _ridders(central, h)
         d2, e2 = _ridders(central, h * 0.37)
         return (d1 if e1 <= e2 else d2), max(min(e1, e2), abs(d1 - d2))
-    h0 = BRANCH_H * omega if h is None else float(h)
-    best = (math.nan, math.inf)
+    h = BRANCH_H * omega if h is None else float(h)
+    best, best_h = (math.nan, math.inf), h
     for _ in range(5):
         try:
-            d, e = twice(h0)
+            d, e = twice(h)
         except (SymviError, KeyError):
             d, e = math.nan, math.inf
         if e < best[1]:
-            best = (d, e)
+            best, best_h = (d, e), h
         if best[1] <= 1e-9 * abs(best[0]):
             break
-        h0 /= 10
+        h /= 10
     err = RIDDERS_SAFETY * best[1]
     if domega > 0 and math.isfinite(err):
         # omega itself known to +/- domega: the derivative there moves by |m''| domega
-        hh = BRANCH_H * omega
         try:
-            m2 = (m(omega + hh) - 2 * m(omega) + m(omega - hh)) / hh ** 2
+            m2 = (m(omega + best_h) - 2 * m(omega) + m(omega - best_h)) / best_h ** 2
             err += 2 * abs(m2) * domega
         except (SymviError, KeyError):
-            pass
+            err = math.inf
     return best[0], err
 
 
