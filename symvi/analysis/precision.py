@@ -24,7 +24,12 @@ l1) gets a relative-error estimate of the form
     factor (sum of the moduli of the terms of c1) / |l1|.
 
 * ``C_EVAL`` covers the rounding of the generated code itself (a few hundred
-  operations); it was calibrated against mpmath at 50 digits
+  operations), or the **flow condition** when that is larger: the error of the
+  modal flow e^{At} from the exact residual of its eigen-decomposition
+  (:func:`_flow_condition`; a stiff mode, e.g. a light mass, makes it ~1e6, and no
+  input condition sees it).  A condition that cannot be computed (NaN) is infinite:
+  the result is then untrusted, with the reason.  C_EVAL was calibrated against
+  mpmath at 50 digits
   (``tests/precision/test_precision.py`` checks that the estimate bounds the
   true error).
 
