@@ -6,8 +6,12 @@ def register(sub):
     p = sub.add_parser("hopf", help="Neimark-Sacker (Hopf) points in [omega-min, omega-max], "
                                     "(H1)-(H3), l1 and f1, eqs. (39)-(60)")
     add_params(p, model=True)
-    p.add_argument("--omega-min", type=float, required=True, help="start of the interval (> 0)")
-    p.add_argument("--omega-max", type=float, required=True, help="end of the interval")
+    p.add_argument("--omega-min", type=float, required=True,
+                   help="start of the interval (1e-4 .. 1e4); where the omega_j / n "
+                        "accumulate, below the largest 300 of them, nothing is scanned and "
+                        "the headline says so")
+    p.add_argument("--omega-max", type=float, required=True,
+                   help="end of the interval (1e-4 .. 1e4)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--digits", type=int, default=None,
                    help="also re-run each point at this many digits (mpmath, 30..500): the "
