@@ -344,7 +344,7 @@ class HopfPoint:
             "other_multipliers": [[complex(x).real, complex(x).imag]
                                   for x in self.other_multipliers],
             "dmod_domega": num("dmod_domega"),
-            "dmod_domega_branch": float(self.dmod_domega_branch),
+            "dmod_domega_branch": _finite(self.dmod_domega_branch),
             "dmod_domega_branch_error": _finite(self.dmod_domega_branch_error),
             "dmod_domega_branch_caveat": self.branch_caveat,
             "l1": num("l1"), "c1": [self.c1.real, self.c1.imag],

@@ -97,7 +97,9 @@ def test_large_error_is_said(ex1, capsys):
     assert "differs from (A1)-(A3) by 4.7e-03" in bad.branch_caveat
     nan = dataclasses.replace(ex1, dmod_domega_branch=math.nan, dmod_domega_branch_error=math.inf)
     assert nan.branch_caveat.startswith("not computable")
+    # JSON has no NaN (print_json refuses it): null
     assert nan.as_dict()["dmod_domega_branch_error"] is None
+    assert nan.as_dict()["dmod_domega_branch"] is None
 
 
 def test_table_prints_the_error_and_the_caveat(capsys):
