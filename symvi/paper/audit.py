@@ -571,6 +571,14 @@ def _unit(printed):
     return 10.0 ** -dec
 
 
+def _uncertified(res):
+    """What a scan that found nothing could not certify (never read as 'there is none')."""
+    if res.complete:
+        return ""
+    spans = ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in res.uncertified[:6])
+    return f" found; the scan could not certify {spans}: a point there may have been missed"
+
+
 def _nearest_point(params, row):
     res = _hopf_cached(params, row["omega_min"], row["omega_max"])
     if not res.points:
@@ -590,7 +598,8 @@ def _num_status(printed, value):
 def _check_omega_c(params, row, quick):
     pt, res = _nearest_point(params, row)
     if pt is None:
-        return "differs", None, f"no Hopf point in [{row['omega_min']}, {row['omega_max']}]"
+        return "differs", None, (f"no Hopf point in [{row['omega_min']}, {row['omega_max']}]"
+                                 + _uncertified(res))
     st, units = _num_status(row["printed"], pt.omega_c)
     dec = len(repr(float(row["printed"])).split(".")[1])
     return st, pt.omega_c, (
@@ -602,9 +611,9 @@ def _check_omega_c(params, row, quick):
 
 
 def _check_dmod(params, row, quick):
-    pt, _ = _nearest_point(params, row)
+    pt, res = _nearest_point(params, row)
     if pt is None:
-        return "differs", None, "no Hopf point"
+        return "differs", None, "no Hopf point" + _uncertified(res)
     st, units = _num_status(row["printed"], pt.dmod_domega)
     rel = abs(pt.dmod_domega - pt.dmod_domega_branch) / abs(pt.dmod_domega)
     return st, pt.dmod_domega, (
@@ -615,9 +624,9 @@ def _check_dmod(params, row, quick):
 
 
 def _check_f1(params, row, quick):
-    pt, _ = _nearest_point(params, row)
+    pt, res = _nearest_point(params, row)
     if pt is None:
-        return "differs", None, "no Hopf point"
+        return "differs", None, "no Hopf point" + _uncertified(res)
     same = (row["printed"] > 0) == (pt.f1_wan > 0)
     return "not checkable", pt.f1_wan, (
         f"f1 depends on the normalisation of r1, which the paper does not state. symvi with "

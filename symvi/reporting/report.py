@@ -442,7 +442,7 @@ def _hopf_table(r):
         L.append(f"| {_num(q['omega_c'], '.12f')} | {q['branch']} | "
                  f"{fmt(complex(*q['multiplier']))} | "
                  f"{q['theta_over_2pi']:.6f} | {_num(q['dmod_domega'], '.8g')} | "
-                 f"{q['dmod_domega_branch']:.8g} | {_num(q['l1'], '.6g')} | {_na(q['f1_paper'])} | "
+                 f"{_num(q['dmod_domega_branch'], '.8g')} | {_num(q['l1'], '.6g')} | {_na(q['f1_paper'])} | "
                  f"{_na(q['f1_wan'])} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
     nm = pts[0].get("normalisation", {})
     L += ["", "Normalisation: " + "; ".join(f"{k}: {v}" for k, v in nm.items()), ""]

@@ -220,7 +220,7 @@ def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.analysis.hopf)."""
     from ..analysis.hopf import hopf_points
     res = hopf_points(params, omega_min, omega_max)
-    pts = [h for h in res if h.circle is not None]
+    pts = [h for h in res if h.circle is not None and not h.circle_caveat]
     if not pts:
         spans = getattr(res, "uncertified", ())
         where = (" (not certified on " + ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in spans)

@@ -321,8 +321,11 @@ def mpcheck(params, omega_min, omega_max, *, digits=50, index=0):
         raise ParameterError("digits", digits, "an integer from 30 to 500")
     res = hopf_points(params, omega_min, omega_max)
     if not res.points:
-        raise SingularCaseError("no-hopf-point", f"no Neimark–Sacker point in "
-                                f"[{omega_min}, {omega_max}]")
+        spans = ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in res.uncertified[:6])
+        raise SingularCaseError("no-hopf-point", f"no Neimark–Sacker point found in "
+                                f"[{omega_min}, {omega_max}]" + (
+                                    f" (not certified on {spans}: a point there may have "
+                                    "been missed)" if spans else ""))
     if not (isinstance(index, int) and 0 <= index < len(res.points)):
         raise ParameterError("index", index, f"0 .. {len(res.points) - 1}")
     pt = res.points[index]
