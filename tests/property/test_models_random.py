@@ -117,9 +117,10 @@ def _eig_rounding(model, p):
 
 #: hypothesis seed 2 (issue 23): an undamped N = 4 chain whose NS point at omega_c =
 #: 0.4021245186 sits next to a collision of multiplier pairs, d|lambda1|/domega = 4.4e6;
-#: the derivative along the branch said -91 +/- 32 (and -315.22155 +/- 1e-6 at 0.40211928
-#: where (A1)-(A3) give -315.22156).  Found on [0.3332, 1.4735] (50 NS points, ~40 s);
-#: the explicit example keeps the four points of [0.4015, 0.403] (~4 s)
+#: the derivative along the branch said 4426520 (0.47 % off, no caveat), and after a first
+#: fix -91 +/- 32 (and -315.22155 +/- 1e-6 at 0.40211928 where (A1)-(A3) give -315.22156).
+#: Found on [0.3332, 1.4735] (50 NS points, ~40 s); the explicit example keeps the four
+#: points of [0.4015, 0.403] (~4 s), which show both failures
 SEED2 = Model(
     mass=[0.7045200879082201, 1.6586080083310386, 2.4259993747067212, 2.579087890984482],
     stiffness=[[3.7917299004260636, -1.313896127027125, 0.12740276182753646,
