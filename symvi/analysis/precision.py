@@ -683,6 +683,10 @@ def refine_model_omega_c(model, omega_c, branch, digits=None, max_iter=30):
             e = nfm.eigen(jt.jacobian, **({"digits": work} if work else {}))
             _, dmod = nfm._dmod(e, jt.dA)               # eq. (A3) on the same eigen-solve
             step = (abs(e.lam) - 1) / dmod
+            if not (math.isfinite(float(step)) and float(dmod) != 0):
+                raise SingularCaseError("no-convergence", "the Newton polish of "
+                                        "|lambda1| = 1 met d|lambda1|/domega = "
+                                        f"{float(dmod):.3g} at omega = {float(w):.12g}")
             w = w - step
             # converged, or stagnating at the rounding level (no longer quadratic)
             if abs(step) <= 4 * eps * abs(w) or (prev is not None and abs(step) >= prev / 2

@@ -107,9 +107,13 @@ def _secant_root(f, omega0, digits, chain, maxsteps=60):
     tiny = mpmath.mpf(10) ** (-digits)
     prev = None
     for _ in range(maxsteps):
-        if f1 == 0 or f1 == f0:
+        if f1 == 0 or (f1 == f0 and prev is not None):
             return x1
+        if f1 == f0:
+            break                      # flat at the start: no root to follow
         step = f1 * (x1 - x0) / (f1 - f0)
+        if not mpmath.isfinite(step):
+            break
         x0, f0 = x1, f1
         x1 = x1 - step
         if abs(step) <= tiny * abs(x1):

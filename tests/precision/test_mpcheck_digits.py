@@ -77,3 +77,10 @@ def test_chain_a_at_500_digits_on_the_papers_example():
                      (a500.dmod_domega, a60.dmod_domega)):
             assert mc.digits_of_agreement(x, y) > 55
         assert abs(abs(a500.lam) - 1) < mpmath.mpf(10) ** -490
+
+
+def test_secant_on_a_flat_or_nan_function_says_so():
+    with mpmath.workdps(40):
+        for f in (lambda w: mpmath.mpf(1), lambda w: mpmath.nan):
+            with pytest.raises(SingularCaseError, match="did not converge"):
+                mc._secant_root(f, 0.5, 30, "A")
