@@ -66,7 +66,13 @@ def frechet_exp(flow, t, dA):
     if la is NUMPY_LA:
         diff = lt[:, None] - lt[None, :]
         safe = np.where(diff == 0, 1, diff)
-        G = np.where(diff == 0, 1.0 + 0j, np.expm1(diff) / safe) * ex[None, :] * t
+        # factor out the larger exponential, so expm1 never overflows (a stiff mode:
+        # Re(l_i - l_j) t > 709 gave inf * 0 = NaN):  (e^a - e^b)/(a - b) with Re a > Re b
+        # is e^a (1 - e^{b-a})/(a - b)
+        pos = diff.real > 0
+        arg = np.where(pos, -diff, diff)
+        scale = np.where(pos, -ex[:, None], ex[None, :])
+        G = np.where(diff == 0, ex[None, :], np.expm1(arg) / safe * scale) * t
     else:
         G = np.empty((m, m), dtype=object)
         for i in range(m):

@@ -9,12 +9,15 @@ A flight from an impact to the next, of duration T, is admissible when
   positive (-> 0 is grazing of the first kind);
 * x_k(t) < b on (0, T): no earlier contact, transversal (penetration) or grazing
   (second kind), found by the provably safe first-impact finder of the flow.
+  A finder that gives up before the flight's end (its step limit, a non-finite
+  state) decides nothing: the flight is then not admissible, "undecided", with
+  the reason, never admissible by default.
 
 Every period-1 and n-p orbit of every model (:mod:`symvi.orbits.period1`,
 :mod:`symvi.orbits.periodic`) and the paper's own chain (:mod:`symvi.orbit`)
 use this test; only the flow that supplies ``first_impact`` differs.
 """
-from ..flow.linear import GRAZING, IMPACT
+from ..flow.linear import GRAZING, IMPACT, NO_IMPACT
 
 #: relative margin before the end of a flight inside which a contact is the flight's own impact
 END_TOL = 1e-9
@@ -42,7 +45,13 @@ def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_
         return False, (f"{where}impact velocity {float(v_end):.6g}, but v{k}+ = "
                        f"{float(v_start):.6g} is not negative: the mass would not move away "
                        "from the stop")
-    hit = first_impact(T * (2 if require_return else 1 + 1e-6))
+    t_max = T * (2 if require_return else 1 + 1e-6)
+    hit = first_impact(t_max)
+    if hit.status == NO_IMPACT and not hit.t > t_max:
+        # the finder gave up (step limit, non-finite state) before t_max: nothing decided
+        return False, (f"{where}admissibility undecided: the first-contact finder stopped at "
+                       f"t = {float(hit.t):.9g} < {float(T):.9g} after {hit.steps} steps "
+                       "without deciding whether the flight stays off the stop")
     early = hit.t < T * (1 - tol)
     if hit.status == GRAZING and (early or require_return):
         return False, f"{where}grazing contact with the stop at t = {float(hit.t):.9g}"
