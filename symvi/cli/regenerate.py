@@ -88,13 +88,13 @@ class _UserCache:
 
 
 def run(args):
+    jobs = jobs_of(args)                   # reads --model; generates nothing
     if args.out is not None:
         from .._io import check_output
         check_output(args.out, flag="--out", folder=True)
         if args.check and not os.path.isdir(args.out):
             raise ParameterError("--out", args.out, "an existing folder of generated code "
                                  "(with --check)")
-    jobs = jobs_of(args)
     where = ", ".join(sorted({str(o) for _, _, o, _ in jobs}))
     if args.check:
         why = [w for _, mod, o, kw in jobs for w in mod.check(o, **kw)]
