@@ -17,25 +17,9 @@ import pytest
 from symvi import Params
 from symvi.analysis import hopf
 from symvi.errors import NearSingularWarning
-from symvi.model import Model, Stop
 
 EX1 = Params(2, 5, 0, 1.5, 0.8)
-#: the falsifying example of tests/property/test_models_random.py, seed 2
-SEED2 = Model(
-    mass=[[0.7045200879082201, 0.0, 0.0, 0.0], [0.0, 1.6586080083310386, 0.0, 0.0],
-          [0.0, 0.0, 2.4259993747067212, 0.0], [0.0, 0.0, 0.0, 2.579087890984482]],
-    stiffness=[[3.7917299004260636, -1.313896127027125, 0.12740276182753646,
-                0.10231541843913917],
-               [-1.313896127027125, 3.458317491060083, -1.8448012063782884,
-                0.11080641263192431],
-               [0.12740276182753646, -1.8448012063782884, 4.7418055787296804,
-                -2.5221574989293125],
-               [0.10231541843913917, 0.11080641263192431, -2.5221574989293125,
-                5.433044947027741]],
-    damping=[[0.0] * 4] * 4,
-    forcing=[0.46090010033391365, -0.1269277287771404, 0.43608527724720214,
-             1.0724153618233292],
-    stop=Stop(mass=4, gap=0.6274667725434118, restitution=0.95))
+from tests.property.strategies import SEED2  # noqa: E402  (hypothesis seed 2)
 
 
 @pytest.fixture(scope="module")
