@@ -22,6 +22,7 @@ class ParameterError(SymviError, ValueError):
         self.name = name
         self.value = value
         self.valid = valid
+        self.detail = detail
 
         def plain(v):
             # numpy scalars and arrays as plain Python numbers and lists: one line, no
@@ -35,6 +36,18 @@ class ParameterError(SymviError, ValueError):
         if detail:
             msg += f" ({detail})"
         super().__init__(msg)
+
+    def renamed(self, names):
+        """The same error with library keys replaced by what the user typed (``names``:
+        {"omega_min": "--omega-min", ...}), in the name, the range and the detail."""
+        if self.name not in names:
+            return self
+
+        def sub(text):
+            for key, flag in names.items():
+                text = text.replace(key, flag)
+            return text
+        return ParameterError(names[self.name], self.value, sub(self.valid), sub(self.detail))
 
 
 class SingularCaseError(SymviError):

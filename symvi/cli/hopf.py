@@ -26,7 +26,10 @@ def run(args):
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
-    res = hopf_points(params, args.omega_min, args.omega_max)
+    try:
+        res = hopf_points(params, args.omega_min, args.omega_max)
+    except ParameterError as exc:
+        raise exc.renamed({"omega_min": "--omega-min", "omega_max": "--omega-max"}) from None
     checks = []
     if args.digits is not None:
         from ..studies.mpcheck import check_point

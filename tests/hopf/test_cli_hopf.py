@@ -35,8 +35,9 @@ def test_table(capsys):
 
 
 @pytest.mark.parametrize("args,word", [
-    (["--omega-min", "0.76", "--omega-max", "0.70"], "omega_max"),
-    (["--omega-min", "nan", "--omega-max", "0.70"], "omega_min"),
+    (["--omega-min", "0.76", "--omega-max", "0.70"], "--omega-max"),
+    (["--omega-min", "nan", "--omega-max", "0.70"], "--omega-min"),
+    (["--omega-min", "1e-300", "--omega-max", "0.70"], "--omega-min"),
     (["--omega-min", "0.7", "--omega-max", "0.76", "--digits", "5"], "--digits"),
     # an end at a natural frequency (inside the interval it is cut: test_hopf_conservative_resonance)
     (["--omega-min", "0.7", "--omega-max", "0.8804857344718374"], "omega_1"),
