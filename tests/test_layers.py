@@ -1,15 +1,19 @@
 """The package layout shows the layers (issue 11): a module imports only modules of its
-own layer or of the layers below it, and the old top-level names of moved modules stay
-importable as the very same module objects."""
-import importlib
+own layer or of the layers below it.  The old top-level names of moved modules are
+deprecated shims (issue 24; tests/test_deprecated_paths.py): nothing in symvi/, tests/,
+benchmarks/ or the README's code imports them."""
+import ast
 import os
+import re
+from pathlib import Path
 
 import symvi
 from symvi.reporting import scenes as sc
 
 #: lowest first; a module belongs to the layer of its longest matching prefix
 LAYERS = [
-    ("base", ("errors", "_io", "_backend", "progress", "_compiled")),
+    ("numerics: shared tolerances", ("numerics",)),
+    ("base", ("errors", "_io", "_backend", "progress", "_compiled", "_deprecated")),
     ("model", ("params", "model")),
     ("flow and maps", ("flow", "maps")),
     ("codegen", ("codegen", "_paper_eval")),
@@ -24,7 +28,7 @@ LAYERS = [
     ("reporting", ("reporting",)),
     ("cli", ("cli", "__main__")),
 ]
-#: old top-level names kept for users: each is its new module, aliased
+#: old top-level names kept for one release: each warns and forwards to its new module
 MOVED = {"normal_form": "normal_forms.normal_form", "codim2": "normal_forms.codim2",
          "hopf": "analysis.hopf", "precision": "analysis.precision",
          "simulation": "simulations.simulation", "diagnostics": "simulations.diagnostics",
@@ -73,7 +77,49 @@ def test_no_module_imports_a_layer_above_its_own():
     assert not bad, "\n".join(bad)
 
 
-def test_old_module_names_are_the_moved_modules():
-    for old, new in MOVED.items():
-        assert importlib.import_module(f"symvi.{old}") is importlib.import_module(f"symvi.{new}")
-    assert callable(symvi.simulate) and callable(symvi.hopf_points)
+ROOT = Path(__file__).resolve().parents[1]
+_OLD = re.compile(r"symvi\.(%s)(\.\w+)*" % "|".join(MOVED))
+
+
+def old_paths_used(source):
+    """The old module paths ``source`` (Python) imports or names in a string: ``import
+    symvi.hopf``, ``from symvi.hopf import x``, ``from symvi import hopf``, and strings
+    such as ``importorskip("symvi.hopf")`` or ``monkeypatch.setattr("symvi.hopf.x", ...)``
+    (which would patch the shim, not the module that uses it).  Docstrings are prose."""
+    tree = ast.parse(source)
+    docs = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Expr)
+            and isinstance(n.value, ast.Constant) and isinstance(n.value.value, str)}
+    out = []
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Import):
+            out += [a.name for a in n.names if _OLD.fullmatch(a.name)]
+        elif isinstance(n, ast.ImportFrom) and n.module and not n.level:
+            if _OLD.fullmatch(n.module):
+                out.append(n.module)
+            elif n.module == "symvi":
+                out += [f"symvi.{a.name}" for a in n.names if a.name in MOVED]
+        elif (isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docs
+              and _OLD.fullmatch(n.value)):
+            out.append(n.value)
+    return out
+
+
+def test_no_test_benchmark_or_readme_block_uses_an_old_path():
+    """Issue 24, item 8: tests, benchmarks and the README use the new names only (the
+    deprecation test, which exercises the old names on purpose, aside)."""
+    files = [p for p in sorted((ROOT / "tests").rglob("*.py")) + sorted(
+        (ROOT / "benchmarks").rglob("*.py")) if p.name != "test_deprecated_paths.py"]
+    bad = [f"{p.relative_to(ROOT)}: {u}" for p in files
+           for u in old_paths_used(p.read_text(encoding="utf-8"))]
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    for k, block in enumerate(re.findall(r"^```python\s*\n(.*?)^```", readme, re.M | re.S)):
+        bad += [f"README.md, python block {k + 1}: {u}" for u in old_paths_used(block)]
+    assert not bad, "\n".join(bad)
+
+
+def test_no_symvi_module_names_an_old_path():
+    """Strings too: a lazy ``importlib.import_module("symvi.hopf")`` inside symvi/ is an
+    import of the old path that the ast import graph above does not see."""
+    bad = [f"symvi.{m}: {u}" for m in _modules()
+           for u in old_paths_used(Path(sc._module_file(m)).read_text(encoding="utf-8"))]
+    assert not bad, "\n".join(bad)
