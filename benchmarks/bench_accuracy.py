@@ -44,13 +44,13 @@ import mpmath
 import numpy as np
 
 import symvi
-from symvi import normal_form as nf
-from symvi import precision
-from symvi.paper import modal_map as poincare
 from symvi._backend import FLOAT, MP
 from symvi._io import write_text
+from symvi.analysis import precision
 from symvi.errors import NearSingularWarning, SymviError
 from symvi.jets import eigenvalues, jet
+from symvi.normal_forms import normal_form as nf
+from symvi.paper import modal_map as poincare
 from symvi.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -159,7 +159,7 @@ def chain_hopf(params, interval):
 
 def _hopf_api():
     try:
-        from symvi import hopf
+        from symvi.analysis import hopf
     except ImportError:
         return None
     return hopf if hasattr(hopf, "hopf_points") else None
@@ -647,7 +647,7 @@ def simulation_speed():
     """Impacts/s of symvi's compiled map against solve_ivp (bench_simulate.rates), ex. 1 on
     its invariant circle at omega = 0.7372, measured in this run."""
     import bench_simulate as BS
-    from symvi.simulation import simulate
+    from symvi.simulations.simulation import simulate
     params, omega = CASES[0][1], 0.7372
     y0 = tuple(simulate(params, omega, n_impacts=2, transient=20000).section[-1])
     return BS.rates(params, omega, y0)

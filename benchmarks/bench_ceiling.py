@@ -34,11 +34,11 @@ import numba as nb
 import numpy as np
 
 from symvi import Model, flow, jets, orbit
-from symvi import normal_form as nf
 from symvi._backend import MP
 from symvi._compiled import f64_kernel
 from symvi._io import write_text
 from symvi.flow import compiled
+from symvi.normal_forms import normal_form as nf
 from symvi.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))

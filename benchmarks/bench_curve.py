@@ -30,7 +30,7 @@ from symvi.curves import continue_curve  # noqa: E402
 from symvi.curves.system import CurveSystem  # noqa: E402
 from symvi.errors import NearSingularWarning  # noqa: E402
 from symvi.model import Model  # noqa: E402
-from symvi.normal_form import kuznetsov_resolved  # noqa: E402
+from symvi.normal_forms.normal_form import kuznetsov_resolved  # noqa: E402
 
 PAPER = Model.luo_xie(2, 5, 0, 1.5, 0.8)
 BOUNDS = {"omega": (0.5, 1.0), "b": (0.1, 2.6)}

@@ -7,9 +7,9 @@ commit, alternating processes, for a same-run baseline:
 """
 import sys, time, warnings, statistics
 warnings.simplefilter("ignore")
-from symvi.params import Params
+from symvi.analysis.hopf import hopf_points
 from symvi.model import Model
-from symvi.hopf import hopf_points
+from symvi.params import Params
 P = Params(2, 5, 0, 1.5, 0.8); M = Model.luo_xie(2, 5, 0, 1.5, 0.8)
 out = []
 for x in (P, M):

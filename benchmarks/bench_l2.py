@@ -20,9 +20,9 @@ import warnings
 import mpmath
 
 import symvi
-from symvi import codim2
-from symvi.codim2_check import check_codim2
 from symvi.curves import curve_from_interval
+from symvi.normal_forms import codim2
+from symvi.studies.codim2_check import check_codim2
 
 MODEL = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
 

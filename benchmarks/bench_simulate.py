@@ -34,7 +34,7 @@ from symvi.flow import compiled as cf  # noqa: E402
 
 from bench_jets import median_time  # noqa: E402  median_time(fn, calls, reps): per call
 from symvi.paper.modal_map import poincare_map  # noqa: E402
-from symvi.simulation import simulate  # noqa: E402
+from symvi.simulations.simulation import simulate  # noqa: E402
 
 CASES = [(Params(2, 5, 0, 1.5, 0.8), 0.7372, "ex1 circle"),
          (Params(2, 5, 0, 1.5, 0.8), 0.7440, "ex1 doubled torus"),
@@ -86,7 +86,7 @@ def one_step_errors(params, omega, pts):
 
 def _lyapunov_python(sim):
     """Baseline: the same QR method with the Python evaluator and numpy, point by point."""
-    from symvi.diagnostics import jacobian
+    from symvi.simulations.diagnostics import jacobian
     sec, te = np.asarray(sim.section), np.diff(sim.t)
     Q, logs = np.eye(4), np.empty((len(te), 4))
     for k in range(len(te)):
@@ -99,7 +99,7 @@ def _lyapunov_python(sim):
 
 def lyapunov_section(n=4000):
     """symvi.diagnostics.lyapunov (compiled generated Jacobian + QR) against the baseline."""
-    from symvi.diagnostics import lyapunov
+    from symvi.simulations.diagnostics import lyapunov
     out = ["## Lyapunov exponents (QR method), 4000 section points", "",
            "| case | ω | compiled (`diagnostics.lyapunov`) | Python evaluator + numpy QR | ratio "
            "| max difference of the exponents |", "|---|---|---|---|---|---|"]
@@ -175,7 +175,7 @@ def main():
     # batch: many omegas of example 1 in parallel
     p = Params(2, 5, 0, 1.5, 0.8)
     oms = np.linspace(0.7300, 0.7560, 256)
-    from symvi.simulation import sweep_starts
+    from symvi.simulations.simulation import sweep_starts
     starts = sweep_starts(p, oms)
     model = Model.of(p)
     C = np.array([cf.constants(model, w) for w in oms])

@@ -35,7 +35,7 @@ import numba  # noqa: E402
 from symvi import Params  # noqa: E402
 from symvi.flow import compiled as cf  # noqa: E402
 from symvi.model import Model, Stop  # noqa: E402
-from symvi.simulation import simulate  # noqa: E402
+from symvi.simulations.simulation import simulate  # noqa: E402
 
 from bench_jets import md_table  # noqa: E402
 
@@ -57,7 +57,7 @@ REPS = 7
 _PAPER_TIMER = """
 import json, sys, time
 from symvi import Params
-from symvi.simulation import simulate
+from symvi.simulations.simulation import simulate
 cases, n = json.loads(sys.argv[1]), int(sys.argv[2])
 out = []
 for p, omega, y0 in cases:

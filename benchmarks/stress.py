@@ -26,11 +26,12 @@ import mpmath
 import numpy as np
 
 import symvi
-from symvi import hopf, jets
-from symvi import normal_form as nf
-from symvi import precision as pr
+from symvi import jets
 from symvi._io import write_text
+from symvi.analysis import hopf
+from symvi.analysis import precision as pr
 from symvi.errors import NearSingularWarning, SymviError
+from symvi.normal_forms import normal_form as nf
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MP = 50

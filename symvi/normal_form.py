@@ -1,7 +1,5 @@
-"""Moved to :mod:`symvi.normal_forms.normal_form` (the layered layout of issue 11); this import
-path stays and is the same module object."""
-import sys
+"""Deprecated: moved to :mod:`symvi.normal_forms.normal_form`; this path warns and is removed in the next
+release (issue 24)."""
+from ._deprecated import moved as _moved
 
-from .normal_forms import normal_form as _module
-
-sys.modules[__name__] = _module
+__getattr__, __dir__ = _moved(__name__, "symvi.normal_forms.normal_form")

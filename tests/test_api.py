@@ -5,7 +5,8 @@ import sys
 
 def test_public_functions_survive_submodule_imports():
     """symvi.simulate / jet / hopf_points stay functions after their modules load."""
-    code = ("import types, symvi, symvi.diagnostics, symvi.circle_check, symvi.scenes;"
+    code = ("import types, symvi, symvi.simulations.diagnostics, symvi.studies.circle_check, "
+            "symvi.reporting.scenes;"
             "names = ['simulate', 'jet', 'hopf_points', 'period1_orbits', 'poincare_map'];"
             "bad = [n for n in names if isinstance(getattr(symvi, n), types.ModuleType)"
             " or not callable(getattr(symvi, n))]; print(bad)")

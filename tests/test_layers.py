@@ -123,3 +123,13 @@ def test_no_symvi_module_names_an_old_path():
     bad = [f"symvi.{m}: {u}" for m in _modules()
            for u in old_paths_used(Path(sc._module_file(m)).read_text(encoding="utf-8"))]
     assert not bad, "\n".join(bad)
+
+
+def test_the_old_path_scan_sees_every_form():
+    src = ('"""symvi.hopf in a docstring is prose."""\n'
+           "import symvi.hopf\nfrom symvi.precision import x\nfrom symvi import jets, scenes\n"
+           "from symvi import hopf_points, simulate\nimport symvi.analysis.hopf\n"
+           "m.setattr('symvi.simulation.simulate', 1)\nimportorskip('symvi.report')\n"
+           "s = 'symvi.hopf_points'\nt = 'symvi.hopf was not found'\n")
+    assert old_paths_used(src) == ["symvi." + p for p in (
+        "hopf", "precision", "scenes", "simulation.simulate", "report")]

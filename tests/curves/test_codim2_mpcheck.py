@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import symvi
-from symvi.codim2_check import _jet_on, check_codim2, working_dps
 from symvi.curves import curve_from_interval
 from symvi.errors import ParameterError
+from symvi.studies.codim2_check import _jet_on, check_codim2, working_dps
 
 MODEL = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
 BOUNDS_R = {"omega": (0.5, 1.0), "r": (0.05, 1.0)}

@@ -94,7 +94,7 @@ def test_wrong_kind(curve):
 
 
 def test_figure(curve, tmp_path):
-    from symvi import figures
+    from symvi.reporting import figures
     res, arr = resonance_dynamics(MODEL, curve, _point(curve, "R3"))
     path = figures.save(figures.codim2_evidence(res, arr), tmp_path / "r3.png")
     assert (tmp_path / "r3.png").stat().st_size > 0 and path.endswith("r3.png")

@@ -7,7 +7,7 @@ import pytest
 
 from symvi import ParameterError, Params
 from symvi.model import Model, Stop
-from symvi.simulation import DEFAULT_PERTURBATION, fixed_point, simulate, sweep
+from symvi.simulations.simulation import DEFAULT_PERTURBATION, fixed_point, simulate, sweep
 
 from .models import ONE, PAPER, THREE, Gap, random_states, tangent_states
 

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from symvi import simulation
 from symvi.codegen.jets import jacobian_at
 from symvi.flow import compiled as cf
+from symvi.simulations import simulation
 
 from .models import FOUR, OVER, PAPER, THREE, random_states
 

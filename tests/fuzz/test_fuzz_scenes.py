@@ -10,7 +10,7 @@ import pytest
 
 from symvi.errors import SymviError
 
-scenes = pytest.importorskip("symvi.scenes")
+scenes = pytest.importorskip("symvi.reporting.scenes")
 
 GOOD = """\
 [scene]

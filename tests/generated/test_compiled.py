@@ -8,7 +8,7 @@ import pytest
 
 from symvi import ParameterError
 from symvi.jets import _gen, compiled, jacobian_at, jet_inputs
-from symvi.simulation import simulate
+from symvi.simulations.simulation import simulate
 
 from ..conftest import EX1
 from .test_jets import POINTS, _orbit

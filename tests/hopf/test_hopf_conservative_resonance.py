@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from symvi import Params, period1_orbits
+from symvi.analysis.hopf import CONSERVATIVE, RESONANCE_GAP, hopf_points
 from symvi.errors import NearSingularWarning, SingularCaseError
-from symvi.hopf import CONSERVATIVE, RESONANCE_GAP, hopf_points
 from symvi.model import Model, Stop
 
 OMEGA_1 = 0.8804857344718374          # example 1's lower natural frequency

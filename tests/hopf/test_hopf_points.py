@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from symvi import Params, period1_orbits
+from symvi.analysis.hopf import hopf_points
 from symvi.errors import ParameterError, SingularCaseError
-from symvi.hopf import hopf_points
 
 EX1, EX2 = Params(2, 5, 0, 1.5, 0.8), Params(4, 2, 0, 1.8, 0.8)
 OWN = Params(1.5, 3.0, 0.3, 0.9, 0.7)     # f2 != 0: the pair goes out and comes back in

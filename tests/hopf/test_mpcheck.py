@@ -3,8 +3,8 @@ import mpmath
 import pytest
 
 from symvi import Params
-from symvi.hopf import hopf_points
-from symvi.mpcheck import check_point, digits_of_agreement
+from symvi.analysis.hopf import hopf_points
+from symvi.studies.mpcheck import check_point, digits_of_agreement
 
 EX1 = Params(2, 5, 0, 1.5, 0.8)
 

@@ -8,7 +8,7 @@ import pytest
 from symvi import Params, hopf_points
 from symvi.errors import NearSingularWarning
 from symvi.model import Model
-from symvi.mpcheck import check_point
+from symvi.studies.mpcheck import check_point
 
 from .models import THREE
 

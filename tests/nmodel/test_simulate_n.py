@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from symvi import hopf_points
-from symvi.diagnostics import classify, lyapunov
 from symvi.errors import NearSingularWarning
-from symvi.simulation import simulate
+from symvi.simulations.diagnostics import classify, lyapunov
+from symvi.simulations.simulation import simulate
 
 from .models import THREE
 
@@ -62,7 +62,7 @@ def test_lyapunov_sum_is_the_volume_contraction():
 
 def test_circle_check_study_on_a_model(ns_point):
     """symvi.circle_check (bracketed measurement) on the 3-mass chain: O(mu) error."""
-    from symvi import circle_check as cc
+    from symvi.studies import circle_check as cc
     r = cc.check(THREE, ns_point, [4e-4, 2e-4, 1e-4])
     assert all(r.converged) and r.names[0] == "v2+"
     assert np.abs(r.rel_error[-1]).max() < 0.02
@@ -72,7 +72,7 @@ def test_circle_check_study_on_a_model(ns_point):
 
 def test_compiled_simulation_against_the_mpmath_reference():
     """Twenty impacts of the compiled run equal the 40-digit run of the exact map."""
-    from symvi.simulation import simulate_mp
+    from symvi.simulations.simulation import simulate_mp
     y0 = [-0.75, 0.02, -1.7, 0.85, 4.1, 3.4]
     fast = simulate(THREE, 0.95, y0=y0, n_impacts=20, transient=0)
     ref = simulate_mp(THREE, 0.95, y0, 20)

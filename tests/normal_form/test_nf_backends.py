@@ -5,7 +5,7 @@ import mpmath
 import numpy as np
 
 from ._nf_maps import conjugated, family_dA
-from symvi.normal_form import normal_form
+from symvi.normal_forms.normal_form import normal_form
 
 D0 = np.array([[0.3, -0.4], [0.5, 0.2]])
 

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import symvi
-from symvi import simulation
 from symvi.flow import compiled as cf
 from symvi.orbits import admissible_orbits
 from symvi.plane.kernel import ATTRACTORS, FIELDS, Classified, classify, label
+from symvi.simulations import simulation
 
 #: example 1 of the paper (Sec. 4): NS point at omega ~ 0.73676
 EX1 = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
@@ -200,7 +200,7 @@ def test_agrees_with_the_python_diagnostics(omega, kind, want, transient):
     exponent to 2e-3 where both compute it, same rotation number on the circle.  At
     0.744 the doubling is still opening after 2000 impacts: the polygon test of the
     kernel sees the two strands already, the Otsu count only after ~2e4."""
-    from symvi.diagnostics import classify as py_classify
+    from symvi.simulations.diagnostics import classify as py_classify
     r = _one(EX1, omega, transient=transient)
     sim = simulation.simulate(EX1, omega, n_impacts=KEEP, transient=transient)
     py = py_classify(sim, max_period=64, lyap_points=KEEP)

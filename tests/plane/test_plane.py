@@ -273,7 +273,7 @@ def test_plot_draws_both_maps(tmp_path, capsys):
 
 def test_sweep_on_the_engine_equals_one_sweep(cluster):
     from symvi.plane.engine import run_sweep
-    from symvi.simulation import sweep
+    from symvi.simulations.simulation import sweep
     _, client = cluster
     p = symvi.Params(**EX1)
     om = np.linspace(0.70, 0.76, 24)

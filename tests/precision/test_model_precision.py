@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from symvi import Params
-from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal oracle
+from symvi.analysis.precision import auto_model_orbits, estimate_model_orbit
 from symvi.errors import NearSingularWarning
 from symvi.flow.linear import LinearFlow
 from symvi.orbits import period1_orbits
-from symvi.precision import auto_model_orbits, estimate_model_orbit
+from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal oracle
 
 from ..nmodel.models import PAPER, THREE
 
@@ -25,7 +25,7 @@ HARD = [W1 * (1 + 1e-7), W1 * (1 + 1e-5), W1 * (1 + 1e-3), W2 / 2 * (1 + 1e-7),
 @pytest.mark.slow
 @pytest.mark.parametrize("w", HARD)
 def test_float64_estimate_bounds_the_true_error(w):
-    from symvi.precision import estimate_model_orbit
+    from symvi.analysis.precision import estimate_model_orbit
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         ref = {o.branch: o for o in paper_orbits(Params(2, 5, 0, 1.5, 0.8), w, digits=40)}

@@ -9,7 +9,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import symvi
-from symvi import precision as pr
+from symvi.analysis import precision as pr
 from symvi.errors import NearSingularWarning, SingularCaseError, SymviError
 
 EX1 = symvi.Params(2, 5, 0, 1.5, 0.8)

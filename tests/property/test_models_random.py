@@ -106,7 +106,7 @@ def _eig_rounding(model, p):
     grazing J has multipliers ~1e5 and kappa ~1e3: |lambda| = 1 holds only to ~1e-9."""
     import scipy.linalg
 
-    from symvi.diagnostics import jacobian
+    from symvi.simulations.diagnostics import jacobian
     J = jacobian(model, p.omega_c, p.orbit.y)
     w, vl, vr = scipy.linalg.eig(J, left=True, right=True)
     i = int(np.argmin(np.abs(w - p.multiplier)))

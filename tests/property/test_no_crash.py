@@ -15,8 +15,8 @@ from hypothesis import strategies as st
 
 import symvi
 from symvi import jets
-from symvi import normal_form as nf
 from symvi.errors import NearSingularWarning, SymviError
+from symvi.normal_forms import normal_form as nf
 
 from .strategies import omega_typical, omega_wide, params_typical, params_wide
 
@@ -84,7 +84,7 @@ def test_chain_typical(params, omega):
 @settings(max_examples=15, **SETTINGS)
 @given(params_typical, omega_typical, st.floats(1.001, 1.2))
 def test_hopf_points_never_crash(params, omega, factor):
-    hopf = pytest.importorskip("symvi.hopf")
+    hopf = pytest.importorskip("symvi.analysis.hopf")
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)

@@ -21,7 +21,7 @@ def quick_report(tmp_path_factory):
 def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
     import matplotlib.image as mpimg
 
-    from symvi.scenes import paper_scenes
+    from symvi.reporting.scenes import paper_scenes
     out, _ = quick_report
     text = (out / "report.md").read_text(encoding="utf-8")
     scenes = {s.name: s for s in paper_scenes()}

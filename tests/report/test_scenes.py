@@ -7,7 +7,7 @@ import textwrap
 import pytest
 
 from symvi.errors import ParameterError, SymviError
-from symvi.scenes import SceneError, load_scene, paper_scenes, parse_scene, run_scene
+from symvi.reporting.scenes import SceneError, load_scene, paper_scenes, parse_scene, run_scene
 
 GOOD = """
 [scene]
@@ -82,7 +82,7 @@ def test_multipliers_scene_imports_no_order2_or_3(tmp_path):
     f.write_text(GOOD)
     code = textwrap.dedent(f"""
         import json, sys
-        from symvi.scenes import load_scene, run_scene
+        from symvi.reporting.scenes import load_scene, run_scene
         parts = run_scene(load_scene({str(f)!r}), {str(tmp_path / 'c')!r})
         assert parts[0].result["admissible"] == 20
         print(json.dumps(sorted(m for m in sys.modules if m.startswith("symvi"))))
@@ -91,7 +91,8 @@ def test_multipliers_scene_imports_no_order2_or_3(tmp_path):
     mods = set(json.loads(p.stdout.strip().splitlines()[-1]))
     gen = {m for m in mods if m.startswith("symvi._generated.")}
     assert not {m for m in gen if not m.endswith("order1")}, gen
-    assert not {"symvi.normal_form", "symvi.hopf", "symvi.simulation"} & mods
+    assert not {"symvi.normal_forms.normal_form", "symvi.analysis.hopf",
+                "symvi.simulations.simulation"} & mods
 
 
 @pytest.mark.slow
@@ -102,14 +103,14 @@ def test_section_scene_computes_no_normal_form(tmp_path):
                               'transient = 1000'))
     code = textwrap.dedent(f"""
         import json, sys
-        from symvi.scenes import load_scene, run_scene
+        from symvi.reporting.scenes import load_scene, run_scene
         parts = run_scene(load_scene({str(f)!r}), {str(tmp_path / 'c')!r})
         assert parts[0].result["stored"] == 300
         print(json.dumps(sorted(m for m in sys.modules if m.startswith("symvi"))))
     """)
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     mods = set(json.loads(p.stdout.strip().splitlines()[-1]))
-    assert not {"symvi.normal_form", "symvi.hopf", "symvi._generated.order2",
+    assert not {"symvi.normal_forms.normal_form", "symvi.analysis.hopf", "symvi._generated.order2",
                 "symvi._generated.order3"} & mods
 
 
@@ -131,7 +132,7 @@ def test_cache_hit_on_second_run(tmp_path):
 
 def test_cache_keys_hash_every_module_an_output_imports():
     """Issue 11: precision.py and _compiled.py (and the flow package) enter the keys."""
-    from symvi import scenes as sc
+    from symvi.reporting import scenes as sc
     hopf = sc.module_closure(sc.ENTRY["hopf"])
     for m in ("analysis.precision", "_compiled", "flow.modal2", "flow.linear",
               "normal_forms.normal_form", "jets"):
@@ -148,7 +149,7 @@ def test_no_import_cycles_between_symvi_modules():
     import os
 
     import symvi
-    from symvi import scenes as sc
+    from symvi.reporting import scenes as sc
     pkg = os.path.dirname(symvi.__file__)
     mods = []
     for root, _, files in os.walk(pkg):

@@ -6,7 +6,7 @@ import sys
 import pytest
 
 from symvi.model import dumps
-from symvi.scenes import SceneError, load_scene, with_model
+from symvi.reporting.scenes import SceneError, load_scene, with_model
 
 from ..nmodel.models import PAPER, THREE
 
@@ -69,7 +69,7 @@ def load_model_(path):
 
 @pytest.mark.parametrize("name", ["formula_audit", "numbers"])
 def test_paper_only_outputs_refuse_a_model(name):
-    from symvi.scenes import paper_scenes
+    from symvi.reporting.scenes import paper_scenes
     scene = {s.name: s for s in paper_scenes()}[name]
     with pytest.raises(SceneError, match="printed formulas"):
         with_model(scene, THREE)

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from symvi import circle_check as cc
+from symvi.studies import circle_check as cc
 
 from ..conftest import EX1
 
@@ -30,7 +30,7 @@ def test_circle_matches_normal_form():
     """Simulated half-widths match the predicted circle of symvi.hopf; the relative
     error shrinks with mu (leading order, O(mu) error); eq. (60) as printed
     would predict circles several times smaller than the simulated ones."""
-    pytest.importorskip("symvi.hopf")
+    pytest.importorskip("symvi.analysis.hopf")
     point = cc.hopf_point(EX1, 0.72, 0.74)
     res = cc.check(EX1, point, [1e-4, 4e-4])
     e = np.abs(res.rel_error)

@@ -4,10 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from symvi import diagnostics as dg
 from symvi.orbit import period1_orbits
 from symvi.paper.modal_map import fd_jacobian
-from symvi.simulation import Simulation, simulate
+from symvi.simulations import diagnostics as dg
+from symvi.simulations.simulation import Simulation, simulate
 
 from ..conftest import EX1, EX2
 

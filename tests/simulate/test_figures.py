@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from symvi import figures
+from symvi.reporting import figures
 
 
 def _check(paths):

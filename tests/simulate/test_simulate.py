@@ -6,10 +6,10 @@ import pytest
 
 from symvi import Model, ParameterError, SingularCaseError
 from symvi.flow import compiled as cf
-from symvi.diagnostics import jacobian, lyapunov
 from symvi.paper.modal_map import poincare_map
-from symvi.simulation import (DEFAULT_PERTURBATION, fixed_point, simulate, simulate_mp,
-                            sweep)
+from symvi.simulations.diagnostics import jacobian, lyapunov
+from symvi.simulations.simulation import (DEFAULT_PERTURBATION, fixed_point, simulate,
+                                          simulate_mp, sweep)
 
 from ..conftest import EX1, EX2, OWN
 

@@ -1,0 +1,128 @@
+"""The old top-level module paths (issue 24, item 8): SciPy-style shims for one release.
+
+``symvi.hopf`` and the eleven others are small modules of their own: importing one neither
+warns nor loads its new module; reading an attribute warns with a DeprecationWarning that
+names the new path and returns the new module's very object.  This file is the only place
+that uses the old paths (tests/test_layers.py holds the rest of the repository to that).
+"""
+import ast
+import importlib
+import json
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+import symvi
+from symvi.reporting import scenes as sc
+
+from .test_layers import MOVED
+
+OLD = sorted(MOVED)
+
+
+def _public(module):
+    return sorted(n for n in vars(module) if not n.startswith("_"))
+
+
+def _message(old):
+    return (f"symvi.{old} is deprecated; import symvi.{MOVED[old]} instead; "
+            f"the old path will be removed in the next release")
+
+
+@pytest.mark.parametrize("old", OLD)
+def test_every_attribute_is_the_new_modules_object_with_a_warning(old):
+    shim = importlib.import_module(f"symvi.{old}")
+    new = importlib.import_module(f"symvi.{MOVED[old]}")
+    assert shim is not new
+    names = _public(new)
+    assert names
+    for name in names:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            got = getattr(shim, name)
+        assert got is getattr(new, name), name
+        assert [w.category for w in caught] == [DeprecationWarning], name
+        assert str(caught[0].message) == _message(old)
+        assert caught[0].filename == __file__          # points at the caller's line
+
+
+@pytest.mark.parametrize("old", OLD)
+def test_from_import_and_star_import_warn_and_give_the_same_objects(old):
+    new = importlib.import_module(f"symvi.{MOVED[old]}")
+    name = _public(new)[0]
+    ns = {}
+    with pytest.warns(DeprecationWarning, match=rf"import symvi\.{MOVED[old]} instead"):
+        exec(f"from symvi.{old} import {name}", ns)
+    assert ns[name] is getattr(new, name)
+    star = {}
+    with pytest.warns(DeprecationWarning, match=rf"symvi\.{old} is deprecated"):
+        exec(f"from symvi.{old} import *", star)
+    assert {k for k in star if not k.startswith("__")} == set(_public(new))
+    assert all(star[k] is getattr(new, k) for k in _public(new))
+
+
+@pytest.mark.parametrize("old", OLD)
+def test_private_names_dir_and_missing_names(old):
+    shim = importlib.import_module(f"symvi.{old}")
+    new = importlib.import_module(f"symvi.{MOVED[old]}")
+    assert dir(shim) == sorted(dir(new))
+    private = sorted(n for n in vars(new) if n.startswith("_") and not n.startswith("__"))
+    for name in private[:3]:                         # private names forward too, with the warning
+        with pytest.warns(DeprecationWarning):
+            assert getattr(shim, name) is getattr(new, name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")               # module machinery probes do not warn
+        assert not hasattr(shim, "__path__")
+        assert not hasattr(shim, "__wrapped__")
+    with pytest.raises(AttributeError, match=rf"symvi\.{MOVED[old]}' has no attribute 'no_such"):
+        shim.no_such_name
+
+
+def test_importing_the_old_paths_neither_warns_nor_loads_the_new_modules():
+    """``import symvi.hopf`` is cheap and silent (SciPy: the warning comes on use); and
+    ``import symvi`` imports no shim."""
+    code = ("import json, sys, symvi;"
+            "before = sorted(m for m in sys.modules if m.startswith('symvi'));"
+            f"olds = {OLD!r}; news = {[MOVED[o] for o in OLD]!r};"
+            "import importlib; [importlib.import_module('symvi.' + o) for o in olds];"
+            "print(json.dumps([before, [n for n in news if 'symvi.' + n in sys.modules]]))")
+    out = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", code],
+                         capture_output=True, text=True, check=True)
+    before, loaded = json.loads(out.stdout.strip().splitlines()[-1])
+    assert not {f"symvi.{o}" for o in OLD} & set(before)
+    assert loaded == []
+
+
+def test_public_functions_survive_the_old_imports():
+    """symvi.simulate and symvi.hopf_points stay the functions (``symvi.simulation`` and
+    ``symvi.hopf`` are module attributes of their own names)."""
+    code = ("import types, warnings, symvi;"
+            f"[__import__('symvi.' + o) for o in {OLD!r}];"
+            "warnings.simplefilter('ignore', DeprecationWarning);"
+            "symvi.simulation.simulate; symvi.hopf.hopf_points;"
+            "names = ['simulate', 'jet', 'hopf_points', 'period1_orbits', 'poincare_map'];"
+            "print([n for n in names if isinstance(getattr(symvi, n), types.ModuleType)"
+            " or not callable(getattr(symvi, n))])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_each_shim_is_the_two_line_form_and_there_are_no_others():
+    """Every old path calls the one helper (symvi/_deprecated.py) with its own new path, and
+    imports nothing else; the top-level modules that do so are exactly the old paths."""
+    pkg = Path(symvi.__file__).parent
+    shims = set()
+    for f in sorted(pkg.glob("*.py")):
+        tree = ast.parse(f.read_text(encoding="utf-8"))
+        calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)
+                 and getattr(n.func, "id", None) == "_moved"]
+        if not calls:
+            continue
+        shims.add(f.stem)
+        assert f.stem in MOVED, f.name
+        assert sc.module_imports(f.stem) == ("_deprecated",), f.name
+        assert [ast.literal_eval(a) for a in calls[0].args[1:]] == [f"symvi.{MOVED[f.stem]}"]
+    assert shims == set(MOVED)
