@@ -1,6 +1,6 @@
 """``symvi continue``: continue n-p orbits in any named parameter, with fold, flip, NS and
 grazing points located (module named ``continuation``: ``continue`` is a Python keyword)."""
-from . import add_params, check_value, describe, params_from, print_json, print_special
+from . import add_params, describe, params_from, print_json, print_special
 
 
 def register(sub):
@@ -35,20 +35,15 @@ def register(sub):
     return p
 
 
-def _orbit_spec(text):
-    from ..errors import ParameterError
-    try:
-        n, p = (int(v) for v in text.split("-"))
-        ok = 1 <= n <= 64 and 1 <= p <= 64
-    except (ValueError, AttributeError):
-        ok = False
-    if not ok:
-        raise ParameterError("--orbit", text, "n-p with integers 1 <= n, p <= 64, e.g. 1-1, 2-2")
-    return n, p
+#: how the library's arguments are called on this command line (its error messages)
+FLAGS = {"start": "--from", "stop": "--to", "param": "--param", "orbit": "--orbit",
+         "start_omega": "--start-omega", "simulation": "--from-section",
+         "max_points": "--max-points", "fixed": "--set", "omega": "--set omega"}
 
 
 def _sets(items, model):
-    """{name: value} of the ``--set NAME=VALUE`` items: known names, each once, finite values."""
+    """{name: value} of the ``--set NAME=VALUE`` items: known names, each once, finite
+    values, together a valid model."""
     import math
 
     from ..errors import ParameterError
@@ -69,6 +64,12 @@ def _sets(items, model):
         if name != "omega":
             _known(model, name, "--set")
         out[name] = v
+    others = {k: v for k, v in out.items() if k != "omega"}
+    try:
+        model.with_(**others)
+    except ParameterError as exc:
+        raise ParameterError("--set", " ".join(items), exc.valid,
+                             f"the model's {exc.name}") from None
     return out
 
 
@@ -81,134 +82,17 @@ def _known(model, name, flag):
         raise ParameterError(flag, name, exc.valid) from None
 
 
-def _section_start(path, model):
-    """A simulation-like object (section, t, omega, params) from an npz of ``symvi simulate``."""
-    import numpy as np
-
-    from ..errors import ParameterError
-    try:
-        with np.load(path) as f:
-            section, t, omega = f["section"], f["t"], float(f["omega"])
-    except (OSError, KeyError, ValueError) as exc:
-        raise ParameterError("--from-section", path, "an .npz written by symvi simulate --out "
-                             "(arrays section, t, omega)", str(exc)) from None
-
-    class _Sim:
-        pass
-    sim = _Sim()
-    sim.section, sim.t, sim.omega, sim.params = section, t, omega, model
-    return sim
-
-
 def run(args):
-    import warnings
-
     from .._io import check_output
-    from ..continuation import continue_branch, same_branch, switch_at_flip
-    from ..errors import NearSingularWarning, ParameterError
+    from ..continuation import continue_orbits
     from ..model import Model
-    from ..orbits.periodic import detect_period
     model = Model.of(params_from(args))
-    n, p = _orbit_spec(args.orbit)
-    if args.param != "omega":
-        _known(model, args.param, "--param")
     fixed = _sets(args.sets, model)
-    if args.param in fixed:
-        raise ParameterError("--set", args.param, "a parameter other than --param")
     check_output(args.plot, flag="--plot", suffixes=(".png", ".pdf"))
-    if not 2 <= args.max_points <= 10 ** 6:
-        raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
-    # the model with the --set values: the ranges of --from, --to are those of this model
-    others = {k: v for k, v in fixed.items() if k != "omega"}
-    try:
-        at = model.with_(**others) if others else model
-    except ParameterError as exc:
-        raise ParameterError("--set", " ".join(args.sets), exc.valid,
-                             f"the model's {exc.name}") from None
-    if args.param != "omega" and "omega" not in fixed and not args.from_section:
-        raise ParameterError("--set omega", None, "a fixed forcing frequency: give --set "
-                             "omega=VALUE when --param is not omega")
-    if "omega" in fixed:
-        check_value(at, "omega", fixed["omega"], "--set omega")
-    starts_here = args.start_omega is None and not args.from_section
-    check_value(at, args.param, args.start, "--from", resonance=starts_here)
-    check_value(at, args.param, args.stop, "--to", resonance=False)
-    if args.start == args.stop:
-        raise ParameterError("--to", args.stop, f"a value != --from = {args.start:g} (the "
-                             "branch lies between them)")
-    lo, hi = sorted((args.start, args.stop))
-    if args.start_omega is not None:
-        if args.param != "omega":
-            raise ParameterError("--start-omega", args.start_omega, "only with --param omega "
-                                 "(fix omega with --set omega=W otherwise)")
-        if not lo <= args.start_omega <= hi:
-            raise ParameterError("--start-omega", args.start_omega, f"a value in [{lo}, {hi}]")
-        check_value(at, "omega", args.start_omega, "--start-omega")
-        a, stops = args.start_omega, (lo, hi)
-    else:
-        a, stops = args.start, (args.stop,)
-    guesses = [None]
-    if args.from_section:
-        sim = _section_start(args.from_section, model)
-        if args.param == "omega":
-            a = sim.omega
-            stops = (lo, hi)
-            if not lo <= a <= hi:
-                raise ParameterError("--from-section", args.from_section,
-                                     f"a simulation at omega in [{lo}, {hi}] (it has {a})")
-        else:
-            fixed.setdefault("omega", sim.omega)
-        found = detect_period(sim)
-        if found is None:
-            raise ParameterError("--from-section", args.from_section, "a simulation settled on "
-                                 "a periodic orbit (none of at most 16 impacts found)")
-        if args.orbit != "1-1" and found != (n, p):
-            raise ParameterError("--orbit", args.orbit, f"the simulated orbit's {found[0]}-"
-                                 f"{found[1]}")
-        n, p = found
-        guesses = [sim.section[-p:]]
-    else:
-        # the model and omega at the start, with the --set values
-        if args.param != "omega":
-            at = at.with_(**{args.param: a})
-        w = a if args.param == "omega" else fixed["omega"]
-        if (n, p) != (1, 1):
-            from ..simulations.simulation import simulate
-            sim = simulate(at, w, n_impacts=400, transient=4000)
-            if detect_period(sim) != (n, p):
-                raise ParameterError("--orbit", args.orbit, f"an orbit the simulation at "
-                                     f"{args.param} = {a} settles on (give --from-section)")
-            guesses = [sim.section[-p:]]
-        else:
-            from ..orbits.period1 import admissible_orbits
-            guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
-            if not guesses:
-                from ..orbits.period1 import no_orbit_reason
-                why = no_orbit_reason(at, w) or "every period-1 orbit there is inadmissible"
-                raise ParameterError("--from", a, f"a value where an admissible period-1 "
-                                     f"orbit exists", f"none at {args.param} = {a}: {why}")
-    branches = []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", NearSingularWarning)
-        for guess in guesses:
-            for stop in stops:
-                if stop == a:
-                    continue
-                br = continue_branch(model, args.param, a, stop, guess=guess, n=n, p=p,
-                                     max_points=args.max_points, through=args.through,
-                                     **fixed)
-                if not any(same_branch(br, other) for other in branches):
-                    branches.append(br)
-        if args.switch:
-            for br in list(branches):
-                for sp in br.special:
-                    if sp.kind == "flip":
-                        try:
-                            branches.append(switch_at_flip(br, sp, max_points=args.max_points,
-                                                          through=args.through))
-                        except Exception as exc:  # noqa: BLE001 - reported, not hidden
-                            warnings.warn(f"branch switching at the flip at {sp.value:.12g} "
-                                          f"failed: {exc}")
+    branches = continue_orbits(model, args.param, args.start, args.stop, orbit=args.orbit,
+                               start_omega=args.start_omega, simulation=args.from_section,
+                               switch=args.switch, through=args.through,
+                               max_points=args.max_points, names=FLAGS, **fixed)
     if args.plot:
         from ..reporting import figures
         names = branches[0].points[0].orbit.names

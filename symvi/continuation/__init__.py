@@ -7,3 +7,4 @@ from .branch import switch_at_flip as switch_at_flip
 from .branch import period1_branches as period1_branches
 from .branch import same_branch as same_branch
 from .branch import diagram_branches as diagram_branches
+from .start import continue_orbits as continue_orbits

@@ -1,0 +1,301 @@
+"""The branches through the orbits at a start: starting orbits found, each continued both
+ways, duplicates dropped and, on request, the period-doubled branch of each flip followed.
+
+:func:`continue_orbits` is what ``symvi continue`` runs.  Where
+:func:`~symvi.continuation.continue_branch` continues one orbit, it finds the orbits
+to start from: every admissible period-1 orbit at the start (the closed form), or the
+n-p orbit a run of the map settles on there, or the one a given simulation settled on.
+"""
+import math
+import os
+import warnings
+from numbers import Integral
+
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+from ..numerics.tolerances import OMEGA_RANGE
+from .branch import continue_branch, same_branch, switch_at_flip
+
+#: what each argument is called in error messages, by default its own name; a front end
+#: passes its own spelling (the command line its flags: ``symvi.cli.continuation``)
+NAMES = {"start": "start", "stop": "stop", "param": "param", "orbit": "orbit",
+         "start_omega": "start_omega", "simulation": "simulation",
+         "max_points": "max_points", "fixed": "fixed", "omega": "omega"}
+#: a run of the map that finds the n-p orbit to start from: impacts kept, transient dropped
+SETTLE_IMPACTS, SETTLE_TRANSIENT = 400, 4000
+
+
+def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=None,
+                    simulation=None, switch=False, through=False, max_points=5000,
+                    names=None, **fixed):
+    """The branches of n-p orbits of ``model`` in the named parameter ``param``, started
+    at ``start`` and kept between ``start`` and ``stop``: a list of :class:`Branch`.
+
+    The orbits to start from:
+
+    * ``orbit`` 1-1 (the default): every admissible period-1 orbit at ``start`` (the
+      closed form; two of them joined by a fold give one branch);
+    * another ``orbit`` (``(n, p)`` or ``"n-p"``): the n-p orbit a run of the map from
+      the period-1 orbit settles on at ``start``;
+    * ``simulation`` (a :class:`symvi.simulations.Simulation` of ``model``, or the path
+      of an ``.npz`` written by ``symvi simulate --out``): the orbit it settled on, its
+      n-p found (``orbit``, when not 1-1, must match); with ``param`` omega the branch
+      starts at the simulation's omega, goes both ways and stays in [start, stop];
+      otherwise the simulation's omega is the fixed one unless ``omega`` is given.
+
+    ``start_omega`` (with ``param`` omega) starts at that omega inside [start, stop] and
+    continues both ways.  ``fixed`` sets the other parameters: ``omega`` (required when
+    ``param`` is not omega, unless a simulation gives it) and any named parameter of
+    the model (``gap=0.4``, ``**{"stiffness[1,2]": -1.0}``).  ``switch`` adds the
+    period-doubled branch born at each flip point (a failed switch is a warning),
+    ``through`` follows branches on where their orbits are inadmissible,
+    ``max_points`` bounds each branch.  Errors are :class:`ParameterError` naming the
+    argument, as ``names`` spells it (:data:`NAMES`; the command line passes its flags).
+    """
+    from ..model import Model
+    from ..orbits.periodic import detect_period
+    N = _names(names)
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model (Model.of(params) for the "
+                                             "paper's Params)")
+    n, p = _orbit(orbit, N)
+    if not isinstance(param, str):
+        raise ParameterError(N["param"], param, "a parameter name (omega, gap, ...)")
+    if param != "omega":
+        _known(model, param, N["param"])
+    for name in fixed:
+        if name != "omega":
+            _known(model, name, N["fixed"])
+    if param in fixed:
+        raise ParameterError(N["fixed"], param, f"a parameter other than {N['param']}")
+    if (isinstance(max_points, bool) or not isinstance(max_points, Integral)
+            or not 2 <= max_points <= 10 ** 6):
+        raise ParameterError(N["max_points"], max_points, "an integer from 2 to 1000000")
+    fixed = {k: _real(v, N["omega"] if k == "omega" else k) for k, v in fixed.items()}
+    # the model with the fixed values: the ranges of start and stop are those of this model
+    others = {k: v for k, v in fixed.items() if k != "omega"}
+    at = model.with_(**others) if others else model
+    if param != "omega" and "omega" not in fixed and simulation is None:
+        raise ParameterError(N["omega"], None, f"a fixed forcing frequency: give "
+                             f"{N['omega']}=VALUE when {N['param']} is not omega")
+    if "omega" in fixed:
+        _check_value(at, "omega", fixed["omega"], N["omega"])
+    start, stop = _real(start, N["start"], False), _real(stop, N["stop"], False)
+    starts_here = start_omega is None and simulation is None
+    _check_value(at, param, start, N["start"], resonance=starts_here)
+    _check_value(at, param, stop, N["stop"], resonance=False)
+    if start == stop:
+        raise ParameterError(N["stop"], stop, f"a value != {N['start']} = {start:g} (the "
+                             "branch lies between them)")
+    lo, hi = sorted((start, stop))
+    if start_omega is not None:
+        if param != "omega":
+            raise ParameterError(N["start_omega"], start_omega, f"only with {N['param']} "
+                                 f"omega (fix omega with {N['omega']}=W otherwise)")
+        start_omega = _real(start_omega, N["start_omega"], finite=False)
+        if not lo <= start_omega <= hi:
+            raise ParameterError(N["start_omega"], start_omega, f"a value in [{lo}, {hi}]")
+        _check_value(at, "omega", start_omega, N["start_omega"])
+        if simulation is not None:
+            raise ParameterError(N["start_omega"], start_omega, f"not with "
+                                 f"{N['simulation']} (which gives the start)")
+        a, stops = start_omega, (lo, hi)
+    else:
+        a, stops = start, (stop,)
+    if simulation is not None:
+        sim, shown = _simulation(simulation, N)
+        if param == "omega":
+            a, stops = sim.omega, (lo, hi)
+            if not lo <= a <= hi:
+                raise ParameterError(N["simulation"], shown, f"a simulation at omega in "
+                                     f"[{lo}, {hi}] (it has {a})")
+        else:
+            fixed.setdefault("omega", sim.omega)
+        found = detect_period(sim)
+        if found is None:
+            raise ParameterError(N["simulation"], shown, "a simulation settled on a "
+                                 "periodic orbit (none of at most 16 impacts found)")
+        if (n, p) != (1, 1) and found != (n, p):
+            raise ParameterError(N["orbit"], _shown_orbit(orbit), f"the simulated orbit's "
+                                 f"{found[0]}-{found[1]}")
+        n, p = found
+        guesses = [sim.section[-p:]]
+    else:
+        # the model and omega at the start, with the fixed values
+        if param != "omega":
+            at = at.with_(**{param: a})
+        w = a if param == "omega" else fixed["omega"]
+        if (n, p) != (1, 1):
+            sim = _settle(at, w)
+            if detect_period(sim) != (n, p):
+                raise ParameterError(N["orbit"], _shown_orbit(orbit), f"an orbit the "
+                                     f"simulation at {param} = {a} settles on (give "
+                                     f"{N['simulation']})")
+            guesses = [sim.section[-p:]]
+        else:
+            from ..orbits.period1 import admissible_orbits
+            guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
+            if not guesses:
+                from ..orbits.period1 import no_orbit_reason
+                why = no_orbit_reason(at, w) or "every period-1 orbit there is inadmissible"
+                raise ParameterError(N["start"], a, "a value where an admissible period-1 "
+                                     "orbit exists", f"none at {param} = {a}: {why}")
+    branches = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        for guess in guesses:
+            for s in stops:
+                if s == a:
+                    continue
+                br = continue_branch(model, param, a, s, guess=guess, n=n, p=p,
+                                     max_points=max_points, through=through, **fixed)
+                if not any(same_branch(br, other) for other in branches):
+                    branches.append(br)
+        if switch:
+            for br in list(branches):
+                for sp in br.special:
+                    if sp.kind == "flip":
+                        try:
+                            branches.append(switch_at_flip(br, sp, max_points=max_points,
+                                                           through=through))
+                        except Exception as exc:  # noqa: BLE001 - reported, not hidden
+                            warnings.warn(f"branch switching at the flip at {sp.value:.12g} "
+                                          f"failed: {exc}", stacklevel=2)
+    return branches
+
+
+# --------------------------------------------------------------------------- checks
+def _names(names):
+    """:data:`NAMES` with the caller's spellings."""
+    if names is None:
+        return NAMES
+    if not isinstance(names, dict) or not set(names) <= set(NAMES) or not all(
+            isinstance(v, str) for v in names.values()):
+        raise ParameterError("names", names, "a dict from argument names ("
+                             + ", ".join(NAMES) + ") to strings")
+    return {**NAMES, **names}
+
+
+def _orbit(orbit, N):
+    """(n, p) of ``orbit``: a pair of integers or the text "n-p", 1 <= n, p <= 64."""
+    try:
+        if isinstance(orbit, str):
+            n, p = (int(v) for v in orbit.split("-"))
+        else:
+            n, p = orbit
+        ok = all(isinstance(v, Integral) and not isinstance(v, bool) and 1 <= v <= 64
+                 for v in (n, p))
+    except (ValueError, TypeError):
+        ok = False
+    if not ok:
+        raise ParameterError(N["orbit"], orbit, "n-p with integers 1 <= n, p <= 64, e.g. "
+                                                "1-1, 2-2")
+    return int(n), int(p)
+
+
+def _shown_orbit(orbit):
+    return orbit if isinstance(orbit, str) else f"{orbit[0]}-{orbit[1]}"
+
+
+def _known(model, name, shown):
+    """Refuse a name that is not a parameter of ``model``, calling it ``shown``."""
+    try:
+        model.value(name)
+    except ParameterError as exc:
+        raise ParameterError(shown, name, exc.valid) from None
+    except (SymviError, TypeError):
+        raise ParameterError(shown, name, "a parameter of the model: "
+                             + ", ".join(model.parameter_names())) from None
+
+
+def _real(value, shown, finite=True):
+    """``value`` as a float (a bool or a non-number refused, naming ``shown``)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or isinstance(value, bool) or (finite and not math.isfinite(v)):
+        raise ParameterError(shown, value, "a finite real number" if finite else "a real number")
+    return v
+
+
+def _check_value(model, param, value, shown, *, resonance=True):
+    """``value`` of ``param`` valid for ``model``, else a one-line error naming ``shown``
+    and the range: omega in OMEGA_RANGE and, with ``resonance``, not at a forcing
+    resonance; another parameter where the model it makes is valid (restitution in (0, 1],
+    a positive definite mass, ...).  The valid values of one parameter form an interval
+    (the positive definite matrices are a convex cone), so both ends of a range being
+    valid makes all of it valid."""
+    if param == "omega":
+        from ..flow.linear import LinearFlow
+        lo, hi = OMEGA_RANGE
+        if not (math.isfinite(value) and lo <= value <= hi):
+            raise ParameterError(shown, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
+        try:
+            LinearFlow.of(model).check_omega(value, shown, warn=False)
+        except SingularCaseError:
+            if resonance:
+                raise
+        return value
+    if not math.isfinite(value):
+        raise ParameterError(shown, value, f"a finite value of {param}")
+    try:
+        model.with_(**{param: value})
+    except ParameterError as exc:
+        raise ParameterError(shown, value, exc.valid, f"the value of {param}") from None
+    return value
+
+
+# --------------------------------------------------------------------------- simulations
+class _Run:
+    """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation."""
+
+    def __init__(self, section, t, omega):
+        self.section, self.t, self.omega = section, t, omega
+
+
+def _simulation(simulation, N):
+    """(a simulation-like object, how errors show it) of a Simulation or an .npz path."""
+    import numpy as np
+    if isinstance(simulation, (str, os.PathLike)):
+        shown = os.fspath(simulation)
+        try:
+            with np.load(shown) as f:
+                section, t, omega = f["section"], f["t"], float(f["omega"])
+        except (OSError, KeyError, ValueError, TypeError) as exc:
+            raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
+                                 "--out (arrays section, t, omega)", str(exc)) from None
+        return _Run(section, t, omega), shown
+    try:
+        sim = _Run(np.asarray(simulation.section, dtype=float),
+                   np.asarray(simulation.t, dtype=float), float(simulation.omega))
+    except (AttributeError, TypeError, ValueError):
+        raise ParameterError(N["simulation"], type(simulation).__name__, "a Simulation "
+                             "(symvi.simulate) or the path of an .npz of one") from None
+    return sim, f"the simulation at omega = {sim.omega:g}"
+
+
+def _settle(model, omega):
+    """A run of the map at ``omega`` from the admissible period-1 orbit plus 1e-4 in each
+    component (the start :func:`symvi.simulate` takes by default): SETTLE_TRANSIENT
+    impacts dropped, SETTLE_IMPACTS kept.  (The continuation layer sits below
+    ``symvi.simulations``, so it runs the one compiled loop itself.)"""
+    from ..flow import compiled as cf
+    from ..flow.linear import LinearFlow
+    from ..orbits.period1 import admissible_orbits, no_orbit_reason
+    w = LinearFlow.of(model).check_omega(omega)
+    try:
+        orbits = admissible_orbits(model, w, multipliers=False)
+    except SingularCaseError:
+        orbits = ()
+    if not orbits:
+        try:
+            why = no_orbit_reason(model, w)
+        except SingularCaseError as exc:
+            why = str(exc)
+        raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at omega = {w!r} "
+                                "to start from (pass y0 explicitly)"
+                                + (f": {why}" if why else ""))
+    y0 = [float(v) + 1e-4 for v in orbits[0].y]
+    y0[-1] %= 2 * math.pi
+    _, section, t, _, _ = cf.run(cf.constants(model, w), y0, SETTLE_IMPACTS, SETTLE_TRANSIENT)
+    return _Run(section, t, w)
