@@ -8,6 +8,8 @@ import math
 
 import mpmath
 
+from .numerics.tolerances import EPS64
+
 
 class _Float:
     name = "float64"
@@ -18,7 +20,7 @@ class _Float:
     acos = staticmethod(math.acos)
     fabs = staticmethod(math.fabs)
     pi = math.pi
-    eps = 2.0 ** -52
+    eps = EPS64
     dps = 15
 
     @staticmethod

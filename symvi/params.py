@@ -17,15 +17,14 @@ from dataclasses import dataclass
 
 from ._backend import FLOAT
 from .errors import NearSingularWarning, ParameterError, SingularCaseError
+# relative distance |omega - omega_j| / omega_j below which forcing is refused / warned
+# about; |b| and |f2| at most ABS_MAX; omega in OMEGA_RANGE (symvi.numerics.tolerances)
+from .numerics.tolerances import ABS_MAX, OMEGA_RANGE
+from .numerics.tolerances import FORCING_RESONANCE_REFUSE as RESONANCE_REFUSE
+from .numerics.tolerances import FORCING_RESONANCE_WARN as RESONANCE_WARN
 
-#: relative distance |omega - omega_j| / omega_j below which forcing is refused
-RESONANCE_REFUSE = 1e-10
-#: relative distance below which a NearSingularWarning is issued
-RESONANCE_WARN = 1e-4
-#: valid ranges; outside them float64 over- or underflows in eqs. (4)-(16)
+#: valid mass and stiffness ratios; outside them float64 over- or underflows in eqs. (4)-(16)
 MU_RANGE = (1e-6, 1e6)
-ABS_MAX = 1e6              # |b| and |f2|
-OMEGA_RANGE = (1e-4, 1e4)
 
 
 def _finite(name, value):

@@ -105,7 +105,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-from ..flow.linear import OMEGA_RANGE, RESONANCE_CUT
+from ..numerics.tolerances import FORCING_RESONANCE_CUT, OMEGA_RANGE
 from ..normal_forms.normal_form import normal_form, resonance
 
 #: the crossing is located to this absolute tolerance in omega (plus 4 eps relative)
@@ -139,7 +139,7 @@ NS_RESIDUAL = 1e-6
 H3_TOL = 1e-8
 H3_REL_ERR = 0.1
 #: an omega_j inside the interval cuts the scan this far (relative) on either side
-RESONANCE_GAP = RESONANCE_CUT
+RESONANCE_GAP = FORCING_RESONANCE_CUT
 CONSERVATIVE = ("r = 1 and no damping: the map preserves volume (det DP = 1); multipliers "
                 "lie on the unit circle over whole intervals and a Neimark-Sacker bifurcation "
                 "(H3) cannot occur; no Neimark-Sacker point is reported (real multipliers "

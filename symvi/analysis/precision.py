@@ -63,6 +63,8 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
+#: float64 unit roundoff used throughout (2^-52, as in symvi._backend)
+from ..numerics.tolerances import EPS64
 
 #: significant digits below which a result is recomputed at higher precision
 MIN_DIGITS = 8
@@ -72,8 +74,6 @@ MAX_DIGITS = 160
 GUARD = 6
 #: rounding constant of the generated evaluators (calibrated, see module doc)
 C_EVAL = 256.0
-#: float64 unit roundoff used throughout (2^-52, as in symvi._backend)
-EPS64 = 2.0 ** -52
 
 
 # --------------------------------------------------------------------------- results

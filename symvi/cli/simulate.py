@@ -1,9 +1,9 @@
 """``symvi simulate``: iterate the Poincaré map and save the section (npz), optionally a plot."""
 from . import add_params, data_key, describe, params_from, print_json, section_view
 
-#: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY,
-#: repeated here so that registering the command imports nothing heavy)
-MIN_CLASSIFY = 50
+#: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY;
+#: from symvi.numerics, so that registering the command imports nothing heavy)
+from ..numerics.tolerances import MIN_CLASSIFY
 #: figure suffixes, never the name of the data file
 FIGURES = (".png", ".pdf")
 

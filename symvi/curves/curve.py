@@ -36,8 +36,10 @@ MULTIPLIER_CUT = 1e2
 BORDER_EVERY = 8
 #: chord iterations of the corrector before full Newton takes over
 CHORD_MAXIT = 8
-#: largest cosine drop between consecutive tangents accepted (else the step is halved)
-MIN_COS = 0.97
+#: largest cosine drop between consecutive tangents accepted (else the step is halved);
+#: the curves' own value, stricter than the orbit branches' symvi.continuation.branch.MIN_COS
+#: (0.95), until one continuation engine serves both (issue 24, item 4)
+CURVE_MIN_COS = 0.97
 
 
 @dataclass(frozen=True)
@@ -340,7 +342,7 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
             landed = ""
             F, DFn, Fbn = system.evaluate(Xn[:-1], Xn[-1], dparam=True)
         tn = tangent(DFn, Fbn, t)
-        if np.dot(tn, t) < MIN_COS and h > h_min and not landed:
+        if np.dot(tn, t) < CURVE_MIN_COS and h > h_min and not landed:
             h /= 2
             continue
         try:

@@ -41,6 +41,8 @@ import math
 import numba as nb
 import numpy as np
 
+from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
+from ..numerics.tolerances import EPS64 as _EPS
 from .linear import LinearFlow
 
 __all__ = ["constants", "size", "pack", "first_impact_from", "step", "step_tangent",
@@ -62,7 +64,6 @@ CHATTER_COUNT = 16
 #: ... each shorter than this fraction of the forcing period
 CHATTER_FLIGHT = 1e-3
 
-_EPS = 2.0 ** -52
 _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 1_000_000
 
@@ -285,8 +286,8 @@ def _first_impact(c, d, e, tau, amp, t_max):
     m = int(c[_NM])
     L = amp + c[_XK] + abs(c[_B])
     h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, 0.0)
-    eps_h = 64.0 * _EPS * L
-    v_graze = 8.0 * math.sqrt(2.0 * M2 * eps_h)
+    eps_h = CONTACT_ULPS * _EPS * L
+    v_graze = GRAZING_SPEED_FACTOR * math.sqrt(2.0 * M2 * eps_h)
     if not h1 < 0.0:
         return GRAZING, 0.0, h2, 0
     t = -h1 / M2                      # vertex of the global bound: h < 0 up to here
@@ -310,7 +311,7 @@ def _first_impact(c, d, e, tau, amp, t_max):
                 dt = -h / h1
                 t += dt
                 h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
-                if abs(dt) <= 4.0 * _EPS * t:
+                if abs(dt) <= CONTACT_TIME_ULPS * _EPS * t:
                     break
             return IMPACT, t, h2, n
         if t > t_max or not math.isfinite(h):

@@ -37,19 +37,18 @@ import numpy as np
 
 from .._backend import FLOAT, MP
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+# relative distance to a forcing resonance refused / warned about (as for the paper), and
+# at which scans and branches through a natural frequency are cut (symvi.numerics.tolerances)
+from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR, OMEGA_RANGE
+from ..numerics.tolerances import FORCING_RESONANCE_CUT as RESONANCE_CUT
+from ..numerics.tolerances import FORCING_RESONANCE_REFUSE as RESONANCE_REFUSE
+from ..numerics.tolerances import FORCING_RESONANCE_WARN as RESONANCE_WARN
 from ._steady import steady_state
 
 IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
 
-#: relative distance to a forcing resonance refused / warned about (as for the paper)
-RESONANCE_REFUSE = 1e-10
-RESONANCE_WARN = 1e-4
-#: relative distance at which scans and branches through a natural frequency are cut
-#: (well above the refusal, where the forcing amplitude is still ~ 1 / gap)
-RESONANCE_CUT = 1e-6
 #: condition number of the eigenvector matrix of A above which a damped model is refused
 EIGVEC_COND_MAX = 1e10
-OMEGA_RANGE = (1e-4, 1e4)
 
 
 # --------------------------------------------------------------------------- backends
@@ -484,8 +483,8 @@ class Motion:
             t_max = 2000 * lib.pi / om                 # 1000 forcing periods
         M2 = self.M2
         L = self.amp + self.Xk + lib.fabs(f.b)
-        eps_h = 64 * lib.eps * L
-        v_graze = 8 * lib.sqrt(2 * M2 * eps_h)
+        eps_h = CONTACT_ULPS * lib.eps * L
+        v_graze = GRAZING_SPEED_FACTOR * lib.sqrt(2 * M2 * eps_h)
         t0 = 0 * t_max
         _, hd = self.h(t0)
         if not hd < 0:
@@ -500,7 +499,7 @@ class Motion:
                     dt = -h / hd
                     t += dt
                     h, hd = self.h(t)
-                    if lib.fabs(dt) <= 4 * lib.eps * t:
+                    if lib.fabs(dt) <= CONTACT_TIME_ULPS * lib.eps * t:
                         break
                 return FirstImpact(IMPACT, t, self.state(t), n)
             if t > t_max:

@@ -13,6 +13,7 @@ transversal; a crossing with h' ~ 0 is reported as grazing, never stepped over.
 from dataclasses import dataclass
 
 from .._backend import FLOAT
+from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 
 #: statuses returned by first_impact
 IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
@@ -98,8 +99,8 @@ def first_impact(motion, b, lib=FLOAT, t_max=None, max_steps=100000):
         t_max = 2000 * lib.pi / motion.omega   # 1000 forcing periods
     L, M2 = _bounds(motion, lib)
     L = L + lib.fabs(b)
-    eps_h = 64 * lib.eps * L
-    v_graze = 8 * lib.sqrt(2 * M2 * eps_h)
+    eps_h = CONTACT_ULPS * lib.eps * L
+    v_graze = GRAZING_SPEED_FACTOR * lib.sqrt(2 * M2 * eps_h)
     x1, x2, v1, v2 = motion.state(0, lib)
     h, hd = x1 - b, v1
     if not hd < 0:
@@ -116,7 +117,7 @@ def first_impact(motion, b, lib=FLOAT, t_max=None, max_steps=100000):
                 t += dt
                 st = motion.state(t, lib)
                 h, hd = st[0] - b, st[2]
-                if lib.fabs(dt) <= 4 * lib.eps * t:
+                if lib.fabs(dt) <= CONTACT_TIME_ULPS * lib.eps * t:
                     break
             return FirstImpact(IMPACT, t, st, n)
         if t > t_max:

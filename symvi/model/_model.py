@@ -30,11 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+#: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
+from ..numerics.tolerances import ABS_MAX
 
 #: number of masses supported
 N_MAX = 8
-#: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
-ABS_MAX = 1e6
 #: relative asymmetry tolerated (and removed) in a matrix given by the user
 SYM_TOL = 1e-12
 #: smallest eigenvalue of M and K, relative to the largest, accepted as definite

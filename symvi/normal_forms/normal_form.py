@@ -119,10 +119,10 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
-
-#: |lambda^m - 1| (m = 1..5) below which the reduction is refused / warned about
-RESONANCE_REFUSE = 1e-10
-RESONANCE_WARN = 1e-3
+# |lambda^m - 1| (m = 1..5) below which the reduction is refused / warned about: the strong
+# resonances of the multiplier, not the forcing resonance of symvi.flow.linear's names
+from ..numerics.tolerances import STRONG_RESONANCE_REFUSE as RESONANCE_REFUSE
+from ..numerics.tolerances import STRONG_RESONANCE_WARN as RESONANCE_WARN
 #: |Im lambda1| / ||A|| below which the complex pair is said to collide
 COLLISION_WARN = 1e-6
 

@@ -18,9 +18,8 @@ Every period-1 and n-p orbit of every model (:mod:`symvi.orbits.period1`,
 use this test; only the flow that supplies ``first_impact`` differs.
 """
 from ..flow.linear import GRAZING, IMPACT, NO_IMPACT
-
 #: relative margin before the end of a flight inside which a contact is the flight's own impact
-END_TOL = 1e-9
+from ..numerics.tolerances import END_TOL
 
 
 def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_TOL,

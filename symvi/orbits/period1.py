@@ -39,13 +39,11 @@ import numpy as np
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..flow.linear import NUMPY_LA, LinearFlow
 from ..maps.section import Section
+#: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated / warned about
+from ..numerics.tolerances import ISOLATION_REFUSE, ISOLATION_WARN
 from . import _period1
 from ._shooting import CompiledFinder
 from .admissibility import END_TOL, check_flight
-
-#: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated
-ISOLATION_REFUSE = 2e-9
-ISOLATION_WARN = 2e-4
 #: |nu . p1| (relative) below which the branch orientation is taken from r - ORIENT_DR
 ORIENT_NOISE = 1e-12
 ORIENT_DR = 1e-6

@@ -34,11 +34,12 @@ from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
+#: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
+from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
 from .admissibility import check_flight
 
-#: Newton: relative size of the last correction at convergence, and iteration limit
-NEWTON_TOL = 1e-11
+#: Newton: iteration limit
 NEWTON_MAXIT = 30
 
 

@@ -30,11 +30,13 @@ from .._backend import FLOAT, MP
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..flow import first_impact, forcing_amplitudes, motion_from
 from ..orbit import Orbit
+from ..numerics.tolerances import ISOLATION_REFUSE, ISOLATION_WARN
 from ..params import check_omega, modal as _modal
 
-#: |sin(pi w_j / omega)| below which 1 - cos(2 pi w_j / omega) -> 0 is refused
-KAPPA_REFUSE = 1e-9
-KAPPA_WARN = 1e-4
+#: |sin(pi w_j / omega)| below which 1 - cos(2 pi w_j / omega) -> 0 is refused / warned
+#: about: the general isolation bounds on |1 - e^{i w_j T}| = 2 |sin(pi w_j / omega)|
+KAPPA_REFUSE = ISOLATION_REFUSE / 2
+KAPPA_WARN = ISOLATION_WARN / 2
 
 
 def _branches(params, omega, m, lib):

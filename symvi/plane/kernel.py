@@ -100,8 +100,8 @@ LYAP_MIN = 1e-3
 RATIO_CIRCLE = 1.3
 #: bound on |b| n of the radial trend exp(b j) removed before the loop test
 DRIFT_MAX = 60.0
-#: |y| beyond this: escape
-ESCAPE = 1e6
+#: |y| beyond this: escape (the attractor code ESCAPE above is another name)
+ESCAPE_MAX = 1e6
 
 #: fewest kept impacts: the decay tests compare quarters of the kept record
 MIN_KEPT = 4
@@ -153,8 +153,8 @@ def _run(c, y, n_keep, transient, sec, times, scratch):
         ok = True
         nv = 0.0
         for i in range(dim):
-            # not (|y| <= ESCAPE) also catches NaN; escape has no stop code of its own
-            ok = ok and abs(y[i]) <= ESCAPE
+            # not (|y| <= ESCAPE_MAX) also catches NaN; escape has no stop code of its own
+            ok = ok and abs(y[i]) <= ESCAPE_MAX
             nv += v[i] * v[i]
         nv = math.sqrt(nv)
         if not (ok and math.isfinite(nv) and nv > 0.0):

@@ -25,6 +25,9 @@ import numpy as np
 import numba as nb
 
 from ..flow import compiled as cf
+#: stored impacts below which a run is not classified: period detection compares
+#: points k apart (k <= n/2) and the chaos test needs 10 blocks of exponents
+from ..numerics.tolerances import MIN_CLASSIFY
 from ..orbits import _shooting
 
 TWO_PI = 2 * math.pi
@@ -32,9 +35,6 @@ TWO_PI = 2 * math.pi
 #: this floor and CHAOS_SIGMAS block standard errors
 CHAOS_THRESHOLD = 1e-3
 CHAOS_SIGMAS = 4.0
-#: stored impacts below which a run is not classified: period detection compares
-#: points k apart (k <= n/2) and the chaos test needs 10 blocks of exponents
-MIN_CLASSIFY = 50
 
 
 def jacobian(params, omega, y, t_e=None):
