@@ -43,7 +43,7 @@ COMMANDS = {
                    ["symvi.reporting.figures.plane_maps", "symvi.curves.curves_in_box"]),
     "continue --plot": (["continue", *EX1, "--param", "omega", "--from", "0.70", "--to",
                          "0.72", "--plot", "OUT"], "--plot", "file", ".png",
-                        ["symvi.continuation.continue_branch"]),
+                        ["symvi.continuation.continue_orbits"]),
     "curve --plot": (["curve", *EX1, "--omega-min", "0.73", "--omega-max", "0.745",
                       "--params", "omega,b", "--plot", "OUT"], "--plot", "file", ".pdf",
                      ["symvi.curves.curve_from_interval"]),

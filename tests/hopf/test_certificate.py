@@ -85,7 +85,7 @@ def test_omega_range_checked_first(lo):
     """Below the orbit code's range (1e-4): refused at once, naming the flag's parameter
     (1e-300 used to enumerate ~1e300 singular frequencies)."""
     assert_bad_input(cli("hopf", *BASE, "--omega-min", lo, "--omega-max", "0.76"),
-                     "omega_min", "0.0001")
+                     "--omega-min", "0.0001")
     with pytest.raises(ParameterError):
         hopf.hopf_points(EX1, float(lo), 0.76)
 
