@@ -117,34 +117,10 @@ def params_from(args):
 
 
 def check_value(model, param, value, flag, *, resonance=True):
-    """``value`` of ``param`` must be valid for ``model`` (one-line error naming ``flag`` and
-    the range otherwise): omega in OMEGA_RANGE and, with ``resonance``, not at a forcing
-    resonance; another parameter where the model it makes is valid (restitution in (0, 1],
-    a positive definite mass, ...).  The valid values of one parameter form an interval
-    (the positive definite matrices are a convex cone), so both ends of a range being valid
-    makes all of it valid."""
-    import math
-
-    from ..errors import ParameterError, SingularCaseError
-    if param == "omega":
-        from ..flow import check_omega
-        from ..params import OMEGA_RANGE
-        lo, hi = OMEGA_RANGE
-        if not (math.isfinite(value) and lo <= value <= hi):
-            raise ParameterError(flag, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
-        try:
-            check_omega(model, value, name=flag, warn=False)
-        except SingularCaseError:
-            if resonance:
-                raise
-        return value
-    if not math.isfinite(value):
-        raise ParameterError(flag, value, f"a finite value of {param}")
-    try:
-        model.with_(**{param: value})
-    except ParameterError as exc:
-        raise ParameterError(flag, value, exc.valid, f"the value of {param}") from None
-    return value
+    """``value`` of ``param`` valid for ``model``, else one line naming ``flag``
+    (:func:`symvi.flow.check_value`)."""
+    from ..flow import check_value as check
+    return check(model, param, value, flag, resonance=resonance)
 
 
 def describe(params):

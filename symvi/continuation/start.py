@@ -12,7 +12,7 @@ import warnings
 from numbers import Integral
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-from ..numerics.tolerances import OMEGA_RANGE
+from ..flow import check_value
 from .branch import continue_branch, same_branch, switch_at_flip
 
 #: what each argument is called in error messages, by default its own name; a front end
@@ -78,11 +78,11 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         raise ParameterError(N["omega"], None, f"a fixed forcing frequency: give "
                              f"{N['omega']}=VALUE when {N['param']} is not omega")
     if "omega" in fixed:
-        _check_value(at, "omega", fixed["omega"], N["omega"])
+        check_value(at, "omega", fixed["omega"], N["omega"])
     start, stop = _real(start, N["start"], False), _real(stop, N["stop"], False)
     starts_here = start_omega is None and simulation is None
-    _check_value(at, param, start, N["start"], resonance=starts_here)
-    _check_value(at, param, stop, N["stop"], resonance=False)
+    check_value(at, param, start, N["start"], resonance=starts_here)
+    check_value(at, param, stop, N["stop"], resonance=False)
     if start == stop:
         raise ParameterError(N["stop"], stop, f"a value != {N['start']} = {start:g} (the "
                              "branch lies between them)")
@@ -94,7 +94,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         start_omega = _real(start_omega, N["start_omega"], finite=False)
         if not lo <= start_omega <= hi:
             raise ParameterError(N["start_omega"], start_omega, f"a value in [{lo}, {hi}]")
-        _check_value(at, "omega", start_omega, N["start_omega"])
+        check_value(at, "omega", start_omega, N["start_omega"])
         if simulation is not None:
             raise ParameterError(N["start_omega"], start_omega, f"not with "
                                  f"{N['simulation']} (which gives the start)")
@@ -164,6 +164,14 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
 
 
 # --------------------------------------------------------------------------- checks
+# --------------------------------------------------------------------------- simulations
+class _Run:
+    """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation."""
+
+    def __init__(self, section, t, omega):
+        self.section, self.t, self.omega = section, t, omega
+
+
 def _names(names):
     """:data:`NAMES` with the caller's spellings."""
     if names is None:
@@ -216,41 +224,6 @@ def _real(value, shown, finite=True):
     if v is None or isinstance(value, bool) or (finite and not math.isfinite(v)):
         raise ParameterError(shown, value, "a finite real number" if finite else "a real number")
     return v
-
-
-def _check_value(model, param, value, shown, *, resonance=True):
-    """``value`` of ``param`` valid for ``model``, else a one-line error naming ``shown``
-    and the range: omega in OMEGA_RANGE and, with ``resonance``, not at a forcing
-    resonance; another parameter where the model it makes is valid (restitution in (0, 1],
-    a positive definite mass, ...).  The valid values of one parameter form an interval
-    (the positive definite matrices are a convex cone), so both ends of a range being
-    valid makes all of it valid."""
-    if param == "omega":
-        from ..flow.linear import LinearFlow
-        lo, hi = OMEGA_RANGE
-        if not (math.isfinite(value) and lo <= value <= hi):
-            raise ParameterError(shown, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
-        try:
-            LinearFlow.of(model).check_omega(value, shown, warn=False)
-        except SingularCaseError:
-            if resonance:
-                raise
-        return value
-    if not math.isfinite(value):
-        raise ParameterError(shown, value, f"a finite value of {param}")
-    try:
-        model.with_(**{param: value})
-    except ParameterError as exc:
-        raise ParameterError(shown, value, exc.valid, f"the value of {param}") from None
-    return value
-
-
-# --------------------------------------------------------------------------- simulations
-class _Run:
-    """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation."""
-
-    def __init__(self, section, t, omega):
-        self.section, self.t, self.omega = section, t, omega
 
 
 def _simulation(simulation, N):
