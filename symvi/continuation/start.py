@@ -248,27 +248,8 @@ def _simulation(simulation, N):
 
 
 def _settle(model, omega):
-    """A run of the map at ``omega`` from the admissible period-1 orbit plus 1e-4 in each
-    component (the start :func:`symvi.simulate` takes by default): SETTLE_TRANSIENT
-    impacts dropped, SETTLE_IMPACTS kept.  (The continuation layer sits below
-    ``symvi.simulations``, so it runs the one compiled loop itself.)"""
-    from ..flow import compiled as cf
-    from ..flow.linear import LinearFlow
-    from ..orbits.period1 import admissible_orbits, no_orbit_reason
-    w = LinearFlow.of(model).check_omega(omega)
-    try:
-        orbits = admissible_orbits(model, w, multipliers=False)
-    except SingularCaseError:
-        orbits = ()
-    if not orbits:
-        try:
-            why = no_orbit_reason(model, w)
-        except SingularCaseError as exc:
-            why = str(exc)
-        raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at omega = {w!r} "
-                                "to start from (pass y0 explicitly)"
-                                + (f": {why}" if why else ""))
-    y0 = [float(v) + 1e-4 for v in orbits[0].y]
-    y0[-1] %= 2 * math.pi
-    _, section, t, _, _ = cf.run(cf.constants(model, w), y0, SETTLE_IMPACTS, SETTLE_TRANSIENT)
-    return _Run(section, t, w)
+    """A run of the map at ``omega`` from symvi.simulate's default start (the admissible
+    period-1 orbit plus 1e-4 in each component): SETTLE_TRANSIENT impacts dropped,
+    SETTLE_IMPACTS kept."""
+    from ..simulations.simulation import simulate
+    return simulate(model, omega, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
