@@ -43,9 +43,12 @@ class ParameterError(SymviError, ValueError):
         if self.name not in names:
             return self
 
+        import re
+
         def sub(text):
+            # whole words only: omega_1 is not omega
             for key, flag in names.items():
-                text = text.replace(key, flag)
+                text = re.sub(rf"(?<![\w-]){re.escape(key)}(?!\w)", flag, text)
             return text
         return ParameterError(names[self.name], self.value, sub(self.valid), sub(self.detail))
 

@@ -52,8 +52,11 @@ def run(args):
         import warnings
         warnings.warn(f"--out {args.out!r}: an output name not ending in .npz is deprecated "
                       "and will be refused by a future version", FutureWarning)
-    sim = simulate(params, args.omega, y0=args.y0, n_impacts=args.impacts,
-                   transient=args.transient)
+    try:
+        sim = simulate(params, args.omega, y0=args.y0, n_impacts=args.impacts,
+                       transient=args.transient)
+    except ParameterError as exc:
+        raise exc.renamed({"y0": "--y0", "omega": "--omega"}) from None
     with atomic_path(args.out, suffix=".npz") as tmp:
         with open(tmp, "wb") as fh:
             np.savez(fh, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,

@@ -29,6 +29,7 @@ from ..errors import ParameterError, SingularCaseError
 from ..flow import check_omega
 from ..flow import compiled as cf
 from ..model import Model
+from ..numerics.tolerances import ABS_MAX
 
 #: default start: the admissible period-1 orbit y* plus this vector (x1dot+, x2, x2dot, tau)
 DEFAULT_PERTURBATION = (1e-4, 1e-4, 1e-4, 1e-4)
@@ -113,7 +114,16 @@ def _check_start(y0):
         raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)")
     if not y[0] < 0:
         raise ParameterError("y0", y0, "x1dot+ < 0: the mass must leave the stop")
+    _check_size(y, y0, "y0")
     return (y[0], y[1], y[2], y[3] % (2 * math.pi))
+
+
+def _check_size(y, y0, name):
+    # a state beyond ABS_MAX over- or underflows in the flow (the finder's scale L = sum of
+    # the amplitudes): refused, not simulated into a wrong stop reason
+    if any(abs(v) > ABS_MAX for v in y[:-1]):
+        raise ParameterError(name, y0, f"displacements and velocities with |value| <= "
+                             f"{ABS_MAX:g}")
 
 
 def _check_system_start(params, y0, name="y0"):
@@ -129,6 +139,7 @@ def _check_model_start(model, y0, name="y0"):
     names = sec.names
     if not y[0] < 0:
         raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
+    _check_size(y, y0, name)
     return y[:-1] + (y[-1] % (2 * math.pi),)
 
 

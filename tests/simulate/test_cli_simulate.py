@@ -137,3 +137,13 @@ def test_sweep_sizes_bounded_before_allocating(tmp_path, argv, flag):
     assert_bad_input(cli("sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.74", *argv,
                          "--out", tmp_path / "s.npz"), flag)
     assert not list(tmp_path.iterdir())
+
+
+def test_huge_start_is_refused_naming_the_flag(tmp_path):
+    """--y0 -1e300 0 0 0 ran and stopped with 'grazing' (the finder's scale overflowed);
+    now one line naming --y0 and the range."""
+    from tests.fuzz._cli import assert_bad_input, cli
+    line = assert_bad_input(cli("simulate", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b",
+                                "1.5", "--r", "0.8", "--omega", "0.7372", "--impacts", "100",
+                                "--y0", "-1e300", "0", "0", "0", "--out", tmp_path / "x.npz"), "--y0")
+    assert "1e+06" in line and not (tmp_path / "x.npz").exists()
