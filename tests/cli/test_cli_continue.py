@@ -9,7 +9,7 @@ import symvi
 from symvi.cli import main
 from symvi.model import dumps
 
-from ..continuation.models import ONE_DAMPED
+from tests.zoo import ONE_DAMPED_GAP0
 from ..fuzz._cli import cli
 
 PRESET = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
@@ -41,7 +41,7 @@ def test_json_contract_and_plot(tmp_path, capsys):
 
 def test_model_file_other_parameter_and_switch(tmp_path, capsys):
     f = tmp_path / "one.toml"
-    f.write_text(dumps(ONE_DAMPED))
+    f.write_text(dumps(ONE_DAMPED_GAP0))
     assert main(["continue", "--model", str(f), "--param", "omega", "--from", "2.0",
                  "--to", "3.0", "--switch", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -55,7 +55,7 @@ def test_model_file_other_parameter_and_switch(tmp_path, capsys):
 
 def test_from_section_starts_on_the_simulated_orbit(tmp_path, capsys):
     f = tmp_path / "one.toml"
-    f.write_text(dumps(ONE_DAMPED))
+    f.write_text(dumps(ONE_DAMPED_GAP0))
     npz = tmp_path / "s.npz"
     assert main(["simulate", "--model", str(f), "--omega", "2.69", "--impacts", "200",
                  "--transient", "3000", "--out", str(npz)]) == 0

@@ -8,7 +8,7 @@ from symvi.cli import main
 from symvi.model import dumps
 
 from ..fuzz._cli import cli
-from ..nmodel.models import PAPER, THREE
+from tests.zoo import PAPER_EX1, THREE_STOP2_GAP05
 
 
 def _run(*args):
@@ -19,7 +19,7 @@ def _run(*args):
 
 def test_orbit_json_for_a_model_file(tmp_path, capsys):
     f = tmp_path / "m.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     assert main(["orbit", "--model", str(f), "--omega", "0.95", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     o = [x for x in d["orbits"] if x["admissible"]][0]
@@ -29,7 +29,7 @@ def test_orbit_json_for_a_model_file(tmp_path, capsys):
 
 def test_preset_through_a_model_file_gives_the_preset_numbers(tmp_path, capsys):
     f = tmp_path / "p.toml"
-    f.write_text(dumps(PAPER))
+    f.write_text(dumps(PAPER_EX1))
     main(["orbit", "--model", str(f), "--omega", "0.7369", "--json"])
     new = json.loads(capsys.readouterr().out)["orbits"]
     main(["orbit", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8",
@@ -55,7 +55,7 @@ def test_bad_model_file_is_one_line_exit_2(tmp_path, text, key):
 
 def test_model_and_preset_flags_are_exclusive(tmp_path):
     f = tmp_path / "m.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     r = _run("orbit", "--model", str(f), "--b", "2", "--omega", "1.0")
     assert r.returncode == 2 and "--model" in r.stderr
     r = _run("orbit", "--omega", "1.0")
@@ -64,7 +64,7 @@ def test_model_and_preset_flags_are_exclusive(tmp_path):
 
 def test_hopf_json_for_a_model_file(tmp_path, capsys):
     f = tmp_path / "m.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     assert main(["hopf", "--model", str(f), "--omega-min", "0.99", "--omega-max", "1.02",
                  "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -77,7 +77,7 @@ def test_hopf_json_for_a_model_file(tmp_path, capsys):
 def test_simulate_and_sweep_with_a_model_file(tmp_path, capsys):
     import numpy as np
     f = tmp_path / "m.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     out = tmp_path / "s.npz"
     assert main(["simulate", "--model", str(f), "--omega", "0.95", "--impacts", "50",
                  "--transient", "3000", "--out", str(out)]) == 0
@@ -87,7 +87,7 @@ def test_simulate_and_sweep_with_a_model_file(tmp_path, capsys):
     assert "[stop]" in str(z["model"]) and d["stop"] == "completed"
     # the stable period-1 orbit at 0.95 (|lambda| = 0.966): the run converges onto it
     from symvi.orbits import admissible_orbits
-    y = np.array(admissible_orbits(THREE, 0.95)[0].y)
+    y = np.array(admissible_orbits(THREE_STOP2_GAP05, 0.95)[0].y)
     assert np.abs(z["section"][-1] - y).max() < 1e-6
     sw = tmp_path / "sw.npz"
     assert main(["sweep", "--model", str(f), "--omega-min", "0.9", "--omega-max", "0.95",
@@ -100,7 +100,7 @@ def test_simulate_and_sweep_with_a_model_file(tmp_path, capsys):
                                        (["--component", "7"], "--component")])
 def test_model_shaped_arguments_are_checked(tmp_path, args, name):
     f = tmp_path / "m.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     cmd = ("simulate", "--omega", "0.95", "--out", str(tmp_path / "x.npz")) \
         if name == "--y0" else ("sweep", "--omega-min", "0.9", "--omega-max", "0.95",
                                 "--steps", "3", "--out", str(tmp_path / "x.npz"))

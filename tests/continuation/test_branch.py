@@ -13,21 +13,17 @@ from symvi.errors import NearSingularWarning, ParameterError
 from symvi.maps.impact import poincare_map
 from symvi.model import Model
 from symvi.orbits import admissible_orbits, existence_ratio, period1_orbits
-from tests.nmodel.models import ALL
-
-from .models import GRAZE, ONE_DAMPED
-
-PAPER = ALL["paper"]
+from tests.zoo import ONE_DAMPED_GAP0, ONE_GRAZING, ONE_UNDAMPED, PAPER_EX1
 
 
 @pytest.fixture(scope="module")
 def paper_branch():
-    return continue_branch(PAPER, "omega", 1.3, 0.9, through=True)
+    return continue_branch(PAPER_EX1, "omega", 1.3, 0.9, through=True)
 
 
 @pytest.fixture(scope="module")
 def paper_hopf():
-    return symvi.hopf_points(PAPER, 0.9, 1.3)
+    return symvi.hopf_points(PAPER_EX1, 0.9, 1.3)
 
 
 def _kinds(br, kind):
@@ -64,7 +60,7 @@ def test_interior_grazing_agrees_with_hopf_points(paper_branch, paper_hopf):
 
 
 def test_ends_at_the_admissibility_boundary_by_default():
-    br = continue_branch(PAPER, "omega", 1.3, 0.9)
+    br = continue_branch(PAPER_EX1, "omega", 1.3, 0.9)
     assert "admissible" in br.end
     assert br.points[-2].admissible and not br.points[-1].admissible
     assert _kinds(br, "grazing")
@@ -72,8 +68,8 @@ def test_ends_at_the_admissibility_boundary_by_default():
 
 def test_fold_turns_onto_the_other_closed_form_branch():
     # eq. (16): the two period-1 branches exist while |ratio| <= 1 and meet at the fold
-    w_fold = brentq(lambda w: abs(existence_ratio(PAPER, w)) - 1, 1.5, 1.6, xtol=1e-15)
-    br = continue_branch(PAPER, "omega", 1.45, 1.7, through=True)
+    w_fold = brentq(lambda w: abs(existence_ratio(PAPER_EX1, w)) - 1, 1.5, 1.6, xtol=1e-15)
+    br = continue_branch(PAPER_EX1, "omega", 1.45, 1.7, through=True)
     folds = _kinds(br, "fold")
     assert folds and abs(folds[0].value - w_fold) < 1e-10
     assert "turns" in folds[0].detail and folds[0].coefficients["a"] != 0
@@ -81,14 +77,14 @@ def test_fold_turns_onto_the_other_closed_form_branch():
     after = [pt for pt in br.points[folds[0].index + 2:] if pt.value < w_fold - 1e-3]
     assert after
     for pt in after[:5]:
-        ys = [o.y for o in period1_orbits(PAPER, pt.value)]
+        ys = [o.y for o in period1_orbits(PAPER_EX1, pt.value)]
         assert min(np.max(np.abs(np.array(pt.y) - np.array(y))) for y in ys) < 1e-8
 
 
 def test_grazing_in_the_forcing_amplitude_closed_form():
     # the impacting orbit grazes where the free steady state just reaches the gap:
     # F / |k - m omega^2 + i c omega| = b  ->  F = b * 0.1 at omega = 1
-    br = continue_branch(GRAZE, "forcing[1]", 0.3, 0.05, omega=1.0, through=True)
+    br = continue_branch(ONE_GRAZING, "forcing[1]", 0.3, 0.05, omega=1.0, through=True)
     g = _kinds(br, "grazing")
     assert g, br.end
     assert abs(g[0].value - 0.1) < 1e-10
@@ -97,7 +93,7 @@ def test_grazing_in_the_forcing_amplitude_closed_form():
 
 
 def test_flip_and_period_doubled_branch_of_a_damped_oscillator():
-    br = continue_branch(ONE_DAMPED, "omega", 2.0, 3.0)
+    br = continue_branch(ONE_DAMPED_GAP0, "omega", 2.0, 3.0)
     flips = _kinds(br, "flip")
     assert len(flips) == 1
     f = flips[0]
@@ -109,7 +105,7 @@ def test_flip_and_period_doubled_branch_of_a_damped_oscillator():
         assert pt.orbit.residual < 1e-9
         y = pt.orbit.points[0]
         for _ in range(2):
-            y = poincare_map(ONE_DAMPED, pt.value, y).y
+            y = poincare_map(ONE_DAMPED_GAP0, pt.value, y).y
         assert np.max(np.abs(np.array(y[:-1]) - np.array(pt.orbit.points[0][:-1]))) < 1e-9
         # supercritical: the doubled orbit is born stable, where the period-1 orbit is not
         assert pt.stable == (pt.value > f.value)
@@ -122,9 +118,9 @@ def test_branch_point_where_an_orbit_traversed_twice_meets_its_doubled_branch():
     """The 1-1 orbit solved as a 2-2 orbit has the multipliers mu^2: at the 1-1 flip one
     passes +1 without a fold, and the period-doubled branch crosses there (a pitchfork).
     The branch point is located, at the flip of the 1-1 branch, and no fold is claimed."""
-    one = continue_branch(ONE_DAMPED, "omega", 2.0, 3.0)
+    one = continue_branch(ONE_DAMPED_GAP0, "omega", 2.0, 3.0)
     flip = _kinds(one, "flip")[0].value
-    two = continue_branch(ONE_DAMPED, "omega", 2.0, 3.0, n=2, p=2, guess=one.points[0].orbit.y)
+    two = continue_branch(ONE_DAMPED_GAP0, "omega", 2.0, 3.0, n=2, p=2, guess=one.points[0].orbit.y)
     bps = _kinds(two, "branch-point")
     assert len(bps) == 1 and not _kinds(two, "fold") and not _kinds(two, "unlocated")
     assert abs(bps[0].value - flip) < 1e-10
@@ -138,14 +134,14 @@ def test_continuation_in_b_and_r_agrees_with_hopf_points(paper_hopf):
     wc = paper_hopf.points[0].omega_c
     for name, val, a, b in (("b", 1.5, 1.45, 1.55), ("r", 0.8, 0.78, 0.82)):
         for start, stop in ((a, b), (b, a)):
-            br = continue_branch(PAPER, name, start, stop, omega=wc, through=True)
+            br = continue_branch(PAPER_EX1, name, start, stop, omega=wc, through=True)
             ns = _kinds(br, "ns")
             assert ns, (name, br.end)
             assert min(abs(s.value - val) for s in ns) < 1e-9, name
 
 
 def test_forcing_resonance_cuts_the_branch_cleanly():
-    one = ALL["one"]                   # undamped, natural frequency 1
+    one = ONE_UNDAMPED                 # undamped, natural frequency 1
     o = admissible_orbits(one, 1.3)
     assert o
     with warnings.catch_warnings():
@@ -176,10 +172,10 @@ def test_conservative_model_is_said_and_seeks_no_ns():
 
 def test_bad_input_names_the_parameter():
     with pytest.raises(ParameterError, match="param"):
-        continue_branch(PAPER, "nonsense", 1.0, 1.2)
+        continue_branch(PAPER_EX1, "nonsense", 1.0, 1.2)
     with pytest.raises(ParameterError, match="omega"):
-        continue_branch(PAPER, "b", 1.0, 1.2)
+        continue_branch(PAPER_EX1, "b", 1.0, 1.2)
     with pytest.raises(ParameterError, match="stop"):
-        continue_branch(PAPER, "omega", 1.2, 1.2)
+        continue_branch(PAPER_EX1, "omega", 1.2, 1.2)
     with pytest.raises(ParameterError, match="start"):
-        continue_branch(PAPER, "omega", float("nan"), 1.2)
+        continue_branch(PAPER_EX1, "omega", float("nan"), 1.2)

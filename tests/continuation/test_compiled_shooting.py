@@ -11,9 +11,8 @@ from symvi.flow import compiled
 from symvi.flow.linear import LinearFlow
 from symvi.orbits import admissible_orbits
 from symvi.orbits.periodic import Problem, orbit_of, periodic_orbit
-from tests.nmodel.models import ALL
+from tests.zoo import N_MASS_SET, ONE_DAMPED_GAP0
 
-from .models import ONE_DAMPED
 
 #: agreement of compiled and numpy results, relative to the largest entry
 REL = 1e-13
@@ -41,13 +40,13 @@ def _orbit_u(model, w):
 def _u_2_2():
     # the stable 2-2 orbit of ONE_DAMPED at omega = 2.69 (cf. test_periodic), from its points
     guess = [[-0.368460, 4.129866], [-0.350514, 4.976955]]
-    return periodic_orbit(ONE_DAMPED, n=2, p=2, guess=guess, omega=2.69).u
+    return periodic_orbit(ONE_DAMPED_GAP0, n=2, p=2, guess=guess, omega=2.69).u
 
 
 CASES = {
-    "three (damped, N = 3)": (ALL["three"], 1, 1, 1.3, None),
-    "paper": (ALL["paper"], 1, 1, 1.15, None),
-    "2-2 of a damped oscillator": (ONE_DAMPED, 2, 2, 2.69, "2-2"),
+    "three (damped, N = 3)": (N_MASS_SET["three"], 1, 1, 1.3, None),
+    "paper": (N_MASS_SET["paper"], 1, 1, 1.15, None),
+    "2-2 of a damped oscillator": (ONE_DAMPED_GAP0, 2, 2, 2.69, "2-2"),
 }
 
 
@@ -86,9 +85,9 @@ def test_named_parameter_derivatives(case):
     _close(fast.derivative(off, lam, "omega"), ref.derivative(off, lam, "omega"))
 
 
-@pytest.mark.parametrize("name", sorted(ALL))
+@pytest.mark.parametrize("name", sorted(N_MASS_SET))
 def test_steady_state_against_numpy_solve(name):
-    flow = LinearFlow.of(ALL[name])
+    flow = LinearFlow.of(N_MASS_SET[name])
     for w in (0.31, 0.93, 1.7, 3.2):
         F = flow.forcing(w)
         D = flow.K - w * w * flow.M + 1j * w * flow.C
@@ -100,7 +99,7 @@ def test_steady_state_against_numpy_solve(name):
 
 def test_finder_constants_equal_the_compiled_flow_s():
     from symvi.orbits._shooting import finder_constants
-    for model in (ALL["paper"], ALL["three"], ALL["paper"].with_(gap=0.7, restitution=0.6)):
+    for model in (N_MASS_SET["paper"], N_MASS_SET["three"], N_MASS_SET["paper"].with_(gap=0.7, restitution=0.6)):
         flow = LinearFlow.of(model)
         for w in (0.8, 1.3):
             got = finder_constants(flow, flow.forcing(w))
@@ -109,7 +108,7 @@ def test_finder_constants_equal_the_compiled_flow_s():
 
 def test_admissibility_by_the_compiled_finder_equals_the_reference():
     """Through the grazing and interior-contact boundaries of the paper's branch."""
-    br = continue_branch(ALL["paper"], "omega", 1.3, 0.9, through=True, locate=False)
+    br = continue_branch(N_MASS_SET["paper"], "omega", 1.3, 0.9, through=True, locate=False)
     fast, ref = br.problem, Problem(br.problem.model, 1, 1, param="omega")
     ref.compiled = False
     flags = set()
@@ -125,9 +124,9 @@ def test_admissibility_by_the_compiled_finder_equals_the_reference():
 def test_newton_solve_and_initial_guess_agree_with_the_reference(monkeypatch):
     """The whole n-p solve (flight times of the guess by the compiled map, Newton, orbit)."""
     guess = [[-0.3685, 4.1299], [-0.3505, 4.9770]]
-    fast = periodic_orbit(ONE_DAMPED, n=2, p=2, guess=guess, omega=2.69)
+    fast = periodic_orbit(ONE_DAMPED_GAP0, n=2, p=2, guess=guess, omega=2.69)
     monkeypatch.setattr(Problem, "compiled", False)
-    ref = periodic_orbit(ONE_DAMPED, n=2, p=2, guess=guess, omega=2.69)
+    ref = periodic_orbit(ONE_DAMPED_GAP0, n=2, p=2, guess=guess, omega=2.69)
     _close(fast.u, ref.u)
     assert (fast.admissible, fast.reason, fast.stable) == (ref.admissible, ref.reason, ref.stable)
     assert fast.multipliers == pytest.approx(ref.multipliers, rel=1e-12, abs=1e-12)

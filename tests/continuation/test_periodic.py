@@ -12,14 +12,13 @@ from symvi.maps.impact import poincare_map
 from symvi.orbits import admissible_orbits
 from symvi.orbits.periodic import (ConvergenceError, Problem, detect_period, from_simulation,
                                    periodic_orbit)
-from tests.nmodel.models import ALL
-
-from .models import ONE_DAMPED
+from tests.zoo import N_MASS_SET, ONE_DAMPED_GAP0
 
 
-@pytest.mark.parametrize("name", sorted(ALL))
+
+@pytest.mark.parametrize("name", sorted(N_MASS_SET))
 def test_period1_equals_closed_form(name):
-    model = ALL[name]
+    model = N_MASS_SET[name]
     w = 1.3
     orbits = admissible_orbits(model, w)
     assert orbits, "the test needs an admissible orbit"
@@ -40,7 +39,7 @@ def test_period1_equals_closed_form(name):
 
 
 def _doubled():
-    sim = symvi.simulate(ONE_DAMPED, 2.69, n_impacts=200, transient=3000)
+    sim = symvi.simulate(ONE_DAMPED_GAP0, 2.69, n_impacts=200, transient=3000)
     return sim, from_simulation(sim)
 
 
@@ -52,7 +51,7 @@ def test_2_2_orbit_from_simulation_is_a_fixed_point_of_P2():
     assert np.max(np.abs(np.array(po.points) - sim.section[-2:])) < 1e-8
     y = po.points[0]
     for _ in range(2):
-        s = poincare_map(ONE_DAMPED, 2.69, y)
+        s = poincare_map(ONE_DAMPED_GAP0, 2.69, y)
         y = s.y
     assert np.max(np.abs(np.array(y[:-1]) - np.array(po.points[0][:-1]))) < 1e-10
     assert abs((y[-1] - po.points[0][-1] + math.pi) % (2 * math.pi) - math.pi) < 1e-10
@@ -67,7 +66,7 @@ def test_monodromy_against_generated_jets_and_finite_differences():
 
     def P2(y):
         for _ in range(2):
-            s = poincare_map(ONE_DAMPED, 2.69, y)
+            s = poincare_map(ONE_DAMPED_GAP0, 2.69, y)
             y = np.array(s.y[:-1] + (s.tau_unwrapped,))
         return y
     y0 = np.array(po.points[0])
@@ -87,11 +86,11 @@ def test_detect_period_and_refusals():
     sim, po = _doubled()
     assert detect_period(sim) == (2, 2)
     with pytest.raises(ParameterError, match="omega"):
-        periodic_orbit(ONE_DAMPED, n=1, p=1, guess=po.points[0])
+        periodic_orbit(ONE_DAMPED_GAP0, n=1, p=1, guess=po.points[0])
     with pytest.raises(ParameterError, match="^p = 0"):
-        periodic_orbit(ONE_DAMPED, n=1, p=0, guess=po.points[0], omega=2.69)
+        periodic_orbit(ONE_DAMPED_GAP0, n=1, p=0, guess=po.points[0], omega=2.69)
     with pytest.raises(ParameterError, match="guess"):
-        periodic_orbit(ONE_DAMPED, n=1, p=1, guess=[1.0, 2.0, 3.0], omega=2.69)
+        periodic_orbit(ONE_DAMPED_GAP0, n=1, p=1, guess=[1.0, 2.0, 3.0], omega=2.69)
 
 
 def test_no_convergence_raises_with_the_residual():
@@ -99,7 +98,7 @@ def test_no_convergence_raises_with_the_residual():
     # unstable: Newton either finds the true 1-1 orbit or says it did not converge
     _, po = _doubled()
     try:
-        o = periodic_orbit(ONE_DAMPED, n=3, p=1, guess=po.points[0], omega=2.69, )
+        o = periodic_orbit(ONE_DAMPED_GAP0, n=3, p=1, guess=po.points[0], omega=2.69, )
     except ConvergenceError as exc:
         assert math.isfinite(exc.residual) or exc.residual == math.inf
         assert "residual" in str(exc) or "impact" in str(exc)
@@ -110,7 +109,7 @@ def test_no_convergence_raises_with_the_residual():
 
 def test_parameter_derivative_is_exact():
     """dG/dlam of the shooting system against central differences, for omega and names."""
-    model = ALL["three"]
+    model = N_MASS_SET["three"]
     o = admissible_orbits(model, 1.3)[0]
     po = periodic_orbit(model, n=1, p=1, guess=o.y, omega=1.3)
     for name, lam in (("omega", 1.3), ("gap", 0.5), ("damping[1,2]", -0.005),
@@ -126,14 +125,14 @@ def test_parameter_derivative_is_exact():
 @pytest.mark.parametrize("omega, y0, expect", [(0.7, (-0.614, 5.15), (1, 2)),
                                                (0.65, (-2.55, 3.20), (1, 3))])
 def test_multi_impact_orbits_from_simulation(omega, y0, expect):
-    from .models import LIGHT
-    sim = symvi.simulate(LIGHT, omega, y0=y0, n_impacts=300, transient=3000)
+    from tests.zoo import ONE_LIGHT_GAP0
+    sim = symvi.simulate(ONE_LIGHT_GAP0, omega, y0=y0, n_impacts=300, transient=3000)
     po = from_simulation(sim)
     assert (po.n, po.p) == expect
     assert po.admissible and po.stable and po.residual < 1e-10
     assert np.max(np.abs(np.array(po.points) - sim.section[-po.p:])) < 1e-8
     y = po.points[0]
     for _ in range(po.p):
-        y = poincare_map(LIGHT, omega, y).y
+        y = poincare_map(ONE_LIGHT_GAP0, omega, y).y
     assert np.max(np.abs(np.array(y[:-1]) - np.array(po.points[0][:-1]))) < 1e-10
     assert sum(po.times) == pytest.approx(po.n * 2 * math.pi / omega, rel=1e-12)

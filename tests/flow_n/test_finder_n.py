@@ -7,15 +7,16 @@ import pytest
 
 from symvi.flow import compiled as cf
 from symvi.flow.linear import GRAZING, IMPACT, NO_IMPACT, LinearFlow
+from tests.zoo import FOUR_STOP3, ONE_DAMPED_GAP02, THREE_STOP2_GAP12
 
-from .models import FOUR, ONE, THREE, Gap, random_states, tangent_states, z0_of
+from .gap_reference import Gap, random_states, tangent_states, z0_of
 
 T_MAX = 20.0          # finder horizon
 T_GRID = 30.0         # dense-sampling horizon, beyond the finder's
 DT = 0.002
 
 #: N = 1, 3 and 4, stops on masses 1, 2 and 3
-CASES = [(ONE, 0.8), (THREE, 0.4), (FOUR, 1.3)]
+CASES = [(ONE_DAMPED_GAP02, 0.8), (THREE_STOP2_GAP12, 0.4), (FOUR_STOP3, 1.3)]
 
 
 def _states(model, omega, n, rng):
@@ -106,7 +107,7 @@ def test_finder_matches_reference(model, omega):
 
 def test_decaying_bound_steps_fewer_than_reference():
     """The tight, decaying bound needs fewer evaluations than the global one."""
-    model, omega = THREE, 0.4
+    model, omega = THREE_STOP2_GAP12, 0.4
     rng = np.random.default_rng(3)
     ys = random_states(model, 40, rng)
     flow = LinearFlow.of(model)

@@ -9,10 +9,11 @@ from symvi import ParameterError, SingularCaseError
 from symvi.flow import compiled as cf
 from symvi.flow.linear import LinearFlow
 from symvi.maps.impact import poincare_map
+from tests.zoo import FOUR_STOP3, ONE_DAMPED_GAP02, PAPER_EX1, THREE_STOP2_GAP12, TWO_OVERDAMPED
 
-from .models import FOUR, ONE, OVER, PAPER, THREE, random_states
+from .gap_reference import random_states
 
-CASES = [(ONE, 0.8), (PAPER, 0.7372), (THREE, 0.4), (FOUR, 1.3), (OVER, 0.9)]
+CASES = [(ONE_DAMPED_GAP02, 0.8), (PAPER_EX1, 0.7372), (THREE_STOP2_GAP12, 0.4), (FOUR_STOP3, 1.3), (TWO_OVERDAMPED, 0.9)]
 IDS = ["N1", "paper", "N3", "N4", "overdamped"]
 
 
@@ -47,13 +48,13 @@ def test_step_equals_reference_map(model, omega):
 def test_conjugate_pairs_kept_once():
     """Undamped and underdamped models keep N modes of weight 2; the overdamped
     one keeps its pair once and both real eigenvalues (weights sum to 2N)."""
-    for model, kept in ((PAPER, 2), (THREE, 3), (FOUR, 4), (ONE, 1), (OVER, 3)):
+    for model, kept in ((PAPER_EX1, 2), (THREE_STOP2_GAP12, 3), (FOUR_STOP3, 4), (ONE_DAMPED_GAP02, 1), (TWO_OVERDAMPED, 3)):
         c = cf.constants(model, 1.1)
         m = int(c[1])
         assert m == kept
         w = c[11:11 + 3 * m].reshape(m, 3)[:, 2]
         assert w.sum() == 2 * model.n
-    w = cf.constants(OVER, 1.1)[11:20].reshape(3, 3)
+    w = cf.constants(TWO_OVERDAMPED, 1.1)[11:20].reshape(3, 3)
     assert sorted(w[:, 2]) == [1.0, 1.0, 2.0] and (w[w[:, 2] == 1.0, 1] == 0).all()
 
 
@@ -68,10 +69,10 @@ def test_all_modes_fallback_gives_the_same_map(monkeypatch):
     """Kept with weight 1 each (the fallback when pairing fails), all 2N modes give
     the same map as the paired form."""
     rng = np.random.default_rng(2)
-    ys = random_states(FOUR, 20, rng)
-    paired = [cf.step(cf.constants(FOUR, 1.3), y) for y in ys]
+    ys = random_states(FOUR_STOP3, 20, rng)
+    paired = [cf.step(cf.constants(FOUR_STOP3, 1.3), y) for y in ys]
     monkeypatch.setattr(cf, "_modes", lambda lam: [(j, 1.0) for j in range(len(lam))])
-    c = cf.constants(FOUR, 1.3)
+    c = cf.constants(FOUR_STOP3, 1.3)
     assert int(c[1]) == 8
     for y, p in zip(ys, paired):
         q = cf.step(c, y)
@@ -81,20 +82,20 @@ def test_all_modes_fallback_gives_the_same_map(monkeypatch):
 
 def test_constants_checks_omega():
     with pytest.raises(ParameterError, match="omega"):
-        cf.constants(THREE, float("nan"))
+        cf.constants(THREE_STOP2_GAP12, float("nan"))
     with pytest.raises(ParameterError, match="omega"):
-        cf.constants(THREE, -1.0)
-    w1 = float(LinearFlow.of(PAPER).omegas[0])
+        cf.constants(THREE_STOP2_GAP12, -1.0)
+    w1 = float(LinearFlow.of(PAPER_EX1).omegas[0])
     with pytest.raises(SingularCaseError):
-        cf.constants(PAPER, w1)
-    assert len(cf.constants(FOUR, 1.0)) == cf.size(4)
+        cf.constants(PAPER_EX1, w1)
+    assert len(cf.constants(FOUR_STOP3, 1.0)) == cf.size(4)
 
 
 def test_run_batch_mixed_models_equals_run():
     """A batch mixing N = 1, 3 and 4 (padded constants and start points) gives the
     runs of :func:`run`, bit for bit."""
     rng = np.random.default_rng(5)
-    rows = [(ONE, 0.8), (THREE, 0.4), (FOUR, 1.3), (THREE, 0.8)]
+    rows = [(ONE_DAMPED_GAP02, 0.8), (THREE_STOP2_GAP12, 0.4), (FOUR_STOP3, 1.3), (THREE_STOP2_GAP12, 0.8)]
     C = cf.pack([cf.constants(m, w) for m, w in rows])
     Y0 = np.zeros((len(rows), 8))
     for i, (m, _) in enumerate(rows):

@@ -8,10 +8,11 @@ import pytest
 from symvi.codegen.jets import jacobian_at
 from symvi.flow import compiled as cf
 from symvi.simulations import simulation
+from tests.zoo import FOUR_STOP3, PAPER_EX1, THREE_STOP2_GAP12, TWO_OVERDAMPED
 
-from .models import FOUR, OVER, PAPER, THREE, random_states
+from .gap_reference import random_states
 
-CASES = [(PAPER, 0.70), (PAPER, 0.7369), (THREE, 0.4), (THREE, 1.3), (FOUR, 1.3), (OVER, 0.9)]
+CASES = [(PAPER_EX1, 0.70), (PAPER_EX1, 0.7369), (THREE_STOP2_GAP12, 0.4), (THREE_STOP2_GAP12, 1.3), (FOUR_STOP3, 1.3), (TWO_OVERDAMPED, 0.9)]
 IDS = ["paper-0.70", "paper-0.7369", "N3-0.4", "N3-1.3", "N4", "overdamped"]
 
 
@@ -43,8 +44,8 @@ def _trace(model):
                                           np.asarray(model.damping, dtype=float))))
 
 
-@pytest.mark.parametrize("model, omega", [(PAPER, 0.7369), (PAPER, 0.70), (THREE, 0.5),
-                                          (THREE, 1.3), (FOUR, 1.1), (OVER, 1.3)],
+@pytest.mark.parametrize("model, omega", [(PAPER_EX1, 0.7369), (PAPER_EX1, 0.70), (THREE_STOP2_GAP12, 0.5),
+                                          (THREE_STOP2_GAP12, 1.3), (FOUR_STOP3, 1.1), (TWO_OVERDAMPED, 1.3)],
                          ids=["paper-0.7369", "paper-0.70", "N3-0.5", "N3-1.3", "N4", "over"])
 def test_determinant_at_period1(model, omega):
     """det DP = r^2 exp(-tr(M^-1 C) 2 pi / omega) at the period-1 orbit, to 1e-10."""
@@ -76,8 +77,8 @@ def test_determinant_anywhere(model, omega):
 def test_no_impact_leaves_v():
     """Without an impact DP is undefined: v is returned unchanged and
     jacobian_tangent refuses."""
-    c = cf.constants(PAPER, 0.7369, t_max=1e-3)
-    y = np.array(simulation.fixed_point(PAPER, 0.7369))
+    c = cf.constants(PAPER_EX1, 0.7369, t_max=1e-3)
+    y = np.array(simulation.fixed_point(PAPER_EX1, 0.7369))
     v = np.arange(1.0, 5.0)
     st, _, _, v1 = cf.step_tangent(c, y, v)
     assert st == cf.NO_IMPACT and np.array_equal(v1, v)

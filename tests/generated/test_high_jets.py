@@ -22,13 +22,11 @@ from symvi.codegen.jets import evaluate
 from symvi.errors import ParameterError
 from symvi.flow.linear import LinearFlow
 from symvi.maps.impact import poincare_map
-from symvi.model import Model
 from symvi.orbits import admissible_orbits
-from tests.nmodel.models import ONE, THREE
+from tests.zoo import ONE_UNDAMPED, PAPER_EX1, THREE_STOP2_GAP05
 
 GEN = Path(gen.__file__).parent
 #: the paper's example 1 next to its Neimark-Sacker point (paper, Sec. 4: v_c = 0.7368)
-PAPER = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
 W_PAPER = 0.7369
 DPS = 60
 
@@ -84,7 +82,7 @@ def _rel(a, b):
     return max(abs(x - y) for x, y in zip(a.ravel(), b.ravel())) / max(abs(x) for x in b.ravel())
 
 
-@pytest.mark.parametrize("model, w", [(PAPER, W_PAPER), (ONE, 1.3)], ids=["paper", "one"])
+@pytest.mark.parametrize("model, w", [(PAPER_EX1, W_PAPER), (ONE_UNDAMPED, 1.3)], ids=["paper", "one"])
 def test_d4_d5_agree_with_finite_differences_of_d3(model, w):
     y, _ = _orbit(model, w)
     jet = high_jet(model, w, y, _te(model, w, y), digits=DPS)
@@ -97,17 +95,17 @@ def test_d4_d5_agree_with_finite_differences_of_d3(model, w):
 
 
 def test_tensors_are_symmetric_and_lower_orders_match_order_3():
-    y, te = _orbit(PAPER, W_PAPER)
-    jet = high_jet(PAPER, W_PAPER, y, te)
+    y, te = _orbit(PAPER_EX1, W_PAPER)
+    jet = high_jet(PAPER_EX1, W_PAPER, y, te)
     for t in (jet.d2, jet.d3, jet.d4, jet.d5):
         m = t.ndim - 1
         for perm in itertools.permutations(range(1, m + 1)):
             assert np.array_equal(t, t.transpose((0, *perm)))
-    j3 = evaluate(*_flow_forcing(PAPER, W_PAPER), tuple(y), te, 3)
+    j3 = evaluate(*_flow_forcing(PAPER_EX1, W_PAPER), tuple(y), te, 3)
     for name, mine in (("J", jet.jacobian), ("d2", jet.d2), ("d3", jet.d3),
                        ("theta1", jet.theta1)):
         np.testing.assert_allclose(mine, j3[name], rtol=1e-12, atol=1e-12 * abs(j3[name]).max())
-    four = high_jet(PAPER, W_PAPER, y, te, order=4)
+    four = high_jet(PAPER_EX1, W_PAPER, y, te, order=4)
     assert four.d5 is None and np.allclose(four.d4, jet.d4, rtol=1e-13)
     assert isinstance(jet, HighJet) and jet.digits is None and jet.d5.shape == (4,) * 6
 
@@ -117,7 +115,7 @@ def _flow_forcing(model, w):
     return flow, flow.forcing(w)
 
 
-@pytest.mark.parametrize("model, w", [(PAPER, W_PAPER), (ONE, 1.3)], ids=["paper", "one"])
+@pytest.mark.parametrize("model, w", [(PAPER_EX1, W_PAPER), (ONE_UNDAMPED, 1.3)], ids=["paper", "one"])
 def test_float64_and_mpmath_backends_agree(model, w):
     y, te = _orbit(model, w)
     f, m = high_jet(model, w, y, te), high_jet(model, w, y, te, digits=30)
@@ -128,20 +126,20 @@ def test_float64_and_mpmath_backends_agree(model, w):
 
 
 def test_input_checks_are_those_of_jet_at():
-    y, te = _orbit(PAPER, W_PAPER)
+    y, te = _orbit(PAPER_EX1, W_PAPER)
     for bad in (dict(order=3), dict(order=6)):
         with pytest.raises(ParameterError):
-            high_jet(PAPER, W_PAPER, y, te, **bad)
+            high_jet(PAPER_EX1, W_PAPER, y, te, **bad)
     with pytest.raises(ParameterError):
-        high_jet(PAPER, W_PAPER, y, -1.0)
+        high_jet(PAPER_EX1, W_PAPER, y, -1.0)
     with pytest.raises(ParameterError):
-        high_jet(PAPER, W_PAPER, y[:-1], te)
+        high_jet(PAPER_EX1, W_PAPER, y[:-1], te)
 
 
 def test_assembled_inputs_match_each_order_and_no_parameter_slots_above_3():
     from symvi._derivations import impact_jets as ij
-    flow, F = _flow_forcing(PAPER, W_PAPER)
-    y, te = _orbit(PAPER, W_PAPER)
+    flow, F = _flow_forcing(PAPER_EX1, W_PAPER)
+    y, te = _orbit(PAPER_EX1, W_PAPER)
     for K in range(1, 6):
         mod, _ = layout.module(2, K)
         assert len(layout.assemble(flow, F, y, te, K)) == len(mod.INPUTS) == len(ij.inputs(2, K))
@@ -173,7 +171,7 @@ def test_regenerate_jobs_cover_the_shipped_set(tmp_path):
     assert (GEN, (4, 5), ij.NS_HIGH) in plain and (GEN, (1, 2, 3), ij.NS_SHIPPED) in plain
     assert all(max(k) <= 3 for _, k, _ in orders(order=3))
     f = tmp_path / "m3.toml"
-    f.write_text(dumps(THREE))
+    f.write_text(dumps(THREE_STOP2_GAP05))
     # --model: each order where the loader looks for it (N = 3 above order 3: the cache)
     assert orders(model=str(f)) == [(GEN, (1, 2, 3), (3,))]
     assert orders(model=str(f), order=5) == [(GEN, (1, 2, 3), (3,)),
@@ -205,16 +203,16 @@ def test_three_masses_damped_order_4_from_the_user_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.setattr(layout, "_LOADED", {})
     w = 0.95
-    y, _ = _orbit(THREE, w)
+    y, _ = _orbit(THREE_STOP2_GAP05, w)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        jet = high_jet(THREE, w, y, _te(THREE, w, y), order=4, digits=DPS)
+        jet = high_jet(THREE_STOP2_GAP05, w, y, _te(THREE_STOP2_GAP05, w, y), order=4, digits=DPS)
     assert any("generating the order-4 jets of the 3-mass" in str(c.message) for c in caught)
     man = json.loads((tmp_path / "symvi" / "generated" / "impact_manifest.json").read_text())
     assert list(man["files"]) == ["impact_n3_order4.py"]
     h = mpmath.mpf("1e-12")
     with mpmath.mp.workdps(DPS):
-        f = _D3(THREE, w)
+        f = _D3(THREE_STOP2_GAP05, w)
         yy = [mpmath.mpf(v) for v in y]
         for j in range(len(yy)):
             zp, zm = list(yy), list(yy)

@@ -10,14 +10,14 @@ from symvi.errors import NearSingularWarning
 from symvi.model import Model
 from symvi.studies.mpcheck import check_point
 
-from .models import THREE
+from tests.zoo import THREE_STOP2_GAP05
 
 
 @pytest.fixture(scope="module")
 def three():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        return hopf_points(THREE, 0.99, 1.06)
+        return hopf_points(THREE_STOP2_GAP05, 0.99, 1.06)
 
 
 def test_two_ns_points_of_the_damped_chain(three):
@@ -55,7 +55,7 @@ def test_paper_model_through_Model_gives_the_paper_chains_points():
 def test_damped_chain_against_both_50_digit_chains(three):
     """Chain A (mpmath orbit + generated jets + normal form) and chain B (finite
     differences of the mpmath map only, Kuznetsov's formula written out again)."""
-    c = check_point(THREE, three.points[0], digits=50)
+    c = check_point(THREE_STOP2_GAP05, three.points[0], digits=50)
     for name in ("omega_c", "dmod_domega", "l1"):
         assert c.agreement[name]["A-B"] >= 40, (name, c.agreement)
         assert c.agreement[name]["float-A"] >= 12, (name, c.agreement)

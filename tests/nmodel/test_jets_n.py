@@ -13,7 +13,7 @@ from symvi.errors import NearSingularWarning, SingularCaseError
 from symvi.maps.impact import poincare_map
 from symvi.orbits import period1_orbits
 
-from .models import ALL
+from tests.zoo import N_MASS_SET
 
 DPS = 40
 CASES = [("one", 0.9), ("paper-damped", 0.65), ("three", 0.95), ("four", 1.0)]
@@ -22,7 +22,7 @@ CASES = [("one", 0.9), ("paper-damped", 0.65), ("three", 0.95), ("four", 1.0)]
 def _orbit(name, w):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        return [o for o in period1_orbits(ALL[name], w) if o.admissible][0]
+        return [o for o in period1_orbits(N_MASS_SET[name], w) if o.admissible][0]
 
 
 def _P(model, w, y):
@@ -47,9 +47,9 @@ def _fd_jacobian(model, w, y, h):
 @pytest.mark.parametrize("name,w", CASES)
 def test_jacobian_against_fd_of_mpmath_map(name, w):
     o = _orbit(name, w)
-    J = jet_at(ALL[name], w, o.y, 2 * math.pi / w, 1).jacobian
+    J = jet_at(N_MASS_SET[name], w, o.y, 2 * math.pi / w, 1).jacobian
     with mpmath.mp.workdps(DPS):
-        fd = _fd_jacobian(ALL[name], w, o.y, mpmath.mpf(10) ** -15)
+        fd = _fd_jacobian(N_MASS_SET[name], w, o.y, mpmath.mpf(10) ** -15)
     assert np.abs(fd - J).max() < 1e-12 * np.abs(J).max()
 
 
@@ -58,7 +58,7 @@ def test_jacobian_against_fd_of_mpmath_map(name, w):
 def test_second_and_third_derivatives_against_fd(name, w):
     """d2 and d3 from differences of the generated Jacobian (mpmath, 40 digits) at
     the perturbed points' own flight times."""
-    model = ALL[name]
+    model = N_MASS_SET[name]
     o = _orbit(name, w)
     jt = jet_at(model, w, o.y, 2 * math.pi / w, 3)
     n = len(o.y)
@@ -100,7 +100,7 @@ NAMES = ["omega", "gap", "restitution", "mass[1]", "stiffness[1,2]", "damping[2,
 def test_parameter_derivatives_against_fd(pname):
     """dP/dp and dJ/dp at fixed y (exact: generated slots + Frechet derivative of e^{At})
     against central differences in p of the mpmath map, on the damped 3-mass model."""
-    model, w = ALL["three"], 0.95
+    model, w = N_MASS_SET["three"], 0.95
     o = _orbit("three", w)
     te = 2 * math.pi / w
     pd = parameter_derivatives(model, w, o.y, te, pname, fixed_point=False)
@@ -146,8 +146,8 @@ def test_paper_structure_equals_the_papers_own_generated_jets():
 
 def test_mpmath_backend_of_generated_code_agrees():
     o = _orbit("four", 1.0)
-    f = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2)
-    m = jet_at(ALL["four"], 1.0, o.y, 2 * math.pi, 2, digits=30)
+    f = jet_at(N_MASS_SET["four"], 1.0, o.y, 2 * math.pi, 2)
+    m = jet_at(N_MASS_SET["four"], 1.0, o.y, 2 * math.pi, 2, digits=30)
     assert np.abs(np.array(m.d2, dtype=float) - f.d2).max() < 1e-11 * np.abs(f.d2).max()
 
 
@@ -158,7 +158,7 @@ def test_compiled_input_assembly_equals_numpy(name):
     the omega-derivatives, zero parameter slots, omega, r, b, y, t_e."""
     from symvi.codegen.layout import assemble, module
     from symvi.flow.linear import LinearFlow
-    model = ALL[name]
+    model = N_MASS_SET[name]
     fl = LinearFlow.of(model)
     F = fl.forcing(0.95)
     y = tuple(np.random.default_rng(3).normal(size=2 * fl.n))
@@ -204,7 +204,7 @@ def test_jet_and_multipliers_at_digits_keep_the_flight_time_at_that_precision():
     which left the 50-digit Jacobian right to 2e-15 only)."""
     import symvi
     from symvi.jets import multipliers_of
-    m = ALL["paper"]
+    m = N_MASS_SET["paper"]
     j = jet(m, 0.7369, 2, digits=50)
     o = [x for x in period1_orbits(m, 0.7369, digits=50) if x.admissible][0]
     with mpmath.workdps(50):

@@ -14,7 +14,7 @@ from symvi.maps.impact import poincare_map
 from symvi.model import Model
 from symvi.orbits import period1_orbits
 
-from .models import ALL
+from tests.zoo import N_MASS_SET
 
 OMEGAS = np.linspace(0.3, 3.0, 28)
 
@@ -31,10 +31,10 @@ def _admissible(model):
     return out
 
 
-@pytest.mark.parametrize("name", list(ALL))
+@pytest.mark.parametrize("name", list(N_MASS_SET))
 def test_fixed_point_and_determinant_identity(name):
     """P(y*) = y* at every admissible orbit, and det DP = r^2 exp(-tr(M^-1 C) 2 pi / omega)."""
-    model = ALL[name]
+    model = N_MASS_SET[name]
     orbits = _admissible(model)
     assert len(orbits) >= 3, name
     trMC = float(np.trace(np.linalg.solve(model.mass, model.damping)))
@@ -92,7 +92,7 @@ def test_branch_names_at_r_one_follow_the_paper_on_a_grid():
 
 
 def test_mpmath_orbit_agrees_and_is_a_fixed_point_to_40_digits():
-    model = ALL["three"]
+    model = N_MASS_SET["three"]
     o = [x for x in period1_orbits(model, 0.95, digits=45) if x.admissible][0]
     s = poincare_map(model, o.omega, o.y, digits=45)
     with mpmath.mp.workdps(45):
@@ -105,7 +105,7 @@ def test_mpmath_orbit_agrees_and_is_a_fixed_point_to_40_digits():
 def test_singular_frequency_is_refused_with_its_cause():
     """omega = omega_2 / 2 (undamped): 1 - cos(2 pi omega_2 / omega) = 0, not isolated."""
     from symvi.flow.linear import LinearFlow
-    model = ALL["paper"]
+    model = N_MASS_SET["paper"]
     w2 = float(LinearFlow.of(model).omegas[1])
     with pytest.raises(SingularCaseError, match="one-minus-cos"):
         period1_orbits(model, w2 / 2)
@@ -113,7 +113,7 @@ def test_singular_frequency_is_refused_with_its_cause():
 
 def test_forcing_resonance_is_refused():
     from symvi.flow.linear import LinearFlow
-    model = ALL["paper"]
+    model = N_MASS_SET["paper"]
     w1 = float(LinearFlow.of(model).omegas[0])
     with pytest.raises(SingularCaseError, match="forcing-resonance"):
         period1_orbits(model, w1)
@@ -123,7 +123,7 @@ def test_top_level_functions_take_a_model():
     """symvi.period1_orbits, symvi.poincare_map, symvi.jet, symvi.hopf_points and
     symvi.simulate accept a Model as well as the paper's Params."""
     import symvi
-    model = ALL["three"]
+    model = N_MASS_SET["three"]
     o = [x for x in symvi.period1_orbits(model, 0.95) if x.admissible][0]
     assert o.names[0] == "v2+"
     s = symvi.poincare_map(model, 0.95, o.y)

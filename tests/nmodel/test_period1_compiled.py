@@ -13,12 +13,12 @@ from symvi.flow.linear import LinearFlow
 from symvi.model import Model
 from symvi.orbits import period1
 
-from .models import ALL
+from tests.zoo import N_MASS_SET
 
 PAPER_R1 = Model.luo_xie(2, 5, 0, 1.5, 1.0)
-GRIDS = {**{name: np.linspace(0.3, 3.0, 46) for name in ALL},
+GRIDS = {**{name: np.linspace(0.3, 3.0, 46) for name in N_MASS_SET},
          "paper-r1": np.linspace(0.9, 1.3, 21)[1:]}
-MODELS = {**ALL, "paper-r1": PAPER_R1}
+MODELS = {**N_MASS_SET, "paper-r1": PAPER_R1}
 
 
 def _orbits(model, omega, compiled, **kw):
@@ -75,7 +75,7 @@ def test_compiled_orbits_equal_the_numpy_reference(name):
 
 def test_refusals_and_warning_are_the_reference_s():
     """omega = omega_2 / 2: not isolated (refused); just beside it: warned, same orbits."""
-    model = ALL["paper"]
+    model = N_MASS_SET["paper"]
     w = float(LinearFlow.of(model).omegas[1]) / 2
     for compiled in (False, True):
         period1.COMPILED, old = compiled, period1.COMPILED
@@ -89,7 +89,7 @@ def test_refusals_and_warning_are_the_reference_s():
 
 
 def test_without_multipliers():
-    model = ALL["three"]
+    model = N_MASS_SET["three"]
     for w in (0.95, 1.3, 2.2):
         ref, got = _orbits(model, w, False), _orbits(model, w, True, multipliers=False)
         assert all(o.multipliers == () and not o.stable for o in got)

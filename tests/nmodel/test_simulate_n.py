@@ -12,14 +12,14 @@ from symvi.errors import NearSingularWarning
 from symvi.simulations.diagnostics import classify, lyapunov
 from symvi.simulations.simulation import simulate
 
-from .models import THREE
+from tests.zoo import THREE_STOP2_GAP05
 
 
 @pytest.fixture(scope="module")
 def ns_point():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        return hopf_points(THREE, 0.99, 1.02).points[0]
+        return hopf_points(THREE_STOP2_GAP05, 0.99, 1.02).points[0]
 
 
 def _half_widths(sim):
@@ -35,7 +35,7 @@ def test_simulated_circle_matches_the_normal_form(ns_point):
     assert c.stable and c.side > 0
     errs = []
     for mu in (4e-4, 1e-4):
-        sim = simulate(THREE, ns_point.omega_c + mu, n_impacts=20000, transient=300000)
+        sim = simulate(THREE_STOP2_GAP05, ns_point.omega_c + mu, n_impacts=20000, transient=300000)
         assert sim.stop == "completed"
         ratio = _half_widths(sim) / np.array(c.half_widths(mu))
         errs.append(np.abs(ratio - 1).max())
@@ -44,7 +44,7 @@ def test_simulated_circle_matches_the_normal_form(ns_point):
 
 
 def test_circle_classified_with_the_critical_rotation_number(ns_point):
-    sim = simulate(THREE, ns_point.omega_c + 3e-3, n_impacts=4000, transient=100000)
+    sim = simulate(THREE_STOP2_GAP05, ns_point.omega_c + 3e-3, n_impacts=4000, transient=100000)
     cl = classify(sim)
     assert cl.kind == "invariant circle"
     assert cl.rotation == pytest.approx(ns_point.theta_over_2pi, abs=5e-3)
@@ -52,10 +52,10 @@ def test_circle_classified_with_the_critical_rotation_number(ns_point):
 
 def test_lyapunov_sum_is_the_volume_contraction():
     """Sum of the exponents = mean log |det DP| = 2 log r - tr(M^-1 C) <t_e> (+ O(1/n))."""
-    sim = simulate(THREE, 1.003, n_impacts=4000, transient=50000)
+    sim = simulate(THREE_STOP2_GAP05, 1.003, n_impacts=4000, transient=50000)
     ly = lyapunov(sim)
-    trMC = float(np.trace(np.linalg.solve(THREE.mass, THREE.damping)))
-    expected = 2 * math.log(THREE.stop.restitution) - trMC * ly.mean_flight_time
+    trMC = float(np.trace(np.linalg.solve(THREE_STOP2_GAP05.mass, THREE_STOP2_GAP05.damping)))
+    expected = 2 * math.log(THREE_STOP2_GAP05.stop.restitution) - trMC * ly.mean_flight_time
     assert ly.exponents.sum() == pytest.approx(expected, abs=2e-3)
     assert abs(ly.largest) < 1e-3          # on an invariant circle
 
@@ -63,7 +63,7 @@ def test_lyapunov_sum_is_the_volume_contraction():
 def test_circle_check_study_on_a_model(ns_point):
     """symvi.circle_check (bracketed measurement) on the 3-mass chain: O(mu) error."""
     from symvi.studies import circle_check as cc
-    r = cc.check(THREE, ns_point, [4e-4, 2e-4, 1e-4])
+    r = cc.check(THREE_STOP2_GAP05, ns_point, [4e-4, 2e-4, 1e-4])
     assert all(r.converged) and r.names[0] == "v2+"
     assert np.abs(r.rel_error[-1]).max() < 0.02
     assert 0.7 < r.error_slope < 1.3
@@ -74,8 +74,8 @@ def test_compiled_simulation_against_the_mpmath_reference():
     """Twenty impacts of the compiled run equal the 40-digit run of the exact map."""
     from symvi.simulations.simulation import simulate_mp
     y0 = [-0.75, 0.02, -1.7, 0.85, 4.1, 3.4]
-    fast = simulate(THREE, 0.95, y0=y0, n_impacts=20, transient=0)
-    ref = simulate_mp(THREE, 0.95, y0, 20)
+    fast = simulate(THREE_STOP2_GAP05, 0.95, y0=y0, n_impacts=20, transient=0)
+    ref = simulate_mp(THREE_STOP2_GAP05, 0.95, y0, 20)
     assert ref.stop == fast.stop == "completed"
     d = np.array(fast.section) - np.array(ref.section)
     d[:, -1] = (d[:, -1] + math.pi) % (2 * math.pi) - math.pi

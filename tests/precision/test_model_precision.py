@@ -15,9 +15,9 @@ from symvi.flow.linear import LinearFlow
 from symvi.orbits import period1_orbits
 from symvi.paper.modal_orbit import period1_orbits as paper_orbits  # the modal oracle
 
-from ..nmodel.models import PAPER, THREE
+from tests.zoo import PAPER_EX1, THREE_STOP2_GAP05
 
-W1, W2 = (float(w) for w in LinearFlow.of(PAPER).omegas)
+W1, W2 = (float(w) for w in LinearFlow.of(PAPER_EX1).omegas)
 HARD = [W1 * (1 + 1e-7), W1 * (1 + 1e-5), W1 * (1 + 1e-3), W2 / 2 * (1 + 1e-7),
         W2 / 2 * (1 + 1e-5), 0.7369]
 
@@ -29,8 +29,8 @@ def test_float64_estimate_bounds_the_true_error(w):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         ref = {o.branch: o for o in paper_orbits(Params(2, 5, 0, 1.5, 0.8), w, digits=40)}
-        for o in period1_orbits(PAPER, w):
-            est = estimate_model_orbit(PAPER, o)
+        for o in period1_orbits(PAPER_EX1, w):
+            est = estimate_model_orbit(PAPER_EX1, o)
             r = ref[o.branch]
             true = (max(abs(float(a) - float(b)) for a, b in zip(o.y, r.y))
                     / max(abs(float(v)) for v in r.y))
@@ -43,7 +43,7 @@ def test_unresolvable_orbit_is_recomputed_in_mpmath():
     w = W1 * (1 + 1e-8)          # float64: ~7.3 digits (1e-9: the same at 4x the cost)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
-        autos = auto_model_orbits(PAPER, w)
+        autos = auto_model_orbits(PAPER_EX1, w)
         ref = {o.branch: o for o in paper_orbits(Params(2, 5, 0, 1.5, 0.8), w, digits=40)}
     for a in autos:
         assert a.digits_used is not None and "mpmath" in a.note
@@ -53,7 +53,7 @@ def test_unresolvable_orbit_is_recomputed_in_mpmath():
 
 
 def test_benign_orbit_stays_float64_with_its_digits():
-    a = [x for x in auto_model_orbits(THREE, 0.95) if x.orbit.admissible][0]
+    a = [x for x in auto_model_orbits(THREE_STOP2_GAP05, 0.95) if x.orbit.admissible][0]
     assert a.digits_used is None and a.estimate.y.digits > 11
     assert a.estimate.multipliers.digits > 10
     assert np.isfinite(a.estimate.multipliers.rel_err)
@@ -77,7 +77,7 @@ def test_escalation_ends_untrusted_at_an_infinite_condition(monkeypatch):
 
 # ---- a stiff mode (issue 23, defect 5) ---------------------------------------------------
 #: the README's chain3 with a light first mass: an overdamped mode at lambda ~ -1.5e6
-STIFF = THREE.with_(**{"mass[1]": 1e-8})
+STIFF = THREE_STOP2_GAP05.with_(**{"mass[1]": 1e-8})
 STIFF_TOML = """[model]
 mass = [1e-8, 1.5, 0.8]
 stiffness = [[1.0, -1.0, 0.0], [-1.0, 1.7, -0.7], [0.0, -0.7, 2.7]]
@@ -102,7 +102,7 @@ def test_flow_condition_sees_the_rounding_of_a_stiff_mode():
     true = np.abs(phi - ref).max() / np.abs(ref).max()
     pred = _flow_condition(STIFF, t) * EPS64 / 4
     assert true > 1e-11 and true / 2 <= pred <= 2 * true, (true, pred)
-    assert _flow_condition(PAPER, t) < 1e3          # a benign model: within C_EVAL's range
+    assert _flow_condition(PAPER_EX1, t) < 1e3          # a benign model: within C_EVAL's range
 
 
 def test_an_uncomputable_condition_makes_the_estimate_untrusted(monkeypatch):
@@ -123,10 +123,10 @@ def test_an_uncomputable_condition_makes_the_estimate_untrusted(monkeypatch):
                                          d.dJ_branch * np.nan)
         return d
     monkeypatch.setattr(jets, "parameter_derivatives", nan_for_gap)
-    o = [x for x in period1_orbits(PAPER, 0.7368) if x.admissible][0]
+    o = [x for x in period1_orbits(PAPER_EX1, 0.7368) if x.admissible][0]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        est = pr.estimate_model_orbit(PAPER, o)
+        est = pr.estimate_model_orbit(PAPER_EX1, o)
     assert not est.y.trusted and est.y.value is None and est.y.digits == 0
     assert "gap" in est.y.note and "not finite" in est.y.note
     assert not est.multipliers.trusted

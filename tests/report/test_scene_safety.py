@@ -15,7 +15,7 @@ from symvi.reporting import report
 from symvi.reporting.scenes import parse_scene, run_scene
 
 from ..fuzz._cli import assert_bad_input, cli, snapshot
-from ..nmodel.models import THREE
+from tests.zoo import THREE_STOP2_GAP05
 
 HEAD = """[scene]
 name = "safe"
@@ -88,7 +88,7 @@ def test_bad_model_path_through_the_cli_writes_nothing(tmp_path):
 def test_relative_model_path_is_read_from_the_scene_folder(tmp_path):
     sub = tmp_path / "study"
     sub.mkdir()
-    (sub / "m.toml").write_text(dumps(THREE))
+    (sub / "m.toml").write_text(dumps(THREE_STOP2_GAP05))
     f = _model_scene(sub, "m.toml")
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
@@ -98,7 +98,7 @@ def test_relative_model_path_is_read_from_the_scene_folder(tmp_path):
         scene = parse_scene(f.read_text(), str(f))
     finally:
         os.chdir(old)
-    assert scene.params_for(scene.outputs[0]) == THREE
+    assert scene.params_for(scene.outputs[0]) == THREE_STOP2_GAP05
     # a model file that is not a valid model: the key and the model's own reason, one line
     (sub / "m.toml").write_text("[model]\nmass = [1.0]\n")
     with pytest.raises(SymviError, match=r"s\.toml: params\.model: .*m\.toml") as exc:
@@ -218,7 +218,7 @@ def test_forged_cache_entry_is_recomputed_by_the_report(tmp_path):
 def test_run_model_needs_no_params(tmp_path):
     """``symvi run SCENE --model FILE`` takes a scene without [params] (or with an empty
     one); without --model such a scene is refused before anything is written."""
-    (tmp_path / "m.toml").write_text(dumps(THREE))
+    (tmp_path / "m.toml").write_text(dumps(THREE_STOP2_GAP05))
     for i, params in enumerate(("", "\n[params]\n")):
         out = tmp_path / f"out{i}"
         f = tmp_path / "s.toml"
@@ -270,7 +270,7 @@ def test_circle_check_lists_lost_mu_and_needs_two(monkeypatch):
 def test_circle_check_scene_on_a_model(tmp_path):
     """The chain's second NS point has its circle below omega_c (mu < 0); mu = -1e-4 is
     lost (the run chatters), the others agree with the normal form to O(mu)."""
-    (tmp_path / "m.toml").write_text(dumps(THREE))
+    (tmp_path / "m.toml").write_text(dumps(THREE_STOP2_GAP05))
     f = tmp_path / "s.toml"
     f.write_text(HEAD + '\n[params]\nmodel = "m.toml"\n\n[[output]]\nkind = "circle_check"\n'
                  "omega_min = 1.03\nomega_max = 1.06\nmu = [1e-4, 2e-5, 1e-5]\n")

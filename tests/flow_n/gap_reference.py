@@ -1,31 +1,9 @@
-"""Models and reference helpers of the compiled-flow tests (numpy, through
-:mod:`symvi.flow.linear`, never the kernels)."""
+"""Reference helpers of the compiled-flow tests: the gap function h(t) of a flight, random
+and tangent section states (numpy, through :mod:`symvi.flow.linear`, never the kernels).
+The models are in :mod:`tests.zoo`."""
 import numpy as np
 
 from symvi.flow.linear import LinearFlow
-from symvi.model import Model, Stop
-
-#: N = 1, damped
-ONE = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.02]], forcing=[1.0],
-            stop=Stop(mass=1, gap=0.2, restitution=0.8))
-#: the paper's model, example 1 (Sec. 4)
-PAPER = Model.luo_xie(2, 5, 0, 1.5, 0.8)
-#: N = 3, damped, stop on the middle mass, forcing on two masses (the benchmark's model)
-THREE = Model(mass=[1.0, 1.5, 0.8],
-              stiffness=[[1.0, -1.0, 0.0], [-1.0, 1.7, -0.7], [0.0, -0.7, 2.7]],
-              damping=[[0.015, -0.005, 0.0], [-0.005, 0.0235, -0.0035],
-                       [0.0, -0.0035, 0.0215]],
-              forcing=[1.0, 0.5, 0.0], stop=Stop(mass=2, gap=1.2, restitution=0.8))
-#: N = 4, damped, stop on mass 3, forcing on masses 1 and 4
-FOUR = Model(mass=[1.0, 1.2, 0.9, 1.1],
-             stiffness=[[2.0, -1.0, 0.0, 0.0], [-1.0, 2.0, -1.0, 0.0],
-                        [0.0, -1.0, 2.0, -1.0], [0.0, 0.0, -1.0, 1.5]],
-             damping=np.diag([0.01, 0.02, 0.01, 0.03]).tolist(),
-             forcing=[0.6, 0.0, 0.0, 1.0], stop=Stop(mass=3, gap=0.3, restitution=0.7))
-#: N = 2 with an overdamped mode: two real eigenvalues and one conjugate pair
-OVER = Model(mass=[1.0, 1.0], stiffness=[[2.0, -1.0], [-1.0, 2.0]],
-             damping=[[3.0, -0.5], [-0.5, 0.1]], forcing=[0.3, 1.0],
-             stop=Stop(mass=2, gap=0.5, restitution=0.7))
 
 
 def z0_of(model, ys):
