@@ -9,8 +9,7 @@ from symvi import ParameterError, Params
 from symvi.model import Model, Stop
 from symvi.simulations.simulation import DEFAULT_PERTURBATION, fixed_point, simulate, sweep
 from tests.zoo import ONE_DAMPED_GAP02, PAPER_EX1, THREE_STOP2_GAP12
-
-from .gap_reference import Gap, random_states, tangent_states
+from tests.flow.gap_reference import Gap, random_states, tangent_states
 
 EX1 = Params(2, 5, 0, 1.5, 0.8)
 
