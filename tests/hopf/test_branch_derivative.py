@@ -27,7 +27,7 @@ def ex1():
     return hopf.hopf_points(EX1, 0.70, 0.76).points[0]
 
 
-def _along(pt, amp, seed=0):
+def _along(pt, amp, seed=0, ref=None):
     orig = hopf._lam_near
 
     def noisy(system, br, w, target):
@@ -36,7 +36,27 @@ def _along(pt, amp, seed=0):
             1 + amp * random.Random(hash((w, seed))).uniform(-1, 1))
     with mock.patch.object(hopf, "_lam_near", noisy):
         return hopf.dmod_along_branch(hopf._system(EX1), pt.omega_c, pt.branch, pt.multiplier,
-                                      dlam=pt.dlam_domega)
+                                      dlam=pt.dlam_domega, ref=ref)
+
+
+def _counted(pt, ref):
+    """(value, error, evaluations of |lambda1|) of dmod_along_branch at ex1's point, with
+    omega_c's uncertainty as hopf_point passes it."""
+    orig, n = hopf._lam_near, [0]
+
+    def counting(*a):
+        n[0] += 1
+        return orig(*a)
+    with mock.patch.object(hopf, "_lam_near", counting):
+        v, e = hopf.dmod_along_branch(hopf._system(EX1), pt.omega_c, pt.branch,
+                                      pt.multiplier, dlam=pt.dlam_domega, ref=ref,
+                                      domega=pt.omega_c * pt.precision.omega_c.rel_err)
+    return v, e, n[0]
+
+
+def _ref(pt):
+    """(A1)-(A3)'s value and absolute error, as hopf_point passes them."""
+    return pt.dmod_domega, abs(pt.dmod_domega) * pt.precision.dmod_domega.rel_err
 
 
 def test_agrees_with_a1_a3_within_its_error(ex1):
@@ -53,6 +73,43 @@ def test_error_estimate_bounds_the_error_under_rounding_noise(ex1, amp, seed):
     v, e = _along(ex1, amp, seed)
     assert abs(v - ex1.dmod_domega) <= e, (v, e)
     # and is not vacuous: the noise costs about amp / h (h >= 1e-5) times the safety factor
+    assert e < 1e7 * amp * abs(ex1.dmod_domega) + 1e-8
+
+
+def test_one_tableau_when_a1_a3_confirm_it(ex1):
+    """(A1)-(A3) agreeing within the first tableau's own (small) estimate replace the
+    second tableau: the same value as the cross-checked pair, 8 evaluations of |lambda1|
+    instead of 23, and an error that still covers the distance to (A1)-(A3) and the
+    value without the shortcut."""
+    v0, e0, n0 = _counted(ex1, None)
+    v, e, n = _counted(ex1, _ref(ex1))
+    assert n <= 8 < n0
+    assert v == v0 == ex1.dmod_domega_branch and e == ex1.dmod_domega_branch_error
+    assert 0 < e <= e0 and abs(v - ex1.dmod_domega) <= e / 5
+    assert e < 1e-9 * abs(v) * hopf.RIDDERS_SAFETY
+
+
+@pytest.mark.parametrize("ref", [
+    lambda pt: (pt.dmod_domega * 1.0047, 0.0),       # (A1)-(A3) wrong: 0.47 % off
+    lambda pt: (pt.dmod_domega * (1 + 1e-9), 0.0),   # off by more than the estimate
+    lambda pt: (pt.dmod_domega, math.inf),           # untrusted
+    lambda pt: (pt.dmod_domega, 1e-6),               # less precise than the tableau
+    lambda pt: (math.nan, 0.0)])
+def test_no_shortcut_without_a_confirming_reference(ex1, ref):
+    """A reference that disagrees, or cannot confirm the tableau to its own precision,
+    changes nothing: both tableaus, the same value and error as without one."""
+    v0, e0, n0 = _counted(ex1, None)
+    assert _counted(ex1, ref(ex1)) == (v0, e0, n0)
+
+
+@pytest.mark.parametrize("amp,seed", [(1e-13, 0), (1e-12, 1), (1e-10, 0), (1e-10, 3),
+                                      (1e-8, 2), (1e-6, 0)])
+def test_error_with_reference_bounds_the_error_under_rounding_noise(ex1, amp, seed):
+    """With (A1)-(A3) as the cross-check, rounding noise on |lambda1| still costs the
+    shortcut (the estimate grows past 1e-9 relative or misses the reference) or stays
+    inside the error returned."""
+    v, e = _along(ex1, amp, seed, ref=_ref(ex1))
+    assert abs(v - ex1.dmod_domega) <= e, (v, e)
     assert e < 1e7 * amp * abs(ex1.dmod_domega) + 1e-8
 
 
