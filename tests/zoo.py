@@ -5,6 +5,8 @@ Names read ``<N masses>_<what sets it apart>``; ``STOPk`` is the mass the stop a
 ``from tests.zoo import THREE_STOP2_GAP05``.  (``tests.property.strategies.SEED2``, the
 hypothesis-drawn N = 4 model, stays with its strategies.)
 """
+import numpy as np
+
 from symvi.model import Model, Stop
 
 # --- N = 1 -------------------------------------------------------------------------------
@@ -32,6 +34,8 @@ PAPER_EX1 = Model.luo_xie(2, 5, 0, 1.5, 0.8)
 PAPER_DAMPED = Model(mass=[1.0, 2.0], stiffness=[[1.0, -1.0], [-1.0, 6.0]],
                      damping=[[0.02, -0.01], [-0.01, 0.03]], forcing=[1.0, 0.0],
                      stop=Stop(mass=1, gap=1.5, restitution=0.8))
+#: the paper's example 2 (Sec. 4): mu_m 4, mu_k 2, f2 0, b 1.8, r 0.8
+PAPER_EX2 = Model.luo_xie(4, 2, 0, 1.8, 0.8)
 #: an overdamped mode: two real eigenvalues and one conjugate pair; stop on mass 2, gap 0.5
 TWO_OVERDAMPED = Model(mass=[1.0, 1.0], stiffness=[[2.0, -1.0], [-1.0, 2.0]],
                        damping=[[3.0, -0.5], [-0.5, 0.1]], forcing=[0.3, 1.0],
@@ -66,6 +70,14 @@ FOUR_STOP4 = Model(mass=[1.0, 1.2, 0.9, 1.1],
                    damping=[[0.01, 0.0, 0.0, 0.0], [0.0, 0.01, 0.0, 0.0],
                             [0.0, 0.0, 0.01, 0.0], [0.0, 0.0, 0.0, 0.01]],
                    forcing=[0.0, 0.0, 0.0, 1.0], stop=Stop(mass=4, gap=0.3, restitution=0.7))
+
+# --- N = 5 -------------------------------------------------------------------------------
+#: a uniform chain (springs 2, -1), damping 0.02 on each mass, stop on mass 3 (gap 0.3, r 0.8),
+#: forced on mass 1: beyond the committed structures (N <= 4), generated on first use
+FIVE_CHAIN_STOP3 = Model(mass=[1.0] * 5,
+                         stiffness=(2 * np.eye(5) - np.eye(5, k=1) - np.eye(5, k=-1)).tolist(),
+                         damping=(0.02 * np.eye(5)).tolist(), forcing=[1.0, 0, 0, 0, 0],
+                         stop=Stop(mass=3, gap=0.3, restitution=0.8))
 
 #: the N-mass set the period-1, jet and shooting tests run over (keys are test ids)
 N_MASS_SET = {"one": ONE_UNDAMPED, "paper": PAPER_EX1, "paper-damped": PAPER_DAMPED,

@@ -17,20 +17,20 @@ import symvi
 from symvi.curves import curve_from_interval
 from symvi.errors import ParameterError
 from symvi.studies.codim2_check import _jet_on, check_codim2, working_dps
+from tests.zoo import PAPER_EX1
 
-MODEL = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
 BOUNDS_R = {"omega": (0.5, 1.0), "r": (0.05, 1.0)}
 BOUNDS_B = {"omega": (0.5, 1.0), "b": (0.5, 3.0)}
 
 
 @pytest.fixture(scope="module")
 def curve_r():
-    return curve_from_interval(MODEL, 0.70, 0.76, ("omega", "r"), bounds=BOUNDS_R)[0]
+    return curve_from_interval(PAPER_EX1, 0.70, 0.76, ("omega", "r"), bounds=BOUNDS_R)[0]
 
 
 @pytest.fixture(scope="module")
 def curve_b():
-    return curve_from_interval(MODEL, 0.70, 0.76, ("omega", "b"), bounds=BOUNDS_B)[0]
+    return curve_from_interval(PAPER_EX1, 0.70, 0.76, ("omega", "b"), bounds=BOUNDS_B)[0]
 
 
 def _point(curve, kind, **near):
@@ -148,7 +148,7 @@ def test_pdns_point_at_50_digits_and_from_the_flip_curve(curve_b):
     assert min(v for k, v in res.internal.items() if k.startswith("verify:")) >= 40
     assert res.internal["c1: codim2 vs kuznetsov_l1"] >= 40
 
-    flip = curve_from_interval(MODEL, 0.70, 0.76, ("omega", "b"), kind="flip",
+    flip = curve_from_interval(PAPER_EX1, 0.70, 0.76, ("omega", "b"), kind="flip",
                                bounds=BOUNDS_B)[0]
     res2 = check_codim2(flip, _point(flip, "PDNS"), digits=50)
     with mpmath.workdps(50):
@@ -165,7 +165,7 @@ def test_lpns_point_of_the_fold_curve_at_50_digits():
     """LPNS of the fold curve of example 1 in (omega, b) near grazing: a multiplier 1 makes
     the fixed point a double root at fixed parameters, so the chain solves (y, omega, b)
     jointly on P(y) = y, det(J - I) = 0 and the pair on the circle."""
-    fold = curve_from_interval(MODEL, 1.4, 1.6, ("omega", "b"), kind="fold",
+    fold = curve_from_interval(PAPER_EX1, 1.4, 1.6, ("omega", "b"), kind="fold",
                                bounds={"omega": (0.5, 3.0), "b": (0.3, 3.0)})[0]
     res = check_codim2(fold, _point(fold, "LPNS"), digits=50)
     assert abs(res.tests["g1"]) < 1e-50 and abs(res.tests["g2"]) < 1e-50

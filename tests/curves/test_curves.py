@@ -11,20 +11,20 @@ from symvi.continuation import continue_branch
 from symvi.curves import continue_curve
 from symvi.curves.system import CurveSystem
 from symvi.orbits.periodic import periodic_orbit
+from tests.zoo import PAPER_EX1
 
 EX1 = dict(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
-MODEL = symvi.Model.luo_xie(**EX1)
 
 
 @pytest.fixture(scope="module")
 def ns_point():
-    br = continue_branch(MODEL, "omega", 0.70, 0.76)
+    br = continue_branch(PAPER_EX1, "omega", 0.70, 0.76)
     return next(s for s in br.special if s.kind == "ns")
 
 
 @pytest.fixture(scope="module")
 def curve_r(ns_point):
-    return continue_curve(MODEL, "ns", ("omega", "r"), ns_point.orbit,
+    return continue_curve(PAPER_EX1, "ns", ("omega", "r"), ns_point.orbit,
                           bounds={"omega": (0.5, 1.0), "r": (0.05, 1.0)}, max_points=3000)
 
 
@@ -47,7 +47,7 @@ def _g_eliminated(system, v, lam):
 @pytest.mark.parametrize("kind", ["ns", "flip", "fold"])
 def test_gradient_of_test_function_is_exact(ns_point, names, kind):
     vals = {"omega": ns_point.value, "b": 1.5, "r": 0.8, "mu_m": 2.0}
-    system = CurveSystem(MODEL, 1, 1, names, kind,
+    system = CurveSystem(PAPER_EX1, 1, 1, names, kind,
                          omega=None if "omega" in names else ns_point.value)
     u = ns_point.orbit.u
     v, lam = np.append(u, vals[names[0]]), vals[names[1]]
@@ -68,7 +68,7 @@ def test_gradient_of_test_function_is_exact(ns_point, names, kind):
 
 @pytest.mark.slow
 def test_ns_curve_agrees_with_hopf_points_at_fixed_b(ns_point):
-    curve = continue_curve(MODEL, "ns", ("omega", "b"), ns_point.orbit,
+    curve = continue_curve(PAPER_EX1, "ns", ("omega", "b"), ns_point.orbit,
                            bounds={"omega": (0.6, 0.9), "b": (1.0, 2.0)}, max_points=400)
     assert curve.ends[0].startswith("reached b") and curve.ends[1].startswith("reached b")
     b = curve.values("b")
@@ -132,13 +132,13 @@ def test_stable_side_is_where_the_orbit_is_stable(curve_r):
             r = pt.params["r"] + sgn * side[1] * 1e-3 * span[1] / 0.05
             if not 0 < r < 1:
                 continue
-            o = periodic_orbit(MODEL.with_(r=r), n=1, p=1, guess=pt.orbit, omega=w)
+            o = periodic_orbit(PAPER_EX1.with_(r=r), n=1, p=1, guess=pt.orbit, omega=w)
             assert o.stable is stable, (i, sgn, o.multipliers)
 
 
 @pytest.mark.slow
 def test_near_grazing_end_and_pdns(ns_point):
-    curve = continue_curve(MODEL, "ns", ("omega", "b"), ns_point.orbit,
+    curve = continue_curve(PAPER_EX1, "ns", ("omega", "b"), ns_point.orbit,
                            bounds={"omega": (0.5, 1.0), "b": (1.5, 3.0)}, max_points=4000,
                            both=False)
     kinds = [s.kind for s in curve.special]
@@ -150,13 +150,13 @@ def test_near_grazing_end_and_pdns(ns_point):
 
 def test_bad_input():
     with pytest.raises(symvi.errors.ParameterError, match="two different"):
-        CurveSystem(MODEL, 1, 1, ("omega", "omega"), "ns")
+        CurveSystem(PAPER_EX1, 1, 1, ("omega", "omega"), "ns")
     with pytest.raises(symvi.errors.ParameterError, match="ns, flip or fold"):
-        CurveSystem(MODEL, 1, 1, ("omega", "b"), "hopf")
+        CurveSystem(PAPER_EX1, 1, 1, ("omega", "b"), "hopf")
     with pytest.raises(symvi.errors.ParameterError, match="forcing frequency"):
-        CurveSystem(MODEL, 1, 1, ("b", "r"), "ns")
+        CurveSystem(PAPER_EX1, 1, 1, ("b", "r"), "ns")
     with pytest.raises(symvi.errors.ParameterError):
-        CurveSystem(MODEL, 1, 1, ("omega", "stiffness[9,9]"), "ns")
+        CurveSystem(PAPER_EX1, 1, 1, ("omega", "stiffness[9,9]"), "ns")
 
 
 def test_start_from_a_hopf_point_of_the_paper_chain_in_omega_mu_m():
@@ -176,7 +176,7 @@ def test_start_from_a_hopf_point_of_the_paper_chain_in_omega_mu_m():
 
 def test_fold_curve_agrees_with_the_fold_of_branches_at_fixed_b():
     from symvi.curves import curve_from_interval
-    curve, start = curve_from_interval(MODEL, 1.4, 1.6, ("omega", "b"), kind="fold",
+    curve, start = curve_from_interval(PAPER_EX1, 1.4, 1.6, ("omega", "b"), kind="fold",
                                        bounds={"omega": (0.5, 3.0), "b": (1.0, 2.0)})
     assert start.kind == "fold" and curve.ends[0].startswith("reached b")
     for pt in curve.points[::40]:
@@ -188,7 +188,7 @@ def test_fold_curve_agrees_with_the_fold_of_branches_at_fixed_b():
     folds = []
     for a, z in ((w + 0.02, w - 0.02), (w - 0.02, w + 0.02)):   # orbits on one side only
         try:
-            br = continue_branch(MODEL.with_(b=pt.params["b"]), "omega", a, z,
+            br = continue_branch(PAPER_EX1.with_(b=pt.params["b"]), "omega", a, z,
                                  guess=pt.orbit.y)
         except ConvergenceError:
             continue

@@ -10,14 +10,12 @@ import symvi
 from symvi.curves import curve_from_interval
 from symvi.curves.evidence import chenciner_coexistence, resonance_dynamics, wedge
 from symvi.errors import ParameterError
-
-EX1 = dict(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
-MODEL = symvi.Model.luo_xie(**EX1)
+from tests.zoo import PAPER_EX1
 
 
 @pytest.fixture(scope="module")
 def curve():
-    c, _ = curve_from_interval(MODEL, 0.70, 0.76, ("omega", "r"),
+    c, _ = curve_from_interval(PAPER_EX1, 0.70, 0.76, ("omega", "r"),
                                bounds={"omega": (0.5, 1.0), "r": (0.05, 1.0)})
     return c
 
@@ -45,7 +43,7 @@ def test_chenciner_bistability(curve):
     of the predicted size: two attractors at the same parameters."""
     ch = _point(curve, "CH", 1)
     assert abs(ch.params["omega"] - 0.785201353) < 1e-6
-    res, arr = chenciner_coexistence(MODEL, curve, ch)
+    res, arr = chenciner_coexistence(PAPER_EX1, curve, ch)
     json.dumps(res)
     assert res["coexist"], res["verdict"]
     assert res["l1"] > 0 > res["l2"] and res["wedge"]["dmu_min"] < res["dmu"] < 0
@@ -64,7 +62,7 @@ def test_r3_saddle_cycle(curve):
     """Next to R3 the normal form predicts one period-3 saddle orbit of |w| = |lambda/lambda0
     - 1| / |b1| (+ cubic terms): Newton in the full map finds it with the same |w|, phase and
     saddle type; it bounds the basin of x*."""
-    res, _ = resonance_dynamics(MODEL, curve, _point(curve, "R3"))
+    res, _ = resonance_dynamics(PAPER_EX1, curve, _point(curve, "R3"))
     json.dumps(res)
     (o,) = res["orbits"]
     assert o["found"] and o["type"] == o["predicted"]["type"] == "saddle"
@@ -76,7 +74,7 @@ def test_r3_saddle_cycle(curve):
 def test_r4_saddle_cycle(curve):
     """Next to R4 (|A| = 0.63 < 1): one period-4 saddle orbit, found in the full map with
     |w| to 1e-3 and its critical multipliers to 1e-6."""
-    res, _ = resonance_dynamics(MODEL, curve, _point(curve, "R4"))
+    res, _ = resonance_dynamics(PAPER_EX1, curve, _point(curve, "R4"))
     (o,) = res["orbits"]
     assert o["found"] and o["type"] == o["predicted"]["type"] == "saddle"
     assert abs(o["rel_error_abs_w"]) < 1e-2
@@ -88,13 +86,13 @@ def test_r4_saddle_cycle(curve):
 
 def test_wrong_kind(curve):
     with pytest.raises(ParameterError):
-        chenciner_coexistence(MODEL, curve, _point(curve, "R3"))
+        chenciner_coexistence(PAPER_EX1, curve, _point(curve, "R3"))
     with pytest.raises(ParameterError):
-        resonance_dynamics(MODEL, curve, _point(curve, "CH"))
+        resonance_dynamics(PAPER_EX1, curve, _point(curve, "CH"))
 
 
 def test_figure(curve, tmp_path):
     from symvi.reporting import figures
-    res, arr = resonance_dynamics(MODEL, curve, _point(curve, "R3"))
+    res, arr = resonance_dynamics(PAPER_EX1, curve, _point(curve, "R3"))
     path = figures.save(figures.codim2_evidence(res, arr), tmp_path / "r3.png")
     assert (tmp_path / "r3.png").stat().st_size > 0 and path.endswith("r3.png")

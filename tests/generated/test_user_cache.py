@@ -4,19 +4,13 @@ import json
 import subprocess
 import sys
 
-import numpy as np
-
-from symvi.model import Model, Stop, dumps
-
-FIVE = Model(mass=[1.0] * 5,
-             stiffness=(2 * np.eye(5) - np.eye(5, k=1) - np.eye(5, k=-1)).tolist(),
-             damping=(0.02 * np.eye(5)).tolist(), forcing=[1.0, 0, 0, 0, 0],
-             stop=Stop(mass=3, gap=0.3, restitution=0.8))
+from symvi.model import dumps
+from tests.zoo import FIVE_CHAIN_STOP3
 
 
 def test_five_masses_generated_on_first_use(tmp_path):
     f = tmp_path / "m5.toml"
-    f.write_text(dumps(FIVE))
+    f.write_text(dumps(FIVE_CHAIN_STOP3))
     env = {"XDG_CACHE_HOME": str(tmp_path / "cache"), "PATH": ""}
     # det DP = r^2 exp(-tr(M^-1 C) T) at the period-1 solution: the generated code works
     # (period1_orbits itself no longer needs it: the multipliers from the generated jets)

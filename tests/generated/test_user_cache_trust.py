@@ -13,7 +13,7 @@ from symvi._derivations import impact_jets as ij
 from symvi.codegen import _usercache as uc
 from symvi.model import dumps
 from tests.fuzz._cli import assert_bad_input, cli
-from tests.generated.test_user_cache import FIVE
+from tests.zoo import FIVE_CHAIN_STOP3
 
 NAME = "impact_n5_order1"
 
@@ -127,14 +127,14 @@ def test_tampered_arithmetic_caught_by_the_complete_check(cache):
     p = cache / f"{NAME}.py"
     _forge(cache, p.read_text().replace("c0 = 1/omega", "c0 = 2/omega", 1))
     assert uc.verify(p.read_text(), 5, 1) is None
-    (p.parent / "m5.toml").write_text(dumps(FIVE))
+    (p.parent / "m5.toml").write_text(dumps(FIVE_CHAIN_STOP3))
     rc, out, err = cli("regenerate", "--model", p.parent / "m5.toml", "--order", "1", "--check")
     assert rc == 1 and f"{NAME}.py differs from what the derivation writes now" in err
 
 
 def test_group_writable_cache_one_line_exit_2(cache, tmp_path):
     f = tmp_path / "m5.toml"
-    f.write_text(dumps(FIVE))
+    f.write_text(dumps(FIVE_CHAIN_STOP3))
     os.chmod(cache, 0o775)
     assert_bad_input(cli("regenerate", "--model", f, "--order", "1", "--check"),
                      "generated-code cache", str(cache), "writable by its group")

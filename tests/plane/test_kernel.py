@@ -12,11 +12,8 @@ from symvi.flow import compiled as cf
 from symvi.orbits import admissible_orbits
 from symvi.plane.kernel import ATTRACTORS, FIELDS, Classified, classify, label
 from symvi.simulations import simulation
+from tests.zoo import PAPER_EX1, PAPER_EX2
 
-#: example 1 of the paper (Sec. 4): NS point at omega ~ 0.73676
-EX1 = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
-#: example 2 of the paper
-EX2 = symvi.Model.luo_xie(mu_m=4, mu_k=2, f2=0, b=1.8, r=0.8)
 KEEP, TRANSIENT = 2000, 2000
 
 
@@ -44,14 +41,14 @@ def test_period1_lyapunov():
     0.70 lies in a flip window, 0.698 - 0.713, where the period-1 orbit has a
     multiplier -1.086: the attractor there is period-2, see below.)"""
     n = 200_000
-    r = _one(EX1, 0.72, n_keep=n)
+    r = _one(PAPER_EX1, 0.72, n_keep=n)
     assert r.labels()[0] == "period-1" and r.impacts[0] == 1 and r.period[0] == 1
     assert abs(r.impacts_per_period[0] - 1) < 1e-9
     assert np.isnan(r.rotation[0])
-    orbit = admissible_orbits(EX1, 0.72)[0]
+    orbit = admissible_orbits(PAPER_EX1, 0.72)[0]
     want = math.log(max(abs(complex(z)) for z in orbit.multipliers))
     assert np.allclose(r.y_end[0], orbit.y, atol=1e-12)
-    bound = _bound(cf.jacobian_tangent(cf.constants(EX1, 0.72), r.y_end[0])) / n
+    bound = _bound(cf.jacobian_tangent(cf.constants(PAPER_EX1, 0.72), r.y_end[0])) / n
     assert bound < 1e-6
     assert abs(r.lyapunov[0] - want) <= bound + 1e-10
 
@@ -60,19 +57,19 @@ def test_period2_against_simulation():
     """omega = 0.70 (example 1, flip window): period-2, two impacts; the section points
     repeat every 2 impacts in a direct simulation; lyapunov = log |largest multiplier of
     P^2| / 2.  Example 2 at 0.68: 4 impacts in 2 forcing periods (q != k)."""
-    r = _one(EX1, 0.70)
+    r = _one(PAPER_EX1, 0.70)
     assert r.labels()[0] == "period-2" and r.impacts[0] == 2 and r.period[0] == 2
     assert abs(r.impacts_per_period[0] - 1) < 1e-9 and np.isnan(r.rotation[0])
-    c = cf.constants(EX1, 0.70)
+    c = cf.constants(PAPER_EX1, 0.70)
     y1 = r.y_end[0]
     J2 = cf.jacobian_tangent(c, cf.step(c, y1)[2]) @ cf.jacobian_tangent(c, y1)
     want = 0.5 * math.log(np.abs(np.linalg.eigvals(J2)).max())
     assert abs(r.lyapunov[0] - want) < 1e-3
 
-    r = _one(EX2, 0.68)
+    r = _one(PAPER_EX2, 0.68)
     assert r.labels()[0] == "period-2" and r.impacts[0] == 4 and r.period[0] == 2
     assert abs(r.impacts_per_period[0] - 2) < 1e-9
-    sim = simulation.simulate(EX2, 0.68, simulation.start_point(EX2, 0.68)[0],
+    sim = simulation.simulate(PAPER_EX2, 0.68, simulation.start_point(PAPER_EX2, 0.68)[0],
                               n_impacts=12, transient=KEEP + TRANSIENT - 12)
     sec, t = np.array(sim.section), np.array(sim.t)
     gaps = [np.abs(sec[q:] - sec[:-q]).max() for q in range(1, 5)]
@@ -86,9 +83,9 @@ def test_circle_past_ns():
     circle still growing from the start near the fixed point (|multiplier| = 1.00005);
     its rotation is the argument of the period-1 orbit's critical multipliers / 2 pi
     within 1e-3, lyapunov ~ 0."""
-    r = _one(EX1, 0.7369)
+    r = _one(PAPER_EX1, 0.7369)
     assert r.labels()[0] == "circle"
-    lam = max(admissible_orbits(EX1, 0.7369)[0].multipliers, key=abs)
+    lam = max(admissible_orbits(PAPER_EX1, 0.7369)[0].multipliers, key=abs)
     assert abs(r.rotation[0] - abs(np.angle(complex(lam))) / (2 * math.pi)) < 1e-3
     assert abs(r.lyapunov[0]) < 1e-3 and abs(r.impacts_per_period[0] - 1) < 1e-6
 
@@ -97,7 +94,7 @@ def test_circle_past_ns():
 def test_torus_doubling(omega, name):
     """Paper, Sec. 4: a torus doubling at omega = 0.744; the circle at 0.743 becomes a
     closed curve winding twice at 0.744."""
-    r = _one(EX1, omega)
+    r = _one(PAPER_EX1, omega)
     assert r.labels()[0] == name
     assert abs(r.lyapunov[0]) < 1e-3 and 0.3 < r.rotation[0] < 0.4
 
@@ -105,7 +102,7 @@ def test_torus_doubling(omega, name):
 def test_chaos():
     """omega = 0.76 (example 1): chaotic over the first 4000 impacts, lyapunov ~ 0.03 per
     impact (a transient: after ~4e4 impacts the run settles on a circle)."""
-    r = _one(EX1, 0.76)
+    r = _one(PAPER_EX1, 0.76)
     assert r.labels()[0] == "chaos"
     assert 0.02 < r.lyapunov[0] < 0.045 and 0 <= r.rotation[0] <= 0.5
     assert r.max_velocity[0] > 0
@@ -126,7 +123,7 @@ def _row_inputs():
     """Two rows of three points each: a stopped point in the first row (its successor
     starts from its own Y0), bounded attractors otherwise."""
     far = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=50, r=0.8)
-    pts = [(EX1, 0.7369), (far, 0.76), (EX1, 0.743), (EX1, 0.72), (EX1, 0.744), (EX1, 0.76)]
+    pts = [(PAPER_EX1, 0.7369), (far, 0.76), (PAPER_EX1, 0.743), (PAPER_EX1, 0.72), (PAPER_EX1, 0.744), (PAPER_EX1, 0.76)]
     C = np.array([cf.constants(m, w) for m, w in pts])
     Y0 = np.array([[-1.0, 0, 0, 0] if m is far else simulation.start_point(m, w)[0]
                    for m, w in pts])
@@ -201,8 +198,8 @@ def test_agrees_with_the_python_diagnostics(omega, kind, want, transient):
     0.744 the doubling is still opening after 2000 impacts: the polygon test of the
     kernel sees the two strands already, the Otsu count only after ~2e4."""
     from symvi.simulations.diagnostics import classify as py_classify
-    r = _one(EX1, omega, transient=transient)
-    sim = simulation.simulate(EX1, omega, n_impacts=KEEP, transient=transient)
+    r = _one(PAPER_EX1, omega, transient=transient)
+    sim = simulation.simulate(PAPER_EX1, omega, n_impacts=KEEP, transient=transient)
     py = py_classify(sim, max_period=64, lyap_points=KEEP)
     assert r.labels()[0] == kind and py.kind == want
     if py.lyapunov is not None:
