@@ -317,12 +317,14 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
     """The period-1 branches over [omega_min, omega_max] started from the admissible
     period-1 orbits at both ends (duplicates dropped), and with ``switch`` the
     period-doubled branch of each flip: what a bifurcation diagram overlays."""
+    from ..model import Model
     from ..orbits.period1 import admissible_orbits
+    model = Model.of(model)      # the paper's Params too (it found no branch: silently none)
     out = []
     for a, b in ((omega_max, omega_min), (omega_min, omega_max)):
         try:
             orbits = admissible_orbits(model, a, multipliers=False)
-        except SymviError:
+        except SingularCaseError:      # a singular end (resonance, not isolated): none there
             continue
         for o in orbits:
             try:

@@ -370,7 +370,12 @@ class Model:
     def of(cls, system):
         """``system`` itself when it is a Model, else the preset of the paper's
         :class:`symvi.Params` (what a Model-only analysis takes from the preset flags)."""
-        return system if isinstance(system, cls) else _preset_of(system)
+        if isinstance(system, cls):
+            return system
+        if not callable(getattr(system, "as_dict", None)) or not hasattr(system, "mu_m"):
+            raise ParameterError("model", type(system).__name__,
+                                 "a symvi.Model or the paper's symvi.Params")
+        return _preset_of(system)
 
     # ---- named parameters ------------------------------------------------------
     def parameter_names(self):
