@@ -166,6 +166,11 @@ def reach_scheduler(address, timeout=None):
     async def identify():
         from distributed.comm import connect
         from distributed.security import Security
+        # a plain TCP connection first: a refused port ends here at once (distributed
+        # retries a refusal until its timeout)
+        host, port = address.split("://", 1)[1].rsplit(":", 1)
+        _, writer = await asyncio.open_connection(host.strip("[]"), int(port))
+        writer.close()
         # the TCP part gives up a little earlier, so the outer timeout means: connected,
         # but no answer
         comm = await connect(address, timeout=0.9 * timeout,
@@ -195,7 +200,7 @@ def reach_scheduler(address, timeout=None):
     else:
         while str(exc).startswith("Timed out") and (exc.__cause__ or exc.__context__):
             exc = exc.__cause__ or exc.__context__    # why the attempts failed
-        if "Connection refused" in str(exc):
+        if isinstance(exc, ConnectionRefusedError) or "Connection refused" in str(exc):
             exc = "connection refused"
         why = _first_line(exc)
     raise SymviError(f"--scheduler: could not reach scheduler {address} within "

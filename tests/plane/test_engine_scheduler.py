@@ -103,7 +103,7 @@ def test_silent_port_gives_up_within_the_timeout(tmp_path, short):
 def test_no_scheduler_there_one_line(tmp_path, monkeypatch, behaviour):
     # a refusal or garbage ends at once; a generous timeout keeps a loaded machine (the
     # probe thread starting late) from turning it into a timeout
-    monkeypatch.setattr(eng, "CONNECT_TIMEOUT", 2.0)
+    monkeypatch.setattr(eng, "CONNECT_TIMEOUT", 5.0)
     srv = Server("garbage") if behaviour == "garbage" else None
     address = srv.address if srv else f"tcp://127.0.0.1:{_free_port()}"
     try:
