@@ -18,6 +18,9 @@ from contextlib import contextmanager
 
 from .errors import OutputError, ParameterError
 
+#: the figure formats symvi writes (symvi.reporting.figures.save), by suffix
+FIGURE_SUFFIXES = (".png", ".pdf")
+
 _SPECIAL = "a regular file or a new name (not a folder, device, FIFO, socket or symlink)"
 
 

@@ -83,12 +83,12 @@ def _known(model, name, flag):
 
 
 def run(args):
-    from .._io import check_output
+    from .._io import FIGURE_SUFFIXES, check_output
     from ..continuation import continue_orbits
     from ..model import Model
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
-    check_output(args.plot, flag="--plot", suffixes=(".png", ".pdf"))
+    check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     branches = continue_orbits(model, args.param, args.start, args.stop, orbit=args.orbit,
                                start_omega=args.start_omega, simulation=args.from_section,
                                switch=args.switch, through=args.through,

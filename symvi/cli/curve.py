@@ -90,7 +90,7 @@ def _names(model, text):
 def run(args):
     import warnings
 
-    from .._io import check_output
+    from .._io import FIGURE_SUFFIXES, check_output
     from ..curves import curve_from_interval
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
@@ -104,7 +104,7 @@ def run(args):
         raise ParameterError("--omega-max", b, f"greater than --omega-min = {a:g}")
     if args.index < 1:
         raise ParameterError("--index", args.index, "an integer >= 1")
-    check_output(args.plot, flag="--plot", suffixes=(".png", ".pdf"))
+    check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
     with warnings.catch_warnings():

@@ -16,10 +16,10 @@ def register(sub):
 def run(args):
     import os
 
-    from .._io import check_output
+    from .._io import FIGURE_SUFFIXES, check_output
     from ..plane import PlaneStore
     from ..reporting import figures
-    check_output(args.out, flag="--out", suffixes=(".png", ".pdf"))
+    check_output(args.out, flag="--out", suffixes=FIGURE_SUFFIXES)
     st = PlaneStore.read(args.store)
     ds = st.dataset()
     done = int(ds["done"].sum())

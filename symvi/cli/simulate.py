@@ -4,8 +4,6 @@ from . import add_params, data_key, describe, params_from, print_json, section_v
 #: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY;
 #: from symvi.numerics, so that registering the command imports nothing heavy)
 from ..numerics.tolerances import MIN_CLASSIFY
-#: figure suffixes, never the name of the data file
-FIGURES = (".png", ".pdf")
 
 
 def register(sub):
@@ -85,11 +83,11 @@ def run(args):
 
 def check_paths(args):
     """--out (a new or regular .npz file) and --plot (.png/.pdf), before any work."""
-    from .._io import check_output, distinct_outputs
+    from .._io import FIGURE_SUFFIXES, check_output, distinct_outputs
     from ..errors import ParameterError
-    if args.out.lower().endswith(FIGURES):
+    if args.out.lower().endswith(FIGURE_SUFFIXES):
         raise ParameterError("--out", args.out, "a data file name ending in .npz",
                              "a figure name: draw the figure with --plot")
     check_output(args.out, flag="--out")
-    check_output(args.plot, flag="--plot", suffixes=FIGURES)
+    check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     distinct_outputs(("--out", args.out), ("--plot", args.plot))

@@ -6,7 +6,6 @@ MAX_STEPS = 100_000
 #: most stored section values (--steps x --impacts x 2N float64: 320 MB); the transient
 #: is dropped as it runs and costs time only
 MAX_VALUES = 40_000_000
-FIGURES = (".png", ".pdf")
 
 
 def register(sub):
@@ -101,12 +100,13 @@ def run(args):
 def check_paths(args):
     """(data path or None, figure paths): --out is .npz, .png or .pdf, --plot a figure;
     both usable and distinct, checked before any work."""
-    from .._io import check_output, distinct_outputs
-    check_output(args.out, flag="--out", suffixes=(".npz", *FIGURES))
-    check_output(args.plot, flag="--plot", suffixes=FIGURES)
+    from .._io import FIGURE_SUFFIXES, check_output, distinct_outputs
+    check_output(args.out, flag="--out", suffixes=(".npz", *FIGURE_SUFFIXES))
+    check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     distinct_outputs(("--out", args.out), ("--plot", args.plot))
     data = args.out if args.out.lower().endswith(".npz") else None
-    return data, [p for p in (args.out, args.plot) if p and p.lower().endswith(FIGURES)]
+    return data, [p for p in (args.out, args.plot)
+                  if p and p.lower().endswith(FIGURE_SUFFIXES)]
 
 
 def check_grid(params, omegas):

@@ -21,7 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .._io import atomic_path  # noqa: E402
+from .._io import FIGURE_SUFFIXES, atomic_path  # noqa: E402
 
 #: the projections drawn by :func:`sections`: (x index, y index) into the section point
 PROJECTIONS = ((1, 0), (3, 0), (2, 1))
@@ -31,7 +31,7 @@ LABELS = (r"$\dot x_{1+}$", r"$x_2$", r"$\dot x_2$", r"$\tau$")
 def save(fig, path, dpi=150):
     """Write ``fig`` to ``path`` (PNG or PDF by suffix) atomically and close it."""
     ext = os.path.splitext(os.fspath(path))[1].lower()
-    if ext not in (".png", ".pdf"):
+    if ext not in FIGURE_SUFFIXES:
         from ..errors import ParameterError      # a ValueError: one line on the CLI
         raise ParameterError("figure path", os.fspath(path), "a file name ending in .png "
                              "or .pdf")
