@@ -826,15 +826,16 @@ def _flow_condition(model, t, digits=None):
     The computed modes (Lambda, W) are the exact modes of A - E with E = R W^-1, where
     R = A W - W Lambda is the residual of the computed eigen-decomposition, formed here
     with mpmath at twice the precision (no rounding).  The flow's error is then the
-    Fréchet derivative W (G o (W^-1 R)) W^-1 of e^{At} in the direction E, G as in
-    :func:`symvi.codegen.layout.frechet_exp` but with the larger exponential factored
-    out (a stiff mode's e^{lambda t} under- and overflows).  About 300 for a benign
+    Fréchet derivative W (G o (W^-1 R)) W^-1 of e^{At} in the direction E, G of
+    :func:`symvi.codegen.layout.frechet_kernel` (the larger exponential factored out: a
+    stiff mode's e^{lambda t} under- and overflows).  About 300 for a benign
     model; a stiff mode (a light mass, ||A|| ~ 1e8) raises it to ~1e6: the rounding of
     the eigen-decomposition is of order eps ||A||, which no named input's condition
     sees.  Against a 40-digit flow this predicts the flow's error within a few per
     cent, and y*'s error is about half of it (tests/precision/test_model_precision.py);
     4 is the safety factor of :func:`_model_solve_condition`.  Infinite if it cannot be
     formed."""
+    from ..codegen.layout import frechet_kernel
     from ..flow.linear import LinearFlow
     try:
         flow = LinearFlow.of(model, digits)
@@ -856,13 +857,7 @@ def _flow_condition(model, t, digits=None):
     lam, W, Winv = (np.array(np.asarray(x).tolist(), dtype=complex) for x in (lam, W, Winv))
     with np.errstate(all="ignore"):
         lt = lam * float(t)
-        diff = lt[:, None] - lt[None, :]
-        safe = np.where(diff == 0, 1, diff)
-        # t (e^a - e^b) / (a - b), a = l_i t, b = l_j t: the larger exponential factored out
-        lo = np.expm1(diff) / safe * np.exp(lt)[None, :]
-        hi = -np.expm1(-diff) / safe * np.exp(lt)[:, None]
-        G = float(t) * np.where(diff == 0, np.exp(lt)[None, :] + 0j,
-                                np.where(diff.real > 0, hi, lo))
+        G = frechet_kernel(lt, np.exp(lt), float(t))
         dPhi = W @ (G * (Winv @ R)) @ Winv
         Phi = ((W * np.exp(lt)) @ Winv).real
         rel = float(np.abs(dPhi).max() / np.abs(Phi).max())

@@ -56,6 +56,20 @@ def _user_module(n, order, name):
     return load(n, order)
 
 
+def frechet_kernel(lt, ex, t):
+    """G_ij = t (e^{lt_i} - e^{lt_j}) / (lt_i - lt_j), t e^{lt_j} where lt_i = lt_j, in
+    float64 (``ex`` = e^{lt}): the kernel of the Fréchet derivative of e^{At} in modal
+    form.  The larger exponential is factored out, so expm1 never overflows (a stiff mode:
+    Re(l_i - l_j) t > 709 gave inf * 0 = NaN): (e^a - e^b)/(a - b) with Re a > Re b is
+    e^a (1 - e^{b-a})/(a - b)."""
+    diff = lt[:, None] - lt[None, :]
+    safe = np.where(diff == 0, 1, diff)
+    pos = diff.real > 0
+    arg = np.where(pos, -diff, diff)
+    scale = np.where(pos, -ex[:, None], ex[None, :])
+    return np.where(diff == 0, ex[None, :], np.expm1(arg) / safe * scale) * t
+
+
 def frechet_exp(flow, t, dA):
     """d/de e^{(A + e dA) t} at e = 0, by the eigen-decomposition of A:
     W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t)."""
@@ -64,15 +78,7 @@ def frechet_exp(flow, t, dA):
     ex = la.exp(lt)
     m = len(lt)
     if la is NUMPY_LA:
-        diff = lt[:, None] - lt[None, :]
-        safe = np.where(diff == 0, 1, diff)
-        # factor out the larger exponential, so expm1 never overflows (a stiff mode:
-        # Re(l_i - l_j) t > 709 gave inf * 0 = NaN):  (e^a - e^b)/(a - b) with Re a > Re b
-        # is e^a (1 - e^{b-a})/(a - b)
-        pos = diff.real > 0
-        arg = np.where(pos, -diff, diff)
-        scale = np.where(pos, -ex[:, None], ex[None, :])
-        G = np.where(diff == 0, ex[None, :], np.expm1(arg) / safe * scale) * t
+        G = frechet_kernel(lt, ex, t)
     else:
         G = np.empty((m, m), dtype=object)
         for i in range(m):
