@@ -205,16 +205,11 @@ def _out_of_reach(flow, F, omega):
     |x_k(0)| <= |w| + A <= A (1 + (1 + r) omega / sigma_min(I - E Phi)); a gap beyond
     twice that bound leaves no orbit.  Used where the period-1 conditions look
     degenerate (e.g. a forcing of 1e-300, whose squares underflow)."""
-    n = flow.n
     A = math.hypot(float(F.U[0]), float(F.V[0]))
-    w = float(omega)
-    Phi = np.asarray(LinearFlow.of(flow.model).phi(2 * math.pi / w), dtype=float)
-    E = np.ones(2 * n)
-    E[n] = -float(flow.r)
-    smin = np.linalg.svd(np.eye(2 * n) - E[:, None] * Phi, compute_uv=False)[-1]
-    if not smin > 0:
+    _, s = _period_matrix(flow, omega)
+    if not s[-1] > 0:
         return ""
-    reach = A * (1 + (1 + float(flow.r)) * w / smin)
+    reach = _reach(flow, A, omega, s[-1])
     b = abs(float(flow.b))
     if not b > 2 * reach:
         return ""
@@ -264,17 +259,11 @@ def _stop_forcing(flow, F, omega):
     else:
         cause = (f"mass {k}'s steady forcing amplitude is 0 at omega = {w!r}, an "
                  f"anti-resonance (computed |X_{k}| = {xk:.3g})")
-    T = 2 * math.pi / w
-    Phi = np.asarray(flow.phi(T) if flow.la is NUMPY_LA else
-                     LinearFlow.of(flow.model).phi(T), dtype=float)
-    E = np.ones(2 * n)
-    E[n] = -float(flow.r)
-    H = np.eye(2 * n) - E[:, None] * Phi
-    s = np.linalg.svd(H, compute_uv=False)
+    H, s = _period_matrix(flow, omega)
     b = float(flow.b)
     none = f"{cause}; no period-1 one-impact orbit: the period-1 conditions reduce to "
     if s[-1] > 64 * 2.0 ** -52 * s[0]:
-        reach = delta * (1 + (1 + float(flow.r)) * w / s[-1])
+        reach = _reach(flow, delta, omega, s[-1])
         if abs(b) > 2 * reach:
             return none + (f"(I - E Phi(T)) w = 0, whose only solution w = 0 is the steady "
                            f"state x_{k} = 0, which has no impact at the gap b = {b:g}")
@@ -298,6 +287,24 @@ def _stop_forcing(flow, F, omega):
         f"{cause}, and I - E Phi(T) is singular at omega = {w!r}: the period-1 conditions "
         "do not fix the impact phase (a solution, if any, exists for every phase), so no "
         "period-1 orbit is isolated")
+
+
+def _period_matrix(flow, omega):
+    """(H, its singular values): H = I - E Phi(T) in float64, E = diag(1, .., -r, ..) at the
+    stop's velocity, the left side of the period-1 conditions (module docstring)."""
+    n, T = flow.n, 2 * math.pi / float(omega)
+    Phi = np.asarray(flow.phi(T) if flow.la is NUMPY_LA else
+                     LinearFlow.of(flow.model).phi(T), dtype=float)
+    E = np.ones(2 * n)
+    E[n] = -float(flow.r)
+    H = np.eye(2 * n) - E[:, None] * Phi
+    return H, np.linalg.svd(H, compute_uv=False)
+
+
+def _reach(flow, amplitude, omega, smin):
+    """The bound |x_k(0)| <= A (1 + (1 + r) omega / sigma_min(I - E Phi)) of any period-1
+    orbit whose stop mass has steady amplitude A (:func:`_out_of_reach`)."""
+    return amplitude * (1 + (1 + float(flow.r)) * float(omega) / smin)
 
 
 def _stop_forced(F):
