@@ -99,7 +99,7 @@ def _check_output(path, flag, suffixes, folder):
             raise ParameterError(flag, path, valid, "empty path")
         if bare == "":
             raise ParameterError(flag, path, valid, "the root folder")
-        if _lstat(bare) is not None:
+        if lstat_or_none(bare) is not None:
             if not os.path.isdir(bare):
                 mode = os.lstat(bare).st_mode
                 what = ("a dangling symlink" if stat.S_ISLNK(mode) else
@@ -117,7 +117,7 @@ def _check_output(path, flag, suffixes, folder):
         raise ParameterError(flag, path, valid, "empty path")
     if path.endswith(os.sep) or (os.altsep and path.endswith(os.altsep)):
         raise ParameterError(flag, path, valid, "names a folder")
-    st = _lstat(path)
+    st = lstat_or_none(path)
     if st is not None:
         mode = st.st_mode
         if not stat.S_ISREG(mode):
@@ -130,7 +130,7 @@ def _check_output(path, flag, suffixes, folder):
     return path
 
 
-def _lstat(path):
+def lstat_or_none(path):
     """lstat of ``path``, None if it does not exist (or a component is not a folder, which
     the parent check reports); any other failure (name too long, a loop of symlinks,
     no permission) raises OSError."""

@@ -32,7 +32,7 @@ import tempfile
 
 import numpy as np
 
-from .._io import current_umask
+from .._io import current_umask, lstat_or_none
 from ..errors import ParameterError, SymviError
 
 #: version of this layout, in the attrs
@@ -312,7 +312,7 @@ def _acquire(lock_path, store):
                              f"{_holder(fd)}is writing it (lock {lock_path})")
             # the holder before us may have removed the file after we opened it: only the
             # file at the path counts
-            st, now = os.fstat(fd), _lstat(lock_path)
+            st, now = os.fstat(fd), lstat_or_none(lock_path)
             if now is None or (now.st_ino, now.st_dev) != (st.st_ino, st.st_dev):
                 os.close(fd)
                 continue
@@ -348,13 +348,6 @@ def _release(lock_path, fd):
     with contextlib.suppress(OSError):
         os.unlink(lock_path)
     os.close(fd)
-
-
-def _lstat(path):
-    try:
-        return os.lstat(path)
-    except FileNotFoundError:
-        return None
 
 
 def _pid_in(fd):
