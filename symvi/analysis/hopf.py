@@ -333,6 +333,7 @@ class HopfPoint:
 
     def as_dict(self):
         m, dist = self.nearest_resonance
+        from .precision import _json_float as _finite    # JSON has no inf / nan
         orb = self.orbit.as_dict()
         orb["omega"] = float(self.orbit.omega)
         num = lambda name: float(getattr(self, name)) if self.trusted(name) else None
@@ -980,11 +981,6 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=l1,
         f1_paper=_opt(nf.f1_printed), f1_wan=_opt(nf.f1_wan), wan_a=_opt(nf.wan_a),
         orbit=orbit, circle=nf.circle, normal_form=nf, precision=acc)
-
-
-def _finite(x):
-    # JSON has no inf / nan
-    return float(x) if math.isfinite(x) else None
 
 
 def _opt(x):
