@@ -173,6 +173,12 @@ class Event:
         return d
 
 
+def spans_text(spans, limit=None):
+    """Spans (lo, hi), e.g. :attr:`HopfResult.uncertified` or its JSON, as "[lo, hi], ..."
+    to 10 significant digits; the first ``limit`` of them only, when given."""
+    return ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in list(spans)[:limit])
+
+
 def _budget_why(budget):
     return (f"the scan's budget of {budget} orbit evaluations ran out before this span was "
             "certified (the interval needs finer resolution elsewhere: scan a narrower "

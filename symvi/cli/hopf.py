@@ -134,17 +134,17 @@ SPAN_LINES = 6
 def _incomplete(res):
     """The headline of a scan that could not certify the whole interval: the spans (the
     widest SPAN_LINES of them when there are more) and why."""
+    from ..analysis.hopf import spans_text
     spans = res.uncertified
     n = len(res.points)
     head = (f"{n} Neimark-Sacker point{'s' if n != 1 else ''} found; " if not res.conservative
             else "real multipliers through +1 or -1: ") + "NOT certified on "
     why = "; ".join(res.uncertified_reasons)
-    fmt = lambda s: f"[{s[0]:.10g}, {s[1]:.10g}]"
     if len(spans) <= SPAN_LINES:
-        return (head + ", ".join(map(fmt, spans)) + f" ({why}): a crossing there may be "
+        return (head + spans_text(spans) + f" ({why}): a crossing there may be "
                 "missed, see the 'unresolved' events")
     total = sum(hi - lo for lo, hi in spans)
     widest = sorted(sorted(spans, key=lambda s: s[0] - s[1])[:SPAN_LINES])
     return (head + f"{len(spans)} sub-intervals of total width {total:.3g}: a crossing there "
-            f"may be missed\n  widest: {', '.join(map(fmt, widest))} (all with --json)\n"
+            f"may be missed\n  widest: {spans_text(widest)} (all with --json)\n"
             f"  why: {why}")

@@ -575,7 +575,8 @@ def _uncertified(res):
     """What a scan that found nothing could not certify (never read as 'there is none')."""
     if res.complete:
         return ""
-    spans = ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in res.uncertified[:6])
+    from ..analysis.hopf import spans_text
+    spans = spans_text(res.uncertified, 6)
     return f" found; the scan could not certify {spans}: a point there may have been missed"
 
 

@@ -423,9 +423,10 @@ def _uncertified(r):
     spans = r.get("uncertified") or []
     if not spans:
         return []
+    from ..analysis.hopf import spans_text
     why = "; ".join(r.get("uncertified_reasons") or [])
     return ["**Not certified** (a crossing there may have been missed): "
-            + ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in spans)
+            + spans_text(spans)
             + (f" ({_text(why)})" if why else "") + ".", ""]
 
 

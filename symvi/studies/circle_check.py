@@ -218,13 +218,12 @@ def _printed_scale(point):
 
 def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.analysis.hopf)."""
-    from ..analysis.hopf import hopf_points
+    from ..analysis.hopf import hopf_points, spans_text
     res = hopf_points(params, omega_min, omega_max)
     pts = [h for h in res if h.circle is not None and not h.circle_caveat]
     if not pts:
-        spans = getattr(res, "uncertified", ())
-        where = (" (not certified on " + ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in spans)
-                 + ": a point there may have been missed)") if spans else ""
+        where = (f" (not certified on {spans_text(res.uncertified)}: a point there may have "
+                 "been missed)") if res.uncertified else ""
         raise SingularCaseError("no-hopf", f"no Hopf point with a predicted circle in "
                                 f"[{omega_min}, {omega_max}]{where}")
     return pts[0]

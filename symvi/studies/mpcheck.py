@@ -320,12 +320,12 @@ def chain_b(params, omega0, branch, digits, lam0, y0):
 
 def mpcheck(params, omega_min, omega_max, *, digits=50, index=0):
     """Run float64 hopf_points, then chains A and B at the ``index``-th point; compare."""
-    from ..analysis.hopf import hopf_points
+    from ..analysis.hopf import hopf_points, spans_text
     if not isinstance(digits, int) or isinstance(digits, bool) or not 30 <= digits <= 500:
         raise ParameterError("digits", digits, "an integer from 30 to 500")
     res = hopf_points(params, omega_min, omega_max)
     if not res.points:
-        spans = ", ".join(f"[{lo:.10g}, {hi:.10g}]" for lo, hi in res.uncertified[:6])
+        spans = spans_text(res.uncertified, 6)
         raise SingularCaseError("no-hopf-point", f"no Neimark–Sacker point found in "
                                 f"[{omega_min}, {omega_max}]" + (
                                     f" (not certified on {spans}: a point there may have "
