@@ -456,7 +456,8 @@ def _orbits_compiled(model, omega, want_multipliers):
     flow = LinearFlow.of(model)
     F = flow.forcing(omega)
     lam, W, Winv, A = flow.modal64
-    if not _stop_forced(F):                 # checked before the kernel meets zero columns
+    forced = _stop_forced(F)
+    if not forced:                          # checked before the kernel meets zero columns
         _check_isolated(flow, omega, *flow.one_minus_exp(omega))
         if _stop_forcing(flow, F, omega):
             return []
@@ -469,7 +470,8 @@ def _orbits_compiled(model, omega, want_multipliers):
     _check_fixed(flow.lib, gap, share)
     if st == _period1.NO_ORBIT:
         return []
-    _warn_stop_forcing(F, None)
+    if not forced:                          # forced: |X_k| is not small, nothing to warn
+        _warn_stop_forcing(F, None)
     sec = Section.of(model)
     T = 2 * math.pi / omega
     finder = CompiledFinder(flow)
