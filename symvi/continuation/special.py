@@ -29,7 +29,6 @@ import math
 import warnings
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
@@ -333,6 +332,7 @@ class Tracker:
         best, where = None, None
         for j in range(1, k):
             if hs[j] >= hs[j - 1] and hs[j] >= hs[j + 1]:
+                from scipy.optimize import minimize_scalar   # ~0.1 s to import
                 r = minimize_scalar(lambda t: -mo.h(t)[0], bounds=(ts[j - 1], ts[j + 1]),
                                     method="bounded", options={"xatol": 1e-13 * T})
                 v = -float(r.fun)
