@@ -44,6 +44,45 @@ def timed(cmd, env):
     return wall, cpu, r.stdout
 
 
+PHASES = r"""
+import time
+clock, marks = time.process_time, []
+def mark(label):
+    marks.append((label, clock()))
+mark("start")
+import numpy
+mark("import numpy")
+import numba
+mark("import numba")
+import scipy.linalg
+mark("import scipy.linalg (numba imports it at its first load: its BLAS check)")
+import scipy.optimize
+mark("import scipy.optimize beyond scipy.linalg (the scan's linear_sum_assignment)")
+import symvi.cli.hopf, symvi.analysis.hopf
+mark("import symvi's modules (the CLI, the scan and what they import)")
+from symvi.params import Params
+p = Params(2, 5, 0, 1.5, 0.8)
+symvi.analysis.hopf.hopf_points(p, 0.70, 0.76)
+mark("first scan: numba's first-use set-up, 8 kernels loaded from the cache, the scan")
+symvi.analysis.hopf.hopf_points(p, 0.70, 0.76)
+mark("second scan in the same process: the scan's own work")
+for (_, a), (label, b) in zip(marks, marks[1:]):
+    print(f"{label}\t{b - a:.4f}")
+"""
+
+
+def phases(tree, runs):
+    """Median CPU seconds of each step of one process, in order (process_time)."""
+    rows = {}
+    for _ in range(runs):
+        r = subprocess.run([sys.executable, "-c", PHASES], env=env_for(tree),
+                           capture_output=True, text=True, check=True)
+        for line in r.stdout.splitlines():
+            label, secs = line.split("\t")
+            rows.setdefault(label, []).append(float(secs))
+    return [(label, med(v)) for label, v in rows.items()]
+
+
 def env_for(tree, **extra):
     env = dict(os.environ, PYTHONPATH=tree, **extra)
     env.pop("SYMVI_PROGRESS", None)
@@ -93,6 +132,10 @@ def main():
     print("\n| floor (medians) | wall s | CPU s |\n|---|---|---|")
     for label, w, c in floor:
         print(f"| {label} | {w:.3f} | {c:.3f} |")
+    print("\n| where a warm process's time goes, step by step (this tree, medians) | CPU s |")
+    print("|---|---|")
+    for label, c in phases(HERE, a.floor):
+        print(f"| {label} | {c:.3f} |")
 
 
 if __name__ == "__main__":

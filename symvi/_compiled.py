@@ -60,6 +60,13 @@ def is_cached(module, name, sig):
     return any(key[0] == want for key in index)
 
 
+def _fits(module, name, sig):
+    try:
+        return len(_signature(sig)) == _dispatcher(module, name).py_func.__code__.co_argcount
+    except Exception:
+        return False
+
+
 def _compile_one(module, name, sig, worker=True):
     """Compile one kernel into the disk cache: seconds taken.  Its compile is reported as
     "compiled k/n", not by the listener (unregistered for good in a worker process)."""
@@ -104,7 +111,8 @@ def warm_up(kernels, what, stream=None):
 
     from .progress import shown
     stream = stream or sys.stderr
-    todo = [k for k in kernels if is_cached(*k[:3]) is False]
+    # a row whose signature no longer fits its kernel is left to the run (and announced)
+    todo = [k for k in kernels if _fits(*k[:3]) and is_cached(*k[:3]) is False]
     if not todo:
         return 0
     todo.sort(key=lambda k: -k[3])
