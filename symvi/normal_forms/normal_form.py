@@ -55,10 +55,6 @@ References
 [Kuznetsov, Elements of Applied Bifurcation Theory] Yu. A. Kuznetsov, Elements
 of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4 (Neimark–Sacker
 bifurcation in n-dimensional maps; c1 formula) and Sec. 4.7 (planar normal form).
-[Wan 1978] Y.-H. Wan, Computation of the stability condition for the Hopf
-bifurcation of diffeomorphisms on R^2, SIAM J. Appl. Math. 34 (1978) 167–175;
-as restated in J. Guckenheimer & P. Holmes, Nonlinear Oscillations, Dynamical
-Systems, and Bifurcations of Vector Fields, Springer 1983, eq. (3.5.11).
 """
 import cmath
 import contextlib
