@@ -418,8 +418,12 @@ class Circle:
     l1: float
     dmod_dv: float
     q_abs: tuple
-    names: tuple = ("x1dot+", "x20", "x20dot", "tau")
+    names: tuple = ()          # of the state variables; x1 ... xn when the caller gives none
     normalisation: str = "rho: ||q||_2 = 1, <p,q> = 1; paper radius = 2 rho"
+
+    def __post_init__(self):
+        if not self.names:
+            object.__setattr__(self, "names", tuple(f"x{k + 1}" for k in range(len(self.q_abs))))
 
     @property
     def side(self):
