@@ -65,6 +65,7 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
+from .._deprecated import moved_call, moved_names
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 # |lambda^m - 1| (m = 1..5) below which the reduction is refused / warned about: the strong
 # resonances of the multiplier, not the forcing resonance of symvi.flow.linear's names
@@ -520,12 +521,8 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, pape
     DeprecationWarning, for one release; ``paper=False`` is the default and a no-op).
     """
     if paper:
-        warnings.warn("normal_form(paper=True) is deprecated; call "
-                      "symvi.paper.reduction.normal_form for the paper's reduction and f1",
-                      DeprecationWarning, stacklevel=2)
-        import importlib
-        red = importlib.import_module("symvi.paper.reduction")
-        return red.normal_form(A, d2, d3, dA, index=index, digits=digits, names=names)
+        red = moved_call("normal_form(paper=True)", "symvi.paper.reduction", "normal_form")
+        return red(A, d2, d3, dA, index=index, digits=digits, names=names)
     bk = backend(digits, A, d2, d3, dA)
     with bk.context():
         A = bk.arr(A)
@@ -614,15 +611,5 @@ def flip_coefficient(A, d2, d3):
 
 
 #: the paper's reduction moved to symvi.paper.reduction (issue 24): the old names warn
-_MOVED = ("PaperReduction", "eigenmatrix", "appendix_printed", "f1_eq60_printed", "wan_a",
-          "f1_eq60")
-
-
-def __getattr__(name):
-    if name in _MOVED:
-        import importlib
-        warnings.warn(f"symvi.normal_forms.normal_form.{name} is deprecated; import it from "
-                      "symvi.paper.reduction; the old name will be removed in the next release",
-                      DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module("symvi.paper.reduction"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = moved_names(__name__, "symvi.paper.reduction", (
+    "PaperReduction", "eigenmatrix", "appendix_printed", "f1_eq60_printed", "wan_a", "f1_eq60"))
