@@ -34,6 +34,7 @@ from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
+from ..model import Signature
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
@@ -55,6 +56,10 @@ class ConvergenceError(SymviError):
 class Problem:
     """G(u; lam) = 0 of the n-p orbits of ``model``, continued in ``param`` (or none).
 
+    ``signature`` (a :class:`symvi.model.Signature`, default (0,) * p) names the
+    constraint each impact hits; every impact reads its guard and reset from the flow
+    (:meth:`symvi.flow.linear.LinearFlow._constrain`), so with one stop all are the same.
+
     ``omega`` is the forcing frequency when ``param`` is not "omega".  ``compiled``
     (default) evaluates G and its derivatives by the numba kernel of
     :mod:`symvi.orbits._shooting`; False uses the numpy reference (same results to
@@ -63,9 +68,15 @@ class Problem:
 
     compiled = True
 
-    def __init__(self, model, n, p, omega=None, param=None):
+    def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
         self.model, self.n_periods, self.p, self.param = model, int(n), int(p), param
+        # which constraint each impact hits (today the one stop: (0,) * p)
+        sig = Signature.single(p) if signature is None else (
+            signature if isinstance(signature, Signature) else Signature(signature))
+        if sig.p != self.p:
+            raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
+        self.signature = sig.check(model)
         self.omega = omega
         self._flow = None
         self._last = None
