@@ -153,21 +153,29 @@ def constants(model, omega, t_max=None):
     return c
 
 
+#: the constraint as the kernels take it (:attr:`LinearFlow.constraint64`): the section's
+#: level b, the guard's level, then the guard (N) and the reset R (N x N, row-major)
+CONSTRAINT = ("b", "level", "guard", "reset")
+
+
 def set_constraint(c, flow):
     """Write the flow's constraint (gap, guard, reset: :meth:`LinearFlow._constrain`) into
     the constants array ``c`` (a flow copied for a new gap or restitution shares the rest)."""
     n = flow.n
-    og, orr = _offsets(n)[3:]
-    c[_GAP], c[_LEVEL] = flow.b, flow.level
-    c[og:og + n] = flow.guard
-    c[orr:orr + n * n] = np.asarray(flow.reset, dtype=float).ravel()
+    k = flow.constraint64
+    og = _offsets(n)[3]
+    c[_GAP], c[_LEVEL] = k[0], k[1]
+    c[og:og + n + n * n] = k[2:]
 
 
 def set_guard_forcing(c, flow, U, V):
     """The guard's steady amplitudes guard . U, guard . V and |guard . X| (U[0], V[0], |X_k|
     for the stop on mass k)."""
-    g = flow.guard
-    us, vs = float(g @ U), float(g @ V)
+    if flow._unit_guard:
+        us, vs = U[0], V[0]
+    else:
+        g = flow.guard
+        us, vs = float(g @ U), float(g @ V)
     c[_US], c[_VS], c[_XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
 
 

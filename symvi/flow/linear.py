@@ -274,6 +274,11 @@ class LinearFlow:
         law = np.eye(self.n, dtype=self.reset.dtype)
         law[0, 0] = -self.r
         self.coordinate_law = self._unit_guard and bool(np.all(self.reset == law))
+        if self.la is NUMPY_LA:
+            # (b, level, guard, R row-major): the layout the compiled kernels take
+            # (symvi.flow.compiled.CONSTRAINT), one array for one dispatch
+            self.constraint64 = np.concatenate([[float(self.b), float(self.level)], self.guard,
+                                                np.asarray(self.reset, dtype=float).ravel()])
         self._resets = {}
 
     def reset_at(self, r):

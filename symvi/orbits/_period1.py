@@ -27,6 +27,7 @@ _TWO_PI = 2.0 * math.pi
 
 @nb.njit(cache=True)
 def _line(lam, W, Winv, U, V, w, g, level, R):
+    # R: the reset, row-major (N x N); g: the signed guard (N)
     """(Phi(T), Pc, Ps, sigma, kernel vector, Xp, p1, phase share) of the period-1
     conditions with the reset R (v+ = R v-) and the guard g . x = level of the
     constraint (flow order; x_k = b, v_k+ = -r v_k- for the stop):
@@ -55,7 +56,7 @@ def _line(lam, W, Winv, U, V, w, g, level, R):
             else:
                 s = 0.0
                 for k in range(n):
-                    s += R[a - n, k] * Phi[n + k, c]
+                    s += R[(a - n) * n + k] * Phi[n + k, c]
             G[a, c] = (1.0 if a == c else 0.0) - s
         if a < n:
             G[a, n2] = 0.0 * Pc[a]
@@ -64,7 +65,7 @@ def _line(lam, W, Winv, U, V, w, g, level, R):
             sc = 0.0
             ss = 0.0
             for k in range(n):
-                f = (1.0 if k == a - n else 0.0) - R[a - n, k]
+                f = (1.0 if k == a - n else 0.0) - R[(a - n) * n + k]
                 sc += f * Pc[n + k]
                 ss += f * Ps[n + k]
             G[a, n2] = sc
@@ -128,11 +129,12 @@ def _oriented(n0, n1, side):
 
 
 @nb.njit(cache=True)
-def period1(lam, W, Winv, A, U, V, w, b, g, level, R, R_ref, refuse, noise, want_mult):
+def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
     """Both period-1 orbits at omega = w; see the module docstring.
 
-    The constraint as the flow holds it: b the section's level, g . x = level the impact
-    condition, R the reset and R_ref the reset at restitution r - ORIENT_DR.
+    The constraint as the flow holds it (``con`` = :attr:`LinearFlow.constraint64`): b the
+    section's level, g . x = level the impact condition, R the reset; R_ref (row-major)
+    the reset at restitution r - ORIENT_DR.
 
     Returns (status, d, j, rank gap, phase share, Y, vimp, M, ok): d, j the isolation
     measure and its mode; per branch ("+", "-") the section point Y[i] (tau in
@@ -141,6 +143,9 @@ def period1(lam, W, Winv, A, U, V, w, b, g, level, R, R_ref, refuse, noise, want
     first refusal met (then the later outputs are not filled)."""
     n2 = lam.shape[0]
     n = n2 // 2
+    b, level = con[0], con[1]
+    g = con[2:2 + n]
+    R = con[2 + n:2 + n + n * n]
     T = _TWO_PI / w
     Y = np.zeros((2, n2))
     vimp = np.zeros(2)
@@ -204,7 +209,7 @@ def period1(lam, W, Winv, A, U, V, w, b, g, level, R, R_ref, refuse, noise, want
         if want_mult:
             u[:n2] = Y[i]
             u[n2] = T
-            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, b, g, level, R, 1, u, 1, True, False)[1]
+            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
             _, Mi, oki = monodromy(Gu, 1, n2)
             M[i] = Mi
             ok[i] = oki

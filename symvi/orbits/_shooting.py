@@ -74,12 +74,12 @@ def _matvec(Mx, x, out):
 
 
 @nb.njit(cache=True)
-def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, g, level, R, n_periods, u, p, jac, dom):
+def shoot(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
     """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
 
-    The constraint enters as the flow holds it (:meth:`symvi.flow.linear.LinearFlow._constrain`):
-    b the section's level (x_0 = b), g the signed guard normal and ``level`` its level
-    (impact condition g . x - level = 0: x_k = b), R the reset (v+ = R v-: v_k+ = -r v_k-).
+    The constraint enters as the flow holds it, ``con`` = :attr:`LinearFlow.constraint64`:
+    b the section's level (x_0 = b), the guard's level, the signed guard normal g
+    (impact condition g . x - level = 0: x_k = b), the reset R (v+ = R v-: v_k+ = -r v_k-).
 
     Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
     (the start state in the stop-first order, its phase, and at the end of the flight the
@@ -87,6 +87,9 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, g, level, R, n_periods, u, p, jac
     """
     d = lam.shape[0]
     N = d // 2
+    b, level = con[0], con[1]
+    g = con[2:2 + N]
+    R = con[2 + N:2 + N + N * N]
     m = p * (d + 1)
     G = np.empty(m)
     Gu = np.zeros((m, m)) if jac else np.zeros((0, 0))
@@ -104,6 +107,8 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, g, level, R, n_periods, u, p, jac
     a2 = np.empty(d)
     hom = np.empty(d)
     vp = np.empty(N)                                # R applied to a velocity block
+    RP = np.empty((N, d + 2))                       # R (Phi[N:, :], dzt[N:], dzdt[N:])
+    gP = np.empty(d + 2)                            # g . (Phi[:N, :], dzt[:N], dzdt[:N])
     for i in range(p):
         y = u[i * d:(i + 1) * d]
         t = u[p * d + i]
@@ -159,21 +164,33 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, g, level, R, n_periods, u, p, jac
         G[r0 + d - 1] = tau + w * t - (yj[d - 1] + wrap)
         G[ct] = _guard(g, z, N) - level
         if jac:
+            # the reset and the guard applied once to the columns (Phi, dz/dtau, dz/dt)
+            for col in range(1, d + 2):     # column 0 (x_0 = b on the section) is not used
+                for a in range(N):
+                    s = 0.0
+                    for k in range(N):
+                        s += R[a * N + k] * _col(Phi, dzt, dzdt, N + k, col, d)
+                    RP[a, col] = s
+                s = 0.0
+                for k in range(N):
+                    s += g[k] * _col(Phi, dzt, dzdt, k, col, d)
+                gP[col] = s
             for c in range(d):              # dz/dy: Phi[:, idx] then dz/dtau
-                for k in range(d):
-                    a0[k] = dzt[k] if c == d - 1 else Phi[k, idx[c]]
-                _reset(R, a0, N, vp)
-                for q in range(d - 1):
-                    Gu[r0 + q, r0 + c] = _row(vp, a0, N, q)
-                Gu[ct, r0 + c] = _guard(g, a0, N)
+                col = d if c == d - 1 else idx[c]
+                Gu[r0, r0 + c] = RP[0, col]
+                for q in range(1, N):
+                    Gu[r0 + q, r0 + c] = _col(Phi, dzt, dzdt, q, col, d)
+                    Gu[r0 + N - 1 + q, r0 + c] = RP[q, col]
+                Gu[ct, r0 + c] = gP[col]
             Gu[r0 + d - 1, r0 + d - 1] = 1.0
             for q in range(d):
                 Gu[r0 + q, j * d + q] -= 1.0
-            _reset(R, dzdt, N, vp)
-            for q in range(d - 1):
-                Gu[r0 + q, ct] = _row(vp, dzdt, N, q)
+            Gu[r0, ct] = RP[0, d + 1]
+            for q in range(1, N):
+                Gu[r0 + q, ct] = dzdt[q]
+                Gu[r0 + N - 1 + q, ct] = RP[q, d + 1]
             Gu[r0 + d - 1, ct] = w
-            Gu[ct, ct] = _guard(g, dzdt, N)
+            Gu[ct, ct] = gP[d + 1]
         if dom:
             # dz/domega = zp_omega(ph) + t zp_phase(ph) - Phi zp_omega(tau)
             _zp_omega(U, V, dU, dV, w, tau, a0)
@@ -190,26 +207,26 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, g, level, R, n_periods, u, p, jac
 
 @nb.njit(cache=True, inline="always")
 def _reset(R, z, N, out):
-    """out = R z[N:2N]: the constraint's reset of the velocities of z (flow order)."""
+    """out = R z[N:2N]: the constraint's reset (R row-major) of the velocities of z."""
     for a in range(N):
         s = 0.0
         for k in range(N):
-            s += R[a, k] * z[N + k]
+            s += R[a * N + k] * z[N + k]
         out[a] = s
 
 
 @nb.njit(cache=True, inline="always")
-def _row(vp, z, N, q):
-    """Entry q of the section point (vp_0, x_1..x_{N-1}, vp_1..vp_{N-1}) of the state z with
-    reset velocities vp (:meth:`symvi.maps.Section.image`)."""
-    if q == 0:
-        return vp[0]
-    return z[q] if q < N else vp[q - N + 1]
+def _col(Phi, dzt, dzdt, a, col, d):
+    """Entry a of column ``col`` of (Phi | dz/dtau | dz/dt)."""
+    if col < d:
+        return Phi[a, col]
+    return dzt[a] if col == d else dzdt[a]
 
 
 @nb.njit(cache=True, inline="always")
 def _place(vp, z, N, out, r0):
-    """out[r0:r0 + 2N - 1] = the section point of :func:`_row`."""
+    """out[r0:r0 + 2N - 1] = the section point (vp_0, x_1..x_{N-1}, vp_1..vp_{N-1}) of the
+    state z with reset velocities vp (:meth:`symvi.maps.Section.image`)."""
     out[r0] = vp[0]
     for q in range(1, N):
         out[r0 + q] = z[q]
@@ -255,14 +272,15 @@ def finder_constants(flow, F):
     test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
     if base is None:
-        base = flow.__dict__["_finder_base"] = _finder_base(flow)
+        base = flow.__dict__["_finder_base"] = _finder_base(flow) + (flow.constraint,)
     c, lmax, grow = base[0].copy(), base[1], base[2]
+    if flow.constraint is not base[3]:
+        _fc.set_constraint(c, flow)                # a copied flow (new stop) shares the base
     w = float(F.omega)
     n = flow.n
     U, V = F.U, F.V
     t_max = 2000 * math.pi / w
     c[_fc._OM], c[_fc._TMAX] = w, t_max
-    _fc.set_constraint(c, flow)                    # a copied flow (new stop) shares the base
     _fc.set_guard_forcing(c, flow, U, V)
     c[_fc._LMAX] = max(lmax, w)
     c[_fc._GROW] = math.exp(grow * 4 * t_max)

@@ -476,8 +476,8 @@ def _orbits_compiled(model, omega, want_multipliers):
         if _stop_forcing(flow, F, omega):
             return []
     st, d, j, gap, share, Y, vimp, M, has_M = _period1.period1(
-        lam, W, Winv, A, F.U, F.V, omega, flow.b, flow.guard, flow.level, flow.reset,
-        flow.reset_at(flow.r - ORIENT_DR), ISOLATION_REFUSE,
+        lam, W, Winv, A, F.U, F.V, omega, flow.constraint64,
+        flow.reset_at(flow.r - ORIENT_DR).ravel(), ISOLATION_REFUSE,
         ORIENT_NOISE, bool(want_multipliers))
     _check_isolated(flow, omega, d, j)
     if st in (_period1.DEGENERATE, _period1.NO_PHASE) and _out_of_reach(flow, F, omega):

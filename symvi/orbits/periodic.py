@@ -151,8 +151,8 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         flow.b, flow.guard, flow.level, flow.reset,
-                                         self.n_periods, u, self.p, bool(jac), bool(dom))
+                                         flow.constraint64, self.n_periods, u, self.p,
+                                         bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
 
