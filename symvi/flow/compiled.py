@@ -5,10 +5,12 @@ Modal form.  z(t) = Re(W (c * e^{lambda t})) + zp(t), c = W^-1 (z0 - zp(0)), as 
 :mod:`symvi.flow.linear`.  A is real, so its eigenvalues come in conjugate pairs
 whose terms are conjugate: only one of each pair is kept, with weight 2
 (``Re(a) + Re(conj a) = 2 Re(a)``); real (overdamped) eigenvalues keep weight 1.
-Along a flight only h = x_k - b and its derivatives are needed::
+Along a flight only the guard h = g . x - level of the model's constraint
+(:class:`symvi.model.Constraint`; x_k - b for the stop on mass k) and its
+derivatives are needed::
 
-    h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m x_p,k - b [m = 0],
-    d_j = W[0, j] c_j                (row 0 of W is x_k in the stop-first order);
+    h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m g . x_p - level [m = 0],
+    d_j = (g . W[:N, j]) c_j         (W[0, j] c_j for the stop: g = e_0 in the stop-first order);
 
 the full state is rebuilt only at the impact.
 
