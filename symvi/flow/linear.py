@@ -19,7 +19,7 @@ flow's order puts its coordinate first, its guard is h = guard . x - level
 (x_k - b for the stop on mass k) and its reset v+ = R v- (:meth:`LinearFlow._constrain`).
 
 The first-impact finder steps along h(t) = x_k(t) - b < 0 with a provably safe
-step, as :mod:`symvi.flow.modal2` does for the paper: with
+step, as :mod:`symvi.paper.modal_flow` does for the paper: with
 M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
 since Re lambda_j <= 0 for M, K positive definite and C semi-definite),
 h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
