@@ -92,12 +92,13 @@ def _qr_logs_model(params, omega, sec, te):
     flow = LinearFlow.of(Model.of(params))
     F = flow.forcing(float(omega))
     lam, W, Winv, A = flow.modal64
-    return _qr_logs(lam, W, Winv, A, F.U, F.V, F.omega, flow.b, flow.r,
-                    np.ascontiguousarray(sec, dtype=float), np.ascontiguousarray(te, dtype=float))
+    return _qr_logs(lam, W, Winv, A, F.U, F.V, F.omega, flow.constraint64,
+                    np.ascontiguousarray(sec, dtype=float),
+                    np.ascontiguousarray(te, dtype=float))
 
 
 @nb.njit(cache=True)
-def _qr_logs(lam, W, Winv, A, U, V, w, b, r, sec, te):
+def _qr_logs(lam, W, Winv, A, U, V, w, con, sec, te):
     """Q_{k+1} R_k = DP(y_k) Q_k along the section, DP of one flight by eq. (30)."""
     m, d = sec.shape
     logs = np.empty((m, d))
@@ -106,7 +107,7 @@ def _qr_logs(lam, W, Winv, A, U, V, w, b, r, sec, te):
     for k in range(m):
         u[:d] = sec[k]
         u[d] = te[k]
-        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, b, r, 1, u, 1, True, False)[1]
+        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
         _, J, ok = _shooting.monodromy(Gu, 1, d)
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
