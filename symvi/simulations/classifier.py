@@ -1,9 +1,17 @@
-"""The attractor of one run of the impact map P, classified in one compiled batch.
+"""The one attractor classifier of symvi, and its one vocabulary (issue 24, item 5).
 
-One serial ``numba`` loop over the points of a batch (the caller runs batches in
-parallel processes); per point one run of ``transient + n_keep`` iterations of P
-with its tangent map (:func:`symvi.flow.compiled._step_tangent_into`), the
-``n_keep`` kept section points in one reused (n_keep, 2N) buffer, then:
+Every caller classifies with :func:`_judge` on the kept points of one run of the impact
+map P: the parameter plane and :func:`classify_runs` (per point one run of the shared
+loop :func:`symvi.flow.compiled._run_into` with its tangent map and escape test, in one
+compiled serial batch; the caller runs batches in parallel processes), and
+``symvi simulate --classify`` (:func:`symvi.simulations.diagnostics.classify`, on the
+stored section of a run, the largest exponent's per-step logs from the QR method, whose
+first column is the same tangent iteration).  The vocabulary is :data:`ATTRACTORS`
+(with ``period-k``); :data:`KINDS` gives the spelling ``symvi simulate --classify``
+has always printed for the same codes ("invariant circle", "doubled torus").
+
+Per run of ``transient + n_keep`` iterations, the ``n_keep`` kept section points in
+one reused (n_keep, 2N) buffer, then:
 
 * ``lyapunov``: largest Lyapunov exponent of P, per impact (natural log): the mean
   of log |DP v| over the kept steps, v renormalised every step from
@@ -13,7 +21,8 @@ with its tangent map (:func:`symvi.flow.compiled._step_tangent_into`), the
 * ``max_velocity``: max |v_k-| (speed just before impact) over the kept impacts, also
   over those done by a run that stopped; NaN when none was kept.
 * ``impacts_per_period``: n_keep / (kept time * omega / 2 pi).
-* periodic: the smallest q in 1 .. Qmax, Qmax = min(64, n_keep // 4), such that
+* periodic (the one period detector, :func:`_period`): the smallest q in 1 .. Qmax,
+  Qmax = min(max_period, n_keep // 4) (max_period 64 for a plane), such that
   e_j = |y_j - y_{j-q}| (tau difference wrapped to (-pi, pi]) over the last
   W = min(n_keep - q, max(4q, 64)) kept points are all <= 1e-7 s, s = 1 + max|y|
   over those points (a converged orbit: rounding-level closure), or all <= 1e-3 s
@@ -24,9 +33,18 @@ with its tangent map (:func:`symvi.flow.compiled._step_tangent_into`), the
   period k = round(omega (t_j - t_{j-q}) / 2 pi) >= 1 forcing periods, q impacts,
   code "period".  A periodic orbit of more than Qmax impacts is reported as what
   it looks like (a circle, with a clearly negative lyapunov).
-* else chaos when lyapunov > max(2.5 / n_keep, 1e-3) (above the O(1 / n) bias of a
-  finite mean on a quasi-periodic attractor).
-* else quasi-periodic: the kept points, tau recentred about its circular mean and
+* otherwise the last half of the kept record is judged (the first half counts as
+  more transient: next to a Neimark-Sacker point a run from the unstable focus
+  spirals out for thousands of impacts before it settles on the circle).
+* chaos when the mean of log |DP v| over that half exceeds max(b, 0) (the radial
+  growth rate of the points below, per impact) by more than max(2.5 / m, 1e-3), m
+  the number of those logs (above the O(1 / m) bias of a finite mean on a
+  quasi-periodic attractor).  On a spiral out of a focus of multipliers
+  rho e^{+-i theta} the tangent grows as the radius, both as rho^j: the exponent is
+  the spiral's, not chaos.  (Example 1 at omega = 0.738: log rho = 2.85e-3 for the
+  first ~2500 impacts, then a circle, exponent 0 +- 5e-4;
+  tests/simulate/test_classifier.py.)
+* else quasi-periodic: those points, tau recentred about its circular mean and
   wrapped to (-pi, pi], taken about their centre with a geometric radial trend
   removed: r_j = |y_j - centre| ~ exp(a + b j) fitted by least squares on log r_j
   and the points scaled by exp(-b j) about the centre, the centre being the mean
@@ -70,14 +88,19 @@ import numba as nb
 import numpy as np
 
 from ..errors import ParameterError
-from ..flow.compiled import (_NN, _OM, CHATTER_COUNT, CHATTER_FLIGHT, COMPLETED, IMPACT,
-                             NO_IMPACT, STOP_CHATTER, STOP_GRAZING, STOP_NO_IMPACT,
-                             STOP_NONFINITE, STOP_STICKING, _step_tangent_into)
+from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING, STOP_NAMES,
+                             STOP_NO_IMPACT, STOP_STICKING, _run_into)
 
-__all__ = ["ATTRACTORS", "FIELDS", "Classified", "classify", "label"]
+__all__ = ["ATTRACTORS", "KINDS", "FIELDS", "Classified", "classify_runs", "label", "kind",
+           "code_of_stop"]
 
+#: the vocabulary: attractor codes 0 .. 7 (code 0 is spelled period-k, k forcing periods)
 ATTRACTORS = ("period", "circle", "doubled-torus", "chaos", "no-impact", "sticking", "escape",
               "grazing")
+#: the same codes as ``symvi simulate --classify`` prints them (its public spelling;
+#: a stopped run prints "stopped: <stop name>")
+KINDS = ("period", "invariant circle", "doubled torus", "chaos", "no-impact", "sticking",
+         "escape", "grazing")
 FIELDS = ("code", "period", "impacts", "lyapunov", "rotation", "impacts_per_period",
           "max_velocity")
 
@@ -89,11 +112,11 @@ TOL_CLOSED = 1e-7
 TOL_SLOW = 1e-3
 #: decay over the window: mean of the last quarter / mean of the first quarter
 DECAY = 0.5
-#: largest number of impacts of a periodic orbit looked for
+#: largest number of impacts of a periodic orbit looked for in a plane
 Q_MAX = 64
 #: shortest comparison window
 W_MIN = 64
-#: chaos: lyapunov above max(LYAP_BIAS / n_keep, LYAP_MIN)
+#: chaos: exponent (less the radial growth) above max(LYAP_BIAS / m, LYAP_MIN)
 LYAP_BIAS = 2.5
 LYAP_MIN = 1e-3
 #: L_all / L_half below this: one closed curve
@@ -109,71 +132,37 @@ MIN_KEPT = 4
 _TWO_PI = 2.0 * math.pi
 
 
+def label(code, period):
+    """Name of attractor ``code`` (of ``ATTRACTORS``): f"period-{period}" for code 0."""
+    code = int(code)
+    return f"period-{int(period)}" if code == PERIOD else ATTRACTORS[code]
+
+
+def kind(code, period):
+    """The spelling of ``symvi simulate --classify``: :data:`KINDS`, period-k for code 0."""
+    code = int(code)
+    return f"period-{int(period)}" if code == PERIOD else KINDS[code]
+
+
+def code_of_stop(stop):
+    """Attractor code of a run stopped with code ``stop`` (symvi.flow.compiled.STOP_*)."""
+    if stop == STOP_NO_IMPACT:
+        return NOIMPACT
+    if stop == STOP_STICKING or stop == STOP_CHATTER:
+        return STICKING
+    if stop == STOP_GRAZING:
+        return GRAZED
+    return ESCAPE
+
+
+_code_of_stop = nb.njit(cache=True)(code_of_stop)
+
+
 @nb.njit(cache=True, inline="always")
 def _wrap(a):
     """a wrapped to (-pi, pi]."""
     a = a - _TWO_PI * math.floor(a / _TWO_PI)       # [0, 2 pi)
     return a - _TWO_PI if a > math.pi else a
-
-
-@nb.njit(cache=True)
-def _run(c, y, n_keep, transient, sec, times, scratch):
-    """Iterate P and its tangent from y (in place): the twin of
-    :func:`symvi.flow.compiled._run_into` with the same stop rules, plus escape.
-
-    Returns (stop, kept, sum of log growth over kept steps, max |v_k-| kept, time at
-    the start of the kept steps); y is left at the last section point accepted."""
-    n = int(c[_NN])
-    dim = 2 * n
-    cc, d, e, z = scratch[0, :4 * n], scratch[1, :24 * n], scratch[2, :4 * n + 2], \
-        scratch[3, :dim]
-    w, v, y_prev = scratch[4, :2 * dim], scratch[5, :dim], scratch[5, dim:2 * dim]
-    for i in range(dim):
-        v[i] = 1.0 / math.sqrt(dim)
-    T = 0.0
-    T0 = 0.0
-    lsum = 0.0
-    vmax = -1.0
-    short = 0
-    t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
-    for k in range(transient + n_keep):
-        kept = k - transient
-        if kept == 0:
-            T0 = T
-        for i in range(dim):
-            y_prev[i] = y[i]
-        st, te, vm, acc, _ = _step_tangent_into(c, y, v, cc, d, e, z, w)
-        if st != IMPACT:
-            for i in range(dim):
-                y[i] = y_prev[i]
-            if st == NO_IMPACT:
-                return STOP_NO_IMPACT, max(kept, 0), lsum, vmax, T0
-            # x_k'' > 0 at a contact with ~zero speed: the stop holds the mass
-            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), lsum, vmax, T0
-        ok = True
-        nv = 0.0
-        for i in range(dim):
-            # not (|y| <= ESCAPE_MAX) also catches NaN; escape has no stop code of its own
-            ok = ok and abs(y[i]) <= ESCAPE_MAX
-            nv += v[i] * v[i]
-        nv = math.sqrt(nv)
-        if not (ok and math.isfinite(nv) and nv > 0.0):
-            for i in range(dim):
-                y[i] = y_prev[i]
-            return STOP_NONFINITE, max(kept, 0), lsum, vmax, T0
-        for i in range(dim):
-            v[i] /= nv
-        T += te
-        short = short + 1 if te < t_chat else 0
-        if kept >= 0:
-            lsum += math.log(nv)
-            vmax = max(vmax, abs(vm))
-            for i in range(dim):
-                sec[kept, i] = y[i]
-            times[kept] = T
-        if short >= CHATTER_COUNT:
-            return STOP_CHATTER, max(kept + 1, 0), lsum, vmax, T0
-    return COMPLETED, n_keep, lsum, vmax, T0
 
 
 @nb.njit(cache=True, inline="always")
@@ -188,9 +177,11 @@ def _dist(sec, j, k, dim):
 
 
 @nb.njit(cache=True)
-def _period(sec, times, n, dim, omega):
-    """(q, k) of the periodic attractor of the n kept points, or (0, 0)."""
-    qmax = min(Q_MAX, n // 4)
+def _period(sec, times, n, dim, omega, qmax, tol):
+    """(q, k) of the periodic attractor of the n kept points, or (0, 0): the one period
+    detector (module docstring; ``tol`` the closure TOL_CLOSED).  omega = 0: no times,
+    (q, 0) for the first closing q."""
+    qmax = min(qmax, n // 4)
     for q in range(1, qmax + 1):
         W = min(n - q, max(4 * q, W_MIN))
         s = 0.0
@@ -213,7 +204,7 @@ def _period(sec, times, n, dim, omega):
                 last += ej
         if not emax <= TOL_SLOW * s:
             continue
-        closed = emax <= TOL_CLOSED * s or last <= DECAY * first
+        closed = emax <= tol * s or last <= DECAY * first
         if not closed:
             # the same decay over the whole record: approaches too slow for one window
             quarter = (n - q) // 4
@@ -225,6 +216,8 @@ def _period(sec, times, n, dim, omega):
             closed = last <= DECAY * first
         if not closed:
             continue
+        if omega <= 0.0:
+            return q, 0
         k = round(omega * (times[n - 1] - times[n - 1 - q]) / _TWO_PI)
         if k >= 1:
             return q, k
@@ -232,21 +225,22 @@ def _period(sec, times, n, dim, omega):
 
 
 @nb.njit(cache=True)
-def _plane(sec, n, dim, pts, ang):
-    """Kept points into pts: tau recentred about its circular mean, a geometric radial
-    trend removed about the centre (module docstring); their angles in the plane of
-    the two leading principal components into ang."""
+def _plane(sec, j0, n, dim, pts, ang):
+    """Points j0 .. j0+n-1 into pts[:n]: tau recentred about its circular mean, a
+    geometric radial trend removed about the centre (module docstring); their angles
+    in the plane of the two leading principal components into ang.  Returns the trend
+    b (log radius per impact)."""
     sn = 0.0
     cs = 0.0
     for j in range(n):
-        sn += math.sin(sec[j, dim - 1])
-        cs += math.cos(sec[j, dim - 1])
+        sn += math.sin(sec[j0 + j, dim - 1])
+        cs += math.cos(sec[j0 + j, dim - 1])
     tau0 = math.atan2(sn, cs)
     centre = np.zeros(dim)
     for j in range(n):
         for i in range(dim - 1):
-            pts[j, i] = sec[j, i]
-        pts[j, dim - 1] = _wrap(sec[j, dim - 1] - tau0)
+            pts[j, i] = sec[j0 + j, i]
+        pts[j, dim - 1] = _wrap(sec[j0 + j, dim - 1] - tau0)
         for i in range(dim):
             centre[i] += pts[j, i]
     for i in range(dim):
@@ -304,6 +298,7 @@ def _plane(sec, n, dim, pts, ang):
             p1 += pts[j, i] * vec[i, dim - 1]
             p2 += pts[j, i] * vec[i, dim - 2]
         ang[j] = math.atan2(p2, p1)
+    return b
 
 
 @nb.njit(cache=True)
@@ -331,44 +326,66 @@ def _loop_length(pts, ang, n, dim):
 
 
 @nb.njit(cache=True)
-def _classify_one(c, y, n_keep, transient, sec, times, pts, ang, scratch, out_f):
-    """Classify the run from y (left at the last section point).  Returns
-    (code, period, impacts, stop); floats (lyapunov, rotation, impacts_per_period,
-    max_velocity) into out_f."""
+def _judge(sec, times, glog, n, dim, omega, qmax, tol, lyap_min, pts, ang, out_f):
+    """The classifier: attractor of the n kept points of a completed run (sec, times)
+    with the per-step logs ``glog`` of the largest exponent (module docstring).
+    Returns (code, k forcing periods, q impacts); the rotation into out_f[0]."""
+    out_f[0] = np.nan
+    q, k = _period(sec, times, n, dim, omega, qmax, tol)
+    if q > 0:
+        if q >= 3:
+            _plane(sec, 0, n, dim, pts, ang)
+            out_f[0] = _rotation(ang, n)
+        return PERIOD, k, q
+    j0 = n // 2                                   # the last half: the first is transient
+    m = n - j0
+    b = _plane(sec, j0, m, dim, pts, ang)
+    out_f[0] = _rotation(ang, m)
+    nl = glog.shape[0]
+    if nl >= 2:
+        lt = 0.0
+        for j in range(nl // 2, nl):
+            lt += glog[j]
+        ml = nl - nl // 2
+        # a spiral's exponent is its radial growth b: chaos only beyond it
+        if lt / ml - max(b, 0.0) > max(LYAP_BIAS / ml, lyap_min):
+            return CHAOS, 0, 0
+    ratio = _loop_length(pts, ang, m, dim) / _loop_length(pts, ang, m // 2, dim)
+    return (CIRCLE if ratio < RATIO_CIRCLE else DOUBLED), 0, 0
+
+
+@nb.njit(cache=True)
+def _classify_one(c, y, n_keep, transient, sec, times, vimp, glog, v, pts, ang, out_f):
+    """Run the shared loop from y (left at the last section point) with the tangent map
+    and the escape test, and classify.  Returns (code, period, impacts, stop); floats
+    (lyapunov, rotation, impacts_per_period, max_velocity) into out_f."""
     n = int(c[_NN])
     dim = 2 * n
     omega = c[_OM]
-    stop, kept, lsum, vmax, T0 = _run(c, y, n_keep, transient, sec, times, scratch)
+    for i in range(dim):
+        v[i] = 1.0 / math.sqrt(dim)
+    stop, kept, _, T0 = _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog,
+                                  ESCAPE_MAX)
     nan = np.nan
+    vmax = -1.0
+    for j in range(kept):
+        vmax = max(vmax, abs(vimp[j]))
     out_f[0] = nan
     out_f[1] = nan
     out_f[2] = nan
     out_f[3] = vmax if kept > 0 else nan
     if stop != COMPLETED:
-        if stop == STOP_NO_IMPACT:
-            code = NOIMPACT
-        elif stop == STOP_STICKING or stop == STOP_CHATTER:
-            code = STICKING
-        elif stop == STOP_GRAZING:
-            code = GRAZED
-        else:
-            code = ESCAPE
-        return code, 0, 0, stop
-    lyap = lsum / n_keep
-    out_f[0] = lyap
+        return _code_of_stop(stop), 0, 0, stop
+    lsum = 0.0
+    for j in range(n_keep):
+        lsum += glog[j]
+    out_f[0] = lsum / n_keep
     out_f[2] = n_keep / ((times[n_keep - 1] - T0) * omega / _TWO_PI)
-    q, k = _period(sec, times, n_keep, dim, omega)
-    if q > 0:
-        if q >= 3:
-            _plane(sec, n_keep, dim, pts, ang)
-            out_f[1] = _rotation(ang, n_keep)
-        return PERIOD, k, q, stop
-    _plane(sec, n_keep, dim, pts, ang)
-    out_f[1] = _rotation(ang, n_keep)
-    if lyap > max(LYAP_BIAS / n_keep, LYAP_MIN):
-        return CHAOS, 0, 0, stop
-    ratio = _loop_length(pts, ang, n_keep, dim) / _loop_length(pts, ang, n_keep // 2, dim)
-    return (CIRCLE if ratio < RATIO_CIRCLE else DOUBLED), 0, 0, stop
+    rot = np.empty(1)
+    cd, k, q = _judge(sec, times, glog, n_keep, dim, omega, Q_MAX, TOL_CLOSED, LYAP_MIN,
+                      pts, ang, rot)
+    out_f[1] = rot[0]
+    return cd, k, q, stop
 
 
 @nb.njit(cache=True)
@@ -379,9 +396,11 @@ def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, imp
     dim = 2 * n
     sec = np.empty((n_keep, dim))
     times = np.empty(n_keep)
+    vimp = np.empty(n_keep)
+    glog = np.empty(n_keep)
     pts = np.empty((n_keep, dim))
     ang = np.empty(n_keep)
-    scratch = np.empty((6, 24 * n))
+    v = np.empty(dim)
     y = np.empty(dim)
     out_f = np.empty(4)
     for p in range(m):
@@ -392,8 +411,8 @@ def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, imp
         followed[p] = not own
         for i in range(dim):
             y[i] = Y0[p, i] if own else y_end[p - 1, i]
-        cd, k, q, st = _classify_one(C[p], y, n_keep, transient, sec, times, pts, ang,
-                                     scratch, out_f)
+        cd, k, q, st = _classify_one(C[p], y, n_keep, transient, sec, times, vimp, glog, v,
+                                     pts, ang, out_f)
         code[p], period[p], impacts[p], stop[p] = cd, k, q, st
         for i in range(4):
             floats[i, p] = out_f[i]
@@ -421,13 +440,7 @@ class Classified:
         return np.array([label(c, k) for c, k in zip(self.code, self.period)], dtype=str)
 
 
-def label(code, period):
-    """Name of attractor ``code`` (of ``ATTRACTORS``): f"period-{period}" for code 0."""
-    code = int(code)
-    return f"period-{int(period)}" if code == PERIOD else ATTRACTORS[code]
-
-
-def classify(C, Y0, n_keep, transient, *, follow=False, row_len=None):
+def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     """Run and classify one batch: rows of C (:func:`symvi.flow.compiled.constants`, one
     model size) from the start points Y0 (m, 2N), in one compiled serial loop.
 
@@ -463,3 +476,30 @@ def classify(C, Y0, n_keep, transient, *, follow=False, row_len=None):
                     floats, stop, y_end, followed)
     return Classified(code, period, impacts, floats[0], floats[1], floats[2], floats[3], stop,
                       y_end, followed)
+
+
+def classify_section(section, t, omega, logs, *, max_period=Q_MAX, tol=TOL_CLOSED,
+                     lyap_min=LYAP_MIN):
+    """:func:`_judge` on the stored points of a completed run: (code, k, q, rotation).
+
+    ``logs``: per-step log |DP v| of the largest exponent over the last points (any
+    number, none to skip the chaos test)."""
+    sec = np.ascontiguousarray(section, dtype=np.float64)
+    n, dim = sec.shape
+    if n < MIN_KEPT:
+        raise ParameterError("section", n, f"at least {MIN_KEPT} points")
+    rot = np.empty(1)
+    cd, k, q = _judge(sec, np.ascontiguousarray(t, dtype=np.float64),
+                      np.ascontiguousarray(logs, dtype=np.float64), n, dim, float(omega),
+                      int(max_period), float(tol), float(lyap_min),
+                      np.empty((n, dim)), np.empty(n), rot)
+    return int(cd), int(k), int(q), float(rot[0])
+
+
+def period_of(section, max_period=64, tol=TOL_CLOSED):
+    """Smallest q (impacts) after which the points repeat, by the one detector
+    :func:`_period`, or None."""
+    sec = np.ascontiguousarray(section, dtype=np.float64)
+    n, dim = sec.shape
+    q, _ = _period(sec, np.empty(0), n, dim, 0.0, int(max_period), float(tol))
+    return int(q) if q > 0 else None
