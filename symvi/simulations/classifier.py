@@ -33,18 +33,23 @@ one reused (n_keep, 2N) buffer, then:
   period k = round(omega (t_j - t_{j-q}) / 2 pi) >= 1 forcing periods, q impacts,
   code "period".  A periodic orbit of more than Qmax impacts is reported as what
   it looks like (a circle, with a clearly negative lyapunov).
-* otherwise the last half of the kept record is judged (the first half counts as
-  more transient: next to a Neimark-Sacker point a run from the unstable focus
-  spirals out for thousands of impacts before it settles on the circle).
-* chaos when the mean of log |DP v| over that half exceeds max(b, 0) (the radial
-  growth rate of the points below, per impact) by more than max(2.5 / m, 1e-3), m
-  the number of those logs (above the O(1 / m) bias of a finite mean on a
-  quasi-periodic attractor).  On a spiral out of a focus of multipliers
-  rho e^{+-i theta} the tangent grows as the radius, both as rho^j: the exponent is
-  the spiral's, not chaos.  (Example 1 at omega = 0.738: log rho = 2.85e-3 for the
-  first ~2500 impacts, then a circle, exponent 0 +- 5e-4;
+* otherwise the last half of the kept record is judged, the first counting as more
+  transient; when that half is still settling (its radial trend below grows or
+  shrinks by e or more, |b| m > 1, or the mean of log |DP v| over the first and the
+  last half of the logs differ by more than half the chaos threshold below) only the
+  last quarter (at least 64 points): next to a Neimark-Sacker point a run from the
+  unstable focus spirals out for thousands of impacts before it settles on the
+  circle, and a circle still approached by 1e-3 of its radius already looks doubled
+  to the loop test below at a thousand points.
+* chaos when the mean of log |DP v| over the last half of the logs exceeds max(b, 0)
+  (b the radial growth rate per impact of the judged points, below) by more than
+  max(2.5 / m, 1e-3), m the number of those logs (above the O(1 / m) bias of a
+  finite mean on a quasi-periodic attractor).  On a spiral out of a focus of
+  multipliers rho e^{+-i theta} the tangent grows as the radius, both as rho^j: the
+  exponent is the spiral's, not chaos.  (Example 1 at omega = 0.738: log rho =
+  2.85e-3 for the first ~2500 impacts, then a circle, exponent 0 +- 5e-4;
   tests/simulate/test_classifier.py.)
-* else quasi-periodic: those points, tau recentred about its circular mean and
+* else quasi-periodic: the judged points, tau recentred about its circular mean and
   wrapped to (-pi, pi], taken about their centre with a geometric radial trend
   removed: r_j = |y_j - centre| ~ exp(a + b j) fitted by least squares on log r_j
   and the points scaled by exp(-b j) about the centre, the centre being the mean
@@ -337,19 +342,29 @@ def _judge(sec, times, glog, n, dim, omega, qmax, tol, lyap_min, pts, ang, out_f
             _plane(sec, 0, n, dim, pts, ang)
             out_f[0] = _rotation(ang, n)
         return PERIOD, k, q
-    j0 = n // 2                                   # the last half: the first is transient
-    m = n - j0
-    b = _plane(sec, j0, m, dim, pts, ang)
-    out_f[0] = _rotation(ang, m)
+    m = n - n // 2                                # the last half ...
+    b = _plane(sec, n - m, m, dim, pts, ang)
     nl = glog.shape[0]
-    if nl >= 2:
-        lt = 0.0
-        for j in range(nl // 2, nl):
+    ml = nl - nl // 2
+    lt = 0.0                                      # mean log growth over the last half
+    la = 0.0                                      # ... and over the first
+    for j in range(nl):
+        if j < nl // 2:
+            la += glog[j]
+        else:
             lt += glog[j]
-        ml = nl - nl // 2
-        # a spiral's exponent is its radial growth b: chaos only beyond it
-        if lt / ml - max(b, 0.0) > max(LYAP_BIAS / ml, lyap_min):
-            return CHAOS, 0, 0
+    lt = lt / ml if ml > 0 else 0.0
+    la = la / (nl // 2) if nl >= 2 else lt
+    thr = max(LYAP_BIAS / max(ml, 1), lyap_min)
+    if abs(b) * m > 1.0 or abs(la - lt) > 0.5 * thr:
+        # ... or, still settling (growing by e or more, or an exponent not yet steady),
+        # the last quarter
+        m = max(n // 4, min(n, W_MIN))
+        b = _plane(sec, n - m, m, dim, pts, ang)
+    out_f[0] = _rotation(ang, m)
+    # a spiral's exponent is its radial growth b: chaos only beyond it
+    if nl >= 2 and lt - max(b, 0.0) > thr:
+        return CHAOS, 0, 0
     ratio = _loop_length(pts, ang, m, dim) / _loop_length(pts, ang, m // 2, dim)
     return (CIRCLE if ratio < RATIO_CIRCLE else DOUBLED), 0, 0
 
