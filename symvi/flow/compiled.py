@@ -32,9 +32,9 @@ Kernels take the constants of one (model, omega) as one float64 array made by
 :func:`constants` (complex numbers as (re, im) pairs); section points are 2N
 vectors in the layout of :mod:`symvi.maps.section`.  This module owns the one
 run loop (:func:`_run_into`: simulate, sweep, the plane and the classifier share it,
-the tangent map and the escape test chosen by its arguments), and the statuses, stop
-codes and chatter thresholds of every compiled run.  The paper's model (:class:`symvi.Params`) runs
-here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
+the tangent map and the escape test chosen by its arguments), and the statuses,
+stop codes and chatter thresholds of every compiled run.  The paper's model
+(:class:`symvi.Params`) runs here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
 paper's (x1dot+, x20, x20dot, tau0), eq. (9).
 """
 import math
@@ -576,7 +576,6 @@ def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
             return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0
         ok = True
         for i in range(dim):
-            # not (|y| <= y_max) also catches NaN
             ok = ok and math.isfinite(y[i]) and abs(y[i]) <= y_max
         nv = 1.0
         if tangent:
