@@ -93,7 +93,7 @@ import numba as nb
 import numpy as np
 
 from ..errors import ParameterError
-from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING, STOP_NAMES,
+from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING,
                              STOP_NO_IMPACT, STOP_STICKING, _run_into)
 
 __all__ = ["ATTRACTORS", "KINDS", "FIELDS", "Classified", "classify_runs", "label", "kind",
