@@ -16,7 +16,7 @@ Each shim is two lines::
 import importlib
 import warnings
 
-__all__ = ["moved"]
+__all__ = ["moved", "moved_names", "moved_call"]
 
 
 def moved(old, new):
@@ -45,3 +45,23 @@ def moved(old, new):
         return sorted(dir(importlib.import_module(new)))
 
     return __getattr__, __dir__
+
+
+def moved_names(old, new, names):
+    """The module-level ``__getattr__`` of a module that stays, for the ``names`` that moved
+    from it to ``new``: each warns (DeprecationWarning naming ``new``) and is ``new``'s."""
+    def __getattr__(name):
+        if name not in names:
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
+        warnings.warn(f"{old}.{name} is deprecated; import it from {new}; the old name will "
+                      "be removed in the next release", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(new), name)
+    return __getattr__
+
+
+def moved_call(what, new, name):
+    """``new.name``, after a DeprecationWarning saying that ``what`` is now that function
+    (a keyword or a use that moved to a module of a higher layer, for one release)."""
+    warnings.warn(f"{what} is deprecated; call {new}.{name}; the old form will be removed in "
+                  "the next release", DeprecationWarning, stacklevel=3)
+    return getattr(importlib.import_module(new), name)
