@@ -32,10 +32,11 @@ as the reference (smaller steps) would land on it.
 
 Kernels take the constants of one (model, omega) as one float64 array made by
 :func:`constants` (complex numbers as (re, im) pairs); section points are 2N
-vectors in the layout of :mod:`symvi.maps.section`.  This module owns the
-statuses, stop codes and chatter thresholds of every compiled run (the plane
-kernel imports them from here).  The paper's model (:class:`symvi.Params`) runs
-here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
+vectors in the layout of :mod:`symvi.maps.section`.  This module owns the one
+run loop (:func:`_run_into`: simulate, sweep, the plane and the classifier share it,
+the tangent map and the escape test chosen by its arguments), and the statuses,
+stop codes and chatter thresholds of every compiled run.  The paper's model
+(:class:`symvi.Params`) runs here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
 paper's (x1dot+, x20, x20dot, tau0), eq. (9).
 """
 import math
@@ -595,32 +596,67 @@ def jacobian_tangent(c, y):
 
 
 @nb.njit(cache=True)
-def _run_into(c, y0, n_keep, transient, sec, times, vimp):
-    """Iterate P from y0: drop ``transient`` images, store the next ``n_keep``.
+def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
+    """The run loop: iterate P from y (in place), drop ``transient`` images, store the
+    next ``n_keep``: section points, cumulative times (transient included), v_k-.
 
-    Returns (stop code, number stored, total finder steps).  Times are
-    cumulative from the start, transient included.
+    Optional, chosen by the arguments (one body for every caller):
+
+    * tangent map: when ``v`` is not empty, v <- DP v / |DP v| at every step (from the
+      caller's v) and log |DP v| of each kept step into ``glog`` (the largest Lyapunov
+      exponent is their mean);
+    * escape test: a state with |y_i| > ``y_max`` (inf: off) stops the run as
+      non-finite.
+
+    Stops as the module docstring says (no impact, grazing, sticking, chatter,
+    non-finite); on a stop y is left at the last section point accepted.  Returns
+    (stop code, number stored, total finder steps, time at the start of the kept steps).
     """
     n = int(c[_NN])
     dim = 2 * n
-    y = y0[:dim].copy()
+    tangent = v.shape[0] > 0
     cc, d, e, z = np.empty(4 * n), np.empty(24 * n), np.empty(4 * n + 2), np.empty(dim)
+    w = np.empty(2 * dim)
+    y_prev = np.empty(dim)
     T = 0.0
+    T0 = 0.0
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
     steps = 0
     for k in range(transient + n_keep):
+        kept = k - transient
+        if kept == 0:
+            T0 = T
+        for i in range(dim):
+            y_prev[i] = y[i]
+        tau = y[dim - 1]
         st, te, vm, acc, ns = _step_into(c, y, cc, d, e, z)
         steps += ns
-        kept = k - transient
-        if st == NO_IMPACT:
-            return STOP_NO_IMPACT, max(kept, 0), steps
-        if st == GRAZING:
+        if st != IMPACT:
+            for i in range(dim):
+                y[i] = y_prev[i]
+            if st == NO_IMPACT:
+                return STOP_NO_IMPACT, max(kept, 0), steps, T0
             # x_k'' > 0 at a contact with ~zero speed: the stop holds the mass
-            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps
+            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0
+        ok = True
         for i in range(dim):
-            if not math.isfinite(y[i]):
-                return STOP_NONFINITE, max(kept, 0), steps
+            ok = ok and math.isfinite(y[i]) and abs(y[i]) <= y_max
+        nv = 1.0
+        if tangent:
+            _tangent(c, tau, v, cc, e, z, w)
+            nv = 0.0
+            for i in range(dim):
+                nv += v[i] * v[i]
+            nv = math.sqrt(nv)
+            ok = ok and math.isfinite(nv) and nv > 0.0
+        if not ok:
+            for i in range(dim):
+                y[i] = y_prev[i]
+            return STOP_NONFINITE, max(kept, 0), steps, T0
+        if tangent:
+            for i in range(dim):
+                v[i] /= nv
         T += te
         short = short + 1 if te < t_chat else 0
         if kept >= 0:
@@ -628,9 +664,14 @@ def _run_into(c, y0, n_keep, transient, sec, times, vimp):
                 sec[kept, i] = y[i]
             times[kept] = T
             vimp[kept] = vm
+            if tangent:
+                glog[kept] = math.log(nv)
         if short >= CHATTER_COUNT:
-            return STOP_CHATTER, max(kept + 1, 0), steps
-    return COMPLETED, n_keep, steps
+            return STOP_CHATTER, max(kept + 1, 0), steps, T0
+    return COMPLETED, n_keep, steps, T0
+
+
+_NONE = np.empty(0)
 
 
 def run(c, y0, n_keep, transient=0):
@@ -640,16 +681,19 @@ def run(c, y0, n_keep, transient=0):
     sec = np.empty((n_keep, dim))
     times = np.empty(n_keep)
     vimp = np.empty(n_keep)
-    code, k, steps = _run_into(c, np.ascontiguousarray(y0, dtype=np.float64), n_keep, transient,
-                               sec, times, vimp)
+    y = np.array(np.asarray(y0, dtype=np.float64)[:dim])
+    code, k, steps, _ = _run_into(c, y, n_keep, transient, sec, times, vimp, _NONE, _NONE,
+                                  np.inf)
     return code, sec[:k], times[:k], vimp[:k], steps
 
 
 @nb.njit(cache=True, parallel=True)
 def _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps):
+    none = np.empty(0)
     for i in nb.prange(C.shape[0]):
-        codes[i], counts[i], steps[i] = _run_into(C[i], Y0[i], n_keep, transient,
-                                                  sec[i], times[i], vimp[i])
+        y = Y0[i, :2 * int(C[i, _NN])].copy()
+        codes[i], counts[i], steps[i], _ = _run_into(C[i], y, n_keep, transient, sec[i],
+                                                     times[i], vimp[i], none, none, np.inf)
 
 
 def run_batch(C, Y0, n_keep, transient=0):
