@@ -19,14 +19,14 @@ def _sig(*types):
 ORBIT = [
     ("symvi.flow._steady", "_steady", _sig(_F2, _F2, _F2, _F1, _F), 1.8),
     ("symvi.orbits._period1", "period1",
-     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F, _F, _F, _F, _F, _F, "boolean"), 8.5),
+     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F, _F1, _F1, _F, _F, "boolean"), 8.5),
     ("symvi.flow.compiled", "_offsets", _sig("int64"), 0.1),
     ("symvi.flow.compiled", "_first_impact_from", _sig(_F1, _F1, _F), 3.2),
 ]
 #: the Hopf scan: the orbits, the located crossings (shooting) and the order-3 jets
 HOPF = ORBIT + [
     ("symvi.orbits._shooting", "shoot",
-     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F, _F, "int64", _F1, "int64",
+     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F1, "int64", _F1, "int64",
           "boolean", "boolean"), 2.0),
     ("symvi.orbits._shooting", "monodromy", _sig(_F2, "int64", "int64"), 0.3),
     ("symvi.codegen._assemble", "assemble64",
