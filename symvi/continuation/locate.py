@@ -15,10 +15,11 @@ import numpy as np
 from ..errors import SymviError
 from ..orbits.periodic import Problem
 from .engine import tangent
+from .result import LOCATED_AS
 from .special import Codim1Tracker
 
-#: what a sign change of hopf_points' scan is, as a kind of special point
-KINDS = {"ns": "ns", "multiplier-1": "flip", "multiplier+1": "branch-point"}
+#: what a sign change of hopf_points' scan is, as a kind of special point (one vocabulary)
+KINDS = LOCATED_AS
 
 
 def _point(orbit, tau_near=None):

@@ -11,6 +11,7 @@ from .engine import CORR_TOL as CORR_TOL  # noqa: F401
 from .engine import correct as correct  # noqa: F401
 from .engine import root_on_arc as root_on_arc  # noqa: F401
 from .engine import tangent as tangent  # noqa: F401
+from .result import Located, Result
 
 
 @dataclass(frozen=True)
@@ -43,9 +44,10 @@ class BranchPoint:
 
 
 @dataclass(frozen=True)
-class SpecialPoint:
-    """A located special point: ``kind`` is fold, flip, ns, grazing, admissibility,
-    or R3/R4 (strong resonance); ``coefficients`` its normal-form numbers."""
+class SpecialPoint(Located):
+    """A located special point: ``kind`` is fold, flip, ns, branch-point, grazing,
+    admissibility, unlocated, or R3/R4 (strong resonance), of the one vocabulary
+    :data:`symvi.continuation.result.EVENT_KINDS`; ``coefficients`` its normal-form numbers."""
 
     kind: str
     value: float
@@ -65,9 +67,9 @@ class SpecialPoint:
 
 
 @dataclass(frozen=True)
-class Branch:
+class Branch(Result):
     """A continued branch of n-p orbits: points in arclength order, special points
-    located on it, and why it ended."""
+    located on it, and why it ended (a :class:`symvi.continuation.result.Result`)."""
 
     param: str
     n: int
@@ -80,8 +82,9 @@ class Branch:
     states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
     bounds: tuple = (None, None)
 
-    def __len__(self):
-        return len(self.points)
+    @property
+    def stop_reasons(self):
+        return (self.end,)
 
     @property
     def values(self):

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..continuation import engine
 from ..continuation.engine import Client, correct, tangent
+from ..continuation.result import Result
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
@@ -38,8 +39,9 @@ BORDER_EVERY = 8
 
 
 @dataclass(frozen=True)
-class Curve:
-    """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names``."""
+class Curve(Result):
+    """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names`` (a
+    :class:`symvi.continuation.result.Result`: ``ends`` are its stop reasons)."""
 
     kind: str
     names: tuple
@@ -54,8 +56,9 @@ class Curve:
     states: tuple = field(repr=False, default=())
     model: object = field(repr=False, default=None)
 
-    def __len__(self):
-        return len(self.points)
+    @property
+    def stop_reasons(self):
+        return tuple(self.ends)
 
     def values(self, name):
         return np.array([pt.params[name] for pt in self.points])
