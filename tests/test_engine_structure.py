@@ -51,11 +51,12 @@ def test_one_corrector_locator_and_tracker():
         for n in tree.body:                      # module level (Model.tangent is a method)
             if isinstance(n, (ast.FunctionDef, ast.ClassDef)) and n.name in (
                     "correct", "chord", "tangent", "root_on_arc", "sign_change", "Tracker",
-                    "_to_bound", "_chord", "_factor", "_sign_change"):
+                    "_to_bound", "_chord", "_factor", "_sign_change", "interpolated_root",
+                    "_interpolated_root"):
                 defs[n.name].append(rel)
     expected = {name: ["symvi/continuation/engine.py"] for name in
                 ("correct", "chord", "tangent", "root_on_arc", "sign_change", "Tracker",
-                 "_to_bound", "_factor")}
+                 "_to_bound", "_factor", "interpolated_root")}
     assert dict(defs) == expected
     # every other tracker is a client of the one Tracker
     trackers = [(rel, n) for rel, tree in TREES.items() for n in ast.walk(tree)

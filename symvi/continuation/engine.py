@@ -25,12 +25,15 @@ would leave it lands on the bound crossed (the point solved with that parameter 
 Events: a client's :class:`Tracker` evaluates its test functions at each accepted point;
 a sign change between two points (:func:`sign_change`) brackets an event, located by
 Brent's method in the arclength s (:func:`root_on_arc`), each trial point corrected on the
-hyperplane t_a . (X - X_a) = s.
+hyperplane t_a . (X - X_a) = s; at a branch point, where that corrector is singular, from a
+Chebyshev interpolant of corrected nodes of the bracket (:func:`interpolated_root`).
 
 References: H. B. Keller, Numerical solution of bifurcation and nonlinear eigenvalue
 problems, in Applications of Bifurcation Theory (1977); Yu. A. Kuznetsov, Elements of
 Applied Bifurcation Theory, 3rd ed. (2004).
 """
+import math
+
 import numpy as np
 
 from ..errors import SymviError
@@ -146,6 +149,42 @@ def root_on_arc(problem, f, Xa, ta, Xb):
     if s not in cache:
         g(s)
     return cache[s]
+
+
+def interpolated_root(problem, f, Xa, ta, Xb, nodes=9):
+    """A zero of f(X, G_u) on the arc from Xa to Xb where the corrector is singular (a
+    branch point: [G_u G_lam] has a two-dimensional kernel, so points near it cannot be
+    corrected to full accuracy).  X(s) and f(s) are smooth in the arclength s, so both are
+    interpolated from corrected Chebyshev nodes of the bracket (any failed node dropped)
+    and the root taken from the interpolant.  Returns (X, spread): spread = |root|
+    change when the last node is dropped."""
+    m = problem.size
+    c0 = float(np.dot(ta, Xa))
+    sb = float(np.dot(ta, Xb - Xa))
+    S, F, Xs = [], [], []
+    for k in range(nodes):
+        s = 0.5 * sb * (1 - math.cos(math.pi * (k + 0.5) / nodes))
+        res = correct(problem, Xa + (s / sb) * (Xb - Xa), ta, c0 + s)
+        if res is not None:
+            S.append(s)
+            F.append(f(res[0], res[1]))
+            Xs.append(res[0])
+    if len(S) < 6:
+        raise SymviError(f"only {len(S)} of {nodes} points of the bracket could be corrected")
+    S, F, Xs = np.array(S), np.array(F), np.array(Xs)
+
+    def root(k):
+        P = np.polynomial.Chebyshev.fit(S[:k], F[:k], k - 1, domain=[0, sb])
+        r = [z.real for z in P.roots() if abs(z.imag) < 1e-9 * sb and 0 <= z.real <= sb]
+        if len(r) != 1:
+            raise SymviError(f"the interpolated test function has {len(r)} roots in the "
+                             "bracket")
+        return r[0]
+    s0 = root(len(S))
+    spread = abs(s0 - root(len(S) - 1))
+    X = np.array([np.polynomial.Chebyshev.fit(S, Xs[:, i], len(S) - 1, domain=[0, sb])(s0)
+                  for i in range(m + 1)])
+    return X, spread * abs(float(ta[-1])) + abs(float(np.dot(ta, X)) - c0 - s0)
 
 
 class Tracker:

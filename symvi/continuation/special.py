@@ -34,7 +34,7 @@ from scipy.optimize import minimize_scalar
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .engine import Tracker, correct, sign_change
+from .engine import Tracker, interpolated_root, sign_change
 from .points import SpecialPoint
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
@@ -124,41 +124,6 @@ class Codim1Tracker(Tracker):
     def _root(self, f, Xa, ta, Xb):
         return self.root(f, Xa, ta, Xb)
 
-    def _interpolated_root(self, f, Xa, ta, Xb, nodes=9):
-        """A zero of f(X, Gu) on the arc, for a branch point: there [G_u G_lam] has a
-        two-dimensional kernel and the corrector's bordered matrix is singular, so points
-        near it cannot be corrected to full accuracy.  The branch X(s) and f(s) are smooth
-        in the arclength s, so both are interpolated from corrected Chebyshev nodes of the
-        bracket (any failed node dropped) and the root taken from the interpolant.
-        Returns (X, spread): spread = |root| change when the last node is dropped."""
-        pr, m = self.problem, self.problem.size
-        c0 = float(np.dot(ta, Xa))
-        sb = float(np.dot(ta, Xb - Xa))
-        S, F, Xs = [], [], []
-        for k in range(nodes):
-            s = 0.5 * sb * (1 - math.cos(math.pi * (k + 0.5) / nodes))
-            res = correct(pr, Xa + (s / sb) * (Xb - Xa), ta, c0 + s)
-            if res is not None:
-                S.append(s)
-                F.append(f(res[0], res[1]))
-                Xs.append(res[0])
-        if len(S) < 6:
-            raise SymviError(f"only {len(S)} of {nodes} points of the bracket could be corrected")
-        S, F, Xs = np.array(S), np.array(F), np.array(Xs)
-
-        def root(k):
-            P = np.polynomial.Chebyshev.fit(S[:k], F[:k], k - 1, domain=[0, sb])
-            r = [z.real for z in P.roots() if abs(z.imag) < 1e-9 * sb and 0 <= z.real <= sb]
-            if len(r) != 1:
-                raise SymviError(f"the interpolated test function has {len(r)} roots in the "
-                                 "bracket")
-            return r[0]
-        s0 = root(len(S))
-        spread = abs(s0 - root(len(S) - 1))
-        X = np.array([np.polynomial.Chebyshev.fit(S, Xs[:, i], len(S) - 1, domain=[0, sb])(s0)
-                      for i in range(m + 1)])
-        return X, spread * abs(float(ta[-1])) + abs(float(np.dot(ta, X)) - c0 - s0)
-
     def _orbit(self, X, Gu, admissibility=True):
         m = self.problem.size
         return orbit_of(self.problem, X[:m], X[m], Gu, admissibility=admissibility)
@@ -178,8 +143,8 @@ class Codim1Tracker(Tracker):
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
                                 "<p,q> = 1)" + note, index)
         if kind == "branch-point":
-            X, spread = self._interpolated_root(lambda X, Gu: self._mu_prod(X, Gu, -1),
-                                                Xa, ta, Xb)
+            X, spread = interpolated_root(self.problem, lambda X, Gu: self._mu_prod(X, Gu, -1),
+                                          Xa, ta, Xb)
             orbit = self._orbit(X, None)
             Gu = pr.evaluate(X[:m], X[m])[1]
             e = real_critical(self._mono(X, Gu), 1.0)
