@@ -1,4 +1,8 @@
-"""Continuation of n-p orbits in any named parameter, with their special points located."""
+"""Continuation of n-p orbits in any named parameter, with their special points located:
+one pseudo-arclength engine (:mod:`symvi.continuation.engine`), one result family and one
+event vocabulary (:mod:`symvi.continuation.result`)."""
+from .result import EVENT_KINDS as EVENT_KINDS
+from .result import Result as Result
 from .points import Branch as Branch
 from .points import BranchPoint as BranchPoint
 from .points import SpecialPoint as SpecialPoint
