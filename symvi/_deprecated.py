@@ -45,3 +45,17 @@ def moved(old, new):
         return sorted(dir(importlib.import_module(new)))
 
     return __getattr__, __dir__
+
+
+def moved_names(old, names):
+    """The module-level ``__getattr__`` of a module ``old`` whose names moved: ``names``
+    maps an old name to "new.module:new_name"; reading it warns (DeprecationWarning naming
+    the new path) and returns the new object."""
+    def __getattr__(name):
+        if name not in names:
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
+        module, new = names[name].split(":")
+        warnings.warn(f"{old}.{name} is deprecated; use {module}.{new} instead; the old name "
+                      "will be removed in the next release", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(module), new)
+    return __getattr__

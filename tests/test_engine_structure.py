@@ -64,7 +64,9 @@ def test_one_corrector_locator_and_tracker():
                 and n.name != "Tracker"]
     assert trackers
     for rel, n in trackers:
-        assert any(isinstance(b, ast.Name) and b.id == "Tracker" for b in n.bases), (rel, n.name)
+        assert any((isinstance(b, ast.Name) and b.id == "Tracker") or
+                   (isinstance(b, ast.Attribute) and b.attr == "Tracker") for b in n.bases), \
+            (rel, n.name)
 
 
 def test_one_turning_angle_limit():
@@ -103,6 +105,18 @@ def test_every_event_kind_written_in_symvi_is_in_the_vocabulary():
     bad = sorted(s for s in seen if s[1] not in EVENT_KINDS)
     assert not bad, bad
     assert all(k in EVENT_KINDS for ks in TESTS.values() for k in ks)
+
+
+def test_old_names_warn_and_name_the_new_ones():
+    import importlib
+
+    import pytest
+    for old, name, new in (("symvi.continuation.branch", "MIN_COS", "engine.MIN_COS"),
+                           ("symvi.curves.curve", "CURVE_MIN_COS", "engine.MIN_COS"),
+                           ("symvi.continuation.special", "Tracker", "Codim1Tracker"),
+                           ("symvi.curves.special", "Tracker", "Codim2Tracker")):
+        with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
+            getattr(importlib.import_module(old), name)
 
 
 def test_a_kind_outside_the_vocabulary_is_refused():

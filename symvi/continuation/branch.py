@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.linear import RESONANCE_CUT, LinearFlow
 from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
@@ -293,3 +294,7 @@ def diagram_branches(system, omega_min, omega_max, component=0):
     brs = period1_branches(Model.of(system), omega_min, omega_max)
     return ([b.curve(component) for b in brs],
             [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special])
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, {"MIN_COS": "symvi.continuation.engine:MIN_COS"})

@@ -31,10 +31,12 @@ import warnings
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from .._deprecated import moved_names as _moved_names
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .engine import Tracker, interpolated_root, sign_change
+from . import engine
+from .engine import interpolated_root, sign_change
 from .points import SpecialPoint
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
@@ -49,7 +51,7 @@ def _pairs(n):
     return np.triu_indices(n, 1)
 
 
-class Codim1Tracker(Tracker):
+class Codim1Tracker(engine.Tracker):
     """The codimension-one test functions of a branch, and the location of their zeros."""
 
     def __init__(self, problem, coefficients=True):
@@ -315,3 +317,7 @@ def _unit_circle_resonance(mu, m):
     if not on:
         return None
     return float(np.prod([(z ** m).imag for z in on]))
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, {"Tracker": "symvi.continuation.special:Codim1Tracker"})

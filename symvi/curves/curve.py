@@ -24,6 +24,7 @@ import numpy as np
 from ..continuation import engine
 from ..continuation.engine import Client, correct, tangent
 from ..continuation.result import Result
+from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
@@ -373,3 +374,8 @@ def _join(halves):
 
 def _reindex(sp, i):
     return Codim2Point(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, i)
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, {"CURVE_MIN_COS": "symvi.continuation.engine:MIN_COS",
+                             "CHORD_MAXIT": "symvi.continuation.engine:CHORD_MAXIT"})

@@ -22,7 +22,9 @@ is located the same way.  Normal-form coefficients come from :mod:`symvi.normal_
 """
 import numpy as np
 
-from ..continuation.engine import Tracker, sign_change
+from ..continuation import engine
+from ..continuation.engine import sign_change
+from .._deprecated import moved_names as _moved_names
 from ..errors import SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import orbit_of
@@ -53,7 +55,7 @@ def _pair_prod(z):
     return float(np.prod(z[iu[0]] * z[iu[1]] - 1).real)
 
 
-class Codim2Tracker(Tracker):
+class Codim2Tracker(engine.Tracker):
     """The codimension-two test functions along a curve, and the location of their zeros."""
 
     # ---- test functions -----------------------------------------------------------
@@ -276,3 +278,7 @@ def _scalars(res):
         if isinstance(v, (bool, int, float, complex, str, np.number)):
             out[f.name] = complex(v) if isinstance(v, (complex, np.complexfloating)) else v
     return out
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, {"Tracker": "symvi.curves.special:Codim2Tracker"})
