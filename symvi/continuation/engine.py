@@ -276,6 +276,9 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
     point at X when the client has it already."""
     lo, hi = np.atleast_1d(np.asarray(lo, float)), np.atleast_1d(np.asarray(hi, float))
     k = len(lo)
+    # the box as Python floats: tested at every step, cheaper than numpy on 1-2 entries
+    box = list(zip(lo.tolist(), hi.tolist()))
+    near = [(1e-12 * (1 + abs(a)), 1e-12 * (1 + abs(b))) for a, b in box]
     m = len(X) - k                         # X = (u, parameters); the last k are boxed
     h_min = 1e-9 * float(np.min(hi - lo))
     nominal = NOMINAL_ITS[bool(chord_first)]
@@ -293,7 +296,7 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
     end, lu = "", None
     while len(points) < max_points:
         Xp = X + h * t
-        if np.any((Xp[m:] < lo) | (Xp[m:] > hi)):
+        if any(v < a or v > b for v, (a, b) in zip(Xp[m:].tolist(), box)):
             res, landed = _to_bound(system, client, X, t, h, lo, hi)
             if res is None:
                 h /= 2
@@ -357,8 +360,8 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
         if landed:
             end = landed
             break
-        on = [j for j in range(k) for b in (lo[j], hi[j])
-              if abs(X[m + j] - b) <= 1e-12 * (1 + abs(b))]
+        on = [j for j, v in enumerate(X[m:].tolist())
+              if abs(v - box[j][0]) <= near[j][0] or abs(v - box[j][1]) <= near[j][1]]
         if on:
             end = f"reached {client.names[on[0]]} = {X[m + on[0]]:.12g}"
             break
