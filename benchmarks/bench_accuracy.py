@@ -5,7 +5,7 @@
 
 Methods, each run as a whole chain (params, interval) -> (v_c, d|lambda1|/dv, l1):
 
-* ``symvi-f64``: generated float64 jets (symvi.jets) + symvi.normal_form; v_c by a
+* ``symvi-f64``: generated float64 jets (symvi.paper.jets) + symvi.normal_form; v_c by a
   scan of |lambda1| - 1 over the interval and a safeguarded Newton step with
   d|lambda1|/dv from F11 (eq. A3).  When symvi.hopf lands, ``symvi.hopf.hopf_points``
   is used instead (the table says which).
@@ -48,10 +48,10 @@ from symvi._backend import FLOAT, MP
 from symvi._io import write_text
 from symvi.analysis import precision
 from symvi.errors import NearSingularWarning, SymviError
-from symvi.jets import eigenvalues, jet
+from symvi.paper.jets import eigenvalues, jet
 from symvi.normal_forms import normal_form as nf
 from symvi.paper import modal_map as poincare
-from symvi.params import modal
+from symvi.paper.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -580,7 +580,7 @@ def write_md(rows, refs, stages, path, cmd, speed):
          "(scan of the interval, root, coefficients).", ""]
     hopf = _hopf_api()
     L.append("symvi-f64 / symvi-mpD: one algorithm at each precision (scan of 16 points, "
-             "safeguarded Newton with d|λ1|/dv from F11, then the order-3 jet; symvi.jets + "
+             "safeguarded Newton with d|λ1|/dv from F11, then the order-3 jet; symvi.paper.jets + "
              "symvi.normal_form). " + ("symvi.hopf_points: the library's own float64 search "
              "(certified scan of both branches + Brent + full normal form)." if hopf else
              "symvi.hopf was not available at run time."))

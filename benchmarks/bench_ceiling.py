@@ -33,13 +33,15 @@ import mpmath
 import numba as nb
 import numpy as np
 
-from symvi import Model, flow, jets, orbit
+from symvi import Model
+from symvi.paper import modal_flow as flow
+from symvi.paper import jets, orbit
 from symvi._backend import MP
 from symvi._compiled import f64_kernel
 from symvi._io import write_text
 from symvi.flow import compiled
 from symvi.normal_forms import normal_form as nf
-from symvi.params import modal
+from symvi.paper.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)

@@ -7,7 +7,7 @@ both alike.  Prints the medians, minima and the median of the per-round ratios.
 """
 import time, statistics, math
 import symvi
-from symvi import _paper_eval as pe
+from symvi.paper import _eval as pe
 from symvi.codegen.jets import evaluate
 from symvi.flow.linear import LinearFlow
 from symvi.model import Model

@@ -14,9 +14,9 @@ import warnings
 
 from symvi import Params
 from symvi.analysis.hopf import hopf_points
-from symvi.jets import jet
+from symvi.paper.jets import jet
 from symvi.normal_forms.normal_form import normal_form
-from symvi.orbit import period1_orbits
+from symvi.paper.orbit import period1_orbits
 from symvi.studies.mpcheck import chain_a, chain_b
 
 EX1 = Params(2, 5, 0, 1.5, 0.8)

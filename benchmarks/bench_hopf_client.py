@@ -9,7 +9,7 @@ import sys, time, warnings, statistics
 warnings.simplefilter("ignore")
 from symvi.analysis.hopf import hopf_points
 from symvi.model import Model
-from symvi.params import Params
+from symvi.paper.params import Params
 P = Params(2, 5, 0, 1.5, 0.8); M = Model.luo_xie(2, 5, 0, 1.5, 0.8)
 out = []
 for x in (P, M):

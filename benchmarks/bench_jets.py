@@ -18,8 +18,8 @@ HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE.parent))
 
 import symvi  # noqa: E402
-from symvi import _paper_eval as pe  # noqa: E402
-from symvi import jets  # noqa: E402
+from symvi.paper import _eval as pe  # noqa: E402
+from symvi.paper import jets  # noqa: E402
 from symvi.codegen.jets import fixed_point_motion  # noqa: E402
 from symvi._io import write_text  # noqa: E402
 from symvi.paper.modal_map import fd_jacobian  # noqa: E402
@@ -138,7 +138,7 @@ def main():
           f"{r['jet_at_orbit'] / r['paper_jet']:.2f}×", us(r["jet_full"]),
           f"{r['mp50'] * 1e3:.1f} ms", f"{r['mp50'] / r['jet_full']:.0f}×"]
          for K, r in res.items()])
-    lines += ["", "Compiled evaluators (`symvi.jets.compiled(K)`: the same generated code "
+    lines += ["", "Compiled evaluators (`symvi.paper.jets.compiled(K)`: the same generated code "
               "compiled by numba):", ""]
     lines += md_table(
         ["order", "Python `f64` call", "compiled kernel called from Python",

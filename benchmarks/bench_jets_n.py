@@ -92,7 +92,7 @@ def main():
                  f"{t_k * 1e6:.2f} µs (first compile {t_comp:.0f} s, then cached)", "<= 5 µs"))
     # the paper: its own modal chain (the oracle since issue 11; symvi's Params path before
     # it) as the baseline, against Params on the N = 2 structure, same run
-    from symvi import _paper_eval as pe
+    from symvi.paper import _eval as pe
     from symvi.codegen.jets import fixed_point_motion
     from symvi.paper import modal_orbit
     p = symvi.Params(2, 5, 0, 1.5, 0.8)

@@ -26,7 +26,7 @@ import mpmath
 import numpy as np
 
 import symvi
-from symvi import jets
+from symvi.paper import jets
 from symvi._io import write_text
 from symvi.analysis import hopf
 from symvi.analysis import precision as pr

@@ -12,16 +12,13 @@ from .errors import SymviError as SymviError
 from .model import Model as Model
 from .model import Stop as Stop
 from .model import load_model as load_model
-from .orbit import Orbit as Orbit
-from .orbit import period1_orbits as period1_orbits
-from .params import Params as Params
-from .params import modal as modal
-from .poincare import poincare_map as poincare_map
+from .paper.params import Params as Params
+from .paper.params import modal as modal
 
 __version__ = "0.1.0"
 
-_LAZY = {"jet": "jets", "Jet": "jets", "hopf_points": "analysis.hopf",
-         "simulate": "simulations.simulation"}
+_LAZY = {"jet": "paper.jets", "Jet": "paper.jets", "hopf_points": "paper.hopf",
+         "simulate": "simulations.simulation", "poincare_map": "maps.impact", "Orbit": "orbits", "period1_orbits": "paper.orbit"}
 
 
 def __getattr__(name):

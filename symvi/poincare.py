@@ -1,25 +1,21 @@
-"""The Poincaré map P of the paper's model or of any model, eq. (31): one owner,
-:mod:`symvi.maps.impact`; a :class:`symvi.Params` runs as ``Model.luo_xie``.
+"""Deprecated: ``poincare_map`` is :func:`symvi.maps.impact.poincare_map` (also
+``symvi.poincare_map``); ``step``, ``MapStep`` and ``fd_jacobian`` (the paper's modal map,
+the oracle) are in :mod:`symvi.paper.modal_map`.  This path warns and is removed in the
+next release (issue 24)."""
+import importlib
+import warnings
 
-``step``, ``MapStep`` and ``fd_jacobian`` (the paper's modal map and its finite
-differences) keep their import path here; they live in :mod:`symvi.paper.modal_map`,
-the independent oracle.
-"""
-_ORACLE = ("MapStep", "fd_jacobian", "step")
-
-
-def poincare_map(system, omega, y, *, digits=None):
-    """P(y; omega), eq. (31), of a :class:`symvi.Params` or :class:`symvi.Model`, on float64
-    or (``digits``) mpmath: :func:`symvi.maps.impact.poincare_map`.  Raises nothing for a
-    flight that grazes or never returns; inspect ``MapStep.status``."""
-    from .maps.impact import poincare_map as impact_map    # numba: not on import symvi
-    from .model import Model
-    return impact_map(Model.of(system), omega, y, digits=digits)
+_HOME = {"poincare_map": "symvi.maps.impact", "step": "symvi.paper.modal_map",
+         "MapStep": "symvi.paper.modal_map", "fd_jacobian": "symvi.paper.modal_map"}
 
 
 def __getattr__(name):
-    # the oracle's published names, imported only when asked for (off the production path)
-    if name in _ORACLE:
-        from .paper import modal_map
-        return getattr(modal_map, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    if name not in _HOME:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    warnings.warn(f"symvi.poincare is deprecated; import {name} from {_HOME[name]}; the old "
+                  "path will be removed in the next release", DeprecationWarning, stacklevel=2)
+    return getattr(importlib.import_module(_HOME[name]), name)
+
+
+def __dir__():
+    return sorted(_HOME)

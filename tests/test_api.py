@@ -34,16 +34,14 @@ def test_model_api_is_public_and_import_stays_light():
 def test_poincare_map_of_params_is_the_any_model_map_held_to_the_modal_oracle():
     """symvi.poincare_map(Params) runs maps.impact on Model.luo_xie (one owner of the map,
     issue 11); the paper's modal map (symvi.paper.modal_map) agrees with it, and the old
-    names symvi.poincare.step / MapStep / fd_jacobian still load that oracle."""
+    old names of symvi.poincare are held in tests/test_deprecated_paths.py."""
     import pytest
 
     import symvi
     from symvi.errors import ParameterError
     from symvi.maps.impact import poincare_map as impact_map
     from symvi.paper import modal_map
-    from symvi.poincare import MapStep, fd_jacobian, step  # noqa: F401
     p = symvi.Params(2, 5, 0, 1.5, 0.8)
-    assert step is modal_map.step and fd_jacobian is modal_map.fd_jacobian
     y = (-0.4, 0.3, 0.2, 1.0)
     got = symvi.poincare_map(p, 0.74, y)
     same = impact_map(symvi.Model.luo_xie(2, 5, 0, 1.5, 0.8), 0.74, y)

@@ -113,7 +113,7 @@ def test_old_names_are_the_shared_values():
     """The old module-level names stay importable, as the shared values."""
     t = tolerances
     same = {
-        "symvi.params": {"RESONANCE_REFUSE": t.FORCING_RESONANCE_REFUSE,
+        "symvi.paper.params": {"RESONANCE_REFUSE": t.FORCING_RESONANCE_REFUSE,
                          "RESONANCE_WARN": t.FORCING_RESONANCE_WARN,
                          "ABS_MAX": t.ABS_MAX, "OMEGA_RANGE": t.OMEGA_RANGE},
         "symvi.flow.linear": {"RESONANCE_REFUSE": t.FORCING_RESONANCE_REFUSE,

@@ -83,12 +83,14 @@ def test_private_names_dir_and_missing_names(old):
 
 def test_importing_the_old_paths_neither_warns_nor_loads_the_new_modules():
     """``import symvi.hopf`` is cheap and silent (SciPy: the warning comes on use); and
-    ``import symvi`` imports no shim."""
+    ``import symvi`` imports no shim.  (``symvi.paper.params`` comes with ``import symvi``:
+    ``symvi.Params`` is its class.)"""
     code = ("import json, sys, symvi;"
             "before = sorted(m for m in sys.modules if m.startswith('symvi'));"
             f"olds = {OLD!r}; news = {[MOVED[o] for o in OLD]!r};"
             "import importlib; [importlib.import_module('symvi.' + o) for o in olds];"
-            "print(json.dumps([before, [n for n in news if 'symvi.' + n in sys.modules]]))")
+            "print(json.dumps([before, [n for n in news if 'symvi.' + n in sys.modules"
+            " and 'symvi.' + n not in before]]))")
     out = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", code],
                          capture_output=True, text=True, check=True)
     before, loaded = json.loads(out.stdout.strip().splitlines()[-1])
@@ -115,14 +117,38 @@ def test_each_shim_is_the_two_line_form_and_there_are_no_others():
     imports nothing else; the top-level modules that do so are exactly the old paths."""
     pkg = Path(symvi.__file__).parent
     shims = set()
-    for f in sorted(pkg.glob("*.py")):
+    for f in sorted(pkg.rglob("*.py")):
         tree = ast.parse(f.read_text(encoding="utf-8"))
         calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)
                  and getattr(n.func, "id", None) == "_moved"]
         if not calls:
             continue
-        shims.add(f.stem)
-        assert f.stem in MOVED, f.name
-        assert sc.module_imports(f.stem) == ("_deprecated",), f.name
-        assert [ast.literal_eval(a) for a in calls[0].args[1:]] == [f"symvi.{MOVED[f.stem]}"]
+        name = ".".join(f.relative_to(pkg).with_suffix("").parts)
+        shims.add(name)
+        assert name in MOVED, f.name
+        assert sc.module_imports(name) == ("_deprecated",), f.name
+        assert [ast.literal_eval(a) for a in calls[0].args[1:]] == [f"symvi.{MOVED[name]}"]
     assert shims == set(MOVED)
+
+
+def test_split_module_symvi_poincare_warns_naming_each_names_home():
+    """symvi.poincare's names went two ways (issue 24, item 1): the map of any model to
+    symvi.maps.impact, the paper's modal oracle to symvi.paper.modal_map."""
+    from symvi.maps import impact
+    from symvi.paper import modal_map
+    homes = {"poincare_map": impact, "step": modal_map, "MapStep": modal_map,
+             "fd_jacobian": modal_map}
+    shim = importlib.import_module("symvi.poincare")
+    for name, home in homes.items():
+        with pytest.warns(DeprecationWarning, match=rf"import {name} from {home.__name__}"):
+            assert getattr(shim, name) is getattr(home, name)
+    with pytest.raises(AttributeError):
+        shim.nothing_here
+
+
+def test_the_paper_oracle_names_of_symvi_flow_warn_and_forward():
+    from symvi.paper import modal_flow
+    import symvi.flow as flow
+    for name in ("first_impact", "motion_from", "forcing_amplitudes", "GRAZING"):
+        with pytest.warns(DeprecationWarning, match="symvi.paper.modal_flow"):
+            assert getattr(flow, name) is getattr(modal_flow, name)

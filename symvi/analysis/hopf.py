@@ -145,7 +145,6 @@ CONSERVATIVE = ("r = 1 and no damping: the map preserves volume (det DP = 1); mu
                 "(H3) cannot occur; no Neimark-Sacker point is reported (real multipliers "
                 "through +1 or -1 still are)")
 SAFETY = 2.0
-STATE_NAMES = ("x1dot+", "x20", "x20dot", "tau")
 
 
 # --------------------------------------------------------------------------- results
@@ -214,9 +213,9 @@ class HopfPoint:
     (Ridders' extrapolated central differences, first step ``BRANCH_H`` * omega), with its
     estimated error ``dmod_domega_branch_error`` (:attr:`branch_caveat` says when it is
     uncertain or disagrees with (A1)-(A3)).
-    ``l1``: Kuznetsov, ||q||_2 = 1, <p,q> = 1, l1 < 0 stable.  ``f1_paper``:
-    eq. (60) as printed; ``f1_wan``: eq. (60) corrected (= -l1/4), both in the
-    paper's normalisation (||r1||_2 = 1, f1 > 0 attracting).
+    ``l1``: Kuznetsov, ||q||_2 = 1, <p,q> = 1, l1 < 0 stable.  The paper's f1 of
+    eq. (60) (printed and corrected) belongs to its model:
+    :class:`symvi.paper.hopf.PaperHopfPoint`.
     """
 
     omega_c: float
@@ -232,9 +231,6 @@ class HopfPoint:
     dlam_domega: complex
     c1: complex
     l1: float
-    f1_paper: float            # None for a Model (the paper's eq. (60) only)
-    f1_wan: float
-    wan_a: float
     orbit: object
     circle: object
     normal_form: object = field(repr=False, default=None)
@@ -350,7 +346,6 @@ class HopfPoint:
         orb = self.orbit.as_dict()
         orb["omega"] = float(self.orbit.omega)
         num = lambda name: float(getattr(self, name)) if self.trusted(name) else None
-        paper_only_none = self.f1_paper is None      # a Model: eq. (60) not computed
         return {
             "omega_c": num("omega_c"), "branch": self.branch,
             "multiplier": [self.multiplier.real, self.multiplier.imag],
@@ -362,9 +357,8 @@ class HopfPoint:
             "dmod_domega_branch_error": _finite(self.dmod_domega_branch_error),
             "dmod_domega_branch_caveat": self.branch_caveat,
             "l1": num("l1"), "c1": [self.c1.real, self.c1.imag],
-            # eq. (60) is the paper's own reduction: reported for its model only
-            "f1_paper": None if paper_only_none else float(self.f1_paper),
-            "f1_wan": None if paper_only_none else float(self.f1_wan),
+            # eq. (60) is the paper's own reduction: filled by its view (symvi.paper.hopf)
+            "f1_paper": None, "f1_wan": None,
             "kind": self.kind, "h1": bool(self.h1), "h2": bool(self.h2), "h3": bool(self.h3),
             "crossing_resolved": bool(self.crossing_resolved), "detail": self.detail,
             "nearest_resonance": {"m": int(m), "distance": float(dist)},
@@ -429,8 +423,6 @@ class HopfResult:
 class _ModelSystem:
     """Any model (symvi.model.Model): period-1 orbits and jets of the any-model layers."""
 
-    paper = False              # eq. (60) belongs to the paper's model
-
     def __init__(self, model):
         from ..maps.section import Section
         self.params = self.model = model
@@ -466,35 +458,15 @@ class _ModelSystem:
         return {"model": self.params.as_dict()}
 
 
-class _PaperSystem(_ModelSystem):
-    """The paper's model (Params): the chain of every model on ``Model.luo_xie``, with
-    the paper's names, its orbits' fields and its own reduction, eq. (60), reported."""
-
-    paper = True
-
-    def __init__(self, params):
-        from ..model import Model
-        super().__init__(Model.of(params))
-        self.params = params
-        self.names = STATE_NAMES
-
-    def orbits(self, w):
-        from ..orbit import period1_orbits
-        return period1_orbits(self.params, w)
-
-    def as_dict(self):
-        return {"params": self.params.as_dict()}
-
-
 def _system(params):
-    """The adapter of hopf_points for the paper's Params or any Model."""
+    """The adapter of hopf_points: any Model (the paper's Params as its ``Model.luo_xie``,
+    :meth:`symvi.Model.of`)."""
     from ..model import Model
-    if isinstance(params, Model):
-        return _ModelSystem(params)
-    from ..params import Params
-    if not isinstance(params, Params):
-        raise ParameterError("params", params, "a symvi.Params or a symvi.model.Model")
-    return _PaperSystem(params)
+    try:
+        return _ModelSystem(Model.of(params))
+    except ParameterError:
+        raise ParameterError("params", params, "a symvi.Model or the paper's symvi.Params") \
+            from None
 
 
 # --------------------------------------------------------------------------- sampling
@@ -854,7 +826,7 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0, r
     neighbouring steps, and the result of smallest error is returned; (nan, inf) when no
     step works.  (Hypothesis seed 2 found a point next to a collision of two pairs where
     a consistent-looking pair of steps was 0.47 % off: tests/hopf/test_branch_derivative.)"""
-    system = params if isinstance(params, (_PaperSystem, _ModelSystem)) else _system(params)
+    system = params if isinstance(params, _ModelSystem) else _system(params)
     omega = float(omega)
     seen = {}                  # |lambda1| at each w evaluated: the d2 term reuses them
 
@@ -960,8 +932,7 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         warnings.simplefilter("ignore", NearSingularWarning)
         orbit = {o.branch: o for o in system.orbits(omega_c)}[branch]
         j = system.jet3(omega_c, orbit)
-        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=system.names,
-                         paper=system.paper)
+        nf = normal_form(j.jacobian, j.d2, j.d3, j.dA, names=system.names)
     lam = complex(nf.lam)
     others = tuple(sorted((complex(x) for i, x in enumerate(nf.multipliers)
                            if i not in (_index_of(nf, lam), _index_of(nf, lam.conjugate()))),
@@ -992,12 +963,7 @@ def hopf_point(params, omega_c, branch, *, sampler=None):
         dmod_domega=dmod, dmod_domega_branch=float(dbranch),
         dmod_domega_branch_error=float(dbranch_err),
         dlam_domega=complex(nf.dlam_dv), c1=complex(nf.c1), l1=l1,
-        f1_paper=_opt(nf.f1_printed), f1_wan=_opt(nf.f1_wan), wan_a=_opt(nf.wan_a),
         orbit=orbit, circle=nf.circle, normal_form=nf, precision=acc)
-
-
-def _opt(x):
-    return None if x is None else float(x)
 
 
 def _index_of(nf, z):

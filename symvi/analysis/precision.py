@@ -245,8 +245,9 @@ def _match(vals, ref):
 
 
 def _orbit_on(params, omega, branch, digits, multipliers, admissible=True):
-    from ..orbit import period1_orbits
-    for o in period1_orbits(params, omega, digits=digits, multipliers=multipliers):
+    from ..model import Model
+    from ..orbits import period1_orbits
+    for o in period1_orbits(Model.of(params), omega, digits=digits, multipliers=multipliers):
         if o.branch == branch:
             if admissible and not o.admissible:
                 raise SingularCaseError("inadmissible", o.reason)
@@ -309,12 +310,9 @@ def auto_orbits(params, omega, *, min_digits=MIN_DIGITS, max_digits=MAX_DIGITS):
     ``min_digits`` at ``max_digits`` keeps ``estimate.trusted == False``.
     Inadmissible orbits are returned with their float64 estimate only.
     """
-    from ..orbit import period1_orbits
-    return _auto_orbits(
-        period1_orbits(params, omega),
-        lambda o, reuse: estimate_orbit(params, o, reuse=reuse),
-        _per_digits(lambda d: period1_orbits(params, omega, digits=d, multipliers=True)),
-        min_digits, max_digits)
+    from ..model import Model
+    return auto_model_orbits(Model.of(params), omega, min_digits=min_digits,
+                             max_digits=max_digits)
 
 
 def _per_digits(solve):
@@ -407,9 +405,10 @@ def _untrust(est, msg):
 def _hopf_quantities(params, omega, branch, digits):
     """(|lambda1| - 1, d|lambda1|/dv, l1, extras) at omega on ``branch`` (jet order 3)."""
     from ..normal_forms import normal_form as nf
-    from ..jets import jet
+    from ..codegen.jets import jet_of_orbit
+    from ..model import Model
     o = _orbit_on(params, omega, branch, digits, False)
-    jt = jet(params, omega, order=3, digits=digits, orbit=o)
+    jt = jet_of_orbit(Model.of(params), o, 3)
     kw = {} if digits is None else {"digits": digits}
     ctx = mpmath.mp.workdps(digits) if digits else contextlib.nullcontext()
     with ctx:
@@ -426,10 +425,10 @@ def refine_omega_c(params, omega_c, *, digits=None, branch=None, tol_digits=None
     :func:`refine_model_omega_c` on ``Model.of(params)``.  Returns omega_c (float, or mpf
     at ``digits``).  ``tol_digits`` is accepted and, as before, unused: the polish runs
     to the working precision."""
-    from ..jets import select_orbit
     from ..model import Model
+    from ..orbits import select_orbit
     if branch is None:
-        branch = select_orbit(params, float(omega_c)).branch
+        branch = select_orbit(Model.of(params), float(omega_c)).branch
     return refine_model_omega_c(Model.of(params), omega_c, branch, digits, max_iter)
 
 
@@ -445,12 +444,12 @@ def estimate_hopf_point(params, omega_c, *, branch=None, digits=None, dmod=None,
     caller: then nothing at the base point is computed again.  The conditions are
     those of any model (:func:`_model_estimate`, on ``Model.luo_xie`` for Params).
     """
-    from ..jets import select_orbit
     from ..model import Model
+    from ..orbits import select_orbit
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         if branch is None:
-            branch = select_orbit(params, float(omega_c)).branch
+            branch = select_orbit(Model.of(params), float(omega_c)).branch
         est = _hopf_estimate(Model.of(params), omega_c, branch, digits,
                              base if digits is None else None)
     return HopfEstimate(est.omega_c, _attach(est.dmod_domega, dmod, digits),
@@ -523,10 +522,10 @@ def auto_hopf_point(params, omega_c, *, branch=None, dmod=None, l1=None,
     :func:`estimate_model_hopf`).  Untrustworthy at ``max_digits``: returned with
     ``trusted=False`` and ``value=None``.
     """
-    from ..jets import select_orbit
     from ..model import Model
+    from ..orbits import select_orbit
     if branch is None:
-        branch = select_orbit(params, float(omega_c)).branch
+        branch = select_orbit(Model.of(params), float(omega_c)).branch
     est = estimate_hopf_point(params, omega_c, branch=branch, dmod=dmod, l1=l1, base=base)
     hook = None if refine is None else (lambda d: refine(params, omega_c, d, branch))
     return _escalate_hopf(Model.of(params), omega_c, branch, est, min_digits, max_digits, hook)

@@ -100,7 +100,7 @@ def add_engine(parser, workers_default):
 
 def params_from(args):
     """Params of the preset flags, or the Model of ``--model FILE`` (exit 2 on a mix-up)."""
-    from ..params import Params
+    from ..paper.params import Params
     if getattr(args, "model", None) is not None:
         given = [flag for name, flag, _ in _PRESET_FLAGS if getattr(args, name) is not None]
         if given:

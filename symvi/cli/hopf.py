@@ -22,7 +22,8 @@ def register(sub):
 
 def run(args):
     from ..errors import ParameterError
-    from ..analysis.hopf import CONSERVATIVE, hopf_points
+    from ..analysis.hopf import CONSERVATIVE
+    from ..paper.hopf import hopf_points
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
@@ -74,7 +75,7 @@ def run(args):
             print("  precision: " + "; ".join(
                 e.text() for e in (pt.precision.omega_c, pt.precision.dmod_domega,
                                    pt.precision.l1)))
-        if pt.f1_paper is not None:            # the paper's own f1 (eq. 60): its model only
+        if getattr(pt, "f1_paper", None) is not None:   # the paper's f1 (eq. 60): its model
             print(f"  f1(0) = {pt.f1_paper:.12g} (eq. 60 as printed)   {pt.f1_wan:.12g} "
                   "(eq. 60 corrected = -l1/4; ||r1|| = 1, f1 > 0 attracting)")
         if pt.circle_caveat:

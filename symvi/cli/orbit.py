@@ -11,7 +11,10 @@ def register(sub):
 
 
 def run(args):
-    from ..params import check_omega, modal
+    import dataclasses
+
+    from ..paper.orbit import Orbit
+    from ..paper.params import check_omega, modal
     from ..analysis.precision import auto_orbits
     params = params_from(args)
     from ..model import Model
@@ -19,7 +22,8 @@ def run(args):
         return _run_model(params, args)
     omega = check_omega(params, args.omega)
     # error estimates; mpmath recomputation where float64 gives < 8 digits
-    autos = auto_orbits(params, omega)
+    autos = [dataclasses.replace(a, orbit=Orbit.of(params, a.orbit))   # the paper's view
+             for a in auto_orbits(params, omega)]
     orbits = [a.orbit for a in autos]
     if args.json:
         items = _json_items(autos)

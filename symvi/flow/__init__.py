@@ -2,33 +2,37 @@
 
 * :mod:`symvi.flow.linear` -- any model (N masses, damping, stop on any mass):
   the state-space flow in modal form and the provably safe first-impact finder;
-* :mod:`symvi.flow.modal2` -- the paper's 2-DOF undamped modal form, eqs. (7)–(8),
-  kept as the independent oracle (the paper's modal map :mod:`symvi.paper.modal_map`, the
-  closed form :mod:`symvi.paper.modal_orbit`); ``Params`` itself runs on ``linear``.
+* :mod:`symvi.flow.compiled` -- its numba twin: the map P and long runs.
+
+The paper's 2-DOF undamped modal form, eqs. (7)–(8), is the oracle of the paper
+(:mod:`symvi.paper.modal_flow`); its names here (``first_impact``, ``motion_from``, ...)
+warn and are removed in the next release.
 """
-from .modal2 import GRAZING as GRAZING
-from .modal2 import IMPACT as IMPACT
-from .modal2 import NO_IMPACT as NO_IMPACT
-from .modal2 import FirstImpact as FirstImpact
-from .modal2 import Motion as Motion
-from .modal2 import first_impact as first_impact
-from .modal2 import forcing_amplitudes as forcing_amplitudes
-from .modal2 import motion_from as motion_from
+_ORACLE = ("GRAZING", "IMPACT", "NO_IMPACT", "FirstImpact", "Motion", "first_impact",
+           "forcing_amplitudes", "motion_from")
+
+
+def __getattr__(name):
+    if name in _ORACLE:
+        import importlib
+        import warnings
+        warnings.warn(f"symvi.flow.{name} is deprecated; import it from symvi.paper.modal_flow "
+                      "(the paper's oracle flow); the old name will be removed in the next "
+                      "release", DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module("symvi.paper.modal_flow"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def check_omega(system, omega, name="omega", warn=True):
-    """A valid forcing frequency for the paper's ``Params`` (:func:`symvi.params.check_omega`)
-    or any ``Model`` (:meth:`symvi.flow.linear.LinearFlow.check_omega`)."""
+    """A valid forcing frequency for ``system`` (a Model, or what :meth:`symvi.Model.of`
+    takes): :meth:`symvi.flow.linear.LinearFlow.check_omega`."""
     from ..model import Model
-    if isinstance(system, Model):
-        from .linear import LinearFlow
-        return LinearFlow.of(system).check_omega(omega, name, warn=warn)
-    from ..params import check_omega as paper_check
-    return paper_check(system, omega, name, warn=warn)
+    from .linear import LinearFlow
+    return LinearFlow.of(Model.of(system)).check_omega(omega, name, warn=warn)
 
 
 def check_value(system, param, value, shown, *, resonance=True):
-    """``value`` of ``param`` valid for ``system`` (``Params`` or ``Model``), else a
+    """``value`` of ``param`` valid for ``system`` (a Model), else a
     one-line ParameterError naming ``shown`` (what the user typed: a flag, a keyword) and
     the range: omega in OMEGA_RANGE and, with ``resonance``, not at a forcing resonance;
     another parameter where the system it makes is valid (restitution in (0, 1], a
@@ -38,6 +42,7 @@ def check_value(system, param, value, shown, *, resonance=True):
     import math
 
     from ..errors import ParameterError, SingularCaseError
+    from ..model import Model
     from ..numerics.tolerances import OMEGA_RANGE
     if param == "omega":
         lo, hi = OMEGA_RANGE
@@ -52,7 +57,7 @@ def check_value(system, param, value, shown, *, resonance=True):
     if not math.isfinite(value):
         raise ParameterError(shown, value, f"a finite value of {param}")
     try:
-        system.with_(**{param: value})
+        Model.of(system).with_(**{param: value})
     except ParameterError as exc:
         raise ParameterError(shown, value, exc.valid, f"the value of {param}") from None
     return value

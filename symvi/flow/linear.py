@@ -15,7 +15,7 @@ solved exactly as z(t) = Phi(t) (z0 - zp(0)) + zp(t), Phi(t) = e^{A t}, with
   are ill-conditioned (a defective, e.g. critically damped, mode).
 
 The first-impact finder steps along h(t) = x_k(t) - b < 0 with a provably safe
-step, as :mod:`symvi.flow.modal2` does for the paper: with
+step, as :mod:`symvi.paper.modal_flow` does for the paper: with
 M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
 since Re lambda_j <= 0 for M, K positive definite and C semi-definite),
 h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
+from ..model import Model
 from ..flow.linear import IMPACT, LinearFlow
 from .section import Section
 
@@ -37,7 +38,10 @@ def step(flow, forcing, y, t_max=None):
 
 
 def poincare_map(model, omega, y, *, digits=None, t_max=None):
-    """P(y; omega) of ``model`` on float64 or (``digits``) mpmath; inspect ``status``."""
+    """P(y; omega), eq. (31), of ``model`` (a Model, or the paper's Params: :meth:`Model.of`)
+    on float64 or (``digits``) mpmath.  Raises nothing for a flight that grazes or never
+    returns; inspect ``status``."""
+    model = Model.of(model)
     LinearFlow.of(model)                      # validates the model
     y = Section.of(model).check(y)
     if digits is None:

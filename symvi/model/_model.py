@@ -32,6 +32,7 @@ import numpy as np
 from ..errors import ParameterError
 #: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
 from ..numerics.tolerances import ABS_MAX
+from . import _preset
 
 #: number of masses supported
 N_MAX = 8
@@ -227,7 +228,7 @@ def _tup(a):
 
 
 _NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
-_PRESET = ("mu_m", "mu_k", "f2", "b", "r")
+_PRESET = _preset.NAMES
 
 
 #: the names that change the stop only (a cheap copy of the model, no matrix validation)
@@ -360,22 +361,25 @@ class Model:
     def luo_xie(cls, mu_m, mu_k, f2, b, r):
         """The model of Luo & Xie (1998), eq. (4): M = diag(1, mu_m),
         K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2), stop on mass 1 at b."""
-        from ..params import Params
-        p = Params(mu_m, mu_k, f2, b, r)       # the paper's ranges and messages
-        return cls(mass=[1.0, p.mu_m], stiffness=[[1.0, -1.0], [-1.0, 1.0 + p.mu_k]],
-                   forcing=[1.0 - p.f2, p.f2], stop=Stop(mass=1, gap=p.b, restitution=p.r),
-                   _preset={"name": "luo_xie", **p.as_dict()})
+        p = _preset.values(mu_m, mu_k, f2, b, r)      # the preset's ranges and messages
+        return cls(mass=[1.0, p["mu_m"]], stiffness=[[1.0, -1.0], [-1.0, 1.0 + p["mu_k"]]],
+                   forcing=[1.0 - p["f2"], p["f2"]],
+                   stop=Stop(mass=1, gap=p["b"], restitution=p["r"]),
+                   _preset={"name": "luo_xie", **p})
 
     @classmethod
     def of(cls, system):
-        """``system`` itself when it is a Model, else the preset of the paper's
-        :class:`symvi.Params` (what a Model-only analysis takes from the preset flags)."""
+        """``system`` itself when it is a Model, else the Model it presents through its
+        ``as_model()`` (the paper's :class:`symvi.Params` does: its ``Model.luo_xie``).  The
+        layers below the paper take Models only; this is where a client's object becomes one."""
         if isinstance(system, cls):
             return system
-        if not callable(getattr(system, "as_dict", None)) or not hasattr(system, "mu_m"):
+        as_model = getattr(type(system), "as_model", None)
+        model = as_model(system) if callable(as_model) else None
+        if not isinstance(model, cls):
             raise ParameterError("model", type(system).__name__,
                                  "a symvi.Model or the paper's symvi.Params")
-        return _preset_of(system)
+        return model
 
     # ---- named parameters ------------------------------------------------------
     def parameter_names(self):
@@ -479,9 +483,8 @@ class Model:
             else:
                 r = v
         if preset is not None:
-            from ..params import Params
-            preset.update(Params(preset["mu_m"], preset["mu_k"], preset["f2"], gap,
-                                 r).as_dict())      # the paper's ranges and messages
+            preset.update(_preset.values(preset["mu_m"], preset["mu_k"], preset["f2"], gap,
+                                         r))      # the preset's ranges and messages
         new = object.__new__(Model)
         for slot in ("_M", "_K", "_C", "_P"):
             object.__setattr__(new, slot, getattr(self, slot))
@@ -535,9 +538,3 @@ class Tangent:
     def zero(self):
         return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
                 and not np.any(self.dC) and not np.any(self.dP))
-
-
-@functools.lru_cache(maxsize=256)
-def _preset_of(params):
-    """``Model.luo_xie`` of a Params, built once (its flows are cached by the model)."""
-    return Model.luo_xie(**params.as_dict())

@@ -62,7 +62,7 @@ STRONG_RESONANCE_WARN = 1e-3
 
 # --------------------------------------------------------------------------- contact and grazing
 # The first-contact finders (symvi.flow.linear, its compiled twin symvi.flow.compiled and
-# the paper's symvi.flow.modal2) share these, so that they agree on contact and grazing
+# the paper's symvi.paper.modal_flow) share these, so that they agree on contact and grazing
 #: eps_h = CONTACT_ULPS * eps * L: h = x_k - b is resolved only to a few ulps of the
 #: motion's scale L (sum of the amplitudes and |b|), so h >= -eps_h counts as contact
 CONTACT_ULPS = 64.0

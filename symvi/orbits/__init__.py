@@ -4,3 +4,4 @@ from .period1 import admissible_orbits as admissible_orbits
 from .period1 import existence_ratio as existence_ratio
 from .period1 import multiplier_path as multiplier_path
 from .period1 import period1_orbits as period1_orbits
+from .period1 import select_orbit as select_orbit

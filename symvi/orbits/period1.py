@@ -500,6 +500,25 @@ def admissible_orbits(model, omega, *, digits=None, multipliers=True):
     return sorted((o for o in orbits if o.admissible), key=lambda o: o.branch != "+")
 
 
+def select_orbit(model, omega, branch=None, digits=None, multipliers=False):
+    """The admissible period-1 orbit at omega (``branch`` picks one when both are); a
+    SingularCaseError saying why when there is none, or two and no ``branch``."""
+    if branch is not None and branch not in ("+", "-"):
+        raise ParameterError("branch", branch, "'+' or '-'")
+    orbits = period1_orbits(model, omega, digits=digits, multipliers=multipliers)
+    cands = [o for o in orbits if o.admissible and (branch is None or o.branch == branch)]
+    if not cands:
+        why = "; ".join(f"branch {o.branch}: {o.reason}" for o in orbits) or \
+            "conditions (10) have no solution (eq. 16)"
+        raise SingularCaseError("no-admissible-orbit",
+                                f"no admissible period-1 orbit at omega = {float(omega):.12g} ({why})")
+    if len(cands) > 1:
+        raise SingularCaseError("two-admissible-orbits",
+                                f"both branches are admissible at omega = {float(omega):.12g}; "
+                                "pass branch='+' or '-'")
+    return cands[0]
+
+
 def multiplier_path(admissible, omegas, dim=None):
     """Multipliers of the admissible orbit along omega (figs. 4, 10 of the paper).
 

@@ -14,7 +14,7 @@
     central finite differences and combined as printed, against the generated
     Jacobian (:func:`symvi.jet`);
   - eqs. (46), (54), (60), (A2)–(A17): the printed appendix formulas
-    (:func:`symvi.normal_forms.normal_form.appendix_printed`, ``*_printed`` values of the
+    (:func:`symvi.paper.reduction.appendix_printed`, ``*_printed`` values of the
     reduction) against coefficients read off the truncated map itself by
     sampling it on a circle |z| = eps and taking Fourier modes (no derivative
     bookkeeping), against Kuznetsov's n-dimensional c1 and h20, h11, and
@@ -84,9 +84,9 @@ def _row(eq, what, printed, value, *, tol, evidence, corrected="", matters="", w
 # --------------------------------------------------------------------------- orbit formulas
 def _orbit_rows(params, omega, omin, omax):
     from . import audit_orbit as ao
-    from ..flow import motion_from
-    from ..orbit import existence_ratio, period1_orbits
-    from ..params import Params, modal
+    from .modal_flow import motion_from
+    from .orbit import existence_ratio, period1_orbits
+    from .params import Params, modal
     rows = []
     orbits = period1_orbits(params, omega, multipliers=False)
     if not orbits:
@@ -177,8 +177,8 @@ def _orbit_rows(params, omega, omin, omax):
 def _gtilde(params, omega, orb, dX, dth):
     """g of eq. (27) and f~ of eq. (26), written out literally from eqs. (21)–(29)."""
     from . import audit_orbit as ao
-    from ..flow import forcing_amplitudes
-    from ..params import modal
+    from .modal_flow import forcing_amplitudes
+    from .params import modal
     m = modal(params)
     p = m.psi
     A = forcing_amplitudes(m, omega)
@@ -199,7 +199,7 @@ def _gtilde(params, omega, orb, dX, dth):
 
 
 def _implicit_rows(params, omega, orb):
-    from ..jets import jet
+    from .jets import jet
     from .modal_map import fd_jacobian
     h = 1e-5
     z = np.zeros(4)
@@ -266,7 +266,7 @@ def _W(Wd, z, cubic=True, printed=False):
 
 def printed_W(red, lam):
     """The centre-manifold coefficients exactly as printed, the errata of the reduction
-    ``red`` (:class:`symvi.normal_forms.normal_form.PaperReduction`, n > 2) at lambda:
+    ``red`` (:class:`symvi.paper.reduction.PaperReduction`, n > 2) at lambda:
     W02 of eq. (A10), (conj(lambda) I - D) W02 = H02 (corrected: conj(lambda)^2), and W30
     of eq. (46) with -3 lambda G20 W11 where -3 lambda conj(G02) W11 belongs.  Complex
     float64; computed only here, for the audit and its tests."""
@@ -283,8 +283,9 @@ def printed_W(red, lam):
 
 def _nf_rows(params, pt, circle_evidence):
     """Eqs. (46), (54), (60), (A2)–(A17) at the Hopf point ``pt``."""
-    from ..jets import jet
-    from ..normal_forms.normal_form import appendix_printed, f1_eq60, transform_jet
+    from .jets import jet
+    from ..normal_forms.normal_form import transform_jet
+    from .reduction import appendix_printed, f1_eq60
     nf = pt.normal_form
     red = nf.paper
     j = jet(params, pt.omega_c, order=3, orbit=pt.orbit)
@@ -473,7 +474,7 @@ def _nf_rows(params, pt, circle_evidence):
 
 
 def _dlam_branch(params, pt, h=1e-4):
-    from ..orbit import period1_orbits
+    from .orbit import period1_orbits
 
     def lam(w):
         with warnings.catch_warnings():
@@ -487,7 +488,7 @@ def _dlam_branch(params, pt, h=1e-4):
 
 
 def _first_hopf(params, omin, omax):
-    from ..analysis.hopf import hopf_points
+    from .hopf import hopf_points
     pts = [p for p in hopf_points(params, omin, omax).points if p.normal_form is not None]
     return pts[0] if pts else None
 
@@ -557,7 +558,7 @@ _HOPF_MEMO = {}
 def _hopf_cached(params, omin, omax):
     key = (params.key(), omin, omax)
     if key not in _HOPF_MEMO:
-        from ..analysis.hopf import hopf_points
+        from .hopf import hopf_points
         _HOPF_MEMO[key] = hopf_points(params, omin, omax)
     return _HOPF_MEMO[key]
 
@@ -638,7 +639,7 @@ def _check_f1(params, row, quick):
 
 
 def _check_interval(params, row, quick):
-    from ..orbit import multiplier_path
+    from .orbit import multiplier_path
     a, b = row["printed"]
     res = _hopf_cached(params, row["omega_min"], row["omega_max"])
     inside = [p for p in res.points if a <= p.omega_c <= b]

@@ -20,8 +20,8 @@ Discrepancies found (shown by ``tests/orbit/test_audit_orbit.py``):
 """
 import math
 
-from ..flow import forcing_amplitudes
-from ..params import modal
+from .modal_flow import forcing_amplitudes
+from .params import modal
 
 
 def _common(params, omega):

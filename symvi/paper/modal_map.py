@@ -1,5 +1,5 @@
 """The paper's numeric Poincaré map P on the section x1 = b, eqs. (19)–(31), through
-its 2-DOF modal closed form (:mod:`symvi.flow.modal2`): the independent oracle of the
+its 2-DOF modal closed form (:mod:`symvi.paper.modal_flow`): the independent oracle of the
 impact map of every model (:mod:`symvi.maps.impact`), chain B of :mod:`symvi.studies.mpcheck` and
 the reference run :func:`symvi.simulations.simulation.simulate_mp`.  ``symvi.poincare_map`` runs
 :mod:`symvi.maps.impact` on ``Model.luo_xie`` since issue 11.
@@ -13,8 +13,8 @@ import contextlib
 from dataclasses import dataclass
 
 from .._backend import FLOAT, MP
-from ..flow import first_impact, motion_from
-from ..params import modal as _modal
+from .modal_flow import first_impact, motion_from
+from .params import modal as _modal
 
 
 @dataclass(frozen=True)

@@ -28,10 +28,11 @@ import mpmath
 
 from .._backend import FLOAT, MP
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
-from ..flow import first_impact, forcing_amplitudes, motion_from
-from ..orbit import Orbit
+from .modal_flow import first_impact, forcing_amplitudes, motion_from
+from ..maps.section import Section
+from .orbit import Orbit
 from ..numerics.tolerances import ISOLATION_REFUSE, ISOLATION_WARN
-from ..params import check_omega, modal as _modal
+from .params import check_omega, modal as _modal
 
 #: |sin(pi w_j / omega)| below which 1 - cos(2 pi w_j / omega) -> 0 is refused / warned
 #: about: the general isolation bounds on |1 - e^{i w_j T}| = 2 |sin(pi w_j / omega)|
@@ -127,10 +128,12 @@ def _orbits(params, omega, lib, want_multipliers, digits):
     orbits = []
     for branch, tau, aj, bj, v1p, vimp, x20, x20d in raw:
         ok, why = _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d)
-        orb = Orbit(branch, omega, v1p, x20, x20d, tau, vimp, ok, why, digits=digits,
-                    params=params)
+        model = params.as_model()
+        orb = Orbit(model=model, omega=omega, branch=branch, y=(v1p, x20, x20d, tau),
+                    names=Section.of(model).names, impact_velocity=vimp,
+                    admissible=ok, reason=why, digits=digits, params=params)
         if want_multipliers:
-            from .._paper_eval import multipliers_of
+            from ._eval import multipliers_of
             lam = multipliers_of(params, orb)
             orb = _replace(orb, multipliers=lam,
                            stable=bool(ok and max(abs(complex(l)) for l in lam) < 1))

@@ -250,7 +250,7 @@ def _params(tbl, file, folder=""):
     file relative to the scene), or named sub-tables of them.  A missing or empty [params]
     gives one set ``default`` with no parameters yet (``None``): the scene then needs a
     model from elsewhere (``symvi run SCENE --model FILE``, :func:`with_model`)."""
-    from ..params import Params
+    from ..paper.params import Params
     if tbl is None or tbl == {}:
         return {"default": None}
     if not isinstance(tbl, dict):
@@ -484,8 +484,8 @@ def paper_scenes():
 # --------------------------------------------------------------------------- cache
 #: the modules each kind of output calls into; what they import, transitively, is
 #: found by :func:`module_closure` (so no dependency can be forgotten)
-ENTRY = {"multipliers": ("orbit",),
-         "hopf": ("analysis.hopf",),
+ENTRY = {"multipliers": ("paper.orbit",),
+         "hopf": ("paper.hopf",),
          "section": ("simulations.simulation", "simulations.diagnostics"),
          "bifurcation": ("simulations.simulation", "continuation"),
          "circle_check": ("studies.circle_check",),
@@ -820,7 +820,7 @@ def _need(module):
 def _multipliers(params, spec, quick, scene):
     import numpy as np
 
-    from ..orbit import multiplier_path
+    from ..paper.orbit import multiplier_path
     om = np.linspace(spec["omega_min"], spec["omega_max"], spec["steps"])
     lam, branch, reasons = multiplier_path(params, om)
     mod = np.abs(lam)
@@ -840,7 +840,7 @@ def _multipliers(params, spec, quick, scene):
 
 
 def _hopf(params, spec, quick, scene):
-    hopf = _need("analysis.hopf")
+    hopf = _need("paper.hopf")
     pts = hopf.hopf_points(params, spec["omega_min"], spec["omega_max"])
     events = getattr(pts, "events", None)
     points = getattr(pts, "points", pts)

@@ -4,11 +4,9 @@ The float64 path runs the compiled exact flow and first-impact finder of
 :mod:`symvi.flow.compiled` for any :class:`symvi.model.Model`, whose section
 points have the 2N components of :mod:`symvi.maps.section`.  A
 :class:`symvi.Params` (the paper's model) runs there as
-:meth:`symvi.model.Model.luo_xie`, whose section layout is the paper's
-(x1dot+, x2, x2dot, tau) of eq. (9); it keeps the paper's validation and
-period-1 orbit (:mod:`symvi.orbit`).  :func:`simulate_mp` runs the paper's map
-through the modal map :func:`symvi.paper.modal_map.step` on mpmath, as an
-independent reference.
+:meth:`symvi.model.Model.luo_xie` (:meth:`Model.of`), whose section layout is the
+paper's (x1dot+, x2, x2dot, tau) of eq. (9).  :func:`simulate_mp` runs the same map
+through :func:`symvi.maps.impact.step` on mpmath, as an independent reference.
 
 A run ends early, with a stop reason, on
 
@@ -85,12 +83,9 @@ def _is_model(params):
 
 def fixed_point(params, omega):
     """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
-    if _is_model(params):
-        from ..orbits import admissible_orbits
-    else:
-        from ..orbit import admissible_orbits
+    from ..orbits import admissible_orbits
     try:
-        ok = admissible_orbits(params, omega, multipliers=False)
+        ok = admissible_orbits(Model.of(params), omega, multipliers=False)
     except SingularCaseError:
         return None
     return tuple(float(v) for v in ok[0].y) if ok else None
@@ -198,37 +193,10 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     """Reference run of the same map on mpmath at ``digits`` (slow: about 1 ms per impact).
 
-    Uses :func:`symvi.paper.modal_map.step` with the MP backend, so it shares no code
-    with the compiled kernels.  Values are rounded to float64 only on output.
+    Uses :func:`symvi.maps.impact.step` on the mpmath flow, so it shares no code with the
+    compiled kernels.  Values are rounded to float64 only on output.
     """
-    import mpmath
-
-    if _is_model(params):
-        return _simulate_model_mp(params, omega, y0, n_impacts, digits)
-    from .._backend import MP
-    from ..params import modal as _modal
-    from ..paper.modal_map import step
-    omega = check_omega(params, omega)
-    n_impacts = _positive_int("n_impacts", n_impacts)
-    y0 = _check_start(y0)
-    out, times, vimp = [], [], []
-    stop = "completed"
-    with mpmath.mp.workdps(digits):
-        m = _modal(params, MP)
-        om, b, r = MP.num(omega), MP.num(params.b), MP.num(params.r)
-        y = tuple(MP.num(v) for v in y0)
-        T = MP.num(0)
-        for _ in range(n_impacts):
-            s = step(m, om, b, r, y, MP)
-            if s.status != "impact":
-                stop = s.status
-                break
-            y, T = s.y, T + s.t
-            out.append([float(v) for v in y])
-            times.append(float(T))
-            vimp.append(float(s.impact_velocity))
-    return Simulation(params, omega, y0, _frozen(np.array(out).reshape(-1, 4)), _frozen(times),
-                      _frozen(vimp), stop, 0, fixed_point(params, omega))
+    return _simulate_model_mp(Model.of(params), omega, y0, n_impacts, digits)
 
 
 def _simulate_model_mp(model, omega, y0, n_impacts, digits):

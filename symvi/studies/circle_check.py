@@ -218,7 +218,8 @@ def _printed_scale(point):
 
 def hopf_point(params, omega_min, omega_max):
     """The first Hopf point with a predicted circle in [omega_min, omega_max] (symvi.analysis.hopf)."""
-    from ..analysis.hopf import hopf_points, spans_text
+    from ..analysis.hopf import spans_text
+    from ..paper.hopf import hopf_points
     res = hopf_points(params, omega_min, omega_max)
     pts = [h for h in res if h.circle is not None and not h.circle_caveat]
     if not pts:
@@ -246,11 +247,12 @@ def study(params, spec, quick):
     c, lost = _check(params, pt, [abs(m) for m in mus] if pt.circle.side > 0 else mus, True)
     d = c.as_dict()
     k_pred = np.asarray(pt.circle.half_widths(float(pt.circle.side)))     # at |mu| = 1
-    paper = pt.f1_paper is not None and pt.f1_paper > 0 and pt.f1_wan > 0
+    f1_paper, f1_wan = getattr(pt, "f1_paper", None), getattr(pt, "f1_wan", None)
+    paper = f1_paper is not None and f1_paper > 0 and f1_wan > 0
     d.update({"quick_note": note, "lost": lost, "predicted_coefficients": k_pred.tolist(),
               "measured_coefficients": np.asarray(c.measured_coefficients).tolist(),
-              "f1_paper": pt.f1_paper, "f1_wan": pt.f1_wan, "l1": pt.l1,
+              "f1_paper": f1_paper, "f1_wan": f1_wan, "l1": pt.l1,
               "dmod_domega": pt.dmod_domega,
-              "printed_eq60_factor": math.sqrt(pt.f1_wan / pt.f1_paper) if paper else None})
+              "printed_eq60_factor": math.sqrt(f1_wan / f1_paper) if paper else None})
     return d, {"mu": np.abs(np.asarray(c.mu)), "measured": np.asarray(c.measured),
                "predicted": np.asarray(c.predicted)}

@@ -134,7 +134,7 @@ def _is_model(params):
 
 def _orbit_mp(params, omega, branch, digits):
     """The period-1 orbit of ``branch`` at an mpf omega, at ``digits`` (Params or Model)."""
-    from ..orbit import period1_orbits
+    from ..paper.orbit import period1_orbits
     orbs = {o.branch: o for o in period1_orbits(params, omega, digits=digits)}
     o = orbs.get(branch)
     if o is None or not o.admissible:
@@ -145,8 +145,8 @@ def _orbit_mp(params, omega, branch, digits):
 
 def chain_a(params, omega0, branch, digits, lam0):
     """The project's chain on the mpmath backend at ``digits``."""
-    from ..jets import jet
-    from ..normal_forms.normal_form import normal_form
+    from ..paper.jets import jet
+    from ..paper.reduction import normal_form     # Kuznetsov's l1 and the paper's f1
     with mpmath.workdps(digits):
         target = [mpmath.mpc(lam0)]
 
@@ -320,7 +320,8 @@ def chain_b(params, omega0, branch, digits, lam0, y0):
 
 def mpcheck(params, omega_min, omega_max, *, digits=50, index=0):
     """Run float64 hopf_points, then chains A and B at the ``index``-th point; compare."""
-    from ..analysis.hopf import hopf_points, spans_text
+    from ..analysis.hopf import spans_text
+    from ..paper.hopf import hopf_points
     if not isinstance(digits, int) or isinstance(digits, bool) or not 30 <= digits <= 500:
         raise ParameterError("digits", digits, "an integer from 30 to 500")
     res = hopf_points(params, omega_min, omega_max)

@@ -6,7 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from symvi import Params, modal
-from symvi.flow import GRAZING, IMPACT, NO_IMPACT, first_impact, motion_from
+from symvi.paper.modal_flow import GRAZING, IMPACT, NO_IMPACT, first_impact, motion_from
 
 from ..conftest import EX1, OWN
 

@@ -1,4 +1,4 @@
-"""The numba-compiled generated evaluators (symvi.jets.compiled) against the Python ones."""
+"""The numba-compiled generated evaluators (symvi.paper.jets.compiled) against the Python ones."""
 import subprocess
 import sys
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from symvi import ParameterError
-from symvi.jets import _gen, compiled, jacobian_at, jet_inputs
+from symvi.paper.jets import _gen, compiled, jacobian_at, jet_inputs
 from symvi.simulations.simulation import simulate
 
 from ..conftest import EX1
@@ -61,7 +61,7 @@ def test_compiled_kernel_is_callable_from_user_numba_code():
 
 
 def test_compiled_order1_never_imports_higher_orders():
-    code = ("import sys; from symvi.jets import compiled; compiled(1);"
+    code = ("import sys; from symvi.paper.jets import compiled; compiled(1);"
             "print(sorted(m for m in sys.modules if m.startswith('symvi._generated.order')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "['symvi._generated.order1']"

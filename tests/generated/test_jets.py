@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from symvi import Params, period1_orbits
-from symvi.jets import jet
-from symvi.params import modal
+from symvi.paper.jets import jet
+from symvi.paper.params import modal
 from symvi.paper.modal_map import step
 from symvi._backend import MP
 

@@ -129,7 +129,7 @@ def test_paper_structure_equals_the_papers_own_generated_jets():
     """N = 2 structure at the Luo-Xie preset (what symvi.jet(Params) evaluates) ==
     generated/order3 of the paper's modal derivation (the oracle) at the oracle's own
     orbit, to rounding."""
-    from symvi._paper_eval import _evaluate, _orbit_inputs
+    from symvi.paper._eval import _evaluate, _orbit_inputs
     from symvi.codegen.jets import fixed_point_motion
     from symvi.paper.modal_orbit import period1_orbits as paper_orbits
     p = Params(2, 5, 0, 1.5, 0.8)
@@ -203,7 +203,7 @@ def test_jet_and_multipliers_at_digits_keep_the_flight_time_at_that_precision():
     te = 2 pi / omega at 50 digits (it was once formed at mpmath's default 15 digits,
     which left the 50-digit Jacobian right to 2e-15 only)."""
     import symvi
-    from symvi.jets import multipliers_of
+    from symvi.paper.jets import multipliers_of
     m = N_MASS_SET["paper"]
     j = jet(m, 0.7369, 2, digits=50)
     o = [x for x in period1_orbits(m, 0.7369, digits=50) if x.admissible][0]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from symvi import Params, period1_orbits
-from symvi.analysis.hopf import hopf_points
+from symvi.paper.hopf import hopf_points   # the paper's view: eq. (60)'s f1 too
 from symvi.errors import ParameterError, SingularCaseError
 
 EX1, EX2 = Params(2, 5, 0, 1.5, 0.8), Params(4, 2, 0, 1.8, 0.8)

@@ -3,7 +3,7 @@ import mpmath
 import pytest
 
 from symvi import Params
-from symvi.analysis.hopf import hopf_points
+from symvi.paper.hopf import hopf_points   # the paper's view: eq. (60)'s f1 too
 from symvi.studies.mpcheck import check_point, digits_of_agreement
 
 EX1 = Params(2, 5, 0, 1.5, 0.8)

@@ -5,7 +5,7 @@ import mpmath
 import numpy as np
 
 from ._nf_maps import conjugated, family_dA
-from symvi.normal_forms.normal_form import normal_form
+from symvi.paper.reduction import normal_form   # Kuznetsov and the paper's reduction
 
 D0 = np.array([[0.3, -0.4], [0.5, 0.2]])
 

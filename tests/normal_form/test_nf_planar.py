@@ -11,7 +11,8 @@ import pytest
 
 from ._nf_maps import base, conjugated, family_dA, linear
 from symvi.errors import NearSingularWarning, ParameterError, SingularCaseError
-from symvi.normal_forms.normal_form import eigen, normal_form
+from symvi.normal_forms.normal_form import eigen
+from symvi.paper.reduction import normal_form   # Kuznetsov and the paper's reduction
 
 THETA = 1.1
 

@@ -5,8 +5,8 @@ import numpy as np
 
 from symvi import Params, period1_orbits
 from symvi.paper import audit_orbit as au
-from symvi.flow import motion_from
-from symvi.params import modal
+from symvi.paper.modal_flow import motion_from
+from symvi.paper.params import modal
 
 from ..conftest import EX1, OWN
 

@@ -36,7 +36,7 @@ def test_jacobian_matches_finite_differences(params, omega):
     """DP at y* (generated code) against central differences of P: float64 with
     h = 1e-6 where the orbit is far from grazing, and always 30-digit mpmath
     differences with h = 1e-10 (the OWN "-" branch has impact velocity 0.04)."""
-    from symvi.jets import jet
+    from symvi.paper.jets import jet
     for o in _admissible(params, omega):
         J = jet(params, omega, 1, orbit=o).jacobian
         Jmp = np.array(fd_jacobian(params, omega, o.y, h=1e-10, digits=30).tolist(), dtype=float)
@@ -69,7 +69,7 @@ def test_multiplier_product_is_r_squared():
 
 def test_orbit_satisfies_conditions_10_and_velocity_law():
     """x1(0) = x1(T) = b, the impact law and continuity of mass 2, eq. (10)."""
-    from symvi.flow import motion_from
+    from symvi.paper.modal_flow import motion_from
     for params, omega in [(EX1, 0.73), (OWN, 1.2), (Params(2, 5, 0, 0.0, 0.8), 0.73)]:
         m = modal(params)
         for o in period1_orbits(params, omega, multipliers=False):

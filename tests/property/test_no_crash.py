@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import symvi
-from symvi import jets
+from symvi.paper import jets
 from symvi.errors import NearSingularWarning, SymviError
 from symvi.normal_forms import normal_form as nf
 

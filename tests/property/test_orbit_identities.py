@@ -15,9 +15,10 @@ import numpy as np
 from hypothesis import HealthCheck, assume, given, settings
 
 import symvi
-from symvi import jets, poincare
+from symvi.maps.impact import poincare_map
+from symvi.paper import jets, modal_map
 from symvi.errors import NearSingularWarning, SymviError
-from symvi.params import modal
+from symvi.paper.params import modal
 
 from .strategies import omega_typical, params_typical
 
@@ -46,7 +47,7 @@ def test_fixed_point_and_determinant(params, omega):
     orbits = admissible(params, omega)
     assume(orbits)
     for o in orbits:
-        step = poincare.poincare_map(params, omega, o.y)
+        step = poincare_map(params, omega, o.y)
         assert step.status == "impact"
         image = np.array([step.y[0], step.y[1], step.y[2], step.tau_unwrapped - 2 * math.pi])
         y = np.array(o.y, dtype=float)
@@ -69,15 +70,15 @@ def _gen(order, params, omega, y, te):
     """Generated values at a general section point y with flight time te.
 
     The paper's modal evaluators (generated/order<K>.py, the oracle of the N = 2
-    structure that symvi.jets now evaluates), at any point.
+    structure that symvi.paper.jets now evaluates), at any point.
     """
-    from symvi._paper_eval import _evaluate
+    from symvi.paper._eval import _evaluate
     return _evaluate(order, jets._inputs(modal(params), omega, params.r, params.b,
                                               tuple(y), te), False)
 
 
 def _flight(params, omega, y):
-    s = poincare.poincare_map(params, omega, y)
+    s = poincare_map(params, omega, y)
     if s.status != "impact":
         raise SymviError("flight did not end in an impact")
     return s.t
@@ -123,7 +124,7 @@ def test_generated_jets_match_finite_differences(params, omega):
     y = np.array(o.y, dtype=float)
     floor = 1e-7 / g
     # J against FD of the numeric map (independent of the generated code)
-    errs = [_rel(poincare.fd_jacobian(params, omega, y, h=1e-3 * hs * s), j.jacobian)
+    errs = [_rel(modal_map.fd_jacobian(params, omega, y, h=1e-3 * hs * s), j.jacobian)
             for s in (1, 0.25)]
     assert _converges(errs, floor), errs
     # the jacobian at a general point (public API) equals the orbit's

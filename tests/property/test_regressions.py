@@ -4,7 +4,7 @@ Each was first an ``xfail(strict=True)`` test; the marker goes when the owner's 
 """
 import numpy as np
 import symvi
-from symvi import jets
+from symvi.paper import jets
 
 
 def test_jet_multiplier_one_false_alarm():

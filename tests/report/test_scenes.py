@@ -131,11 +131,12 @@ def test_cache_hit_on_second_run(tmp_path):
 
 
 def test_cache_keys_hash_every_module_an_output_imports():
-    """Issue 11: precision.py and _compiled.py (and the flow package) enter the keys."""
+    """Issue 11: precision.py, the compiled flow and the paper's reduction (issue 24) enter
+    the keys of the Hopf scene."""
     from symvi.reporting import scenes as sc
     hopf = sc.module_closure(sc.ENTRY["hopf"])
-    for m in ("analysis.precision", "_compiled", "flow.modal2", "flow.linear",
-              "normal_forms.normal_form", "jets"):
+    for m in ("analysis.precision", "analysis.hopf", "flow.linear", "flow.compiled",
+              "codegen.jets", "normal_forms.normal_form", "paper.reduction"):
         assert m in hopf, m
     sec = sc.module_closure(sc.ENTRY["section"])
     assert "flow.compiled" in sec and "flow.linear" in sec

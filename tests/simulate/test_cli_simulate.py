@@ -93,7 +93,7 @@ def test_classify_json_has_lyapunov_for_a_periodic_orbit(tmp_path):
     assert got["class"] == "period-1"
     # the exponents of a period-1 orbit are log |multipliers|: their sum converges at
     # once (log |det DP| along the orbit), each one more slowly
-    from symvi.orbit import period1_orbits
+    from symvi.paper.orbit import period1_orbits
     orb = [o for o in period1_orbits(symvi_params(), 0.73) if o.admissible][0]
     logs = np.sort(np.log(np.abs(np.array(orb.multipliers, dtype=complex))))[::-1]
     lya = np.array(got["lyapunov"])

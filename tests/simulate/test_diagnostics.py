@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from symvi.orbit import period1_orbits
+from symvi.paper.orbit import period1_orbits
 from symvi.paper.modal_map import fd_jacobian
 from symvi.simulations import diagnostics as dg
 from symvi.simulations.simulation import Simulation, simulate
@@ -114,8 +114,8 @@ def test_compiled_qr_logs_match_the_paper_generated_jacobian():
     """The compiled QR loop (DP of one flight by eq. (30), any model) gives the logs of a
     Python QR loop over the paper's own generated Jacobian (generated/order1.py, the
     modal oracle), point by point along a chaotic run."""
-    from symvi._paper_eval import _evaluate, _inputs
-    from symvi.params import modal
+    from symvi.paper._eval import _evaluate, _inputs
+    from symvi.paper.params import modal
     s = simulate(EX2, 0.4944, n_impacts=400, transient=3000)
     sec, te = np.asarray(s.section), np.diff(s.t)
     logs = dg._qr_logs_model(EX2, 0.4944, sec[:-1], te)

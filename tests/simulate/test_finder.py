@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from symvi import Model, modal
-from symvi.flow import GRAZING, IMPACT, NO_IMPACT, first_impact, motion_from
+from symvi.paper.modal_flow import GRAZING, IMPACT, NO_IMPACT, first_impact, motion_from
 from symvi.flow import compiled as cf
 
 from ..conftest import EX1, EX2, OWN

@@ -10,8 +10,8 @@ import importlib
 import mpmath
 import numpy as np
 
-from ._backend import FLOAT, MP
-from .codegen.jets import eigenvalues
+from .._backend import FLOAT, MP
+from ..codegen.jets import eigenvalues
 from .params import modal as _modal
 
 

@@ -1,0 +1,151 @@
+"""System parameters and modal analysis, eqs. (3)–(8).
+
+The non-dimensional model of eq. (3), with the second derivative the printed
+equation drops (``\\dot x`` there is a typo for ``\\ddot x``)::
+
+    M x'' + K x = P sin(omega t + tau),   x1 < b,
+    M = diag(1, mu_m),  K = [[1, -1], [-1, 1 + mu_k]],  P = (1 - f2, f2).
+
+Modal matrix ``psi`` is mass-normalised, ``psi^T M psi = I`` and
+``psi^T K psi = Lambda = diag(omega1^2, omega2^2)`` with ``omega1 < omega2``;
+the first row of ``psi`` is positive (our sign convention).
+"""
+import functools
+import math
+import warnings
+from dataclasses import dataclass
+
+from .._backend import FLOAT
+from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..model import _preset
+from ..model._preset import MU_RANGE as MU_RANGE
+from ..model._preset import finite as _finite
+# relative distance |omega - omega_j| / omega_j below which forcing is refused / warned
+# about; |b| and |f2| at most ABS_MAX; omega in OMEGA_RANGE (symvi.numerics.tolerances)
+from ..numerics.tolerances import ABS_MAX as ABS_MAX
+from ..numerics.tolerances import OMEGA_RANGE
+from ..numerics.tolerances import FORCING_RESONANCE_REFUSE as RESONANCE_REFUSE
+from ..numerics.tolerances import FORCING_RESONANCE_WARN as RESONANCE_WARN
+
+
+@dataclass(frozen=True)
+class Params:
+    """Non-dimensional parameters of eq. (4): mass ratio, stiffness ratio,
+    force split, gap and coefficient of restitution.
+
+    Validated on construction: mu_m > 0, mu_k > 0, 0 < r <= 1, all finite,
+    and within the representable ranges MU_RANGE and ABS_MAX.
+    """
+
+    mu_m: float
+    mu_k: float
+    f2: float
+    b: float
+    r: float
+
+    def __post_init__(self):
+        vals = _preset.values(self.mu_m, self.mu_k, self.f2, self.b, self.r)
+        for name, v in vals.items():
+            object.__setattr__(self, name, v)
+
+    def as_model(self):
+        """The same system as a :class:`symvi.Model` (``Model.luo_xie``), built once: what
+        every analysis below the paper runs on (:meth:`symvi.Model.of`)."""
+        return _as_model(self)
+
+    def as_dict(self):
+        return {"mu_m": self.mu_m, "mu_k": self.mu_k, "f2": self.f2,
+                "b": self.b, "r": self.r}
+
+    def key(self):
+        """A stable tuple for hashing and caching."""
+        return (self.mu_m, self.mu_k, self.f2, self.b, self.r)
+
+
+@functools.lru_cache(maxsize=256)
+def _as_model(params):
+    # one Model per Params: its flows and compiled constants are cached by the model
+    from ..model import Model
+    return Model.luo_xie(**params.as_dict())
+
+
+@dataclass(frozen=True)
+class Modal:
+    """Modal data of eqs. (5)–(8) in one arithmetic backend.
+
+    ``psi[i][j]`` is psi_{i+1, j+1}; ``F[j] = psi_j^T P`` is the modal forcing
+    (eq. 6); ``D = det psi`` (so ``psi^{-1} = adj(psi) / D``, as in eqs. 21–24).
+    """
+
+    omega1: object
+    omega2: object
+    psi: tuple
+    F: tuple
+    D: object
+
+    @property
+    def omegas(self):
+        return (self.omega1, self.omega2)
+
+
+def modal(params, lib=FLOAT):
+    """Eigenfrequencies and mass-normalised modes of eq. (3), eqs. (5)–(6).
+
+    det(K - w^2 M) = 0 gives mu_m w^4 - (1 + mu_k + mu_m) w^2 + mu_k = 0.
+    The mode for w_j^2 is (1, 1 - w_j^2) before normalisation.
+    """
+    if lib is FLOAT:
+        return _modal_float(params)
+    return _modal(params, lib)
+
+
+@functools.lru_cache(maxsize=1024)
+def _modal_float(params):
+    # hot path of every jet and map evaluation; Params is frozen and hashable
+    return _modal(params, FLOAT)
+
+
+def _modal(params, lib):
+    mu_m, mu_k = lib.num(params.mu_m), lib.num(params.mu_k)
+    s = 1 + mu_k + mu_m
+    disc = lib.sqrt((mu_m - mu_k) ** 2 + 2 * (mu_m + mu_k) + 1)  # = sqrt(s^2 - 4 mu_m mu_k) > 0
+    # smaller root via the product of roots: no cancellation
+    w2_hi = (s + disc) / (2 * mu_m)
+    w2_lo = mu_k / (mu_m * w2_hi)
+    psi_cols = []
+    for w2 in (w2_lo, w2_hi):
+        u = 1 - w2
+        nrm = lib.sqrt(1 + mu_m * u * u)
+        psi_cols.append((1 / nrm, u / nrm))
+    psi = ((psi_cols[0][0], psi_cols[1][0]), (psi_cols[0][1], psi_cols[1][1]))
+    P = (1 - lib.num(params.f2), lib.num(params.f2))
+    F = tuple(psi[0][j] * P[0] + psi[1][j] * P[1] for j in range(2))
+    D = psi[0][0] * psi[1][1] - psi[0][1] * psi[1][0]
+    return Modal(lib.sqrt(w2_lo), lib.sqrt(w2_hi), psi, F, D)
+
+
+def check_omega(params, omega, name="omega", warn=True):
+    """Validate a forcing frequency: finite, > 0 and not at a natural frequency.
+
+    Exact resonance omega = omega_j makes A_j of eq. (7) infinite and is refused;
+    within a relative 1e-4 a NearSingularWarning is issued.
+    """
+    w = _finite(name, omega)
+    if not w > 0:
+        raise ParameterError(name, omega, f"{name} > 0 ({OMEGA_RANGE[0]:g} <= {name} <= "
+                                          f"{OMEGA_RANGE[1]:g})")
+    if not OMEGA_RANGE[0] <= w <= OMEGA_RANGE[1]:
+        raise ParameterError(name, omega, f"{OMEGA_RANGE[0]:g} <= {name} <= {OMEGA_RANGE[1]:g}")
+    m = modal(params)
+    for j, wj in enumerate(m.omegas, start=1):
+        rel = abs(w - wj) / wj
+        if rel < RESONANCE_REFUSE:
+            raise SingularCaseError(
+                "forcing-resonance",
+                f"{name} = {w!r} equals the natural frequency omega_{j} = {wj:.15g}; "
+                f"A_{j} of eq. (7) is infinite. Choose {name} != omega_{j}.")
+        if warn and rel < RESONANCE_WARN:
+            warnings.warn(f"{name} = {w:.10g} is within {rel:.1e} (relative) of the natural "
+                          f"frequency omega_{j} = {wj:.10g}; results lose about "
+                          f"{-math.log10(rel):.0f} digits", NearSingularWarning, stacklevel=2)
+    return w
