@@ -1,5 +1,5 @@
-"""hopf_points on example 1 over [0.70, 0.76] for Params and Model.luo_xie: prints
-"median min median min" (ms, Params then Model).  Run it beside a worktree of another
+"""symvi.hopf_points on example 1 over [0.70, 0.76] for Params (with the paper's f1 of
+eq. (60)) and Model.luo_xie: prints "median min median min" (ms, Params then Model).  Run it beside a worktree of another
 commit, alternating processes, for a same-run baseline:
 
     for i in 1 2 3; do PYTHONPATH=<worktree> python benchmarks/bench_hopf_client.py; \
@@ -7,9 +7,7 @@ commit, alternating processes, for a same-run baseline:
 """
 import sys, time, warnings, statistics
 warnings.simplefilter("ignore")
-from symvi.analysis.hopf import hopf_points
-from symvi.model import Model
-from symvi.paper.params import Params
+from symvi import Model, Params, hopf_points   # public names: the same in every commit
 P = Params(2, 5, 0, 1.5, 0.8); M = Model.luo_xie(2, 5, 0, 1.5, 0.8)
 out = []
 for x in (P, M):

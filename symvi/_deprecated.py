@@ -16,7 +16,7 @@ Each shim is two lines::
 import importlib
 import warnings
 
-__all__ = ["moved"]
+__all__ = ["moved", "moved_names", "moved_call"]
 
 
 def moved(old, new):
@@ -47,15 +47,27 @@ def moved(old, new):
     return __getattr__, __dir__
 
 
-def moved_names(old, names):
-    """The module-level ``__getattr__`` of a module ``old`` whose names moved: ``names``
-    maps an old name to "new.module:new_name"; reading it warns (DeprecationWarning naming
-    the new path) and returns the new object."""
+def moved_names(old, new, names):
+    """The module-level ``__getattr__`` of a module that stays, for the ``names`` that moved
+    from it to ``new``: each warns (DeprecationWarning naming ``new``) and is ``new``'s.
+    ``names`` may map an old name to its new name in ``new`` (a renamed object)."""
+    renamed = dict(names) if isinstance(names, dict) else {n: n for n in names}
+
     def __getattr__(name):
-        if name not in names:
+        if name not in renamed:
             raise AttributeError(f"module {old!r} has no attribute {name!r}")
-        module, new = names[name].split(":")
-        warnings.warn(f"{old}.{name} is deprecated; use {module}.{new} instead; the old name "
-                      "will be removed in the next release", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module(module), new)
+        target = renamed[name]
+        warnings.warn(f"{old}.{name} is deprecated; import it from {new}"
+                      + (f" as {target}" if target != name else "")
+                      + "; the old name will be removed in the next release",
+                      DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(new), target)
     return __getattr__
+
+
+def moved_call(what, new, name):
+    """``new.name``, after a DeprecationWarning saying that ``what`` is now that function
+    (a keyword or a use that moved to a module of a higher layer, for one release)."""
+    warnings.warn(f"{what} is deprecated; call {new}.{name}; the old form will be removed in "
+                  "the next release", DeprecationWarning, stacklevel=3)
+    return getattr(importlib.import_module(new), name)

@@ -152,3 +152,27 @@ def test_the_paper_oracle_names_of_symvi_flow_warn_and_forward():
     for name in ("first_impact", "motion_from", "forcing_amplitudes", "GRAZING"):
         with pytest.warns(DeprecationWarning, match="symvi.paper.modal_flow"):
             assert getattr(flow, name) is getattr(modal_flow, name)
+
+
+def test_the_papers_reduction_left_normal_form_with_a_warning():
+    """Issue 24, item 1: normal_form(paper=True) and the reduction's names in
+    symvi.normal_forms.normal_form still work for a release, warning and naming the new home;
+    the default normal form carries general fields only."""
+    import numpy as np
+
+    from symvi.normal_forms import normal_form as nfm
+    from symvi.paper import reduction
+    th = 0.3
+    A = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])    # |lambda| = 1
+    d2, d3 = np.zeros((2, 2, 2)), np.zeros((2, 2, 2, 2))
+    d3[0, 0, 0, 0] = d3[1, 1, 1, 1] = -1.0
+    plain = nfm.normal_form(A, d2, d3)
+    assert not hasattr(plain, "f1_printed") and not hasattr(plain, "paper")
+    with pytest.warns(DeprecationWarning, match="symvi.paper.reduction.normal_form"):
+        old = nfm.normal_form(A, d2, d3, paper=True)
+    new = reduction.normal_form(A, d2, d3)
+    assert type(old) is reduction.PaperNormalForm and old.f1_printed == new.f1_printed
+    assert new.l1 == plain.l1 and new.f1_wan == pytest.approx(-plain.l1 / 4, rel=1e-12)
+    for name in ("eigenmatrix", "appendix_printed", "f1_eq60", "wan_a", "PaperReduction"):
+        with pytest.warns(DeprecationWarning, match="symvi.paper.reduction"):
+            assert getattr(nfm, name) is getattr(reduction, name)

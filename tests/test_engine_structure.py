@@ -111,12 +111,19 @@ def test_old_names_warn_and_name_the_new_ones():
     import importlib
 
     import pytest
-    for old, name, new in (("symvi.continuation.branch", "MIN_COS", "engine.MIN_COS"),
-                           ("symvi.curves.curve", "CURVE_MIN_COS", "engine.MIN_COS"),
-                           ("symvi.continuation.special", "Tracker", "Codim1Tracker"),
-                           ("symvi.curves.special", "Tracker", "Codim2Tracker")):
+    for old, name, new in (("symvi.continuation.branch", "MIN_COS", "continuation.engine"),
+                           ("symvi.curves.curve", "CURVE_MIN_COS", "engine as MIN_COS"),
+                           ("symvi.continuation.special", "Tracker", "as Codim1Tracker"),
+                           ("symvi.curves.special", "Tracker", "as Codim2Tracker")):
         with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
             getattr(importlib.import_module(old), name)
+    from symvi.continuation import engine
+    from symvi.curves.special import Codim2Tracker
+    with pytest.warns(DeprecationWarning):
+        from symvi.curves.curve import CURVE_MIN_COS
+    with pytest.warns(DeprecationWarning):
+        from symvi.curves.special import Tracker
+    assert CURVE_MIN_COS == engine.MIN_COS and Tracker is Codim2Tracker
 
 
 def test_a_kind_outside_the_vocabulary_is_refused():

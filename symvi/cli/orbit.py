@@ -13,85 +13,58 @@ def register(sub):
 def run(args):
     import dataclasses
 
-    from ..paper.orbit import Orbit
-    from ..paper.params import check_omega, modal
-    from ..analysis.precision import auto_orbits
-    params = params_from(args)
+    from ..analysis.precision import auto_model_orbits
+    from ..flow.linear import LinearFlow
     from ..model import Model
-    if isinstance(params, Model):
-        return _run_model(params, args)
-    omega = check_omega(params, args.omega)
+    system = params_from(args)
+    model = Model.of(system)
+    paper = system is not model                 # the preset flags: the paper's view
+    flow = LinearFlow.of(model)
+    if paper:
+        from ..paper.orbit import Orbit
+        from ..paper.params import check_omega, modal
+        omega = check_omega(system, args.omega)
+    else:
+        omega = flow.check_omega(args.omega)
     # error estimates; mpmath recomputation where float64 gives < 8 digits
-    autos = [dataclasses.replace(a, orbit=Orbit.of(params, a.orbit))   # the paper's view
-             for a in auto_orbits(params, omega)]
+    autos = auto_model_orbits(model, omega)
+    if paper:
+        autos = [dataclasses.replace(a, orbit=Orbit.of(system, a.orbit)) for a in autos]
     orbits = [a.orbit for a in autos]
     if args.json:
         items = _json_items(autos)
-        for d, a in zip(items, autos):
-            d["y"] = [float(v) for v in a.orbit.y]
-            d["names"] = ["x1dot+", "x20", "x20dot", "tau0"]
-        out = {"params": params.as_dict(), "omega": omega, "orbits": items}
-        if not orbits:
-            out["reason"] = _why_none(Model.of(params), omega)
-        print_json(out)
-        return 0
-    m = modal(params)
-    print(f"params: mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} "
-          f"b={params.b:g} r={params.r:g}   omega={omega:.10g}")
-    print(f"modal:  omega1={m.omega1:.10g} omega2={m.omega2:.10g}")
-    if not orbits:
-        print("no period-1 one-impact orbit exists here: " + _why_none(Model.of(params), omega))
-        return 0
-    hdr = f"{'branch':6} {'x1dot+':>13} {'x20':>13} {'x20dot':>13} {'tau0':>13} " \
-          f"{'v_impact':>13} {'max|lambda|':>11}  status"
-    print(hdr)
-    for a in autos:
-        o = a.orbit
-        lam = max(abs(complex(z)) for z in o.multipliers)
-        status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
-        y = [float(v) for v in (*o.y, o.impact_velocity)]
-        print(f"{o.branch:6} {y[0]:13.8f} {y[1]:13.8f} {y[2]:13.8f} {y[3]:13.8f} "
-              f"{y[4]:13.8f} {float(lam):11.7f}  {status}")
-        print("       multipliers: " + ", ".join(
-            f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
-        if not o.admissible:
-            print(f"       reason: {o.reason}")
-        print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
-              + (f"  [{a.note}]" if a.digits_used else ""))
-    return 0
-
-
-def _run_model(model, args):
-    """Any model (``--model FILE``): y in the section layout, with its names."""
-    from ..flow.linear import LinearFlow
-    from ..analysis.precision import auto_model_orbits
-    flow = LinearFlow.of(model)
-    omega = flow.check_omega(args.omega)
-    # error estimates; mpmath recomputation where float64 gives < 8 digits
-    autos = auto_model_orbits(model, omega)
-    orbits = [a.orbit for a in autos]
-    if args.json:
-        out = {"model": model.as_dict(), "omega": omega, "orbits": _json_items(autos)}
+        if paper:
+            for d, a in zip(items, autos):
+                d["y"] = [float(v) for v in a.orbit.y]
+                d["names"] = list(PAPER_NAMES)
+        out = {("params" if paper else "model"): system.as_dict(), "omega": omega,
+               "orbits": items}
         if not orbits:
             out["reason"] = _why_none(model, omega)
         print_json(out)
         return 0
-    print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap {model.stop.gap:g}, "
-          f"r = {model.stop.restitution:g}{', damped' if model.damped else ''}   "
-          f"omega={omega:.10g}")
-    print("natural frequencies: " + " ".join(f"{float(w):.10g}" for w in flow.omegas))
+    if paper:
+        m = modal(system)
+        print(f"params: mu_m={system.mu_m:g} mu_k={system.mu_k:g} f2={system.f2:g} "
+              f"b={system.b:g} r={system.r:g}   omega={omega:.10g}")
+        print(f"modal:  omega1={m.omega1:.10g} omega2={m.omega2:.10g}")
+    else:
+        print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap "
+              f"{model.stop.gap:g}, r = {model.stop.restitution:g}"
+              f"{', damped' if model.damped else ''}   omega={omega:.10g}")
+        print("natural frequencies: " + " ".join(f"{float(w):.10g}" for w in flow.omegas))
     if not orbits:
         print("no period-1 one-impact orbit exists here: " + _why_none(model, omega))
         return 0
-    names = orbits[0].names
-    print(f"{'branch':6} " + " ".join(f"{n:>12}" for n in names)
-          + f" {'v_impact':>12} {'max|lambda|':>11}  status")
+    names, w = (PAPER_NAMES, 13) if paper else (orbits[0].names, 12)
+    print(f"{'branch':6} " + " ".join(f"{n:>{w}}" for n in names)
+          + f" {'v_impact':>{w}} {'max|lambda|':>11}  status")
     for a in autos:
         o = a.orbit
         lam = max(abs(complex(z)) for z in o.multipliers)
         status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
-        print(f"{o.branch:6} " + " ".join(f"{float(v):12.8f}" for v in o.y)
-              + f" {float(o.impact_velocity):12.8f} {lam:11.7f}  {status}")
+        print(f"{o.branch:6} " + " ".join(f"{float(v):{w}.8f}" for v in o.y)
+              + f" {float(o.impact_velocity):{w}.8f} {float(lam):11.7f}  {status}")
         print("       multipliers: " + ", ".join(
             f"{complex(z).real:+.8f}{complex(z).imag:+.8f}i" for z in o.multipliers))
         if not o.admissible:
@@ -99,6 +72,10 @@ def _run_model(model, args):
         print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
               + (f"  [{a.note}]" if a.digits_used else ""))
     return 0
+
+
+#: the paper's names of (x1dot+, x20, x20dot, tau0), eq. (9)
+PAPER_NAMES = ("x1dot+", "x20", "x20dot", "tau0")
 
 
 def _why_none(model, omega):

@@ -297,4 +297,4 @@ def diagram_branches(system, omega_min, omega_max, component=0):
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release
-__getattr__ = _moved_names(__name__, {"MIN_COS": "symvi.continuation.engine:MIN_COS"})
+__getattr__ = _moved_names(__name__, "symvi.continuation.engine", ("MIN_COS",))

@@ -320,4 +320,4 @@ def _unit_circle_resonance(mu, m):
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release
-__getattr__ = _moved_names(__name__, {"Tracker": "symvi.continuation.special:Codim1Tracker"})
+__getattr__ = _moved_names(__name__, __name__, {"Tracker": "Codim1Tracker"})

@@ -377,5 +377,5 @@ def _reindex(sp, i):
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release
-__getattr__ = _moved_names(__name__, {"CURVE_MIN_COS": "symvi.continuation.engine:MIN_COS",
-                             "CHORD_MAXIT": "symvi.continuation.engine:CHORD_MAXIT"})
+__getattr__ = _moved_names(__name__, "symvi.continuation.engine",
+                           {"CURVE_MIN_COS": "MIN_COS", "CHORD_MAXIT": "CHORD_MAXIT"})

@@ -281,4 +281,4 @@ def _scalars(res):
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release
-__getattr__ = _moved_names(__name__, {"Tracker": "symvi.curves.special:Codim2Tracker"})
+__getattr__ = _moved_names(__name__, __name__, {"Tracker": "Codim2Tracker"})

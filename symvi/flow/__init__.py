@@ -8,19 +8,11 @@ The paper's 2-DOF undamped modal form, eqs. (7)–(8), is the oracle of the pape
 (:mod:`symvi.paper.modal_flow`); its names here (``first_impact``, ``motion_from``, ...)
 warn and are removed in the next release.
 """
-_ORACLE = ("GRAZING", "IMPACT", "NO_IMPACT", "FirstImpact", "Motion", "first_impact",
-           "forcing_amplitudes", "motion_from")
+from .._deprecated import moved_names as _moved_names
 
-
-def __getattr__(name):
-    if name in _ORACLE:
-        import importlib
-        import warnings
-        warnings.warn(f"symvi.flow.{name} is deprecated; import it from symvi.paper.modal_flow "
-                      "(the paper's oracle flow); the old name will be removed in the next "
-                      "release", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module("symvi.paper.modal_flow"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = _moved_names(__name__, "symvi.paper.modal_flow", (
+    "GRAZING", "IMPACT", "NO_IMPACT", "FirstImpact", "Motion", "first_impact",
+    "forcing_amplitudes", "motion_from"))
 
 
 def check_omega(system, omega, name="omega", warn=True):

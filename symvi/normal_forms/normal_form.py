@@ -55,10 +55,6 @@ References
 [Kuznetsov, Elements of Applied Bifurcation Theory] Yu. A. Kuznetsov, Elements
 of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4 (Neimark–Sacker
 bifurcation in n-dimensional maps; c1 formula) and Sec. 4.7 (planar normal form).
-[Wan 1978] Y.-H. Wan, Computation of the stability condition for the Hopf
-bifurcation of diffeomorphisms on R^2, SIAM J. Appl. Math. 34 (1978) 167–175;
-as restated in J. Guckenheimer & P. Holmes, Nonlinear Oscillations, Dynamical
-Systems, and Bifurcations of Vector Fields, Springer 1983, eq. (3.5.11).
 """
 import cmath
 import contextlib
@@ -69,6 +65,7 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
+from .._deprecated import moved_call, moved_names
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 # |lambda^m - 1| (m = 1..5) below which the reduction is refused / warned about: the strong
 # resonances of the multiplier, not the forcing resonance of symvi.flow.linear's names
@@ -422,8 +419,12 @@ class Circle:
     l1: float
     dmod_dv: float
     q_abs: tuple
-    names: tuple = ("x1dot+", "x20", "x20dot", "tau")
+    names: tuple = ()          # of the state variables; x1 ... xn when the caller gives none
     normalisation: str = "rho: ||q||_2 = 1, <p,q> = 1; paper radius = 2 rho"
+
+    def __post_init__(self):
+        if not self.names:
+            object.__setattr__(self, "names", tuple(f"x{k + 1}" for k in range(len(self.q_abs))))
 
     @property
     def side(self):
@@ -520,12 +521,8 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, pape
     DeprecationWarning, for one release; ``paper=False`` is the default and a no-op).
     """
     if paper:
-        warnings.warn("normal_form(paper=True) is deprecated; call "
-                      "symvi.paper.reduction.normal_form for the paper's reduction and f1",
-                      DeprecationWarning, stacklevel=2)
-        import importlib
-        red = importlib.import_module("symvi.paper.reduction")
-        return red.normal_form(A, d2, d3, dA, index=index, digits=digits, names=names)
+        red = moved_call("normal_form(paper=True)", "symvi.paper.reduction", "normal_form")
+        return red(A, d2, d3, dA, index=index, digits=digits, names=names)
     bk = backend(digits, A, d2, d3, dA)
     with bk.context():
         A = bk.arr(A)
@@ -614,15 +611,5 @@ def flip_coefficient(A, d2, d3):
 
 
 #: the paper's reduction moved to symvi.paper.reduction (issue 24): the old names warn
-_MOVED = ("PaperReduction", "eigenmatrix", "appendix_printed", "f1_eq60_printed", "wan_a",
-          "f1_eq60")
-
-
-def __getattr__(name):
-    if name in _MOVED:
-        import importlib
-        warnings.warn(f"symvi.normal_forms.normal_form.{name} is deprecated; import it from "
-                      "symvi.paper.reduction; the old name will be removed in the next release",
-                      DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module("symvi.paper.reduction"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = moved_names(__name__, "symvi.paper.reduction", (
+    "PaperReduction", "eigenmatrix", "appendix_printed", "f1_eq60_printed", "wan_a", "f1_eq60"))

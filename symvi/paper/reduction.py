@@ -53,11 +53,7 @@ form is kept beside the corrected one and named ``*_printed``.
    from conj(g) whose z^2 coefficient is conj(g_02)/2).  W_30 enters only
    quartic terms, not f1.  Shown by the same invariance-residual test
    (printed W_30 leaves an O(|z|^3) residual).
-4. **Eq. (A3)** writes ``Re(\\tilde\\lambda_1 e^{-i\\omega_0})``; omega_0 must be
-   the argument theta_0 of lambda_0 (d|lambda|/dv = Re(conj(lambda) dlambda/dv)
-   on |lambda| = 1), not omega = Im lambda_1 of eq. (41).  We implement the
-   argument reading; ``test_planar.py::test_dmod_A3`` checks it against a
-   family with known d|lambda|/dv.
+(Eq. (A3)'s reading is in :mod:`symvi.normal_forms.normal_form`, which computes it.)
 
 Checked and found right as printed: eqs. (A4)–(A9), (A11), (A12), (A14)–(A16)
 (equal to the Wirtinger derivatives d/dz = (d/dy1 - i d/dy2)/2 applied to
@@ -66,9 +62,8 @@ eq. (54), (A13), (A17), W_20, W_11, W_02 and W_21 of eq. (46).
 
 References
 ----------
-[Kuznetsov, Elements of Applied Bifurcation Theory] Yu. A. Kuznetsov, Elements
-of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4 (Neimark–Sacker
-bifurcation in n-dimensional maps; c1 formula) and Sec. 4.7 (planar normal form).
+[Kuznetsov, Elements of Applied Bifurcation Theory]: see
+:mod:`symvi.normal_forms.normal_form` (Sec. 4.7, the planar c1 expanded above).
 [Wan 1978] Y.-H. Wan, Computation of the stability condition for the Hopf
 bifurcation of diffeomorphisms on R^2, SIAM J. Appl. Math. 34 (1978) 167–175;
 as restated in J. Guckenheimer & P. Holmes, Nonlinear Oscillations, Dynamical
