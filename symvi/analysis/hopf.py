@@ -102,7 +102,6 @@ from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
 from ..numerics.tolerances import FORCING_RESONANCE_CUT, OMEGA_RANGE
@@ -782,6 +781,7 @@ def _brent(f, a, b):
     fa, fb = f(a), f(b)
     if not (math.isfinite(fa) and math.isfinite(fb)) or fa * fb > 0:
         return None
+    from scipy.optimize import brentq     # ~0.1 s to import: only when a boundary is located
     try:
         return brentq(f, a, b, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
     except (ValueError, RuntimeError):

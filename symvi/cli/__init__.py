@@ -200,6 +200,8 @@ def main(argv=None):
     if not getattr(args, "_module", None):
         parser.print_help()
         return 2
+    from .._compiled import announce_compiles
+    announce_compiles()            # a compile is never silent (numba: cache misses only)
     try:
         return int(args._module.run(args) or 0)
     except SymviError as exc:

@@ -1,5 +1,6 @@
 """``symvi hopf``: every Neimark–Sacker point in an omega interval, with its normal form."""
 from . import add_params, describe, params_from, print_json
+from ._kernels import HOPF, warm
 
 
 def register(sub):
@@ -27,6 +28,8 @@ def run(args):
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
+    # first run after install: compile the scan's kernels in parallel, and say so
+    warm(HOPF, "the Hopf scan")
     try:
         res = hopf_points(params, args.omega_min, args.omega_max)
     except ParameterError as exc:

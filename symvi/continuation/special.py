@@ -29,7 +29,6 @@ import math
 import warnings
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from .._deprecated import moved_names as _moved_names
 from ..errors import NearSingularWarning, SymviError
@@ -294,6 +293,7 @@ class Codim1Tracker(engine.Tracker):
         best, where = None, None
         for j in range(1, k):
             if hs[j] >= hs[j - 1] and hs[j] >= hs[j + 1]:
+                from scipy.optimize import minimize_scalar   # ~0.1 s to import
                 r = minimize_scalar(lambda t: -mo.h(t)[0], bounds=(ts[j - 1], ts[j + 1]),
                                     method="bounded", options={"xatol": 1e-13 * T})
                 v = -float(r.fun)
