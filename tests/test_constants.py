@@ -147,7 +147,8 @@ def test_old_names_are_the_shared_values():
 
 
 def test_plane_escape_code_is_not_the_escape_bound():
-    """plane.kernel's attractor code ESCAPE indexes ATTRACTORS (it was replaced by the
+    """The classifier's (once plane.kernel's) attractor code ESCAPE indexes ATTRACTORS (it
+    was replaced by the
     bound 1e6, so an escaping point got code 64 and no label)."""
-    from symvi.plane import kernel
+    from symvi.simulations import classifier as kernel
     assert kernel.ATTRACTORS[kernel.ESCAPE] == "escape" and kernel.ESCAPE_MAX == 1e6

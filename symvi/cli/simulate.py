@@ -66,6 +66,11 @@ def run(args):
         from ..simulations.diagnostics import classify
         cl = classify(sim)
         out["class"] = cl.kind
+        if cl.code is not None:
+            # the same class in the plane's vocabulary (symvi.simulations.classifier)
+            out["attractor"] = cl.label
+            if cl.impacts is not None:
+                out["impacts_per_orbit"] = cl.impacts
         # null only where the run stopped or was too short (the class says which)
         out["lyapunov"] = (None if cl.lyapunov is None
                            else [float(v) for v in cl.lyapunov.exponents])

@@ -112,14 +112,27 @@ def tangent_data(flow, forcing, te, tangent):
     return pE0, pE1, la.real(dX), la.real(-i * dX), tangent.dr, tangent.db
 
 
+def jet_constraint(flow):
+    """(r, b) of the flow's constraint as the generated structures take them: they are
+    derived for the guard x_0 = b and the reset v_0+ = -r v_0- (the stop on one mass, in
+    the flow's order).  Any other constraint is refused here, by name, rather than given
+    the stop's jets (its guard normal and reset are not yet inputs of the generated code)."""
+    if not flow.coordinate_law:
+        raise ParameterError("constraint", flow.constraint,
+                             "a stop on one mass with v_k+ = -r v_k- (the generated jets' "
+                             "guard and reset)")
+    return flow.r, flow.b
+
+
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
+    r, b = jet_constraint(flow)
     if la is NUMPY_LA and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
         return tuple(assemble64(lam, W, Winv, A, F.U, F.V, F.dU, F.dV, float(F.omega),
-                                float(flow.r), float(flow.b), np.asarray(y, dtype=float),
+                                float(r), float(b), np.asarray(y, dtype=float),
                                 float(te), order, order in PARAMETER_ORDERS).tolist())
     parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
@@ -138,7 +151,7 @@ def assemble(flow, forcing, y, te, order, tangent=None):
             parts += [pE0.ravel(), pE1.ravel(), pU, pV]
             scal_p = [lib.num(pr), lib.num(pb)]
     head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
-    tail = [forcing.omega, flow.r, flow.b] + scal_p + list(y) + [lib.num(te)]
+    tail = [forcing.omega, r, b] + scal_p + list(y) + [lib.num(te)]
     if la is NUMPY_LA:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)

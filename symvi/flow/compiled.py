@@ -5,10 +5,12 @@ Modal form.  z(t) = Re(W (c * e^{lambda t})) + zp(t), c = W^-1 (z0 - zp(0)), as 
 :mod:`symvi.flow.linear`.  A is real, so its eigenvalues come in conjugate pairs
 whose terms are conjugate: only one of each pair is kept, with weight 2
 (``Re(a) + Re(conj a) = 2 Re(a)``); real (overdamped) eigenvalues keep weight 1.
-Along a flight only h = x_k - b and its derivatives are needed::
+Along a flight only the guard h = g . x - level of the model's constraint
+(:class:`symvi.model.Constraint`; x_k - b for the stop on mass k) and its
+derivatives are needed::
 
-    h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m x_p,k - b [m = 0],
-    d_j = W[0, j] c_j                (row 0 of W is x_k in the stop-first order);
+    h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m g . x_p - level [m = 0],
+    d_j = (g . W[:N, j]) c_j         (W[0, j] c_j for the stop: g = e_0 in the stop-first order);
 
 the full state is rebuilt only at the impact.
 
@@ -30,10 +32,11 @@ as the reference (smaller steps) would land on it.
 
 Kernels take the constants of one (model, omega) as one float64 array made by
 :func:`constants` (complex numbers as (re, im) pairs); section points are 2N
-vectors in the layout of :mod:`symvi.maps.section`.  This module owns the
-statuses, stop codes and chatter thresholds of every compiled run (the plane
-kernel imports them from here).  The paper's model (:class:`symvi.Params`) runs
-here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
+vectors in the layout of :mod:`symvi.maps.section`.  This module owns the one
+run loop (:func:`_run_into`: simulate, sweep, the plane and the classifier share it,
+the tangent map and the escape test chosen by its arguments), and the statuses,
+stop codes and chatter thresholds of every compiled run.  The paper's model
+(:class:`symvi.Params`) runs here too, as :meth:`symvi.model.Model.luo_xie`: its section layout is the
 paper's (x1dot+, x20, x20dot, tau0), eq. (9).
 """
 import math
@@ -67,18 +70,24 @@ CHATTER_FLIGHT = 1e-3
 _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 1_000_000
 
-# header of the constants array; then, for a model of N masses (capacity 2N modes):
+# The constants array, typed against the constraint interface (symvi.model.Constraint).
+# Header: N, kept modes, omega; the constraint's gap b (x_0 = b on the section) and its
+# guard level (h = guard . x - level); t_max; the guard's steady amplitudes
+# (guard . U, guard . V, |guard . X|); max(|lambda|, omega); the growth factor.
+# Then, for a model of N masses (capacity 2N modes), in the flow's order:
 #   modes   [_HDR, +6N)            (Re lambda_j, Im lambda_j, weight w_j)
 #   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
 #   W^-1    [ov, +8N^2)            W^-1[j, i] at ov + 2 (2N j + i)
-#   U, V    [ou, +2N)              steady-state amplitudes, stop-first order
-_NN, _NM, _OM, _B, _R, _TMAX, _UK, _VK, _XK, _LMAX, _GROW = range(11)
+#   U, V    [ou, +2N)              steady-state amplitudes
+#   guard   [og, +N)               the signed guard normal (e_0 for the stop)
+#   reset   [orr, +N^2)            R[i, j] at orr + N i + j: v+ = R v- (the impact law)
+_NN, _NM, _OM, _GAP, _LEVEL, _TMAX, _US, _VS, _XS, _LMAX, _GROW = range(11)
 _HDR = 11
 
 
 def size(n):
     """Length of the constants array of a model with n masses."""
-    return _HDR + 6 * n + 16 * n * n + 2 * n
+    return _HDR + 6 * n + 16 * n * n + 2 * n + n + n * n
 
 
 def _modes(lam):
@@ -126,8 +135,9 @@ def constants(model, omega, t_max=None):
     c = np.zeros(size(n))
     U, V = np.asarray(fo.U, dtype=float), np.asarray(fo.V, dtype=float)
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega
-    c[_B], c[_R], c[_TMAX] = flow.b, flow.r, t_max
-    c[_UK], c[_VK], c[_XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
+    c[_TMAX] = t_max
+    set_constraint(c, flow)
+    set_guard_forcing(c, flow, U, V)
     c[_LMAX] = max(max(abs(flow.lam)), omega)
     # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
     # the bounds M2, M5 by its growth over a flight (> t_max only by a last step)
@@ -146,13 +156,42 @@ def constants(model, omega, t_max=None):
     return c
 
 
+#: the constraint as the kernels take it (:attr:`LinearFlow.constraint64`): the section's
+#: level b, the guard's level, then the guard (N) and the reset R (N x N, row-major)
+CONSTRAINT = ("b", "level", "guard", "reset")
+
+
+def set_constraint(c, flow):
+    """Write the flow's constraint (gap, guard, reset: :meth:`LinearFlow._constrain`) into
+    the constants array ``c`` (a flow copied for a new gap or restitution shares the rest)."""
+    n = flow.n
+    k = flow.constraint64
+    og = _offsets(n)[3]
+    c[_GAP], c[_LEVEL] = k[0], k[1]
+    c[og:og + n + n * n] = k[2:]
+
+
+def set_guard_forcing(c, flow, U, V):
+    """The guard's steady amplitudes guard . U, guard . V and |guard . X| (U[0], V[0], |X_k|
+    for the stop on mass k)."""
+    if flow._unit_guard:
+        us, vs = U[0], V[0]
+    else:
+        g = flow.guard
+        us, vs = float(g @ U), float(g @ V)
+    c[_US], c[_VS], c[_XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
+
+
 # --------------------------------------------------------------------------- kernels
 @nb.njit(cache=True, inline="always")
 def _offsets(n):
+    """(ow, ov, ou, og, orr): the blocks of the constants array (layout above)."""
     dim = 2 * n
     ow = _HDR + 3 * dim
     ov = ow + 2 * dim * dim
-    return ow, ov, ov + 2 * dim * dim
+    ou = ov + 2 * dim * dim
+    og = ou + 2 * n
+    return ow, ov, ou, og, og + n
 
 
 @nb.njit(cache=True)
@@ -164,13 +203,13 @@ def _start(c, y, cc, d, w):
     Returns (tau, sum_j w_j |d_j|).  ``w`` is scratch (2N)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
-    ow, ov, ou = _offsets(n)
+    ow, ov, ou, og, _ = _offsets(n)
     tau = y[dim - 1]
     sp, cp = math.sin(tau), math.cos(tau)
     # z0 = (b, y[1:n], y[0], y[n:2n-1]) in the stop-first order, minus zp(0)
     for i in range(n):
         U, V = c[ou + i], c[ou + n + i]
-        w[i] = (c[_B] if i == 0 else y[i]) - (U * sp + V * cp)
+        w[i] = (c[_GAP] if i == 0 else y[i]) - (U * sp + V * cp)
         w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * (U * cp - V * sp)
     amp = 0.0
     for j in range(m):
@@ -182,9 +221,13 @@ def _start(c, y, cc, d, w):
             ai += c[o + 1] * w[i]
         ar, ai = wt * ar, wt * ai               # the weight is 1 or 2: exact
         cc[2 * j], cc[2 * j + 1] = ar, ai
-        o = ow + 2 * dim * j                    # W[0, j]
-        dr = c[o] * ar - c[o + 1] * ai
-        di = c[o] * ai + c[o + 1] * ar
+        gr, gi = 0.0, 0.0                       # guard . W[:n, j] (W[0, j] for the stop)
+        for i in range(n):
+            o = ow + 2 * (dim * j + i)
+            gr += c[og + i] * c[o]
+            gi += c[og + i] * c[o + 1]
+        dr = gr * ar - gi * ai
+        di = gr * ai + gi * ar
         q = 12 * j
         for k in range(5):
             d[q + 2 * k], d[q + 2 * k + 1] = dr, di
@@ -199,7 +242,7 @@ def _start(c, y, cc, d, w):
 
 @nb.njit(cache=True, inline="always")
 def _eval(c, d, e, m, tau, t):
-    """h = x_k - b, its first four derivatives, and the bounds M2(t), M5(t).
+    """h = guard . x - level (x_k - b), its first four derivatives, and the bounds M2(t), M5(t).
 
     Leaves e^{lambda_j t} and (sin, cos) of the phase in ``e`` for :func:`_state`
     (the finder's last evaluation is at the time it returns)."""
@@ -228,15 +271,15 @@ def _eval(c, d, e, m, tau, t):
     ph = om * t + tau
     sp, cp = math.sin(ph), math.cos(ph)
     e[2 * m], e[2 * m + 1] = sp, cp
-    s0 = c[_UK] * sp + c[_VK] * cp
-    s1 = om * (c[_UK] * cp - c[_VK] * sp)
+    s0 = c[_US] * sp + c[_VS] * cp
+    s1 = om * (c[_US] * cp - c[_VS] * sp)
     o2 = om * om
-    h += s0 - c[_B]
+    h += s0 - c[_LEVEL]
     h1 += s1
     h2 -= o2 * s0
     h3 -= o2 * s1
     h4 += o2 * o2 * s0
-    X = c[_XK]
+    X = c[_XS]
     return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
 
 
@@ -278,13 +321,13 @@ def _near_max(c, d, e, m, tau, ta, ha, da, tb, hb, db, L):
 
 @nb.njit(cache=True)
 def _first_impact(c, d, e, tau, amp, t_max):
-    """First t > 0 with x_k(t) = b: the twin of :meth:`Motion.first_impact`.
+    """First t > 0 with h(t) = 0 (x_k(t) = b): the twin of :meth:`Motion.first_impact`.
 
     Returns (status, t, x_k'' at t, steps); x_k'' at a contact separates grazing
     (< 0) from sticking (> 0).
     """
     m = int(c[_NM])
-    L = amp + c[_XK] + abs(c[_B])
+    L = amp + c[_XS] + abs(c[_LEVEL])
     h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, 0.0)
     eps_h = CONTACT_ULPS * _EPS * L
     v_graze = GRAZING_SPEED_FACTOR * math.sqrt(2.0 * M2 * eps_h)
@@ -336,7 +379,7 @@ def _state(c, cc, e, z):
     at the time of the last :func:`_eval` (its factors ``e``)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
-    ow, ov, ou = _offsets(n)
+    ow, ov, ou, _, _ = _offsets(n)
     for i in range(dim):
         z[i] = 0.0
     for j in range(m):
@@ -357,19 +400,28 @@ def _state(c, cc, e, z):
 def _step_into(c, y, cc, d, e, z):
     """One application of P on y, in place: y <- P(y), eq. (31) generalised.
 
-    Returns (status, t_e, v_k- at the contact, x_k'' there, finder steps).
+    Returns (status, t_e, guard . v- at the contact (v_k-), h'' there (x_k''), finder steps).
     """
     n = int(c[_NN])
     tau, amp = _start(c, y, cc, d, z)
     st, t, acc, steps = _first_impact(c, d, e, tau, amp, c[_TMAX])
     _state(c, cc, e, z)
     tau_u = tau + c[_OM] * t
-    y[0] = -c[_R] * z[n]                          # v_k+ = -r v_k-, eq. (2)
-    for i in range(1, n):
-        y[i] = z[i]
-        y[n + i - 1] = z[n + i]
+    _, _, _, og, orr = _offsets(n)
+    vm = 0.0
+    for i in range(n):
+        vm += c[og + i] * z[n + i]
+    for i in range(n):                            # v+ = R v-: the constraint's reset
+        s = 0.0                                   # (v_k+ = -r v_k-, eq. (2), for the stop)
+        for j in range(n):
+            s += c[orr + n * i + j] * z[n + j]
+        if i == 0:
+            y[0] = s
+        else:
+            y[i] = z[i]
+            y[n + i - 1] = s
     y[2 * n - 1] = tau_u - _TWO_PI * math.floor(tau_u / _TWO_PI)
-    return st, t, z[n], acc, steps
+    return st, t, vm, acc, steps
 
 
 @nb.njit(cache=True)
@@ -414,12 +466,12 @@ def _tangent(c, tau, v, cc, e, z, w):
     (its coefficients ``cc``, factors ``e`` at t = t_e and state ``z`` there).
 
     Variation of z(t) = Phi(t) (z0 - zp(0; tau)) + zp(t; tau) at fixed t, then of
-    the impact time from x_k(t_e) = b, then of the reset (formulas in
+    the impact time from h(t_e) = 0 (x_k = b), then of the reset (formulas in
     :func:`step_tangent`).  O(dim^2): W^-1 then W per kept mode.  ``w`` is
     scratch (2 dim)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
-    ow, ov, ou = _offsets(n)
+    ow, ov, ou, og, orr = _offsets(n)
     dtau = v[dim - 1]
     sp, cp = math.sin(tau), math.cos(tau)
     # u = dz0 - d_tau zp(0) dtau; d_tau zp = zp' / omega (zp depends on omega t + tau)
@@ -465,13 +517,24 @@ def _tangent(c, tau, v, cc, e, z, w):
         # + d_tau zp(t_e) dtau
         w[dim + i] += (U * cp - V * sp) * dtau
         w[dim + n + i] -= om * s0 * dtau
-    # x_k(t_e + dte) = b: dte = -dx_k / v_k-
-    dte = -w[dim] / z[n]
-    # Dz = dz + zdot dte; zdot = (z velocities, accelerations w[0:n])
-    v[0] = -c[_R] * (w[dim + n] + w[0] * dte)
-    for i in range(1, n):
-        v[i] = w[dim + i] + z[n + i] * dte
-        v[n + i - 1] = w[dim + n + i] + w[i] * dte
+    # h(t_e + dte) = 0: dte = -guard . dx / guard . v- (-dx_k / v_k- for the stop)
+    gx, gv = 0.0, 0.0
+    for i in range(n):
+        gx += c[og + i] * w[dim + i]
+        gv += c[og + i] * z[n + i]
+    dte = -gx / gv
+    # Dz = dz + zdot dte; zdot = (z velocities, accelerations w[0:n]); Dv- into w[n:dim]
+    for i in range(n):
+        w[n + i] = w[dim + n + i] + w[i] * dte
+    for i in range(n):                            # Dv+ = R Dv-
+        s = 0.0
+        for j in range(n):
+            s += c[orr + n * i + j] * w[n + j]
+        if i == 0:
+            v[0] = s
+        else:
+            v[i] = w[dim + i] + z[n + i] * dte
+            v[n + i - 1] = s
     v[dim - 1] = dtau + om * dte
 
 
@@ -505,8 +568,11 @@ def step_tangent(c, y, v):
     z0 = (b, y[1:n], y[0], y[n:2n-1]) and d_tau zp = zp' / omega::
 
         dz(t_e) = Phi(t_e) (dz0 - d_tau zp(0) dtau) + d_tau zp(t_e) dtau,
-        dt_e = -dx_k(t_e) / v_k-,      Dz = dz(t_e) + zdot(t_e) dt_e,
-        DP v = (-r Dv_k, Dx_i, Dv_i (i != k), dtau + omega dt_e),
+        dt_e = -g . dx(t_e) / g . v-,  Dz = dz(t_e) + zdot(t_e) dt_e,   Dv+ = R Dv-,
+        DP v = (Dv+_k, Dx_i, Dv+_i (i != k), dtau + omega dt_e),
+
+    g the constraint's guard and R its reset (-dx_k / v_k- and Dv_k+ = -r Dv_k- for
+    the stop on mass k),
 
     with dz0 = (0, v[1:n], v[0], v[n:2n-1]), dtau = v[2n-1].  DP v is only
     meaningful when the status is an impact (v is returned unchanged otherwise).
@@ -530,32 +596,67 @@ def jacobian_tangent(c, y):
 
 
 @nb.njit(cache=True)
-def _run_into(c, y0, n_keep, transient, sec, times, vimp):
-    """Iterate P from y0: drop ``transient`` images, store the next ``n_keep``.
+def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
+    """The run loop: iterate P from y (in place), drop ``transient`` images, store the
+    next ``n_keep``: section points, cumulative times (transient included), v_k-.
 
-    Returns (stop code, number stored, total finder steps).  Times are
-    cumulative from the start, transient included.
+    Optional, chosen by the arguments (one body for every caller):
+
+    * tangent map: when ``v`` is not empty, v <- DP v / |DP v| at every step (from the
+      caller's v) and log |DP v| of each kept step into ``glog`` (the largest Lyapunov
+      exponent is their mean);
+    * escape test: a state with |y_i| > ``y_max`` (inf: off) stops the run as
+      non-finite.
+
+    Stops as the module docstring says (no impact, grazing, sticking, chatter,
+    non-finite); on a stop y is left at the last section point accepted.  Returns
+    (stop code, number stored, total finder steps, time at the start of the kept steps).
     """
     n = int(c[_NN])
     dim = 2 * n
-    y = y0[:dim].copy()
+    tangent = v.shape[0] > 0
     cc, d, e, z = np.empty(4 * n), np.empty(24 * n), np.empty(4 * n + 2), np.empty(dim)
+    w = np.empty(2 * dim)
+    y_prev = np.empty(dim)
     T = 0.0
+    T0 = 0.0
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
     steps = 0
     for k in range(transient + n_keep):
+        kept = k - transient
+        if kept == 0:
+            T0 = T
+        for i in range(dim):
+            y_prev[i] = y[i]
+        tau = y[dim - 1]
         st, te, vm, acc, ns = _step_into(c, y, cc, d, e, z)
         steps += ns
-        kept = k - transient
-        if st == NO_IMPACT:
-            return STOP_NO_IMPACT, max(kept, 0), steps
-        if st == GRAZING:
+        if st != IMPACT:
+            for i in range(dim):
+                y[i] = y_prev[i]
+            if st == NO_IMPACT:
+                return STOP_NO_IMPACT, max(kept, 0), steps, T0
             # x_k'' > 0 at a contact with ~zero speed: the stop holds the mass
-            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps
+            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0
+        ok = True
         for i in range(dim):
-            if not math.isfinite(y[i]):
-                return STOP_NONFINITE, max(kept, 0), steps
+            ok = ok and math.isfinite(y[i]) and abs(y[i]) <= y_max
+        nv = 1.0
+        if tangent:
+            _tangent(c, tau, v, cc, e, z, w)
+            nv = 0.0
+            for i in range(dim):
+                nv += v[i] * v[i]
+            nv = math.sqrt(nv)
+            ok = ok and math.isfinite(nv) and nv > 0.0
+        if not ok:
+            for i in range(dim):
+                y[i] = y_prev[i]
+            return STOP_NONFINITE, max(kept, 0), steps, T0
+        if tangent:
+            for i in range(dim):
+                v[i] /= nv
         T += te
         short = short + 1 if te < t_chat else 0
         if kept >= 0:
@@ -563,9 +664,14 @@ def _run_into(c, y0, n_keep, transient, sec, times, vimp):
                 sec[kept, i] = y[i]
             times[kept] = T
             vimp[kept] = vm
+            if tangent:
+                glog[kept] = math.log(nv)
         if short >= CHATTER_COUNT:
-            return STOP_CHATTER, max(kept + 1, 0), steps
-    return COMPLETED, n_keep, steps
+            return STOP_CHATTER, max(kept + 1, 0), steps, T0
+    return COMPLETED, n_keep, steps, T0
+
+
+_NONE = np.empty(0)
 
 
 def run(c, y0, n_keep, transient=0):
@@ -575,16 +681,19 @@ def run(c, y0, n_keep, transient=0):
     sec = np.empty((n_keep, dim))
     times = np.empty(n_keep)
     vimp = np.empty(n_keep)
-    code, k, steps = _run_into(c, np.ascontiguousarray(y0, dtype=np.float64), n_keep, transient,
-                               sec, times, vimp)
+    y = np.array(np.asarray(y0, dtype=np.float64)[:dim])
+    code, k, steps, _ = _run_into(c, y, n_keep, transient, sec, times, vimp, _NONE, _NONE,
+                                  np.inf)
     return code, sec[:k], times[:k], vimp[:k], steps
 
 
 @nb.njit(cache=True, parallel=True)
 def _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps):
+    none = np.empty(0)
     for i in nb.prange(C.shape[0]):
-        codes[i], counts[i], steps[i] = _run_into(C[i], Y0[i], n_keep, transient,
-                                                  sec[i], times[i], vimp[i])
+        y = Y0[i, :2 * int(C[i, _NN])].copy()
+        codes[i], counts[i], steps[i], _ = _run_into(C[i], y, n_keep, transient, sec[i],
+                                                     times[i], vimp[i], none, none, np.inf)
 
 
 def run_batch(C, Y0, n_keep, transient=0):

@@ -14,6 +14,10 @@ solved exactly as z(t) = Phi(t) (z0 - zp(0)) + zp(t), Phi(t) = e^{A t}, with
   closed form for W^-1); damped ones the eigenvectors of A, refused when they
   are ill-conditioned (a defective, e.g. critically damped, mode).
 
+The stop is read through its constraint (:class:`symvi.model.Constraint`): the
+flow's order puts its coordinate first, its guard is h = guard . x - level
+(x_k - b for the stop on mass k) and its reset v+ = R v- (:meth:`LinearFlow._constrain`).
+
 The first-impact finder steps along h(t) = x_k(t) - b < 0 with a provably safe
 step, as :mod:`symvi.paper.modal_flow` does for the paper: with
 M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
@@ -211,8 +215,8 @@ class LinearFlow:
         self.model, self.la = model, la
         lib = la.lib
         n = model.n
-        k = model.stop.mass - 1
-        self.perm = (k,) + tuple(j for j in range(n) if j != k)
+        con = model.constraints[0]
+        self.perm = _frame(con, n)
         p = list(self.perm)
         self.n = n
         M = la.arr(np.asarray(model.mass)[np.ix_(p, p)])
@@ -220,9 +224,8 @@ class LinearFlow:
         C = la.arr(np.asarray(model.damping)[np.ix_(p, p)])
         self.M, self.K, self.C = M, K, C
         self.P = la.arr(np.asarray(model.forcing)[p])
-        self.b = lib.num(model.stop.gap)
-        self.r = lib.num(model.stop.restitution)
         Minv = self.Minv = la.inv(M)
+        self._constrain(con)
         Z, I = np.zeros((n, n)), np.eye(n)
         self.A = np.block([[la.arr(Z), la.arr(I)], [-(Minv @ K), -(Minv @ C)]])
         # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
@@ -247,6 +250,60 @@ class LinearFlow:
             self.Winv = la.inv(self.W)
         self._forcing_cache = {}
         self._resonance_cache = {}
+
+    def _constrain(self, con):
+        """The constraint's data in the flow's order (:mod:`symvi.model._constraint`):
+        ``b`` the gap (x_0 = b on the section), ``r`` the restitution, ``guard`` the
+        signed normal and ``level`` the signed gap (h = guard . x - level < 0 off the stop),
+        ``reset`` R with v+ = R v-.  The one place the flow reads the impact law."""
+        lib, p = self.lib, list(self.perm)
+        self.constraint = con
+        self.b, self.r = lib.num(con.gap), lib.num(con.restitution)
+        self.guard = self.la.arr(con.sign * np.array(con.normal)[p])
+        self.level = con.sign * self.b
+        Minv = None
+        if con.impulse is None:                    # rigid: along M^-1 c (mass order)
+            Minv = self.la.inv(self.la.arr(np.asarray(self.model.mass)))
+        self.reset = con.reset_matrix(Minv, order=p, r=self.r)
+        if self.la is not NUMPY_LA:
+            self.reset = self.la.arr(self.reset)
+        # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
+        self._unit_guard = con.sign == 1.0 and con.coordinate is not None
+        # ... with v_0+ = -r v_0-, every other velocity kept: the law the generated jets
+        # are derived for (symvi.codegen.layout.jet_constraint)
+        law = np.eye(self.n, dtype=self.reset.dtype)
+        law[0, 0] = -self.r
+        self.coordinate_law = self._unit_guard and bool(np.all(self.reset == law))
+        if self.la is NUMPY_LA:
+            # (b, level, guard, R row-major): the layout the compiled kernels take
+            # (symvi.flow.compiled.CONSTRAINT), one array for one dispatch
+            self.constraint64 = np.concatenate([[float(self.b), float(self.level)], self.guard,
+                                                np.asarray(self.reset, dtype=float).ravel()])
+        self._resets = {}
+
+    def reset_at(self, r):
+        """The constraint's reset R (flow order) at restitution r (cached per flow)."""
+        R = self._resets.get(r)
+        if R is None:
+            con = self.constraint
+            R = con.reset_matrix(None if con.impulse else self.la.inv(
+                self.la.arr(np.asarray(self.model.mass))), order=list(self.perm), r=r)
+            self._resets[r] = R
+        return R
+
+    def approach(self, z):
+        """guard . v of a state z (flow order): > 0 moving towards the stop (v_k for the
+        stop on mass k)."""
+        n = self.n
+        return z[n] if self._unit_guard else self.guard @ z[n:2 * n]
+
+    def section_approach(self, y):
+        """guard . v+ of a section point y just after an impact (y[0] = v_k+ for the stop
+        on mass k; :class:`symvi.maps.Section`)."""
+        if self._unit_guard:
+            return y[0]
+        n = self.n
+        return self.guard[0] * y[0] + sum(self.guard[i] * y[n + i - 1] for i in range(1, n))
 
     @classmethod
     def of(cls, model, digits=None):
@@ -372,7 +429,8 @@ _LINEAR = {}
 def _flow_float(model):
     # models that differ only in the stop's gap or restitution (a curve in b or r) share
     # the modal data, which a new stop does not change: only b and r are replaced
-    key = (model.stop.mass,) + tuple(np.asarray(a, dtype=float).tobytes() for a in
+    con = model.constraints[0]
+    key = (con.normal, con.side, con.impulse) + tuple(np.asarray(a, dtype=float).tobytes() for a in
                                      (model.mass, model.stiffness, model.damping, model.forcing))
     base = _LINEAR.get(key)
     if base is None:
@@ -382,8 +440,19 @@ def _flow_float(model):
         return base
     flow = copy.copy(base)
     flow.model = model
-    flow.b, flow.r = float(model.stop.gap), float(model.stop.restitution)
+    flow._constrain(con)
     return flow
+
+
+def _frame(con, n):
+    """The flow's order of the masses: the constraint's coordinate first (the section
+    x_0 = b), the others in mass order (:class:`symvi.maps.Section`)."""
+    k = con.coordinate
+    if k is None:
+        raise ParameterError("constraint.normal", con.normal,
+                             "a unit coordinate vector e_k (a stop on one mass); other "
+                             "normals need a section frame (issue 25)")
+    return (k,) + tuple(j for j in range(n) if j != k)
 
 
 _MP_CACHE = {}
@@ -436,15 +505,17 @@ class Motion:
     def __init__(self, flow, forcing, tau, c):
         self.flow, self.forcing, self.tau, self.c = flow, forcing, tau, c
         la = flow.la
-        self.d = flow.W[0] * c                    # x_k(t) = Re sum d_j e^{lambda_j t} + x_p,k
-        self.dv = flow.W[flow.n] * c              # v_k(t), likewise
+        n, g = flow.n, flow.guard
+        # s(t) = guard . x(t) = Re sum d_j e^{lambda_j t} + guard . x_p (x_k for a stop on k)
+        self.d = (g @ flow.W[:n]) * c
+        self.dv = (g @ flow.W[n:]) * c            # s'(t), likewise
         lib = flow.lib
-        self._U0, self._V0 = forcing.U[0], forcing.V[0]
+        self._U0, self._V0 = g @ forcing.U, g @ forcing.V
         if flow.la is NUMPY_LA:           # scalar Python is faster than numpy at this size
             self._terms = [(complex(l), complex(a), complex(b))
                            for l, a, b in zip(flow.lam, self.d, self.dv)]
             self._U0, self._V0 = float(self._U0), float(self._V0)
-        self.Xk = lib.sqrt(forcing.U[0] ** 2 + forcing.V[0] ** 2)
+        self.Xk = lib.sqrt(self._U0 ** 2 + self._V0 ** 2)
         ad = la.absv(self.d)
         al = la.absv(flow.lam)
         self.amp = sum(ad)
@@ -457,7 +528,7 @@ class Motion:
         return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.lib)
 
     def h(self, t):
-        """(x_k(t) - b, x_k'(t)) of the stop's mass (two rows of the flow only)."""
+        """(h, h') at t, h = guard . x - level (x_k - b for a stop on mass k)."""
         f = self.flow
         om = self.forcing.omega
         ph = om * t + self.tau
@@ -468,21 +539,21 @@ class Motion:
                 e = cmath.exp(lam * t)
                 hh += a * e
                 hv += b * e
-            return (hh.real + self._U0 * s + self._V0 * c - f.b,
+            return (hh.real + self._U0 * s + self._V0 * c - f.level,
                     hv.real + om * (self._U0 * c - self._V0 * s))
         e = f.la.exp(f.lam * t)
-        h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.b
+        h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.level
         hd = (self.dv @ e).real + om * (self._U0 * c - self._V0 * s)
         return h, hd
 
     def first_impact(self, t_max=None, max_steps=100000):
-        """First t > 0 with x_k(t) = b for a flight that leaves the stop (x_k' < 0)."""
+        """First t > 0 with h(t) = 0 (x_k(t) = b) for a flight that leaves the stop (h' < 0)."""
         f, lib = self.flow, self.flow.lib
         om = self.forcing.omega
         if t_max is None:
             t_max = 2000 * lib.pi / om                 # 1000 forcing periods
         M2 = self.M2
-        L = self.amp + self.Xk + lib.fabs(f.b)
+        L = self.amp + self.Xk + lib.fabs(f.level)
         eps_h = CONTACT_ULPS * lib.eps * L
         v_graze = GRAZING_SPEED_FACTOR * lib.sqrt(2 * M2 * eps_h)
         t0 = 0 * t_max

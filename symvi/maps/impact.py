@@ -1,8 +1,9 @@
 """The impact map P of any model on the section x_k = b, eqs. (26)–(31) generalised.
 
 From y just after an impact (t reset to 0) the flight of :mod:`symvi.flow.linear`
-runs to the first contact x_k = b, where the impact law v_k+ = -r v_k- applies
-and tau' = tau + omega t_e (mod 2 pi).
+runs to the first contact x_k = b, where the constraint's reset applies (v_k+ = -r v_k-
+for the stop on mass k: :class:`symvi.model.Constraint`) and tau' = tau + omega t_e
+(mod 2 pi).
 """
 from dataclasses import dataclass
 
@@ -33,8 +34,8 @@ def step(flow, forcing, y, t_max=None):
     hit = flow.motion(forcing, z0, tau).first_impact(t_max=t_max)
     tau_u = tau + forcing.omega * hit.t
     z = hit.state
-    y1 = sec.image(z, flow.r, tau_u % (2 * lib.pi))
-    return MapStep(tuple(y1), hit.t, z[flow.n], hit.status, tau_u)
+    y1 = sec.image(z, flow.reset, tau_u % (2 * lib.pi))
+    return MapStep(tuple(y1), hit.t, flow.approach(z), hit.status, tau_u)
 
 
 def poincare_map(model, omega, y, *, digits=None, t_max=None):

@@ -1,7 +1,8 @@
 """The Poincaré section x_k = b just after an impact, and its state layout (the only owner).
 
 y = (v_k+, x_j for j != k, v_j for j != k, tau), dimension 2N, in mass order,
-where k is the stop's mass; for the paper's model this is (x1dot+, x20, x20dot, tau0)
+where k is the coordinate of the model's constraint (:attr:`symvi.model.Model.constraints`:
+the stop's mass); for the paper's model this is (x1dot+, x20, x20dot, tau0)
 of eq. (9).  The flow works in the stop-first order of
 :attr:`symvi.flow.linear.LinearFlow.perm`, in which y is simply
 (v_0+, x_1..x_{N-1}, v_1..v_{N-1}, tau).
@@ -62,12 +63,16 @@ class Section:
         n = self.n
         return (z[n], *z[1:n], *z[n + 1:2 * n], tau)
 
-    def image(self, z, r, tau):
-        """y after an impact in state z (x_k = b): v_k+ = -r v_k-, eq. (2)."""
-        return (-r * z[self.n],) + self.point(z, tau)[1:]
+    def image(self, z, reset, tau):
+        """y after an impact in state z (x_k = b): v+ = R v- with R = ``reset``, the
+        constraint's reset in the flow's order (:attr:`symvi.flow.linear.LinearFlow.reset`;
+        v_k+ = -r v_k-, eq. (2), for the stop on mass k)."""
+        n = self.n
+        v = reset @ z[n:2 * n]
+        return (v[0], *z[1:n], *v[1:], tau)
 
 
 @functools.lru_cache(maxsize=256)
 def _section_of(model):
-    k = model.stop.mass - 1
-    return Section(model.n, (k,) + tuple(j for j in range(model.n) if j != k))
+    from ..flow.linear import _frame
+    return Section(model.n, _frame(model.constraints[0], model.n))

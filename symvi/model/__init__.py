@@ -1,5 +1,7 @@
 """The model layer: :class:`Model`, :class:`Stop`, named parameters, the paper's
 preset and model files.  Nothing here imports any other layer of symvi."""
+from ._constraint import Constraint as Constraint
+from ._constraint import Signature as Signature
 from ._file import ModelFileError as ModelFileError
 from ._file import dumps as dumps
 from ._file import load_model as load_model

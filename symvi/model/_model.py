@@ -5,6 +5,10 @@ Between impacts::
     M x'' + C x' + K x = P sin(omega t + tau),   x_k < b;
     at x_k = b:  v_k+ = -r v_k-                    (Newton's impact law, eq. (2) generalised)
 
+The stop is the model's one constraint (:attr:`Model.constraints`, a
+:class:`symvi.model.Constraint` built by :meth:`Stop.constraint`): its guard and
+its reset are what the flow, the maps, the orbits and the compiled kernels read.
+
 M symmetric positive definite, K symmetric positive definite (every free-flight
 mode oscillates), C symmetric positive semi-definite (zero by default, as in
 the paper), P the forcing amplitudes; one stop on mass k (1-based) with gap b
@@ -33,6 +37,7 @@ from ..errors import ParameterError
 #: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
+from ._constraint import Constraint
 
 #: number of masses supported
 N_MAX = 8
@@ -110,6 +115,13 @@ class Stop:
             raise ParameterError("stop.restitution", r, "0 < restitution <= 1")
         object.__setattr__(self, "gap", g)
         object.__setattr__(self, "restitution", r)
+
+    def constraint(self, n):
+        """This stop as the :class:`symvi.model.Constraint` of a model of n masses: guard
+        normal c = e_mass, side "upper", impulse along e_mass (v_k+ = -r v_k-, eq. (2))."""
+        e = tuple(1.0 if i == self.mass - 1 else 0.0 for i in range(n))
+        return Constraint(normal=e, gap=self.gap, restitution=self.restitution,
+                          side="upper", impulse=e)
 
 
 def _size(field, value, n, valid):
@@ -301,6 +313,15 @@ class Model:
     @property
     def stop(self):
         return self._stop
+
+    @property
+    def constraints(self):
+        """The model's constraints (:class:`symvi.model.Constraint`), indexed by a
+        :class:`symvi.model.Signature`: today the one stop, ``(stop.constraint(N),)``."""
+        cs = self._arrays.get("constraints")
+        if cs is None:
+            cs = self._arrays["constraints"] = (self._stop.constraint(self.n),)
+        return cs
 
     @property
     def n(self):

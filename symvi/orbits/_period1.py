@@ -26,9 +26,12 @@ _TWO_PI = 2.0 * math.pi
 
 
 @nb.njit(cache=True)
-def _line(lam, W, Winv, U, V, w, b, r):
+def _line(lam, W, Winv, U, V, w, g, level, R):
+    # R: the reset, row-major (N x N); g: the signed guard (N)
     """(Phi(T), Pc, Ps, sigma, kernel vector, Xp, p1, phase share) of the period-1
-    conditions with restitution r: :class:`symvi.orbits.period1._Line`."""
+    conditions with the reset R (v+ = R v-) and the guard g . x = level of the
+    constraint (flow order; x_k = b, v_k+ = -r v_k- for the stop):
+    :class:`symvi.orbits.period1._Line`."""
     n2 = lam.shape[0]
     n = n2 // 2
     T = _TWO_PI / w
@@ -46,15 +49,35 @@ def _line(lam, W, Winv, U, V, w, b, r):
         Pc[i], Pc[n + i] = V[i], w * U[i]
         Ps[i], Ps[n + i] = U[i], -w * V[i]
     G = np.zeros((n2 + 1, n2 + 2))
-    for a in range(n2):
-        Ed = -r if a == n else 1.0
+    for a in range(n2):                     # I - E Phi, (I - E) Pc, (I - E) Ps; E = diag(I, R)
         for c in range(n2):
-            G[a, c] = (1.0 if a == c else 0.0) - Ed * Phi[a, c]
-        G[a, n2] = (1.0 - Ed) * Pc[a]
-        G[a, n2 + 1] = (1.0 - Ed) * Ps[a]
-    G[n2, 0] = 1.0
-    G[n2, n2] = Pc[0]
-    G[n2, n2 + 1] = Ps[0]
+            if a < n:
+                s = 1.0 * Phi[a, c]
+            else:
+                s = 0.0
+                for k in range(n):
+                    s += R[(a - n) * n + k] * Phi[n + k, c]
+            G[a, c] = (1.0 if a == c else 0.0) - s
+        if a < n:
+            G[a, n2] = 0.0 * Pc[a]
+            G[a, n2 + 1] = 0.0 * Ps[a]
+        else:
+            sc = 0.0
+            ss = 0.0
+            for k in range(n):
+                f = (1.0 if k == a - n else 0.0) - R[(a - n) * n + k]
+                sc += f * Pc[n + k]
+                ss += f * Ps[n + k]
+            G[a, n2] = sc
+            G[a, n2 + 1] = ss
+    sc = 0.0
+    ss = 0.0
+    for k in range(n):                      # the impact condition g . x(0) = level
+        G[n2, k] = g[k]
+        sc += g[k] * Pc[k]
+        ss += g[k] * Ps[k]
+    G[n2, n2] = sc
+    G[n2, n2 + 1] = ss
     D = np.empty(n2 + 2)                    # column equilibration
     for c in range(n2 + 2):
         s2 = 0.0
@@ -80,7 +103,7 @@ def _line(lam, W, Winv, U, V, w, b, r):
         for k in range(n2 + 1):
             s1 += Vt[k, c] * q[k]
             if sig[k] > 0.0:
-                sb += Vt[k, c] * ((Uq[n2, k] * b) / sig[k])
+                sb += Vt[k, c] * ((Uq[n2, k] * level) / sig[k])
         p1[c] = s1 / D[c]
         Xp[c] = sb / D[c]
     return Phi, Pc, Ps, sig, null, Xp, p1, share
@@ -106,8 +129,12 @@ def _oriented(n0, n1, side):
 
 
 @nb.njit(cache=True)
-def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
+def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
     """Both period-1 orbits at omega = w; see the module docstring.
+
+    The constraint as the flow holds it (``con`` = :attr:`LinearFlow.constraint64`): b the
+    section's level, g . x = level the impact condition, R the reset; R_ref (row-major)
+    the reset at restitution r - ORIENT_DR.
 
     Returns (status, d, j, rank gap, phase share, Y, vimp, M, ok): d, j the isolation
     measure and its mode; per branch ("+", "-") the section point Y[i] (tau in
@@ -116,6 +143,9 @@ def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
     first refusal met (then the later outputs are not filled)."""
     n2 = lam.shape[0]
     n = n2 // 2
+    b, level = con[0], con[1]
+    g = con[2:2 + n]
+    R = con[2 + n:2 + n + n * n]
     T = _TWO_PI / w
     Y = np.zeros((2, n2))
     vimp = np.zeros(2)
@@ -129,7 +159,7 @@ def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
     jmin = jmin % n
     if dmin < refuse:
         return NOT_ISOLATED, dmin, jmin, 0.0, 0.0, Y, vimp, M, ok
-    Phi, Pc, Ps, sig, null, Xp, p1, share = _line(lam, W, Winv, U, V, w, b, r)
+    Phi, Pc, Ps, sig, null, Xp, p1, share = _line(lam, W, Winv, U, V, w, g, level, R)
     gap = sig[n2] / sig[0]
     scale = 64 * 2.0 ** -52
     if not gap > scale:
@@ -141,7 +171,7 @@ def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
     side = n0 * p1[n2] + n1 * p1[n2 + 1]
     if not abs(side) > noise * (abs(p1[n2]) + abs(p1[n2 + 1])):
         # r = 1 with no damping: b no longer moves the line; orient as the limit r -> 1-
-        ref = _line(lam, W, Winv, U, V, w, b, r_ref)
+        ref = _line(lam, W, Winv, U, V, w, g, level, R_ref)
         rnull, rp1 = ref[4], ref[6]
         r0, r1 = _normal(rnull, n2)
         r0, r1 = _oriented(r0, r1, r0 * rp1[n2] + r1 * rp1[n2 + 1])
@@ -164,10 +194,13 @@ def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
         for k in range(n2):
             z0[k] = wv[k] + c * Pc[k] + s * Ps[k]
         z0[0] = b                           # exact by construction
-        zn = 0.0                            # (Phi w + (z0 - w))[n]: the impact velocity
-        for k in range(n2):
-            zn += Phi[n, k] * wv[k]
-        vimp[i] = zn + (z0[n] - wv[n])
+        vi = 0.0                            # g . (Phi w + (z0 - w))[n:]: the impact velocity
+        for q in range(n):
+            zn = 0.0
+            for k in range(n2):
+                zn += Phi[n + q, k] * wv[k]
+            vi += g[q] * (zn + (z0[n + q] - wv[n + q]))
+        vimp[i] = vi
         Y[i, 0] = z0[n]                     # Section.point
         for q in range(1, n):
             Y[i, q] = z0[q]
@@ -176,7 +209,7 @@ def period1(lam, W, Winv, A, U, V, w, b, r, r_ref, refuse, noise, want_mult):
         if want_mult:
             u[:n2] = Y[i]
             u[n2] = T
-            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, b, r, 1, u, 1, True, False)[1]
+            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
             _, Mi, oki = monodromy(Gu, 1, n2)
             M[i] = Mi
             ok[i] = oki

@@ -74,8 +74,12 @@ def _matvec(Mx, x, out):
 
 
 @nb.njit(cache=True)
-def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
+def shoot(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
     """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
+
+    The constraint enters as the flow holds it, ``con`` = :attr:`LinearFlow.constraint64`:
+    b the section's level (x_0 = b), the guard's level, the signed guard normal g
+    (impact condition g . x - level = 0: x_k = b), the reset R (v+ = R v-: v_k+ = -r v_k-).
 
     Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
     (the start state in the stop-first order, its phase, and at the end of the flight the
@@ -83,6 +87,9 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
     """
     d = lam.shape[0]
     N = d // 2
+    b, level = con[0], con[1]
+    g = con[2:2 + N]
+    R = con[2 + N:2 + N + N * N]
     m = p * (d + 1)
     G = np.empty(m)
     Gu = np.zeros((m, m)) if jac else np.zeros((0, 0))
@@ -99,6 +106,9 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
     a1 = np.empty(d)
     a2 = np.empty(d)
     hom = np.empty(d)
+    vp = np.empty(N)                                # R applied to a velocity block
+    RP = np.empty((N, d + 2))                       # R (Phi[N:, :], dzt[N:], dzdt[N:])
+    gP = np.empty(d + 2)                            # g . (Phi[:N, :], dzt[:N], dzdt[:N])
     for i in range(p):
         y = u[i * d:(i + 1) * d]
         t = u[p * d + i]
@@ -147,26 +157,40 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
         wrap = _TWO_PI * n_periods if j == 0 else 0.0
         r0 = i * d
         ct = p * d + i
-        G[r0] = -r * z[N] - yj[0]
-        for q in range(1, d - 1):
-            G[r0 + q] = z[idx[q]] - yj[q]
+        _reset(R, z, N, vp)
+        _place(vp, z, N, G, r0)
+        for q in range(d - 1):
+            G[r0 + q] -= yj[q]
         G[r0 + d - 1] = tau + w * t - (yj[d - 1] + wrap)
-        G[ct] = z[0] - b
+        G[ct] = _guard(g, z, N) - level
         if jac:
+            # the reset and the guard applied once to the columns (Phi, dz/dtau, dz/dt)
+            for col in range(1, d + 2):     # column 0 (x_0 = b on the section) is not used
+                for a in range(N):
+                    s = 0.0
+                    for k in range(N):
+                        s += R[a * N + k] * _col(Phi, dzt, dzdt, N + k, col, d)
+                    RP[a, col] = s
+                s = 0.0
+                for k in range(N):
+                    s += g[k] * _col(Phi, dzt, dzdt, k, col, d)
+                gP[col] = s
             for c in range(d):              # dz/dy: Phi[:, idx] then dz/dtau
-                G0 = dzt[N] if c == d - 1 else Phi[N, idx[c]]
-                Gu[r0, r0 + c] = -r * G0
-                for q in range(1, d - 1):
-                    Gu[r0 + q, r0 + c] = dzt[idx[q]] if c == d - 1 else Phi[idx[q], idx[c]]
-                Gu[ct, r0 + c] = dzt[0] if c == d - 1 else Phi[0, idx[c]]
+                col = d if c == d - 1 else idx[c]
+                Gu[r0, r0 + c] = RP[0, col]
+                for q in range(1, N):
+                    Gu[r0 + q, r0 + c] = _col(Phi, dzt, dzdt, q, col, d)
+                    Gu[r0 + N - 1 + q, r0 + c] = RP[q, col]
+                Gu[ct, r0 + c] = gP[col]
             Gu[r0 + d - 1, r0 + d - 1] = 1.0
             for q in range(d):
                 Gu[r0 + q, j * d + q] -= 1.0
-            Gu[r0, ct] = -r * dzdt[N]
-            for q in range(1, d - 1):
-                Gu[r0 + q, ct] = dzdt[idx[q]]
+            Gu[r0, ct] = RP[0, d + 1]
+            for q in range(1, N):
+                Gu[r0 + q, ct] = dzdt[q]
+                Gu[r0 + N - 1 + q, ct] = RP[q, d + 1]
             Gu[r0 + d - 1, ct] = w
-            Gu[ct, ct] = dzdt[0]
+            Gu[ct, ct] = gP[d + 1]
         if dom:
             # dz/domega = zp_omega(ph) + t zp_phase(ph) - Phi zp_omega(tau)
             _zp_omega(U, V, dU, dV, w, tau, a0)
@@ -174,12 +198,48 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, b, r, n_periods, u, p, jac, dom):
             _zp_omega(U, V, dU, dV, w, ph, a0)
             for k in range(d):
                 a0[k] = (a0[k] + t * a1[k]) - a2[k]
-            Gw[r0] = a0[N] * -r
-            for q in range(1, d - 1):
-                Gw[r0 + q] = a0[idx[q]]
+            _reset(R, a0, N, vp)
+            _place(vp, a0, N, Gw, r0)
             Gw[r0 + d - 1] = t
-            Gw[ct] = a0[0]
+            Gw[ct] = _guard(g, a0, N)
     return G, Gu, Gw, FL, PHI
+
+
+@nb.njit(cache=True, inline="always")
+def _reset(R, z, N, out):
+    """out = R z[N:2N]: the constraint's reset (R row-major) of the velocities of z."""
+    for a in range(N):
+        s = 0.0
+        for k in range(N):
+            s += R[a * N + k] * z[N + k]
+        out[a] = s
+
+
+@nb.njit(cache=True, inline="always")
+def _col(Phi, dzt, dzdt, a, col, d):
+    """Entry a of column ``col`` of (Phi | dz/dtau | dz/dt)."""
+    if col < d:
+        return Phi[a, col]
+    return dzt[a] if col == d else dzdt[a]
+
+
+@nb.njit(cache=True, inline="always")
+def _place(vp, z, N, out, r0):
+    """out[r0:r0 + 2N - 1] = the section point (vp_0, x_1..x_{N-1}, vp_1..vp_{N-1}) of the
+    state z with reset velocities vp (:meth:`symvi.maps.Section.image`)."""
+    out[r0] = vp[0]
+    for q in range(1, N):
+        out[r0 + q] = z[q]
+        out[r0 + N - 1 + q] = vp[q]
+
+
+@nb.njit(cache=True, inline="always")
+def _guard(g, z, N):
+    """g . x of the state z: the guard's coordinate (x_k for the stop on mass k)."""
+    s = 0.0
+    for k in range(N):
+        s += g[k] * z[k]
+    return s
 
 
 @nb.njit(cache=True)
@@ -212,15 +272,16 @@ def finder_constants(flow, F):
     test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
     if base is None:
-        base = flow.__dict__["_finder_base"] = _finder_base(flow)
+        base = flow.__dict__["_finder_base"] = _finder_base(flow) + (flow.constraint,)
     c, lmax, grow = base[0].copy(), base[1], base[2]
+    if flow.constraint is not base[3]:
+        _fc.set_constraint(c, flow)                # a copied flow (new stop) shares the base
     w = float(F.omega)
     n = flow.n
     U, V = F.U, F.V
     t_max = 2000 * math.pi / w
     c[_fc._OM], c[_fc._TMAX] = w, t_max
-    c[_fc._B], c[_fc._R] = flow.b, flow.r          # a copied flow (new stop) shares the base
-    c[_fc._UK], c[_fc._VK], c[_fc._XK] = U[0], V[0], math.sqrt(U[0] ** 2 + V[0] ** 2)
+    _fc.set_guard_forcing(c, flow, U, V)
     c[_fc._LMAX] = max(lmax, w)
     c[_fc._GROW] = math.exp(grow * 4 * t_max)
     ou = _fc._offsets(n)[2]

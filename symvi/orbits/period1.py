@@ -111,17 +111,17 @@ class _Line:
         self.Pc = np.concatenate([F.V, omega * F.U])
         self.Ps = np.concatenate([F.U, -omega * F.V])
         one = 1 if la is NUMPY_LA else mpmath.mpf(1)
-        Ed = np.array([one] * n2, dtype=object if la is not NUMPY_LA else float)
-        Ed[flow.n] = -(flow.r if restitution is None else restitution)
+        E = _state_reset(flow, restitution)
         I = la.arr(np.eye(n2))
-        IE = one - Ed
+        IE = I - E
         G = np.zeros((n2 + 1, n2 + 2), dtype=object if la is not NUMPY_LA else float)
-        G[:n2, :n2] = I - Ed[:, None] * self.Phi
-        G[:n2, n2] = IE * self.Pc
-        G[:n2, n2 + 1] = IE * self.Ps
-        G[n2, 0] = one
-        G[n2, n2] = self.Pc[0]
-        G[n2, n2 + 1] = self.Ps[0]
+        G[:n2, :n2] = I - E @ self.Phi
+        G[:n2, n2] = IE @ self.Pc
+        G[:n2, n2 + 1] = IE @ self.Ps
+        g = flow.guard                             # the impact condition g . x(0) = level
+        G[n2, :flow.n] = g
+        G[n2, n2] = g @ self.Pc[:flow.n]
+        G[n2, n2 + 1] = g @ self.Ps[:flow.n]
         if la is not NUMPY_LA:
             G[G == 0] = mpmath.mpf(0)
         # equilibrate the columns: near forcing resonance (U, V) ~ 1 / |omega_j - omega|
@@ -148,7 +148,7 @@ class _Line:
         if la is not NUMPY_LA:
             e[:] = mpmath.mpf(0)
         e[-1] = one
-        self.Xp = solve(e * flow.b)
+        self.Xp = solve(e * flow.level)
         p1 = solve(e)
         nc, ns = self.null[n2], self.null[n2 + 1]
         self.a = nc * nc + ns * ns
@@ -174,6 +174,20 @@ class _Line:
         mu = ((c - self.Xp[n2]) * self.null[n2] + (s - self.Xp[n2 + 1]) * self.null[n2 + 1]) / self.a
         w = self.Xp[:n2] + mu * self.null[:n2]
         return w + c * self.Pc + s * self.Ps, w
+
+
+def _state_reset(flow, restitution=None):
+    """E = diag(I, R) (2N x 2N, the flow's backend): the state just after an impact is E z
+    of the state z just before it, R the constraint's reset (E = diag(1, .., -r, .., 1) for
+    the stop); ``restitution`` overrides r (the orientation's limit r -> 1-)."""
+    n, la = flow.n, flow.la
+    R = flow.reset if restitution is None else flow.reset_at(restitution)
+    E = np.zeros((2 * n, 2 * n), dtype=object if la is not NUMPY_LA else float)
+    if la is not NUMPY_LA:
+        E[:] = mpmath.mpf(0)
+    E[:n, :n] = la.arr(np.eye(n))
+    E[n:, n:] = R
+    return E
 
 
 def _line(model, omega, digits):
@@ -295,9 +309,8 @@ def _period_matrix(flow, omega):
     n, T = flow.n, 2 * math.pi / float(omega)
     Phi = np.asarray(flow.phi(T) if flow.la is NUMPY_LA else
                      LinearFlow.of(flow.model).phi(T), dtype=float)
-    E = np.ones(2 * n)
-    E[n] = -float(flow.r)
-    H = np.eye(2 * n) - E[:, None] * Phi
+    E = np.asarray(_state_reset(flow), dtype=float)
+    H = np.eye(2 * n) - E @ Phi
     return H, np.linalg.svd(H, compute_uv=False)
 
 
@@ -398,7 +411,8 @@ def _admissibility(flow, forcing, omega, z0, tau, vimp):
     lib = flow.lib
     tol = END_TOL if flow.la is NUMPY_LA else lib.eps ** 0.5
     return check_flight(flow.motion(forcing, z0, tau).first_impact, 2 * lib.pi / omega,
-                        z0[flow.n], vimp, mass=flow.perm[0] + 1, tol=tol, require_return=True)
+                        flow.approach(z0), vimp, mass=flow.perm[0] + 1, tol=tol,
+                        require_return=True)
 
 
 def period1_orbits(model, omega, *, digits=None, multipliers=True):
@@ -438,7 +452,7 @@ def _orbits(model, omega, digits, want_multipliers):
         z0, w = L.point(tau)
         z0[0] = flow.b                              # exact by construction; remove rounding
         zT = L.Phi @ w + (z0 - w)
-        vimp = zT[flow.n]
+        vimp = flow.approach(zT)
         y = sec.point(z0, tau)                      # z0 is already after the impact
         ok, why = _admissibility(flow, L.forcing, omega, z0, tau, vimp)
         orb = Orbit(model, omega, branch, y, sec.names, vimp, ok, why, digits=digits)
@@ -462,8 +476,9 @@ def _orbits_compiled(model, omega, want_multipliers):
         if _stop_forcing(flow, F, omega):
             return []
     st, d, j, gap, share, Y, vimp, M, has_M = _period1.period1(
-        lam, W, Winv, A, F.U, F.V, omega, flow.b, flow.r, flow.r - ORIENT_DR,
-        ISOLATION_REFUSE, ORIENT_NOISE, bool(want_multipliers))
+        lam, W, Winv, A, F.U, F.V, omega, flow.constraint64,
+        flow.reset_at(flow.r - ORIENT_DR).ravel(), ISOLATION_REFUSE,
+        ORIENT_NOISE, bool(want_multipliers))
     _check_isolated(flow, omega, d, j)
     if st in (_period1.DEGENERATE, _period1.NO_PHASE) and _out_of_reach(flow, F, omega):
         return []
@@ -482,7 +497,8 @@ def _orbits_compiled(model, omega, want_multipliers):
     for i, branch in enumerate(("+", "-")):
         y = tuple(Y[i].tolist())
         motion = finder.motion_from(F, Y[i])
-        ok, why = check_flight(motion.first_impact, T, y[0], vimp[i], mass=mass,
+        ok, why = check_flight(motion.first_impact, T, flow.section_approach(y), vimp[i],
+                               mass=mass,
                                tol=END_TOL, require_return=True)
         lam_i, stable = (), False
         if want_multipliers:

@@ -34,6 +34,7 @@ from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
+from ..model import Signature
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
@@ -55,6 +56,10 @@ class ConvergenceError(SymviError):
 class Problem:
     """G(u; lam) = 0 of the n-p orbits of ``model``, continued in ``param`` (or none).
 
+    ``signature`` (a :class:`symvi.model.Signature`, default (0,) * p) names the
+    constraint each impact hits; every impact reads its guard and reset from the flow
+    (:meth:`symvi.flow.linear.LinearFlow._constrain`), so with one stop all are the same.
+
     ``omega`` is the forcing frequency when ``param`` is not "omega".  ``compiled``
     (default) evaluates G and its derivatives by the numba kernel of
     :mod:`symvi.orbits._shooting`; False uses the numpy reference (same results to
@@ -63,9 +68,15 @@ class Problem:
 
     compiled = True
 
-    def __init__(self, model, n, p, omega=None, param=None):
+    def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
         self.model, self.n_periods, self.p, self.param = model, int(n), int(p), param
+        # which constraint each impact hits (today the one stop: (0,) * p)
+        sig = Signature.single(p) if signature is None else (
+            signature if isinstance(signature, Signature) else Signature(signature))
+        if sig.p != self.p:
+            raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
+        self.signature = sig.check(model)
         self.omega = omega
         self._flow = None
         self._last = None
@@ -140,7 +151,7 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         flow.b, flow.r, self.n_periods, u, self.p,
+                                         flow.constraint64, self.n_periods, u, self.p,
                                          bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
@@ -171,31 +182,42 @@ class Problem:
         Y, T = self.split(u)
         m = self.size
         G = np.empty(m)
-        sgn = np.ones(d - 1)
-        sgn[0] = -flow.r
+        E, g = self._reset_rows(flow.reset), flow.guard
         Gu = np.zeros((m, m)) if jac else None
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
             j = (i + 1) % p
             target = Y[j].copy()
             if j == 0:
                 target[-1] += 2 * math.pi * self.n_periods
-            G[i * d:i * d + d - 1] = sgn * z[idx] - target[:-1]
+            G[i * d:i * d + d - 1] = E @ z - target[:-1]
             G[i * d + d - 1] = tau + w * T[i] - target[-1]
-            G[p * d + i] = z[0] - flow.b
+            G[p * d + i] = g @ z[:self.N] - flow.level
             if jac:
                 dzdy = np.empty((d, d))
                 dzdy[:, :d - 1] = Phi[:, idx]
                 dzdy[:, d - 1] = dzt
                 r0 = slice(i * d, i * d + d)
-                Gu[r0.start:r0.start + d - 1, i * d:i * d + d] = sgn[:, None] * dzdy[idx]
+                Gu[r0.start:r0.start + d - 1, i * d:i * d + d] = E @ dzdy
                 Gu[r0.start + d - 1, i * d + d - 1] = 1.0
                 Gu[r0, j * d:j * d + d] -= np.eye(d)
-                Gu[r0.start:r0.start + d - 1, p * d + i] = sgn * dzdt[idx]
+                Gu[r0.start:r0.start + d - 1, p * d + i] = E @ dzdt
                 Gu[r0.start + d - 1, p * d + i] = w
-                Gu[p * d + i, i * d:i * d + d] = dzdy[0]
-                Gu[p * d + i, p * d + i] = dzdt[0]
+                Gu[p * d + i, i * d:i * d + d] = g @ dzdy[:self.N]
+                Gu[p * d + i, p * d + i] = g @ dzdt[:self.N]
         Gl = self._dparam(fl, model, flow, F, T, self.param) if dparam else None
         return G, Gu, Gl
+
+    def _reset_rows(self, R, one=1.0):
+        """E ((2N - 1) x 2N): the section point (without tau) after the impact in state z is
+        E z, with the constraint's reset R (:attr:`LinearFlow.reset`, flow order) in the
+        velocity rows (v_k+ = -r v_k- for the stop) and ``one`` on the positions."""
+        N, d = self.N, self.d
+        E = np.zeros((d - 1, d))
+        E[0, N:] = R[0]
+        for q in range(1, N):
+            E[q, q] = one
+            E[N - 1 + q, N:] = R[q]
+        return E
 
     def derivative(self, u, lam, name):
         """dG/d(name) at (u, lam), fixed u, for any named parameter or omega (not only
@@ -210,16 +232,23 @@ class Problem:
         """dG/dname at fixed u, exact (omega: dU, dV; any other name: model.tangent)."""
         d, p, idx, lib = self.d, self.p, self.idx, flow.lib
         out = np.zeros(self.size)
+        E, g, N = self._reset_rows(flow.reset), flow.guard, self.N
         if name == "omega":
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 ph = tau + F.omega * T[i]
                 dz = F.zp_omega(ph, lib) + T[i] * F.zp_phase(ph, lib) - Phi @ F.zp_omega(tau, lib)
-                out[i * d:i * d + d - 1] = dz[idx]
-                out[i * d] *= -flow.r
+                out[i * d:i * d + d - 1] = E @ dz
                 out[i * d + d - 1] = T[i]
-                out[p * d + i] = dz[0]
+                out[p * d + i] = g @ dz[:N]
             return out
         tan = model.tangent(name)
+        # dR/dr = -Q: the restitution moves the reset along its projector
+        dE = None
+        if tan.dr:
+            Q = flow.constraint.projector(None if flow.constraint.impulse else
+                                          np.linalg.inv(model.mass))
+            p_ = list(flow.perm)
+            dE = self._reset_rows(-Q[np.ix_(p_, p_)], one=0.0)
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
             pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
             dF = type(F)(F.omega, pU, pV, None, None)
@@ -227,9 +256,10 @@ class Problem:
             dz0 = np.zeros(d)
             dz0[0] = pb
             dz = pE0 @ (z0 - F.zp(tau, lib)) + Phi @ (dz0 - dF.zp(tau, lib)) + dF.zp(ph, lib)
-            out[i * d:i * d + d - 1] = dz[idx]
-            out[i * d] = -flow.r * dz[idx[0]] - pr * z[idx[0]]
-            out[p * d + i] = dz[0] - pb
+            out[i * d:i * d + d - 1] = E @ dz
+            if dE is not None:
+                out[i * d:i * d + d - 1] += pr * (dE @ z)
+            out[p * d + i] = g @ dz[:N] - flow.constraint.sign * pb
         return out
 
     def monodromy(self, u, Gu):
@@ -433,7 +463,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     Y, T = problem.split(u)
     _, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
-    vimp = tuple(float(f[2][problem.N]) for f in fl)
+    vimp = tuple(float(flow.approach(f[2])) for f in fl)
     finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
     ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
     two_pi = 2 * math.pi
@@ -446,9 +476,9 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
 
 def admissible(problem, fl, flow, F, T):
     """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight."""
-    N, k = problem.N, flow.perm[0] + 1
+    k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
     for i, (z0, tau, z, *_rest) in enumerate(fl):
-        ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i], z0[N], z[N],
+        ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i], g(z0), g(z),
                                mass=k, flight=i + 1)
         if not ok:
             return ok, why

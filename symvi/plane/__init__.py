@@ -1,9 +1,9 @@
 """Parameter-plane studies: the attractor of the impact map over a grid of two named
 parameters, computed in compiled batches on Dask and stored as zarr (xarray).
 
-Layers: :mod:`.grid` (axes, spec, batch inputs) -> :mod:`.kernel` (numba: runs,
-Lyapunov exponent, attractor class) -> :mod:`.engine` (Dask tasks) -> :mod:`.store`
-(the zarr store, resumable).  Plotting lives in :mod:`symvi.reporting.figures`.
+Layers: :mod:`.grid` (axes, spec, batch inputs) -> the one classifier
+:mod:`symvi.simulations.classifier` (numba: runs, Lyapunov exponent, attractor class)
+-> :mod:`.engine` (Dask tasks) -> :mod:`.store` (the zarr store, resumable).  Plotting lives in :mod:`symvi.reporting.figures`.
 """
 from .engine import PlaneRun as PlaneRun
 from .engine import compute_block as compute_block

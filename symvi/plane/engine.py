@@ -1,6 +1,6 @@
 """Run a plane on Dask: one task per block of rows, each one compiled batch
-(:func:`symvi.plane.kernel.classify`), written to the store by the client as it
-completes.
+(:func:`symvi.simulations.classifier.classify_runs`, the one classifier), written to the
+store by the client as it completes.
 
 * Tasks are pure functions of (spec, rows): a worker that dies loses only its running
   task, which Dask reruns elsewhere; a task's result is the same wherever it runs.
@@ -45,10 +45,11 @@ def _spec(text):
 def compute_block(spec_text, r0, r1):
     """Rows r0 .. r1-1 of the plane of ``spec_text`` (JSON of :meth:`PlaneSpec.as_dict`):
     name -> array (r1 - r0, nx).  What a Dask task runs; also the serial reference."""
-    from .kernel import classify
+    from ..simulations.classifier import classify_runs
     spec = _spec(spec_text)
     C, Y0, own = block_inputs(spec, r0, r1)
-    res = classify(C, Y0, spec.impacts, spec.transient, follow=spec.follow, row_len=spec.x.n)
+    res = classify_runs(C, Y0, spec.impacts, spec.transient, follow=spec.follow,
+                        row_len=spec.x.n)
     shape = (r1 - r0, spec.x.n)
     own = own & ~res.followed          # a followed point did not start from its own orbit
     return {"attractor": res.labels().astype("<U16").reshape(shape),

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, SymviError
-from .kernel import MIN_KEPT
+from ..simulations.classifier import MIN_KEPT
 
 #: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
 POINTS_PER_TASK = 1024

@@ -92,6 +92,7 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..model import Stop
 from .mpcheck import _MapFD, digits_of_agreement, kuznetsov_l1
 
 #: kinds of point the chain can re-solve, per curve kind
@@ -181,6 +182,11 @@ class _MpModel:
         self.mass, self.stiffness, self.damping, self.forcing = M, K, C, P
         self.stop = _MpStop(model.stop.mass, gap, r)
         self.damped = any(x != 0 for x in np.ravel(C))
+
+    @property
+    def constraints(self):
+        """The stop as the flow reads it (:meth:`symvi.model.Stop.constraint`), mpf gap and r."""
+        return (Stop.constraint(self.stop, self.n),)
 
 
 @dataclass(frozen=True)

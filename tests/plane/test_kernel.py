@@ -1,4 +1,4 @@
-"""The compiled attractor classifier of parameter planes (:mod:`symvi.plane.kernel`) on
+"""The one attractor classifier (:mod:`symvi.simulations.classifier`, the planes') on
 the paper's examples: period-k orbits against direct simulation and the orbits'
 multipliers, the circle born at the NS point, the torus doubling, chaos, stopped runs;
 follow mode and determinism."""
@@ -10,7 +10,8 @@ import pytest
 import symvi
 from symvi.flow import compiled as cf
 from symvi.orbits import admissible_orbits
-from symvi.plane.kernel import ATTRACTORS, FIELDS, Classified, classify, label
+from symvi.simulations.classifier import ATTRACTORS, FIELDS, Classified, label
+from symvi.simulations.classifier import classify_runs as classify
 from symvi.simulations import simulation
 from tests.zoo import PAPER_EX1, PAPER_EX2
 

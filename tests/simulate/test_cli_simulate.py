@@ -91,6 +91,7 @@ def test_classify_json_has_lyapunov_for_a_periodic_orbit(tmp_path):
     assert rc == 0, err
     got = json.loads(out)
     assert got["class"] == "period-1"
+    assert got["attractor"] == "period-1" and got["impacts_per_orbit"] == 1
     # the exponents of a period-1 orbit are log |multipliers|: their sum converges at
     # once (log |det DP| along the orbit), each one more slowly
     from symvi.paper.orbit import period1_orbits

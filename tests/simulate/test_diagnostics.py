@@ -102,12 +102,22 @@ def test_period_of_synthetic():
     (EX1, 0.7400, "invariant circle"),      # paper: circles just past 0.7368
     (EX1, 0.7460, "doubled torus"),         # paper: torus doubling past 0.7438
     (EX1, 0.7519, "chaos"),                 # paper: chaos at 0.7519 (weak: lambda_1 ~ 0.01)
-    (EX2, 0.4935, "period-117"),            # a phase-locked orbit on the circle (ours)
+    # a phase-locked orbit on the circle (ours): 117 impacts in 114 forcing periods
+    # (period-k counts forcing periods, as the plane's labels; before issue 24 item 5
+    # simulate --classify printed period-117, the impacts, now impacts_per_orbit)
+    (EX2, 0.4935, "period-114"),
     (EX2, 0.4944, "chaos"),                 # paper: chaos at 0.4944
 ])
 def test_classify_paper_cases(params, omega, kind):
     s = simulate(params, omega, n_impacts=3000, transient=60000)
-    assert dg.classify(s, lyap_points=3000).kind == kind
+    c = dg.classify(s, lyap_points=3000)
+    assert c.kind == kind
+    if kind.startswith("period-"):
+        assert (c.period, c.impacts) == (114, 117)
+        # the orbit closes after 117 impacts and not before, over 114 forcing periods
+        sec, t = np.asarray(s.section), np.asarray(s.t)
+        assert dg.period_of(sec, max_period=400) == 117
+        assert round(0.4935 * (t[-1] - t[-1 - 117]) / (2 * math.pi)) == 114
 
 
 def test_compiled_qr_logs_match_the_paper_generated_jacobian():

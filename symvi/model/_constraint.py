@@ -1,0 +1,164 @@
+"""Constraints and signatures: the interfaces every layer above the model reads.
+
+A constraint acts on one coordinate s = c^T x of the masses (c, the *guard
+normal*, N numbers in mass order), with a gap g and a side:
+
+* ``side = "upper"``: s <= g, the stop is above; the guard h = s - g < 0 off it;
+* ``side = "lower"``: s >= g; h = g - s < 0 off it.
+
+At a contact (h = 0, moving towards the stop) a rigid constraint resets the
+velocities by an impulse along a direction q (velocity space)::
+
+    v+ = v- - (1 + r) q (c^T v-) / (c^T q) = R v-,   R = (I - Q) - r Q,  Q = q c^T / (c^T q),
+
+which sends c^T v to -r c^T v and leaves every velocity with c^T v = 0 alone.  For a
+rigid contact q = M^-1 c (the impulse of a force along c; momentum is conserved
+along any direction orthogonal to c).  :class:`symvi.model.Stop`, today's stop on
+mass k, builds the constraint c = e_k with q = e_k, Newton's law v_k+ = -r v_k-
+(eq. (2) generalised) with every other velocity unchanged: the rigid reset where
+M is diagonal.  R is written as (I - Q) - r Q so that for q = c = e_k its entries
+are exactly 1, 0 and -r: the reset applied as a matrix gives today's numbers bit for bit.
+
+A signature says which constraint (an index into ``model.constraints``) each
+impact of an orbit hits: with one stop, an n-p orbit has the signature (0,)*p.
+
+References: COCO's ``hspo`` toolbox (a hybrid orbit as segments, events and resets,
+with a signature naming them) [Dankowicz & Schilder, Recipes for Continuation, ch. 4].
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+
+SIDES = ("upper", "lower")
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One rigid contact on s = c^T x (see the module docstring).
+
+    ``normal`` is c (N numbers, mass order), ``gap`` g, ``restitution`` r with
+    0 < r <= 1, ``side`` "upper" or "lower"; ``impulse`` is the direction q of
+    the velocity jump (None: M^-1 c, the rigid contact).  Built by
+    :meth:`symvi.model.Stop.constraint`; checked there and by the model.
+    """
+
+    normal: tuple
+    gap: float
+    restitution: float
+    side: str = "upper"
+    impulse: tuple = None
+
+    def __post_init__(self):
+        c = tuple(float(x) for x in self.normal)
+        if not c or not all(math.isfinite(x) for x in c) or not any(c):
+            raise ParameterError("constraint.normal", self.normal, "N finite numbers, not all 0")
+        object.__setattr__(self, "normal", c)
+        if self.side not in SIDES:
+            raise ParameterError("constraint.side", self.side, '"upper" or "lower"')
+        if self.impulse is not None:
+            q = tuple(float(x) for x in self.impulse)
+            if len(q) != len(c) or not math.isfinite(sum(a * b for a, b in zip(c, q))) \
+                    or sum(a * b for a, b in zip(c, q)) == 0:
+                raise ParameterError("constraint.impulse", self.impulse,
+                                     f"{len(c)} finite numbers q with c^T q != 0")
+            object.__setattr__(self, "impulse", q)
+
+    @property
+    def n(self):
+        """Number of masses N the constraint is written for."""
+        return len(self.normal)
+
+    @property
+    def sign(self):
+        """+1 for an upper stop (s <= g), -1 for a lower one (s >= g)."""
+        return 1.0 if self.side == "upper" else -1.0
+
+    @property
+    def coordinate(self):
+        """k (0-based) where c = e_k, the stop acts on one mass's coordinate; else None."""
+        c = self.normal
+        nz = [i for i, x in enumerate(c) if x != 0.0]
+        return nz[0] if len(nz) == 1 and c[nz[0]] == 1.0 else None
+
+    def s(self, x):
+        """The constrained coordinate s = c^T x."""
+        return sum(ci * xi for ci, xi in zip(self.normal, x) if ci != 0.0)
+
+    def guard(self, x):
+        """h(x) = sign (c^T x - g): < 0 off the stop, 0 at contact."""
+        return self.sign * (self.s(x) - self.gap)
+
+    def approach(self, v):
+        """sign c^T v: > 0 when the motion goes towards the stop."""
+        return self.sign * self.s(v)
+
+    def direction(self, Minv=None):
+        """The impulse direction q: ``impulse``, or M^-1 c (``Minv`` is M^-1, float64 or
+        mpmath object array; q keeps its type)."""
+        if self.impulse is not None:
+            return np.array(self.impulse)
+        if Minv is None:
+            raise ParameterError("Minv", None, "M^-1: a rigid contact's impulse is along M^-1 c")
+        return np.asarray(Minv) @ np.array(self.normal)
+
+    def projector(self, Minv=None):
+        """Q = q c^T / (c^T q) (N x N, mass order): the part of v the reset acts on."""
+        c = np.array(self.normal)
+        q = self.direction(Minv)
+        return np.outer(q, c) / (c @ q)
+
+    def reset_matrix(self, Minv=None, order=None, r=None):
+        """R = (I - Q) - r Q (N x N): v+ = R v- (module docstring), in mass order or in
+        the order ``order`` (a permutation of the masses: R[order][:, order]); ``r``
+        overrides the restitution (an mpmath r gives an object array)."""
+        Q = self.projector(Minv)
+        R = (np.eye(self.n) - Q) - (self.restitution if r is None else r) * Q
+        if order is not None:
+            R = R[np.ix_(order, order)]
+        return R
+
+    def reset(self, v, Minv=None):
+        """v+ = R v- (mass order)."""
+        return self.reset_matrix(Minv) @ np.asarray(v, dtype=float)
+
+
+@dataclass(frozen=True)
+class Signature:
+    """Which constraint each impact of an orbit hits: ``hits[i]`` indexes
+    ``model.constraints`` for impact i (i = 0..p-1)."""
+
+    hits: tuple
+
+    def __post_init__(self):
+        h = self.hits
+        if isinstance(h, (str, bytes)) or not hasattr(h, "__len__") or len(h) == 0 or any(
+                isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0 for i in h):
+            raise ParameterError("signature", h, "a non-empty sequence of constraint indices >= 0")
+        object.__setattr__(self, "hits", tuple(int(i) for i in h))
+
+    @classmethod
+    def single(cls, p):
+        """The signature of p impacts on the one stop: (0,) * p."""
+        return cls((0,) * int(p))
+
+    @property
+    def p(self):
+        """Number of impacts."""
+        return len(self.hits)
+
+    def check(self, model):
+        """``self``, or ParameterError where an index names no constraint of ``model``."""
+        m = len(model.constraints)
+        bad = [i for i in self.hits if i >= m]
+        if bad:
+            raise ParameterError("signature", self.hits,
+                                 f"constraint indices from 0 to {m - 1} (the model has {m})")
+        return self
+
+    def constraints(self, model):
+        """The constraint of each impact."""
+        cs = model.constraints
+        return tuple(cs[i] for i in self.check(model).hits)

@@ -1,0 +1,114 @@
+"""One owner per concept, checked on the source (issue 24, item 5): one compiled run loop
+of the impact map, one attractor classifier, one period detector in symvi/.  (On the
+tree before that item the scans find two of each: flow/compiled._run_into and
+plane/kernel._run; plane/kernel._classify_one and simulations/diagnostics.classify;
+plane/kernel._period and simulations/diagnostics.period_of.)"""
+import ast
+from pathlib import Path
+
+PKG = Path(__file__).resolve().parents[1] / "symvi"
+
+
+def _functions():
+    """(relative path, FunctionDef, decorator names) of every function in symvi/."""
+    for path in sorted(PKG.rglob("*.py")):
+        tree = ast.parse(path.read_text("utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef):
+                decos = {ast.unparse(d).split("(")[0] for d in node.decorator_list}
+                yield str(path.relative_to(PKG)), node, decos
+
+
+def _called(node):
+    """Names of the functions called in ``node`` (a.b(...) gives b)."""
+    out = set()
+    for n in ast.walk(node):
+        if isinstance(n, ast.Call):
+            f = n.func
+            out.add(f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", ""))
+    return out
+
+
+def _compiled(decos):
+    return any(d.endswith("njit") or d.endswith("jit") for d in decos)
+
+
+def run_loops():
+    """Compiled functions with a loop whose body applies the map P (a *step* kernel)."""
+    found = []
+    for rel, fn, decos in _functions():
+        if not _compiled(decos):
+            continue
+        for loop in (n for n in ast.walk(fn) if isinstance(n, (ast.For, ast.While))):
+            if any("step" in name for name in _called(loop)):
+                found.append(f"{rel}:{fn.name}")
+                break
+    return found
+
+
+def _decides_a_class(fn):
+    """Returns the code CHAOS, uses the circle test's threshold, or returns a
+    Classification spelled with a literal "chaos": the marks of a classifier."""
+    names = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name)}
+    names |= {n.attr for n in ast.walk(fn) if isinstance(n, ast.Attribute)}
+    for r in (n for n in ast.walk(fn) if isinstance(n, ast.Return) and n.value is not None):
+        inner = list(ast.walk(r.value))
+        if any(isinstance(x, ast.Name) and x.id == "CHAOS" for x in inner):
+            return True
+        if any(isinstance(x, ast.Constant) and x.value == "chaos" for x in inner):
+            return True
+    return "RATIO_CIRCLE" in names
+
+
+def classifiers():
+    """Functions that decide an attractor class (:func:`_decides_a_class`)."""
+    return [f"{rel}:{fn.name}" for rel, fn, _ in _functions() if _decides_a_class(fn)]
+
+
+def period_detectors():
+    """Functions that compare points q impacts apart to find a period: they call a
+    distance of section points in a loop over a candidate period, named *period*."""
+    return [f"{rel}:{fn.name}" for rel, fn, decos in _functions()
+            if "period" in fn.name.lower() and fn.name not in ("fixed_point",)
+            and any(isinstance(n, (ast.For, ast.While)) for n in ast.walk(fn))
+            and ("_dist" in _called(fn) or "_unwrapped" in _called(fn))]
+
+
+def test_one_run_loop():
+    assert run_loops() == ["flow/compiled.py:_run_into"]
+
+
+def test_one_classifier():
+    assert classifiers() == ["simulations/classifier.py:_judge"]
+
+
+def test_one_period_detector():
+    assert period_detectors() == ["simulations/classifier.py:_period"]
+
+
+def test_the_scans_can_fail(tmp_path):
+    """The scans see a second loop, classifier or detector (here: the old plane kernel's
+    loop, and the old diagnostics' period detector)."""
+    src = '''
+import numba as nb
+@nb.njit(cache=True)
+def _run(c, y, n):
+    for k in range(n):
+        st = _step_tangent_into(c, y)
+def classify(sim):
+    if chaos:
+        return Classification("chaos", None, None, None, None)
+def period_of(section):
+    for k in range(1, 10):
+        D = _unwrapped(section[k:], 0)
+'''
+    global PKG
+    old = PKG
+    (tmp_path / "extra.py").write_text(src)
+    PKG = tmp_path
+    try:
+        assert run_loops() == ["extra.py:_run"]
+        assert classifiers() == ["extra.py:classify"]
+        assert period_detectors() == ["extra.py:period_of"]
+    finally:
+        PKG = old
