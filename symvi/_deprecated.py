@@ -49,13 +49,19 @@ def moved(old, new):
 
 def moved_names(old, new, names):
     """The module-level ``__getattr__`` of a module that stays, for the ``names`` that moved
-    from it to ``new``: each warns (DeprecationWarning naming ``new``) and is ``new``'s."""
+    from it to ``new``: each warns (DeprecationWarning naming ``new``) and is ``new``'s.
+    ``names`` may map an old name to its new name in ``new`` (a renamed object)."""
+    renamed = dict(names) if isinstance(names, dict) else {n: n for n in names}
+
     def __getattr__(name):
-        if name not in names:
+        if name not in renamed:
             raise AttributeError(f"module {old!r} has no attribute {name!r}")
-        warnings.warn(f"{old}.{name} is deprecated; import it from {new}; the old name will "
-                      "be removed in the next release", DeprecationWarning, stacklevel=2)
-        return getattr(importlib.import_module(new), name)
+        target = renamed[name]
+        warnings.warn(f"{old}.{name} is deprecated; import it from {new}"
+                      + (f" as {target}" if target != name else "")
+                      + "; the old name will be removed in the next release",
+                      DeprecationWarning, stacklevel=2)
+        return getattr(importlib.import_module(new), target)
     return __getattr__
 
 

@@ -151,14 +151,21 @@ SAFETY = 2.0
 class Event:
     """Something a sweep in omega meets (not a Hopf point)."""
 
-    kind: str        # multiplier+1, multiplier-1, becomes-admissible, becomes-inadmissible,
-    #                  orbit-appears, orbit-vanishes, singular, forcing-resonance,
-    #                  conservative, unresolved, ns-unanalysable
+    kind: str        # of symvi.continuation.result.EVENT_KINDS: multiplier+1, multiplier-1,
+    #                  becomes-admissible, becomes-inadmissible, orbit-appears,
+    #                  orbit-vanishes, singular, forcing-resonance, conservative,
+    #                  unresolved, ns-unanalysable
     omega: float
     branch: str
     detail: str = ""
     span: tuple = None   # (lo, hi) for events that cover an interval
     coefficients: dict = None   # normal-form numbers of a multiplier through +/-1
+
+    def __post_init__(self):
+        # the one vocabulary of symvi.continuation.result (imported here: the package is
+        # loaded by the scan's locator anyway, not at import time)
+        from ..continuation.result import check_kind
+        check_kind(self.kind)
 
     def as_dict(self):
         d = {"kind": self.kind, "omega": float(self.omega), "branch": self.branch,

@@ -1,10 +1,35 @@
-"""Continuation of n-p orbits in any named parameter, with their special points located."""
-from .points import Branch as Branch
-from .points import BranchPoint as BranchPoint
-from .points import SpecialPoint as SpecialPoint
-from .branch import continue_branch as continue_branch
-from .branch import switch_at_flip as switch_at_flip
-from .branch import period1_branches as period1_branches
-from .branch import same_branch as same_branch
-from .branch import diagram_branches as diagram_branches
-from .start import continue_orbits as continue_orbits
+"""Continuation of n-p orbits in any named parameter, with their special points located:
+one pseudo-arclength engine (:mod:`symvi.continuation.engine`), one result family and one
+event vocabulary (:mod:`symvi.continuation.result`).
+
+The vocabulary loads at once (every result checks its events against it, the NS scan's
+too); the engine and the branches load at first use (PEP 562), so that a client that only
+names events does not pay for them.
+"""
+import importlib
+
+from .result import EVENT_KINDS as EVENT_KINDS
+from .result import Result as Result
+
+_LAZY = {"Branch": "points", "BranchPoint": "points", "SpecialPoint": "points",
+         "continue_branch": "branch", "switch_at_flip": "branch",
+         "period1_branches": "branch", "same_branch": "branch",
+         "diagram_branches": "branch", "continue_orbits": "start"}
+__all__ = ["EVENT_KINDS", "Result", *_LAZY]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value
+        return value
+    if not name.startswith("__"):
+        try:                                     # a submodule read as an attribute
+            return importlib.import_module(f"{__name__}.{name}")
+        except ModuleNotFoundError:
+            pass
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

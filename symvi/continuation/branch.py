@@ -11,21 +11,22 @@ turns around it.  The step h adapts to the corrector's iteration count and to
 the turning angle of the tangent.  Test functions are evaluated at each point;
 a sign change brackets a special point, located by Brent's method along the
 arclength (each trial point corrected on the hyperplane t_j . (X - X_j) = s),
-see :mod:`symvi.continuation.special`.
+see :mod:`symvi.continuation.special`.  The loop, the step control and the locator are
+those of :mod:`symvi.continuation.engine`, shared with the curves of :mod:`symvi.curves`.
 """
 import math
 
 import numpy as np
 
+from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.linear import RESONANCE_CUT, LinearFlow
 from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
                                newton, orbit_of)
-from .points import Branch, BranchPoint, SpecialPoint, correct, tangent
-from .special import Tracker
-
-#: largest cosine drop between consecutive tangents accepted (else the step is halved)
-MIN_COS = 0.95
+from . import engine
+from .engine import Client, correct, tangent
+from .points import Branch, BranchPoint, SpecialPoint
+from .special import Codim1Tracker
 #: |1 - e^{i omega_j T}| below which a one-impact branch of an undamped model is cut
 ISOLATION_CUT = 1e-5
 
@@ -53,7 +54,7 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     e = np.zeros(problem.size + 1)
     e[-1] = 1.0 if float(stop) > float(start) else -1.0
     return _run(problem, X0, e, lo, hi, h, h_max, max_points, cut,
-                Tracker(problem) if locate else None, through)
+                Codim1Tracker(problem) if locate else None, through)
 
 
 def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, locate=True,
@@ -99,7 +100,7 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
                                f"{pr.param} = {lam:.12g}", math.inf)
     h, h_max = _steps(lo, hi, None, h_max)
     return _run(pr2, res[0], e, lo, hi, h, h_max, max_points, None,
-                Tracker(pr2) if locate else None, through)
+                Codim1Tracker(pr2) if locate else None, through)
 
 
 def _steps(lo, hi, h, h_max):
@@ -189,77 +190,30 @@ def _resonance_bounds(problem, start, lo, hi):
 
 
 # --------------------------------------------------------------------------- the loop
+class _BranchRun(Client):
+    """A branch of orbits as a client of :func:`symvi.continuation.engine.run`."""
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.names = (problem.param,)
+
+    def point(self, X, prev, Gu):
+        m = self.problem.size
+        return BranchPoint(float(X[m]), orbit_of(self.problem, X[:m], X[m], Gu))
+
+    def stop(self, X, pt):
+        return _not_isolated(self.problem, X)
+
+
 def _run(problem, X, e, lo, hi, h, h_max, max_points, cut, tracker, through=True):
     """Continue from X, the first tangent oriented along e, within lo <= lam <= hi."""
     m = problem.size
     G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True)
     t = tangent(Gu, Gl, e)
-    h_min = 1e-9 * (hi - lo)
-    scale0 = 1 + np.max(np.abs(X[:m]))
-    states, points = [X], [BranchPoint(float(X[m]), orbit_of(problem, X[:m], X[m], Gu))]
-    if tracker:
-        tracker.start(X, t, Gu, points[0])
-    end, notes = "", []
-    while len(points) < max_points:
-        Xp = X + h * t
-        lam = Xp[m]
-        if lam > hi or lam < lo:                   # land exactly on the bound
-            bound = hi if lam > hi else lo
-            if abs(X[m] - bound) <= 1e-12 * (1 + abs(bound)):
-                end = f"reached {problem.param} = {bound:.12g}"
-                break
-            h = (bound - X[m]) / t[m]
-            res = _on_value(problem, X + h * t, bound)
-            if res is None:
-                h = h / 2
-                if h < h_min:
-                    end = "the corrector failed at the parameter bound"
-                    break
-                continue
-            Xn, Gu, Gl = res
-        else:
-            try:
-                res = correct(problem, Xp, t, np.dot(t, X) + h)
-            except SymviError as exc:
-                res, why = None, str(exc)
-            else:
-                why = "the corrector did not converge"
-            if res is None:
-                h /= 2
-                if h < h_min:
-                    end = f"step below {h_min:.2g}: {why}"
-                    break
-                continue
-            Xn, Gu, Gl, its = res
-        tn = tangent(Gu, Gl, t)
-        if np.dot(tn, t) < MIN_COS and h > h_min:
-            h /= 2
-            continue
-        pt = BranchPoint(float(Xn[m]), orbit_of(problem, Xn[:m], Xn[m], Gu))
-        if tracker:
-            tracker.step(X, t, Xn, tn, Gu, pt, len(points))
-        X, t = Xn, tn
-        states.append(X)
-        points.append(pt)
-        if len(res) == 4:
-            # the step may grow with the orbit's size (towards a resonance it diverges)
-            cap = h_max * (1 + np.max(np.abs(X[:m]))) / scale0
-            its = res[3]
-            h = min(cap, h * (1.5 if its <= 2 else 1.0 if its <= 4 else 0.6))
-        why = _not_isolated(problem, X)
-        if why:
-            end = why
-            break
-        if not through and points[-2].admissible and not pt.admissible:
-            end = (f"the orbit stops being admissible near {problem.param} = {pt.value:.12g} "
-                   f"({pt.orbit.reason}); the point beyond is kept, marked inadmissible")
-            break
-        if abs(X[m] - hi) <= 1e-12 * (1 + abs(hi)) or abs(X[m] - lo) <= 1e-12 * (1 + abs(lo)):
-            if len(points) > 1:
-                end = f"reached {problem.param} = {X[m]:.12g}"
-                break
-    else:
-        end = f"max_points = {max_points} reached"
+    points, states, end = engine.run(problem, _BranchRun(problem), X, t, lo, hi, h=h,
+                                     h_max=h_max, max_points=max_points, tracker=tracker,
+                                     through=through, grow_with_orbit=True)
+    X, notes = states[-1], []
     if cut and abs(X[m] - cut) <= 1e-2 * cut:
         end = (f"forcing resonance: the branch is cut at omega = {X[m]:.12g}, next to the "
                f"natural frequency {cut:.12g} of an undamped mode (the steady-state response "
@@ -291,17 +245,6 @@ def _not_isolated(problem, X):
                 "undamped mode's period divides the orbit's, the orbit's amplitude diverges "
                 "(1 - cos(2 pi omega_j / omega) -> 0 in eq. (15)); the branch is cut")
     return ""
-
-
-def _on_value(problem, Xp, lam):
-    """Solve G(u; lam) = 0 at a fixed parameter value (the last point, on the bound)."""
-    m = problem.size
-    try:
-        u = newton(problem, Xp[:m], lam)
-        G, Gu, Gl = problem.evaluate(u, lam, dparam=True)
-    except SymviError:
-        return None
-    return np.append(u, lam), Gu, Gl
 
 
 def same_branch(a, b):
@@ -351,3 +294,7 @@ def diagram_branches(system, omega_min, omega_max, component=0):
     brs = period1_branches(Model.of(system), omega_min, omega_max)
     return ([b.curve(component) for b in brs],
             [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special])
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, "symvi.continuation.engine", ("MIN_COS",))

@@ -5,7 +5,7 @@ closed-form branches (eqs. (10)–(16)) finds each sign change and hands it here
 The two orbits become two points X = (y, T = 2 pi / omega, omega) of the 1-1 shooting
 problem of :mod:`symvi.orbits.periodic` continued in omega, and the point is located
 by the same arclength locator and given the same coefficients as on any branch of
-:func:`symvi.continuation.continue_branch` (:class:`symvi.continuation.special.Tracker`):
+:func:`symvi.continuation.continue_branch` (:class:`symvi.continuation.special.Codim1Tracker`):
 one owner for locating fold, flip, Neimark–Sacker and branch points.
 """
 import math
@@ -14,11 +14,12 @@ import numpy as np
 
 from ..errors import SymviError
 from ..orbits.periodic import Problem
-from .points import tangent
-from .special import Tracker
+from .engine import tangent
+from .result import LOCATED_AS
+from .special import Codim1Tracker
 
-#: what a sign change of hopf_points' scan is, as a kind of special point
-KINDS = {"ns": "ns", "multiplier-1": "flip", "multiplier+1": "branch-point"}
+#: what a sign change of hopf_points' scan is, as a kind of special point (one vocabulary)
+KINDS = LOCATED_AS
 
 
 def _point(orbit, tau_near=None):
@@ -43,7 +44,7 @@ def locate_between(model, kind, a, b, *, coefficients=True):
     m = problem.size
     _, Gu, Gl = problem.evaluate(Xa[:m], Xa[m], dparam=True)
     ta = tangent(Gu, Gl, (Xb - Xa) / np.linalg.norm(Xb - Xa))
-    tracker = Tracker(problem, coefficients=coefficients)
+    tracker = Codim1Tracker(problem, coefficients=coefficients)
     try:
         return tracker.locate(kind, Xa, ta, Xb)
     except (ValueError, RuntimeError, np.linalg.LinAlgError) as exc:

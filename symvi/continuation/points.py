@@ -1,14 +1,17 @@
-"""What a branch is made of (points, special points, the branch) and the corrector that
-computes its points: the pseudo-arclength step of :mod:`symvi.continuation.branch`."""
+"""What a branch is made of (points, special points, the branch); its points are computed
+by the pseudo-arclength engine of :mod:`symvi.continuation.engine`."""
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..orbits.periodic import PeriodicOrbit, Problem
-
-#: corrector: iteration limit and relative step tolerance
-CORR_MAXIT = 8
-CORR_TOL = 1e-11
+# the corrector and the locator, where they were defined before the one engine
+from .engine import CORR_MAXIT as CORR_MAXIT  # noqa: F401
+from .engine import CORR_TOL as CORR_TOL  # noqa: F401
+from .engine import correct as correct  # noqa: F401
+from .engine import root_on_arc as root_on_arc  # noqa: F401
+from .engine import tangent as tangent  # noqa: F401
+from .result import Located, Result
 
 
 @dataclass(frozen=True)
@@ -41,9 +44,10 @@ class BranchPoint:
 
 
 @dataclass(frozen=True)
-class SpecialPoint:
-    """A located special point: ``kind`` is fold, flip, ns, grazing, admissibility,
-    or R3/R4 (strong resonance); ``coefficients`` its normal-form numbers."""
+class SpecialPoint(Located):
+    """A located special point: ``kind`` is fold, flip, ns, branch-point, grazing,
+    admissibility, unlocated, or R3/R4 (strong resonance), of the one vocabulary
+    :data:`symvi.continuation.result.EVENT_KINDS`; ``coefficients`` its normal-form numbers."""
 
     kind: str
     value: float
@@ -63,9 +67,9 @@ class SpecialPoint:
 
 
 @dataclass(frozen=True)
-class Branch:
+class Branch(Result):
     """A continued branch of n-p orbits: points in arclength order, special points
-    located on it, and why it ended."""
+    located on it, and why it ended (a :class:`symvi.continuation.result.Result`)."""
 
     param: str
     n: int
@@ -78,8 +82,9 @@ class Branch:
     states: tuple = field(repr=False, default=())      # X = (u, lam) of each point
     bounds: tuple = (None, None)
 
-    def __len__(self):
-        return len(self.points)
+    @property
+    def stop_reasons(self):
+        return (self.end,)
 
     @property
     def values(self):
@@ -100,63 +105,3 @@ class Branch:
                 "points": [pt.as_dict() for pt in self.points],
                 "special": [s.as_dict() for s in self.special],
                 "end": self.end, "notes": list(self.notes)}
-
-
-def tangent(Gu, Gl, t_prev):
-    m = Gu.shape[0]
-    A = np.empty((m + 1, m + 1))
-    A[:m, :m], A[:m, m], A[m] = Gu, Gl, t_prev
-    rhs = np.zeros(m + 1)
-    rhs[m] = 1.0
-    t = np.linalg.solve(A, rhs)
-    return t / np.linalg.norm(t)
-
-
-def root_on_arc(problem, f, Xa, ta, Xb):
-    """A zero of f(X, t, Gu) between two points of a branch, by Brent's method in the
-    arclength s along ta, each trial point corrected on t_a . (X - X_a) = s; (X, t, Gu)."""
-    from scipy.optimize import brentq
-    sb = float(np.dot(ta, Xb - Xa))
-    cache = {}
-
-    def g(s):
-        Xp = Xa + (s / sb) * (Xb - Xa)
-        res = correct(problem, Xp, ta, float(np.dot(ta, Xa)) + s)
-        if res is None:
-            raise RuntimeError(f"the corrector failed at arclength {s:.3g}")
-        X, Gu, Gl, _ = res
-        cache[s] = (X, tangent(Gu, Gl, ta), Gu)
-        return f(*cache[s])
-    s = brentq(g, 0.0, sb, xtol=1e-14 * max(1.0, abs(sb)), rtol=8.9e-16)
-    if s not in cache:
-        g(s)
-    return cache[s]
-
-
-def correct(problem, Xp, t, c):
-    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
-    X = Xp.copy()
-    m = problem.size
-    A = np.empty((m + 1, m + 1))
-    F = np.empty(m + 1)
-    problem.at(X[m])                      # validates the predicted parameter value once
-    for it in range(1, CORR_MAXIT + 1):
-        G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
-        A[:m, :m], A[:m, m], A[m] = Gu, Gl, t
-        F[:m], F[m] = G, np.dot(t, X) - c
-        try:
-            dX = np.linalg.solve(A, -F)
-        except np.linalg.LinAlgError:
-            return None
-        if not np.isfinite(dX).all():
-            return None
-        X = X + dX
-        if np.abs(dX).max() <= CORR_TOL * (1 + np.abs(X).max()):
-            # residual and derivatives at the final X itself: the multipliers, the tangent
-            # and every test function of the point are then those of X, not of the last
-            # iterate O(CORR_TOL) away (which moved located points by up to ~4e-12)
-            G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
-            if np.abs(G).max() <= 1e3 * CORR_TOL * (1 + np.abs(X).max()):
-                return X, Gu, Gl, it
-            return None
-    return None

@@ -30,10 +30,13 @@ import warnings
 
 import numpy as np
 
+from .._deprecated import moved_names as _moved_names
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import orbit_of
-from .points import SpecialPoint, correct, root_on_arc
+from . import engine
+from .engine import interpolated_root, sign_change
+from .points import SpecialPoint
 
 #: strong resonances reported beside an NS point when |lambda^m - 1| is below this
 STRONG_RESONANCE_NEAR = 1e-2
@@ -47,18 +50,13 @@ def _pairs(n):
     return np.triu_indices(n, 1)
 
 
-def _sign_change(a, b):
-    return a is not None and b is not None and (a > 0) != (b > 0) and a != b
-
-
-class Tracker:
-    """Evaluates the test functions point by point and locates their zeros."""
+class Codim1Tracker(engine.Tracker):
+    """The codimension-one test functions of a branch, and the location of their zeros."""
 
     def __init__(self, problem, coefficients=True):
+        super().__init__(problem)
         self.problem = problem
         self.coefficients = coefficients      # False: NS points located, no normal form
-        self.special = []
-        self.prev = None
 
     # ---- test functions -----------------------------------------------------------
     def _conservative(self, X):
@@ -81,45 +79,43 @@ class Tracker:
             out[f"v{i}"] = v
         return out
 
-    def start(self, X, t, Gu, pt):
-        self.prev = (X, t, self.psi(X, t, pt.orbit), pt)
+    def tests(self, X, t, pt):
+        return self.psi(X, t, pt.orbit)
 
-    def step(self, Xa, ta, Xb, tb, Gu, pt, index):
-        pa, pta = self.prev[2], self.prev[3]
-        pb = self.psi(Xb, tb, pt.orbit)
-        self.prev = (Xb, tb, pb, pt)
+    def brackets(self, pa, pb, pta, pt):
+        out = []
         graze = False
         for key in pa:
-            if key.startswith("v") and _sign_change(pa[key], pb.get(key)):
+            if key.startswith("v") and sign_change(pa[key], pb.get(key)):
                 graze = True
-                self._try(key, Xa, ta, Xb, index)
+                out.append((key, {}))
         # through a grazing impact the map's Jacobian has a pole (eq. (30)): the
         # multiplier test functions change sign there without a bifurcation
         for kind in ("fold",) if graze else ("fold", "flip", "ns", "R3", "R4"):
-            if _sign_change(pa.get(kind), pb.get(kind)):
-                self._try(kind, Xa, ta, Xb, index)
+            if sign_change(pa.get(kind), pb.get(kind)):
+                out.append((kind, {}))
         # a multiplier through +1 where the branch does not turn: two branches cross
-        if not graze and _sign_change(pa.get("bp"), pb.get("bp")) and \
-                not _sign_change(pa["fold"], pb["fold"]):
-            self._try("branch-point", Xa, ta, Xb, index)
+        if not graze and sign_change(pa.get("bp"), pb.get("bp")) and \
+                not sign_change(pa["fold"], pb["fold"]):
+            out.append(("branch-point", {}))
         if pta.admissible != pt.admissible and not graze:
-            bad = Xb if pta.admissible else Xa
-            self._try("interior", Xa, ta, Xb, index, bad=bad,
-                      why=(pt if pta.admissible else pta).orbit.reason)
+            out.append(("interior", {"bad": None if pta.admissible else "a",
+                                     "why": (pt if pta.admissible else pta).orbit.reason}))
+        return out
 
     # ---- location -----------------------------------------------------------------
-    def _try(self, kind, Xa, ta, Xb, index, **kw):
-        try:
-            sp = self._locate(kind, Xa, ta, Xb, index, **kw)
-        except (SymviError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
-            lam = 0.5 * (Xa[-1] + Xb[-1])
-            orbit = orbit_of(self.problem, Xb[:-1], Xb[-1])
-            sp = SpecialPoint("unlocated", float(lam), orbit, {},
-                              f"a {kind} test function changes sign between "
-                              f"{Xa[-1]:.12g} and {Xb[-1]:.12g}, but locating it failed: {exc}",
-                              index)
-        if sp is not None:
-            self.special.append(sp)
+    def locate_event(self, kind, Xa, ta, Xb, index, bad=None, why=""):
+        if kind == "interior":
+            bad = Xa if bad == "a" else Xb
+        return self._locate(kind, Xa, ta, Xb, index, bad=bad, why=why)
+
+    def unlocated(self, kind, Xa, Xb, index, exc):
+        lam = 0.5 * (Xa[-1] + Xb[-1])
+        orbit = orbit_of(self.problem, Xb[:-1], Xb[-1])
+        return SpecialPoint("unlocated", float(lam), orbit, {},
+                            f"a {kind} test function changes sign between "
+                            f"{Xa[-1]:.12g} and {Xb[-1]:.12g}, but locating it failed: {exc}",
+                            index)
 
     def locate(self, kind, Xa, ta, Xb, index=0):
         """The special point of ``kind`` (fold, flip, ns, branch-point, R3, R4) on the arc
@@ -127,42 +123,7 @@ class Tracker:
         return self._locate(kind, Xa, ta, Xb, index)
 
     def _root(self, f, Xa, ta, Xb):
-        return root_on_arc(self.problem, f, Xa, ta, Xb)
-
-    def _interpolated_root(self, f, Xa, ta, Xb, nodes=9):
-        """A zero of f(X, Gu) on the arc, for a branch point: there [G_u G_lam] has a
-        two-dimensional kernel and the corrector's bordered matrix is singular, so points
-        near it cannot be corrected to full accuracy.  The branch X(s) and f(s) are smooth
-        in the arclength s, so both are interpolated from corrected Chebyshev nodes of the
-        bracket (any failed node dropped) and the root taken from the interpolant.
-        Returns (X, spread): spread = |root| change when the last node is dropped."""
-        pr, m = self.problem, self.problem.size
-        c0 = float(np.dot(ta, Xa))
-        sb = float(np.dot(ta, Xb - Xa))
-        S, F, Xs = [], [], []
-        for k in range(nodes):
-            s = 0.5 * sb * (1 - math.cos(math.pi * (k + 0.5) / nodes))
-            res = correct(pr, Xa + (s / sb) * (Xb - Xa), ta, c0 + s)
-            if res is not None:
-                S.append(s)
-                F.append(f(res[0], res[1]))
-                Xs.append(res[0])
-        if len(S) < 6:
-            raise SymviError(f"only {len(S)} of {nodes} points of the bracket could be corrected")
-        S, F, Xs = np.array(S), np.array(F), np.array(Xs)
-
-        def root(k):
-            P = np.polynomial.Chebyshev.fit(S[:k], F[:k], k - 1, domain=[0, sb])
-            r = [z.real for z in P.roots() if abs(z.imag) < 1e-9 * sb and 0 <= z.real <= sb]
-            if len(r) != 1:
-                raise SymviError(f"the interpolated test function has {len(r)} roots in the "
-                                 "bracket")
-            return r[0]
-        s0 = root(len(S))
-        spread = abs(s0 - root(len(S) - 1))
-        X = np.array([np.polynomial.Chebyshev.fit(S, Xs[:, i], len(S) - 1, domain=[0, sb])(s0)
-                      for i in range(m + 1)])
-        return X, spread * abs(float(ta[-1])) + abs(float(np.dot(ta, X)) - c0 - s0)
+        return self.root(f, Xa, ta, Xb)
 
     def _orbit(self, X, Gu, admissibility=True):
         m = self.problem.size
@@ -183,8 +144,8 @@ class Tracker:
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
                                 "<p,q> = 1)" + note, index)
         if kind == "branch-point":
-            X, spread = self._interpolated_root(lambda X, Gu: self._mu_prod(X, Gu, -1),
-                                                Xa, ta, Xb)
+            X, spread = interpolated_root(self.problem, lambda X, Gu: self._mu_prod(X, Gu, -1),
+                                          Xa, ta, Xb)
             orbit = self._orbit(X, None)
             Gu = pr.evaluate(X[:m], X[m])[1]
             e = real_critical(self._mono(X, Gu), 1.0)
@@ -356,3 +317,7 @@ def _unit_circle_resonance(mu, m):
     if not on:
         return None
     return float(np.prod([(z ** m).imag for z in on]))
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, __name__, {"Tracker": "Codim1Tracker"})

@@ -1,8 +1,8 @@
 """Continuation of fold, flip and Neimark–Sacker curves in two named parameters.
 
 The defining system is :class:`symvi.curves.system.CurveSystem`; its points are
-followed by pseudo-arclength (the corrector of :mod:`symvi.continuation.points`), the
-bordering vectors renewed at every accepted point.  From the start the curve is
+followed by the pseudo-arclength engine of :mod:`symvi.continuation.engine` (chord
+corrector first), the bordering vectors renewed every BORDER_EVERY accepted points.  From the start the curve is
 followed both ways until, on each side, it
 
 * leaves the parameter box (the last point lands on the bound),
@@ -21,12 +21,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..continuation.points import correct, tangent
+from ..continuation import engine
+from ..continuation.engine import Client, correct, tangent
+from ..continuation.result import Result
+from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
 from .points import NORMALISATION, Codim2Point, CurvePoint, first_lyapunov, mono
-from .special import Tracker
+from .special import Codim2Tracker
 from .system import CurveSystem, kappa_pair, theta_of
 
 #: a multiplier beyond this modulus ends a curve: the orbit is close to grazing, where the
@@ -34,17 +37,12 @@ from .system import CurveSystem, kappa_pair, theta_of
 MULTIPLIER_CUT = 1e2
 #: accepted points between renewals of the bordering vectors
 BORDER_EVERY = 8
-#: chord iterations of the corrector before full Newton takes over
-CHORD_MAXIT = 8
-#: largest cosine drop between consecutive tangents accepted (else the step is halved);
-#: the curves' own value, stricter than the orbit branches' symvi.continuation.branch.MIN_COS
-#: (0.95), until one continuation engine serves both (issue 24, item 4)
-CURVE_MIN_COS = 0.97
 
 
 @dataclass(frozen=True)
-class Curve:
-    """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names``."""
+class Curve(Result):
+    """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names`` (a
+    :class:`symvi.continuation.result.Result`: ``ends`` are its stop reasons)."""
 
     kind: str
     names: tuple
@@ -59,8 +57,9 @@ class Curve:
     states: tuple = field(repr=False, default=())
     model: object = field(repr=False, default=None)
 
-    def __len__(self):
-        return len(self.points)
+    @property
+    def stop_reasons(self):
+        return tuple(self.ends)
 
     def values(self, name):
         return np.array([pt.params[name] for pt in self.points])
@@ -132,7 +131,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     halves = []
     directions = (1.0, -1.0) if both else (1.0,)
     for sgn in directions:
-        tracker = Tracker(system) if locate else None
+        tracker = Codim2Tracker(system) if locate else None
         halves.append(_run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through))
     pts, states, special, ends = _join(halves)
     notes = []
@@ -283,6 +282,37 @@ def stable_side(system, X, orbit, lam):
 
 
 # --------------------------------------------------------------------------- the loop
+class _CurveRun(Client):
+    """A curve as a client of :func:`symvi.continuation.engine.run`."""
+
+    def __init__(self, system):
+        self.system = system
+        self.names = system.names
+
+    def point(self, X, prev, Gu):
+        return _point(self.system, X, prev)
+
+    def accepted(self, X, index):
+        if index % BORDER_EVERY == 0:
+            # new bordering vectors keep the bordered matrix well conditioned; the
+            # derivatives are taken again with them (g's row depends on the border)
+            self.system.set_border(mono(self.system, X))
+            return self.system.evaluate(X[:-1], X[-1], dparam=True)[1:]
+        return None
+
+    def stop(self, X, pt):
+        big = max(abs(z) for z in pt.orbit.multipliers)
+        if big > MULTIPLIER_CUT:
+            v = min(pt.orbit.impact_velocities)
+            return (f"near grazing at {_where(self.system, X)}: a multiplier of modulus "
+                    f"{big:.3g} (smallest impact velocity {v:.3g}); the impact map's Jacobian "
+                    "has a pole at grazing (eq. (30)), the curve is ended here")
+        return ""
+
+    def finish(self, end, X):
+        return end + _diagnosis(self.system, X) if end.startswith("step below") else end
+
+
 def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     m = system.m
     a, b = system.names
@@ -291,7 +321,6 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     span = float(np.min(hi - lo))
     h_max = float(h_max) if h_max is not None else span / 20 + 0.02
     h = float(h) if h is not None else min(h_max, span / 200)
-    h_min = 1e-9 * span
     system.set_border(mono(system, X))
     F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
     e = np.zeros(m + 2)
@@ -301,84 +330,9 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
         e = np.zeros(m + 2)
         e[-2] = sgn
         t = tangent(DF, Fb, e)
-    states, points = [X], [first]
-    if tracker:
-        tracker.start(X, t, first)
-    end = ""
-    lu = None
-    for k in range(2):                          # the start on a bound, the curve leaving
-        for bound, out in ((lo[k], t[m + k] < 0), (hi[k], t[m + k] > 0)):
-            if out and abs(X[m + k] - bound) <= 1e-12 * (1 + abs(bound)):
-                return points, states, [], f"reached {system.names[k]} = {bound:.12g}"
-    while len(points) < max_points:
-        Xp = X + h * t
-        out = (Xp[m:] < lo) | (Xp[m:] > hi)
-        if np.any(out):
-            res, k, bound = _to_bound(system, X, t, h, lo, hi)
-            if res is None:
-                h /= 2
-                if h < h_min:
-                    end = "the corrector failed at the parameter bound"
-                    break
-                continue
-            Xn, DFn, Fbn, its = res
-            landed = f"reached {system.names[k]} = {bound:.12g}"
-        else:
-            if lu is None:
-                lu = _factor(DF, Fb, t)
-            try:
-                res = _chord(system, Xp, t, float(np.dot(t, X)) + h, lu) or \
-                    correct(system, Xp, t, float(np.dot(t, X)) + h)
-                why = "the corrector did not converge"
-            except SymviError as exc:
-                res, why = None, str(exc)
-            if res is None:
-                h /= 2
-                if h < h_min:
-                    end = f"step below {h_min:.2g}: {why}"
-                    break
-                continue
-            Xn, its = res[0], res[-1]
-            landed = ""
-            F, DFn, Fbn = system.evaluate(Xn[:-1], Xn[-1], dparam=True)
-        tn = tangent(DFn, Fbn, t)
-        if np.dot(tn, t) < CURVE_MIN_COS and h > h_min and not landed:
-            h /= 2
-            continue
-        try:
-            pt = _point(system, Xn, points[-1])
-        except SymviError as exc:
-            end = f"the orbit cannot be evaluated at {_where(system, Xn)}: {exc}"
-            break
-        if tracker:
-            tracker.step(X, t, Xn, tn, pt, len(points))
-        X, t, DF, Fb, lu = Xn, tn, DFn, Fbn, None
-        if len(points) % BORDER_EVERY == 0:
-            # new bordering vectors keep the bordered matrix well conditioned; the
-            # derivatives are taken again with them (g's row depends on the border)
-            system.set_border(mono(system, X))
-            F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
-        states.append(X)
-        points.append(pt)
-        if landed:
-            end = landed
-            break
-        h = min(h_max, h * (1.5 if its <= 3 else 1.0 if its <= 5 else 0.6))   # chord counts
-        big = max(abs(z) for z in pt.orbit.multipliers)
-        if big > MULTIPLIER_CUT:
-            v = min(pt.orbit.impact_velocities)
-            end = (f"near grazing at {_where(system, X)}: a multiplier of modulus {big:.3g} "
-                   f"(smallest impact velocity {v:.3g}); the impact map's Jacobian has a "
-                   "pole at grazing (eq. (30)), the curve is ended here")
-            break
-        if not through and points[-2].admissible and not pt.admissible:
-            end = (f"the orbit stops being admissible near {_where(system, X)} "
-                   f"({pt.orbit.reason}); the point beyond is kept, marked inadmissible")
-            break
-    else:
-        end = f"max_points = {max_points} reached"
-    if end.startswith("step below"):
-        end += _diagnosis(system, X)
+    points, states, end = engine.run(system, _CurveRun(system), X, t, lo, hi, h=h,
+                                     h_max=h_max, max_points=max_points, tracker=tracker,
+                                     through=through, chord_first=True, first=first)
     return points, states, (tracker.special if tracker else []), end
 
 
@@ -396,64 +350,9 @@ def _diagnosis(system, X):
     return ""
 
 
-def _factor(DF, Fb, t):
-    """LU factors of the corrector's matrix [[DF, Fb], [t]] at the last point."""
-    from scipy.linalg import lu_factor
-    m1 = DF.shape[0]
-    A = np.empty((m1 + 1, m1 + 1))
-    A[:m1, :m1], A[:m1, m1], A[m1] = DF, Fb, t
-    return lu_factor(A, check_finite=False)
-
-
-def _chord(system, Xp, t, c, lu):
-    """Chord corrector: Newton on (F(X), t . X - c) with the matrix of the last point (one
-    factorisation per point; each iteration only evaluates F).  (X, iterations) or None."""
-    from scipy.linalg import lu_solve
-    from ..continuation.points import CORR_TOL
-    X = Xp.copy()
-    system.at(X[-1])
-    for it in range(1, CHORD_MAXIT + 1):
-        F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
-        r = np.append(F, np.dot(t, X) - c)
-        if not np.all(np.isfinite(r)):
-            return None
-        dX = lu_solve(lu, -r, check_finite=False)
-        X = X + dX
-        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
-            F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
-            if np.max(np.abs(F)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
-                return X, it
-            return None
-    return None
-
-
 def _where(system, X):
     a, b = system.names
     return f"{a} = {X[-2]:.12g}, {b} = {X[-1]:.12g}"
-
-
-def _to_bound(system, X, t, h, lo, hi):
-    """Land on the first bound the step crosses: solve with that parameter fixed."""
-    m = system.m
-    steps = []
-    for k in range(2):
-        if t[m + k] != 0:
-            for bound in (lo[k], hi[k]):
-                s = (bound - X[m + k]) / t[m + k]
-                if 0 < s <= h * (1 + 1e-12):
-                    steps.append((s, k, bound))
-    if not steps:
-        return None, 0, 0.0
-    s, k, bound = min(steps)
-    e = np.zeros(m + 2)
-    e[m + k] = 1.0
-    try:
-        res = correct(system, X + s * t, e, bound)
-    except SymviError:
-        res = None
-    if res is None:
-        return None, k, bound
-    return res, k, bound         # (X, DF, Fb, iterations)
 
 
 def _join(halves):
@@ -475,3 +374,8 @@ def _join(halves):
 
 def _reindex(sp, i):
     return Codim2Point(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, i)
+
+
+# names that moved to the one engine (issue 24, item 4): they warn for one release
+__getattr__ = _moved_names(__name__, "symvi.continuation.engine",
+                           {"CURVE_MIN_COS": "MIN_COS", "CHORD_MAXIT": "CHORD_MAXIT"})

@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..continuation.result import Located
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import kuznetsov_resolved
 from ..orbits.periodic import PeriodicOrbit
@@ -45,9 +46,10 @@ class CurvePoint:
 
 
 @dataclass(frozen=True)
-class Codim2Point:
+class Codim2Point(Located):
     """A located codimension-two point: ``kind`` CH, R1..R4, LPNS, PDNS, NSNS, LPPD, CP,
-    GPD, or an end of the admissible curve (grazing); it lies between the curve's points
+    GPD, or an end of the admissible curve (grazing), of the one vocabulary
+    :data:`symvi.continuation.result.EVENT_KINDS`; it lies between the curve's points
     ``index`` and ``index + 1``."""
 
     kind: str
