@@ -166,3 +166,14 @@ def test_the_paper_sits_on_top():
                     n.target.id in ("f1_paper", "f1_wan", "wan_a", "f1_printed"):
                 bad.append(f"{m}:{n.lineno}: a general result with the paper's field {n.target.id}")
     assert not bad, "\n".join(bad)
+
+
+def test_test_folders_mirror_the_package_tree():
+    """Issue 24, item 9: a test folder is named after the package it tests (``tests/orbits``
+    for ``symvi/orbits``), so one area runs alone; ``fuzz`` and ``property`` are kinds of
+    test that cross the packages, ``cli`` tests the command line (``symvi/cli``)."""
+    pkg = Path(symvi.__file__).parent
+    packages = {p.name for p in pkg.iterdir() if (p / "__init__.py").is_file()}
+    folders = {p.name for p in (ROOT / "tests").iterdir()
+               if p.is_dir() and (p / "__init__.py").is_file()}
+    assert folders - packages <= {"fuzz", "property"}, sorted(folders - packages)

@@ -28,10 +28,10 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 #: shell lines not run (after their optional parts are dropped), with the reason
 SKIP = {
     'pip install -e . && symvi reproduce --out report': "installs; the full report takes minutes "
-                                                        "(tests/report runs reproduce --quick)",
+                                                        "(tests/reporting runs reproduce --quick)",
     'pip install -e ".[test]" && python -m pytest -q': "installs; runs this very suite",
-    'symvi reproduce --out DIR': "the full report takes minutes (tests/report: --quick)",
-    'symvi regenerate': "writes symvi's own generated/ (tests/generated runs it into a "
+    'symvi reproduce --out DIR': "the full report takes minutes (tests/reporting: --quick)",
+    'symvi regenerate': "writes symvi's own generated/ (tests/codegen runs it into a "
                         "temporary folder)",
 }
 

@@ -805,7 +805,7 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0, r
     the better tableau's estimate and the two results' difference, times ``RIDDERS_SAFETY``
     (each estimate is biased low, as the smallest of many; with pseudo-random rounding
     noise of 1e-13..1e-6 on |lambda1| the actual error reached 0.5 of this,
-    tests/hopf/test_branch_derivative.py), plus 2 |d2|lambda1|/domega2| ``domega`` for an
+    tests/analysis/test_branch_derivative.py), plus 2 |d2|lambda1|/domega2| ``domega`` for an
     omega known to +/- ``domega`` (d2 from the evaluations the tableau made).
 
     ``ref`` = (value, absolute error) of an independent value, (A1)-(A3)'s: when the
@@ -825,7 +825,7 @@ def dmod_along_branch(params, omega, branch, lam, h=None, dlam=0j, domega=0.0, r
     omega_j / n), each result's error raised to its distance from the results at the
     neighbouring steps, and the result of smallest error is returned; (nan, inf) when no
     step works.  (Hypothesis seed 2 found a point next to a collision of two pairs where
-    a consistent-looking pair of steps was 0.47 % off: tests/hopf/test_branch_derivative.)"""
+    a consistent-looking pair of steps was 0.47 % off: tests/analysis/test_branch_derivative.)"""
     system = params if isinstance(params, _ModelSystem) else _system(params)
     omega = float(omega)
     seen = {}                  # |lambda1| at each w evaluated: the d2 term reuses them

@@ -30,7 +30,7 @@ l1) gets a relative-error estimate of the form
   input condition sees it).  A condition that cannot be computed (NaN) is infinite:
   the result is then untrusted, with the reason.  C_EVAL was calibrated against
   mpmath at 50 digits
-  (``tests/precision/test_precision.py`` checks that the estimate bounds the
+  (``tests/analysis/test_precision.py`` checks that the estimate bounds the
   true error).
 
 When an estimate says fewer than ``MIN_DIGITS`` (= 8) significant digits are
@@ -831,7 +831,7 @@ def _flow_condition(model, t, digits=None):
     model; a stiff mode (a light mass, ||A|| ~ 1e8) raises it to ~1e6: the rounding of
     the eigen-decomposition is of order eps ||A||, which no named input's condition
     sees.  Against a 40-digit flow this predicts the flow's error within a few per
-    cent, and y*'s error is about half of it (tests/precision/test_model_precision.py);
+    cent, and y*'s error is about half of it (tests/analysis/test_model_precision.py);
     4 is the safety factor of :func:`_model_solve_condition`.  Infinite if it cannot be
     formed."""
     from ..codegen.layout import frechet_kernel
@@ -872,7 +872,7 @@ def _model_solve_condition(model, w, y):
 
     Calibrated against a 40-digit reference on the paper's model: the float64 error
     of y* is 1.0-1.2 eps x the larger of the two near forcing resonance and near
-    1 - cos -> 0 (tests/precision/test_model_precision.py); 4 is the safety factor."""
+    1 - cos -> 0 (tests/analysis/test_model_precision.py); 4 is the safety factor."""
     from ..orbits.period1 import _line
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)

@@ -40,7 +40,7 @@ Each result carries ``residuals``: ||A q - lambda q||, ||A^T p - conj(lambda) p|
 Where MatContM differs
 ----------------------
 Transcribed formulas of MatContM were re-derived; the following differ, and the
-known-answer tests of ``tests/normal_form/test_codim2.py`` side with the derivation:
+known-answer tests of ``tests/normal_forms/test_codim2.py`` side with the derivation:
 
 1. ``nf_CHm`` solves (I - A) h22 = r22; the homological equation has
    (I - A) h22 = r22 - 4 Re(conj(lambda) g21) h11 (from h11 G conj(G)).  The term

@@ -10,7 +10,7 @@ shooting problem with u = (y, T) (:func:`symvi.orbits._shooting.shoot` and
 :func:`~symvi.orbits._shooting.monodromy`, eq. (30)), whose eigenvalues are the
 multipliers.  The formulas and their order of operations are those of
 :class:`symvi.orbits.period1._Line` (the reference, ``period1.COMPILED = False``),
-so the two agree to rounding (tests/orbit/test_period1_compiled.py).
+so the two agree to rounding (tests/orbits/test_period1_compiled.py).
 """
 import math
 

@@ -3,7 +3,7 @@
 Each function evaluates one printed formula literally, so the report can set it
 beside symvi's own derivation (:mod:`symvi.orbit`, :mod:`symvi.flow`).
 
-Discrepancies found (shown by ``tests/orbit/test_audit_orbit.py``):
+Discrepancies found (shown by ``tests/paper/test_audit_orbit.py``):
 
 * eq. (11) prints the second numerator term as psi12 psi21 (1 - c1) w1; the
   derivation from conditions (10) gives psi12 psi21 s2 (1 - c1) w1 (a factor

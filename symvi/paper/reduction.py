@@ -17,7 +17,7 @@ f1 (eqs. 58–60) has the opposite sign: r -> |lambda| r - f1 r^3, f1 > 0 attrac
 
 Discrepancies with the paper
 ----------------------------
-Each was found by a known-answer test in ``tests/normal_form/``; the printed
+Each was found by a known-answer test in ``tests/normal_forms/``; the printed
 form is kept beside the corrected one and named ``*_printed``.
 
 1. **Eq. (60)**, first term.  Printed:

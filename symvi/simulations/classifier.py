@@ -48,7 +48,7 @@ one reused (n_keep, 2N) buffer, then:
   multipliers rho e^{+-i theta} the tangent grows as the radius, both as rho^j: the
   exponent is the spiral's, not chaos.  (Example 1 at omega = 0.738: log rho =
   2.85e-3 for the first ~2500 impacts, then a circle, exponent 0 +- 5e-4;
-  tests/simulate/test_classifier.py.)
+  tests/simulations/test_classifier.py.)
 * else quasi-periodic: the judged points, tau recentred about its circular mean and
   wrapped to (-pi, pi], taken about their centre with a geometric radial trend
   removed: r_j = |y_j - centre| ~ exp(a + b j) fitted by least squares on log r_j

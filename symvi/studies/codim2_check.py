@@ -67,7 +67,7 @@ law of :mod:`symvi.maps.impact`, here on their mpmath branch; (b) the normal-for
 formulas of :mod:`symvi.normal_forms.codim2`: a wrong formula there would appear in both chains
 alike; only c1 and l1 are also checked against the independent transcription
 ``kuznetsov_l1`` (and l1 = 0 at CH holds by Kuznetsov's formula while locating, by
-codim2's at the end).  The known-answer tests of ``tests/normal_form/test_codim2.py``
+codim2's at the end).  The known-answer tests of ``tests/normal_forms/test_codim2.py``
 check the formulas themselves.
 
 Vanishing quantities (l1 at CH, c at GPD, a at CP) are compared relative to the point's

@@ -37,7 +37,7 @@ def test_two_ns_points_of_the_damped_chain(three):
 def test_paper_model_through_Model_gives_the_paper_chains_points():
     """Params (the preset, with the paper's names and eq. (60)) and Model.luo_xie give the
     same points; the chain itself is held to the modal oracle and to 50-digit chain B
-    elsewhere (tests/generated/test_jets_model.py, tests/hopf/test_mpcheck.py)."""
+    elsewhere (tests/codegen/test_jets_model.py, tests/studies/test_mpcheck.py)."""
     p = Params(2, 5, 0, 1.5, 0.8)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
