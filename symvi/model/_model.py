@@ -28,7 +28,6 @@ exact parameter derivatives of the map are built from.
 """
 import functools
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -239,12 +238,7 @@ def _tup(a):
     return tuple(tuple(float(x) for x in row) for row in np.asarray(a))
 
 
-_NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
 _PRESET = _preset.NAMES
-
-
-#: the names that change the stop only (a cheap copy of the model, no matrix validation)
-_STOP_NAMES = frozenset(("gap", "restitution", "b", "r"))
 
 
 class Model:
@@ -415,66 +409,52 @@ class Model:
             names = list(_PRESET) + names
         return names
 
-    def _parse(self, name):
-        """(kind, i, j) of a named parameter, 0-based; raise naming the valid names."""
-        valid = ("omega, gap, restitution, mass[i], mass[i,j], stiffness[i,j], damping[i,j], "
-                 f"forcing[i] with 1 <= i, j <= {self.n}"
-                 + ("; for this preset also mu_m, mu_k, f2, b, r" if self._preset else ""))
-        if name in ("gap", "restitution"):
-            return name, None, None
-        if name in _PRESET:
-            if self._preset is None:
-                raise ParameterError("parameter", name, valid,
-                                     f"{name} belongs to the Luo-Xie preset only")
-            return name, None, None
-        m = _NAME.match(str(name).replace(" ", ""))
-        if not m:
-            raise ParameterError("parameter", name, valid)
-        kind, i = m.group(1), int(m.group(2)) - 1
-        j = None if m.group(3) is None else int(m.group(3)) - 1
-        if kind == "forcing" and j is not None:
-            raise ParameterError("parameter", name, valid)
-        if kind == "mass" and j is None:
-            j = i
-        if kind in ("stiffness", "damping") and j is None:
-            raise ParameterError("parameter", name, valid, f"{kind} needs two indices")
-        if not 0 <= i < self.n or (j is not None and not 0 <= j < self.n):
-            raise ParameterError("parameter", name, valid)
-        return kind, i, j
+    def parameter(self, name):
+        """The :class:`symvi.model.parameters.Parameter` called ``name`` (``omega`` included):
+        parsed once per model shape (the objects are cached), then it reads, sets and
+        differentiates that parameter on any model of this shape.  A bad name raises the
+        one-line ParameterError naming the valid names."""
+        return _parameters.parse(name, len(self._P), self._preset is not None)
 
     def value(self, name):
-        """The value of a named parameter."""
-        kind, i, j = self._parse(name)
-        if kind == "gap":
-            return self._stop.gap
-        if kind == "restitution":
-            return self._stop.restitution
-        if kind in _PRESET:
-            return self._preset[kind]
-        if kind == "forcing":
-            return self._P[i]
-        return {"mass": self._M, "stiffness": self._K, "damping": self._C}[kind][i][j]
+        """The value of a named parameter (not omega, which is not a field of the model)."""
+        par = self.parameter(name)
+        if par.is_forcing_frequency:
+            par.apply(self, None)                 # refuses: omega lives beside the model
+        return par.get(self)
 
     def with_(self, **changes):
         """A copy with named parameters changed, e.g. ``model.with_(**{"forcing[1]": 0.3})``
-        or ``model.with_(mu_m=3)`` on the preset.  Validated like the constructor."""
+        or ``model.with_(mu_m=3)`` on the preset.  Validated like the constructor (one
+        change: :meth:`Parameter.apply`, which checks only what the change can break)."""
+        if not changes:
+            return self
+        if len(changes) == 1:
+            (name, v), = changes.items()
+            return self.parameter(name).apply(self, v)
+        pars = {name: self.parameter(name) for name in changes}
         preset = dict(self._preset) if self._preset else None
-        if changes and set(changes) <= _STOP_NAMES:
-            return self._with_stop(preset, changes)
-        pre = {k: v for k, v in changes.items() if k in _PRESET}
-        for k in pre:
-            self._parse(k)                    # refuses preset names on a general model
+        if changes and all(isinstance(p, _parameters.StopParameter) for p in pars.values()):
+            new = self
+            for name, v in changes.items():
+                new = pars[name].apply(new, v)
+            return new
+        pre = {k: v for k, v in changes.items() if isinstance(pars[k], _parameters.PresetParameter)
+               or (k in _PRESET and preset is not None)}
         if pre:
             vals = {k: preset[k] for k in _PRESET}
             vals.update(pre)
             base = Model.luo_xie(**vals)
-            rest = {k: v for k, v in changes.items() if k not in _PRESET}
+            rest = {k: v for k, v in changes.items() if k not in pre}
             return base.with_(**rest) if rest else base
         M, K, C = (np.array(x) for x in (self._M, self._K, self._C))
         P = np.array(self._P)
         gap, r = self._stop.gap, self._stop.restitution
         for name, v in changes.items():
-            kind, i, j = self._parse(name)
+            par = pars[name]
+            if par.is_forcing_frequency:
+                par.apply(self, v)                # refuses: omega lives beside the model
+            kind, i, j = par.kind, par.i, par.j
             v = _finite(name, v)
             if kind == "gap":
                 gap = v
@@ -485,63 +465,14 @@ class Model:
             else:
                 A = {"mass": M, "stiffness": K, "damping": C}[kind]
                 A[i, j] = A[j, i] = v
-        if preset is not None and set(changes) <= {"gap", "restitution"}:
-            # only b or r changed: still the paper's model, keep the preset's names
-            preset.update(b=gap, r=r)
-            return Model.luo_xie(**{k: preset[k] for k in _PRESET})
         return Model(mass=M, stiffness=K, damping=C, forcing=P,
                      stop=Stop(mass=self._stop.mass, gap=gap, restitution=r))
 
-    def _with_stop(self, preset, changes):
-        """A copy with only the stop changed: the matrices are not validated again (a curve
-        in b or r builds one model per corrector step)."""
-        gap, r = self._stop.gap, self._stop.restitution
-        for name, v in changes.items():
-            kind = self._parse(name)[0]
-            v = _finite(name, v)
-            if kind in ("gap", "b"):
-                gap = v
-            else:
-                r = v
-        if preset is not None:
-            preset.update(_preset.values(preset["mu_m"], preset["mu_k"], preset["f2"], gap,
-                                         r))      # the preset's ranges and messages
-        new = object.__new__(Model)
-        for slot in ("_M", "_K", "_C", "_P"):
-            object.__setattr__(new, slot, getattr(self, slot))
-        object.__setattr__(new, "_stop", Stop(mass=self._stop.mass, gap=gap, restitution=r))
-        object.__setattr__(new, "_preset", preset)
-        object.__setattr__(new, "_arrays", {})
-        object.__setattr__(new, "_hash", hash(new.key()))
-        return new
-
     def tangent(self, name):
         """d(M, C, K, P, b, r) / d(name): exact derivative of the model data, as a
-        :class:`Tangent`.  ``omega`` has the zero tangent here (it enters the map
-        directly, not through the model)."""
-        n = self.n
-        z = np.zeros((n, n))
-        dM, dK, dC, dP = z.copy(), z.copy(), z.copy(), np.zeros(n)
-        db = dr = 0.0
-        if name == "omega":
-            return Tangent(dM, dK, dC, dP, db, dr)
-        kind, i, j = self._parse(name)
-        if kind in ("gap", "b"):
-            db = 1.0
-        elif kind in ("restitution", "r"):
-            dr = 1.0
-        elif kind == "mu_m":
-            dM[1, 1] = 1.0
-        elif kind == "mu_k":
-            dK[1, 1] = 1.0
-        elif kind == "f2":
-            dP[:] = (-1.0, 1.0)
-        elif kind == "forcing":
-            dP[i] = 1.0
-        else:
-            A = {"mass": dM, "stiffness": dK, "damping": dC}[kind]
-            A[i, j] = A[j, i] = 1.0
-        return Tangent(dM, dK, dC, dP, db, dr)
+        :class:`Tangent` (:meth:`Parameter.tangent`).  ``omega`` has the zero tangent here
+        (it enters the map directly, not through the model)."""
+        return self.parameter(name).tangent(self)
 
 
 @dataclass(frozen=True)
@@ -559,3 +490,6 @@ class Tangent:
     def zero(self):
         return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
                 and not np.any(self.dC) and not np.any(self.dP))
+
+
+from . import parameters as _parameters  # noqa: E402  (it builds on Model, Stop, Tangent)
