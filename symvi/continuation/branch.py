@@ -75,7 +75,7 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     Y2 = Y.copy()
     Y2[:, -1] += 2 * math.pi * pr.n_periods
     u2 = np.concatenate([Y.ravel(), Y2.ravel(), T, T])
-    pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.param)
+    pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.parameter)
     G, Gu, Gl = pr2.evaluate(u2, lam, dparam=True)
     phi = np.linalg.svd(Gu)[2][-1]
     # the primary branch's tangent, doubled, and phi made orthogonal to it
@@ -123,15 +123,17 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
         if not ok:
             raise ParameterError(name, v, "a finite real number")
     fixed = dict(fixed)
-    if param == "omega":
+    try:                                # the name parsed once: the lens passed down
+        par = model.parameter(param)
+    except SymviError:
+        raise ParameterError("param", param, "omega or a named parameter of the model: "
+                             + ", ".join(model.parameter_names())) from None
+    if par.is_forcing_frequency:
         if "omega" in fixed:
             raise ParameterError("omega", fixed["omega"], "not fixed: it is the continued "
                                  "parameter")
         omega = None
     else:
-        if not _indexed(model, param):
-            raise ParameterError("param", param, "omega or a named parameter of the model: "
-                                 + ", ".join(model.parameter_names()))
         if "omega" not in fixed:
             raise ParameterError("omega", None, f"a fixed forcing frequency when continuing "
                                  f"in {param} (--set omega=...)")
@@ -140,11 +142,12 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
             raise ParameterError(param, fixed[param], "not fixed: it is the continued parameter")
     if fixed:
         model = model.with_(**fixed)
-    if param != "omega":
-        model = model.with_(**{param: float(start)})
+        par = model.parameter(par)      # the fixed values may leave the preset: names it
+    if not par.is_forcing_frequency:
+        model = par.apply(model, float(start))
     if isinstance(orbit, PeriodicOrbit):
         n, p = orbit.n, orbit.p
-    problem = Problem(model, n, p, omega=omega, param=param)
+    problem = Problem(model, n, p, omega=omega, param=par)
     lam0 = float(start)
     problem.at(lam0)                                # validates the start
     if isinstance(orbit, Orbit):
@@ -162,23 +165,15 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
             raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at "
                                     f"{param} = {lam0!r}")
         guess = orbs[0].y
-    fix = Problem(problem.model, n, p, omega=lam0 if param == "omega" else omega)
+    fix = Problem(problem.model, n, p, omega=lam0 if par.is_forcing_frequency else omega)
     u0 = newton(fix, initial_guess(fix, guess), None)
     return problem, np.append(u0, lam0)
-
-
-def _indexed(model, name):
-    try:
-        model.value(name)
-        return True
-    except SymviError:
-        return False
 
 
 def _resonance_bounds(problem, start, lo, hi):
     """An omega interval cut short of the undamped natural frequencies on either side of
     ``start`` (the steady-state response is infinite there): (lo, hi, cut or None)."""
-    if problem.param != "omega" or problem.model.damped:
+    if not problem.parameter.is_forcing_frequency or problem.model.damped:
         return lo, hi, None
     cut = None
     for w in (float(w) for w in LinearFlow.of(problem.model).omegas):

@@ -60,35 +60,34 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     n, p = _orbit(orbit, N)
     if not isinstance(param, str):
         raise ParameterError(N["param"], param, "a parameter name (omega, gap, ...)")
-    if param != "omega":
-        _known(model, param, N["param"])
-    for name in fixed:
-        if name != "omega":
-            _known(model, name, N["fixed"])
+    # the names parsed once, here at the entry: lenses on (model, omega) from now on
+    par = _known(model, param, N["param"])
+    pars = {name: _known(model, name, N["fixed"]) for name in fixed}
     if param in fixed:
         raise ParameterError(N["fixed"], param, f"a parameter other than {N['param']}")
     if (isinstance(max_points, bool) or not isinstance(max_points, Integral)
             or not 2 <= max_points <= 10 ** 6):
         raise ParameterError(N["max_points"], max_points, "an integer from 2 to 1000000")
-    fixed = {k: _real(v, N["omega"] if k == "omega" else k) for k, v in fixed.items()}
+    fixed = {k: _real(v, N["omega"] if pars[k].is_forcing_frequency else k)
+             for k, v in fixed.items()}
     # the model with the fixed values: the ranges of start and stop are those of this model
-    others = {k: v for k, v in fixed.items() if k != "omega"}
+    others = {k: v for k, v in fixed.items() if not pars[k].is_forcing_frequency}
     at = model.with_(**others) if others else model
-    if param != "omega" and "omega" not in fixed and simulation is None:
+    if not par.is_forcing_frequency and "omega" not in fixed and simulation is None:
         raise ParameterError(N["omega"], None, f"a fixed forcing frequency: give "
                              f"{N['omega']}=VALUE when {N['param']} is not omega")
     if "omega" in fixed:
         check_value(at, "omega", fixed["omega"], N["omega"])
     start, stop = _real(start, N["start"], False), _real(stop, N["stop"], False)
     starts_here = start_omega is None and simulation is None
-    check_value(at, param, start, N["start"], resonance=starts_here)
-    check_value(at, param, stop, N["stop"], resonance=False)
+    check_value(at, par, start, N["start"], resonance=starts_here)
+    check_value(at, par, stop, N["stop"], resonance=False)
     if start == stop:
         raise ParameterError(N["stop"], stop, f"a value != {N['start']} = {start:g} (the "
                              "branch lies between them)")
     lo, hi = sorted((start, stop))
     if start_omega is not None:
-        if param != "omega":
+        if not par.is_forcing_frequency:
             raise ParameterError(N["start_omega"], start_omega, f"only with {N['param']} "
                                  f"omega (fix omega with {N['omega']}=W otherwise)")
         start_omega = _real(start_omega, N["start_omega"], finite=False)
@@ -103,7 +102,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         a, stops = start, (stop,)
     if simulation is not None:
         sim, shown = _simulation(simulation, N)
-        if param == "omega":
+        if par.is_forcing_frequency:
             a, stops = sim.omega, (lo, hi)
             if not lo <= a <= hi:
                 raise ParameterError(N["simulation"], shown, f"a simulation at omega in "
@@ -121,9 +120,9 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         guesses = [sim.section[-p:]]
     else:
         # the model and omega at the start, with the fixed values
-        if param != "omega":
-            at = at.with_(**{param: a})
-        w = a if param == "omega" else fixed["omega"]
+        if not par.is_forcing_frequency:
+            at = at.parameter(par).apply(at, a)
+        w = a if par.is_forcing_frequency else fixed["omega"]
         if (n, p) != (1, 1):
             sim = _settle(at, w)
             if detect_period(sim) != (n, p):
@@ -205,9 +204,10 @@ def _shown_orbit(orbit):
 
 
 def _known(model, name, shown):
-    """Refuse a name that is not a parameter of ``model``, calling it ``shown``."""
+    """The :class:`symvi.model.parameters.Parameter` called ``name`` (omega included);
+    refuse a name that is not a parameter of ``model``, calling it ``shown``."""
     try:
-        model.value(name)
+        return model.parameter(name)
     except ParameterError as exc:
         raise ParameterError(shown, name, exc.valid) from None
     except (SymviError, TypeError):

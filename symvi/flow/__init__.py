@@ -24,7 +24,8 @@ def check_omega(system, omega, name="omega", warn=True):
 
 
 def check_value(system, param, value, shown, *, resonance=True):
-    """``value`` of ``param`` valid for ``system`` (a Model), else a
+    """``value`` of ``param`` (a name or a :class:`symvi.model.parameters.Parameter`)
+    valid for ``system`` (a Model), else a
     one-line ParameterError naming ``shown`` (what the user typed: a flag, a keyword) and
     the range: omega in OMEGA_RANGE and, with ``resonance``, not at a forcing resonance;
     another parameter where the system it makes is valid (restitution in (0, 1], a
@@ -36,20 +37,25 @@ def check_value(system, param, value, shown, *, resonance=True):
     from ..errors import ParameterError, SingularCaseError
     from ..model import Model
     from ..numerics.tolerances import OMEGA_RANGE
-    if param == "omega":
+    model = Model.of(system)
+    try:
+        par = model.parameter(param)
+    except ParameterError as exc:
+        raise ParameterError(shown, value, exc.valid, f"the value of {param}") from None
+    if par.is_forcing_frequency:
         lo, hi = OMEGA_RANGE
         if not (math.isfinite(value) and lo <= value <= hi):
             raise ParameterError(shown, value, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
         try:
-            check_omega(system, value, name=shown, warn=False)
+            check_omega(model, value, name=shown, warn=False)
         except SingularCaseError:
             if resonance:
                 raise
         return value
     if not math.isfinite(value):
-        raise ParameterError(shown, value, f"a finite value of {param}")
+        raise ParameterError(shown, value, f"a finite value of {par.name}")
     try:
-        Model.of(system).with_(**{param: value})
+        par.apply(model, value)
     except ParameterError as exc:
-        raise ParameterError(shown, value, exc.valid, f"the value of {param}") from None
+        raise ParameterError(shown, value, exc.valid, f"the value of {par.name}") from None
     return value

@@ -60,7 +60,9 @@ class Problem:
     constraint each impact hits; every impact reads its guard and reset from the flow
     (:meth:`symvi.flow.linear.LinearFlow._constrain`), so with one stop all are the same.
 
-    ``omega`` is the forcing frequency when ``param`` is not "omega".  ``compiled``
+    ``param`` is a name or a :class:`symvi.model.parameters.Parameter`, parsed here once
+    (:attr:`parameter`; :attr:`param` keeps its name); ``omega`` is the forcing frequency
+    when it is not omega.  ``compiled``
     (default) evaluates G and its derivatives by the numba kernel of
     :mod:`symvi.orbits._shooting`; False uses the numpy reference (same results to
     rounding).
@@ -70,7 +72,10 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
-        self.model, self.n_periods, self.p, self.param = model, int(n), int(p), param
+        # the lens on (model, omega), parsed once: a bad name raises ParameterError here
+        self.parameter = None if param is None else model.parameter(param)
+        self.param = None if param is None else self.parameter.name
+        self.model, self.n_periods, self.p = model, int(n), int(p)
         # which constraint each impact hits (today the one stop: (0,) * p)
         sig = Signature.single(p) if signature is None else (
             signature if isinstance(signature, Signature) else Signature(signature))
@@ -86,8 +91,6 @@ class Problem:
         self.N, self.d = N, 2 * N
         # y[:2N-1] = z0[idx] just after an impact (v_k+, x_j, v_j for j != k)
         self.idx = np.array([N, *range(1, N), *range(N + 1, 2 * N)])
-        if param is not None and param != "omega":
-            model.value(param)            # names the parameter or raises ParameterError
 
     @property
     def size(self):
@@ -96,12 +99,13 @@ class Problem:
     def at(self, lam, check=True):
         """(model, flow, forcing) at parameter value lam; ``check`` validates omega
         (ParameterError / SingularCaseError at a forcing resonance)."""
-        if self.param is None:
+        par = self.parameter
+        if par is None:
             model, omega = self.model, self.omega
-        elif self.param == "omega":
+        elif par.is_forcing_frequency:
             model, omega = self.model, lam
         else:
-            model, omega = self.model.with_(**{self.param: float(lam)}), self.omega
+            model, omega = par.apply(self.model, float(lam)), self.omega
         if model is self.model:
             flow = self._flow
             if flow is None:
@@ -168,11 +172,11 @@ class Problem:
             last = self._last
             if last is not None and len(last[1]) > 2 and last[0] == (u.tobytes(), lam):
                 return last[1][2].copy(), None, None
-        dom = dparam and self.param == "omega"
+        dom = dparam and self.parameter is not None and self.parameter.is_forcing_frequency
         G, Gu, Gl, (model, flow, F) = self._shoot(u, lam, check, jac, dom)
         if dparam and not dom:
             fl = self.flights(u, lam, check=False)[0]
-            Gl = self._dparam(fl, model, flow, F, self.split(u)[1], self.param)
+            Gl = self._dparam(fl, model, flow, F, self.split(u)[1], self.parameter)
         return G, Gu if jac else None, Gl if dparam else None
 
     def _evaluate_numpy(self, u, lam, jac=True, dparam=False, check=True):
@@ -204,7 +208,7 @@ class Problem:
                 Gu[r0.start + d - 1, p * d + i] = w
                 Gu[p * d + i, i * d:i * d + d] = g @ dzdy[:self.N]
                 Gu[p * d + i, p * d + i] = g @ dzdt[:self.N]
-        Gl = self._dparam(fl, model, flow, F, T, self.param) if dparam else None
+        Gl = self._dparam(fl, model, flow, F, T, self.parameter) if dparam else None
         return G, Gu, Gl
 
     def _reset_rows(self, R, one=1.0):
@@ -221,19 +225,23 @@ class Problem:
 
     def derivative(self, u, lam, name):
         """dG/d(name) at (u, lam), fixed u, for any named parameter or omega (not only
-        the continued one): a two-parameter curve needs both."""
-        if self.compiled and name == "omega":
+        the continued one): a two-parameter curve needs both.  ``name``: a name or a
+        :class:`symvi.model.parameters.Parameter`."""
+        name = self.model.parameter(name)
+        if self.compiled and name.is_forcing_frequency:
             u = np.ascontiguousarray(u, dtype=float)
             return self._shoot(u, lam, False, False, True)[2]
         fl, (model, flow, F) = self.flights(u, lam, check=False)
         return self._dparam(fl, model, flow, F, self.split(u)[1], name)
 
     def _dparam(self, fl, model, flow, F, T, name):
-        """dG/dname at fixed u, exact (omega: dU, dV; any other name: model.tangent)."""
+        """dG/dname at fixed u, exact (omega: dU, dV; any other: its tangent); ``name`` a
+        :class:`symvi.model.parameters.Parameter` (or a name, parsed here)."""
+        name = self.model.parameter(name)
         d, p, idx, lib = self.d, self.p, self.idx, flow.lib
         out = np.zeros(self.size)
         E, g, N = self._reset_rows(flow.reset), flow.guard, self.N
-        if name == "omega":
+        if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 ph = tau + F.omega * T[i]
                 dz = F.zp_omega(ph, lib) + T[i] * F.zp_phase(ph, lib) - Phi @ F.zp_omega(tau, lib)
@@ -241,7 +249,7 @@ class Problem:
                 out[i * d + d - 1] = T[i]
                 out[p * d + i] = g @ dz[:N]
             return out
-        tan = model.tangent(name)
+        tan = name.tangent(model)
         # dR/dr = -Q: the restitution moves the reset along its projector
         dE = None
         if tan.dr:
