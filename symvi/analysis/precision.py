@@ -744,10 +744,11 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
                 U = np.linalg.inv(V)                       # rows: left eigenvectors, U V = I
                 order = [int(np.argmin(np.abs(vals - z))) for z in lamc]
                 ynorm = max(np.abs(yf).max(), 1e-300)
-                for name in ["omega"] + _model_inputs(model):
-                    v = w if name == "omega" else abs(model.value(name))
+                for par in [model.parameter(nm) for nm in ["omega"] + _model_inputs(model)]:
+                    name = par.name
+                    v = w if par.is_forcing_frequency else abs(par.get(model))
                     try:
-                        d = _parameter_derivatives(model, w, yf, T, name)
+                        d = _parameter_derivatives(model, w, yf, T, par)
                     except SymviError as exc:
                         kin_y[name] = kin_l[name] = math.inf
                         notes.append(f"{name}: {exc}")
@@ -801,7 +802,7 @@ def _parameter_derivatives(model, w, y, T, name):
         if _finite_derivative(d):
             return d
         d = parameter_derivatives(model, w, y, T, name, digits=COND_DIGITS)
-        d = ParameterDerivative(name, *(np.array(np.asarray(x).tolist(), dtype=float)
+        d = ParameterDerivative(d.name, *(np.array(np.asarray(x).tolist(), dtype=float)
                                         for x in (d.dP, d.dJ, d.dy, d.dJ_branch)))
     if not _finite_derivative(d):
         raise SingularCaseError("condition", f"the derivative with respect to {name} is "

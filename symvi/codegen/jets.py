@@ -193,7 +193,8 @@ class ParameterDerivative:
 
 
 def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point=True):
-    """Exact first derivatives of P and DP with respect to the named parameter ``name``.
+    """Exact first derivatives of P and DP with respect to the named parameter ``name``
+    (a name or a :class:`symvi.model.parameters.Parameter`).
 
     ``omega`` uses the generated omega-slot; any other name the generic slot fed
     by :func:`symvi.codegen.layout.tangent_data` (Frechet derivative of e^{At}).
@@ -201,13 +202,16 @@ def parameter_derivatives(model, omega, y, te, name, *, digits=None, fixed_point
     point and the derivative of the Jacobian along it are added.
     """
     y, te = _checked(model, y, te)
-    tangent = None if name == "omega" else model.tangent(name)
+    par = model.parameter(name)
+    name = par.name
+    tangent = None if par.is_forcing_frequency else par.tangent(model)
     with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
         flow, F = _at(model, omega, digits)
         mp = digits is not None
         num = mpmath.mpf if mp else float
         vals = evaluate(flow, F, tuple(num(v) for v in y), num(te), 2, tangent)
-        dP, dJ = (vals["dwP"], vals["dwJ"]) if name == "omega" else (vals["dpP"], vals["dpJ"])
+        dP, dJ = ((vals["dwP"], vals["dwJ"]) if par.is_forcing_frequency
+                  else (vals["dpP"], vals["dpJ"]))
         if not fixed_point:
             return ParameterDerivative(name, dP, dJ)
         dy = fixed_point_motion(vals["J"], dP, mp)

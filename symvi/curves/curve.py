@@ -114,14 +114,17 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     if omega is None:
         omega = orbit.omega
     for nm in names:
-        if nm != "omega" and nm in fixed:
+        if nm in fixed:                         # (omega was taken out of fixed above)
             raise ParameterError(nm, fixed[nm], "not fixed: it is a curve parameter")
     if fixed:
         model = model.with_(**fixed)
-    start = {nm: (float(omega) if nm == "omega" else float(model.value(nm))) for nm in names}
+    # the names parsed once, here: the curve system gets the lenses
+    pars = tuple(model.parameter(nm) for nm in names)
+    on_omega = any(par.is_forcing_frequency for par in pars)
+    start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
     box = _bounds(names, start, bounds)
-    system = CurveSystem(model, orbit.n, orbit.p, names, kind,
-                         omega=None if "omega" in names else omega)
+    system = CurveSystem(model, orbit.n, orbit.p, pars, kind,
+                         omega=None if on_omega else omega)
     X0 = _first(system, orbit, start)
     first = _point(system, X0, None)
     if not first.admissible and not through:
@@ -140,7 +143,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
                      "multipliers lie on the unit circle over whole intervals; (H3) has no "
                      "meaning and NS curves are not defined")
     fx = {k: v for k, v in fixed.items()}
-    if "omega" not in names:
+    if not on_omega:
         fx["omega"] = float(omega)
     return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
                  box, fx, tuple(notes), tuple(states), model)

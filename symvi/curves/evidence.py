@@ -51,7 +51,7 @@ def _params_of(curve, params):
 
 
 def _model_at(model, params):
-    rest = {k: v for k, v in params.items() if k != "omega"}
+    rest = {k: v for k, v in params.items() if not model.parameter(k).is_forcing_frequency}
     return model.with_(**rest) if rest else model, float(params["omega"])
 
 

@@ -81,14 +81,17 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     from ..errors import SymviError
     from ..model import Model
     model = Model.of(model)
-    if "omega" not in names:
+    pars = [model.parameter(nm) for nm in names]
+    if not any(par.is_forcing_frequency for par in pars):
         raise ParameterError("names", names, "omega and one named parameter")
-    other = names[1] if names[0] == "omega" else names[0]
+    omega_first = pars[0].is_forcing_frequency
+    other = names[1] if omega_first else names[0]
+    other_par = pars[1] if omega_first else pars[0]
     (wlo, whi), (plo, phi) = box["omega"], box[other]
     span = np.array([whi - wlo, phi - plo])
     found, notes = [], []
     for v in np.linspace(plo, phi, rows + 2)[1:-1]:
-        m = model.with_(**{other: float(v)})
+        m = other_par.apply(model, float(v))
         try:
             branches = period1_branches(m, wlo, whi)      # once per row, for every kind
         except SymviError as exc:
@@ -98,7 +101,7 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
             pts = start_points(m, wlo, whi, kind, branches=branches)
             for sp, _ in pts:
                 xy = np.array([sp.value, v])
-                if any(_near(c, xy, span, names) for c in found if c["kind"] == kind):
+                if any(_near(c, xy, span, omega_first) for c in found if c["kind"] == kind):
                     continue
                 try:
                     cv = continue_curve(m, kind, names, sp, bounds=box, max_points=max_points)
@@ -109,12 +112,12 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     return found, notes
 
 
-def _near(curve, xy, span, names):
+def _near(curve, xy, span, omega_first):
     """The point xy = (omega, other) lies on the polyline of ``curve`` (within 1e-3 of
-    the box)."""
+    the box); ``omega_first``: the curve's a is omega."""
     import numpy as np
     a, b = np.asarray(curve["a"], float), np.asarray(curve["b"], float)
-    P = np.column_stack([a, b] if names[0] == "omega" else [b, a]) / span
+    P = np.column_stack([a, b] if omega_first else [b, a]) / span
     q = xy / span
     if len(P) == 1:
         return np.linalg.norm(P[0] - q) < 1e-3

@@ -59,27 +59,28 @@ def _pairs(d):
 
 class CurveSystem:
     """G(u; a, b) = 0 and g = 0 for the ``kind`` of curve (ns, flip, fold) of n-p orbits of
-    ``model`` in the parameters ``names`` = (a, b); ``omega`` is the forcing frequency
-    when neither is omega."""
+    ``model`` in the parameters ``names`` = (a, b) (names or
+    :class:`symvi.model.parameters.Parameter`, parsed here once: :attr:`params`); ``omega``
+    is the forcing frequency when neither is omega."""
 
     def __init__(self, model, n, p, names, kind, omega=None):
         if kind not in KINDS:
             raise ParameterError("kind", kind, "ns, flip or fold")
-        a, b = names
-        if a == b:
-            raise ParameterError("params", names, "two different parameter names")
-        for nm in names:
-            if nm != "omega":
-                model.value(nm)               # names the parameter or raises
-        if "omega" not in names and omega is None:
+        pa, pb = (model.parameter(nm) for nm in names)   # names the parameter or raises
+        if pa == pb:
+            raise ParameterError("params", tuple(str(nm) for nm in names),
+                                 "two different parameter names")
+        on_omega = pa.is_forcing_frequency or pb.is_forcing_frequency
+        if not on_omega and omega is None:
             raise ParameterError("omega", None, "a fixed forcing frequency when neither "
                                  "parameter is omega")
-        self.model, self.n, self.p, self.names, self.kind = model, n, p, (a, b), kind
-        self.omega = None if "omega" in names else float(omega)
+        self.model, self.n, self.p, self.kind = model, n, p, kind
+        self.params, self.names = (pa, pb), (pa.name, pb.name)
+        self.omega = None if on_omega else float(omega)
         self._pr = None
         self.border = None
         self.size = None
-        pr = self.problem(model.value(b) if b != "omega" else 1.0)
+        pr = self.problem(pb.get(model, 1.0))
         self.m = pr.size
         self.size = pr.size + 1
         self.d = pr.d
@@ -90,13 +91,10 @@ class CurveSystem:
         bval = float(bval)
         if self._pr is not None and self._pr[0] == bval:
             return self._pr[1]
-        a, b = self.names
-        if b == "omega":
-            pr = Problem(self.model, self.n, self.p, omega=bval, param=a)
-        else:
-            model = self.model.with_(**{b: bval})
-            pr = Problem(model, self.n, self.p,
-                         omega=None if a == "omega" else self.omega, param=a)
+        pa, pb = self.params
+        model, omega = pb.set(self.model, self.omega, bval)
+        pr = Problem(model, self.n, self.p, omega=None if pa.is_forcing_frequency else omega,
+                     param=pa)
         self._pr = (bval, pr)
         return pr
 
@@ -170,7 +168,7 @@ class CurveSystem:
         F = np.append(G, g)
         if not jac:
             return F, None, None
-        Gb = pr.derivative(u, a, self.names[1])
+        Gb = pr.derivative(u, a, self.params[1])
         gu, ga, gb = self._grad(pr, u, a, K)
         DF = np.zeros((m + 1, m + 1))
         DF[:m, :m], DF[:m, m] = Gu, Ga
@@ -183,7 +181,7 @@ class CurveSystem:
         Y, T = pr.split(u)
         names = self.names
         jets = []
-        tans = [None if nm == "omega" else model.tangent(nm) for nm in names]
+        tans = [None if par.is_forcing_frequency else par.tangent(model) for par in self.params]
         for i in range(self.p):
             y, te = tuple(Y[i]), float(T[i])
             first = next((t for t in tans if t is not None), None)

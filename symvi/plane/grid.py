@@ -122,8 +122,12 @@ class PlaneSpec:
 
     def point(self, i, j):
         """(model, omega) at row i, column j."""
-        vals = {self.y.name: float(self.y.values[i]), self.x.name: float(self.x.values[j])}
-        omega = vals.pop("omega", self.omega)
+        vals, omega = {}, self.omega
+        for ax, v in ((self.y, self.y.values[i]), (self.x, self.x.values[j])):
+            if self.model.parameter(ax.name).is_forcing_frequency:
+                omega = float(v)
+            else:
+                vals[ax.name] = float(v)
         return (self.model.with_(**vals) if vals else self.model), omega
 
 
@@ -160,8 +164,9 @@ def _check_ranges(spec):
     """Every model and frequency of the grid is valid: the ends of each parameter axis
     (the valid sets are intervals or convex), every omega against every row's modes."""
     from ..flow.linear import LinearFlow
-    par = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name != "omega"]
-    om = [(f, a) for f, a in (("--x", spec.x), ("--y", spec.y)) if a.name == "omega"]
+    axes = [(f, a, spec.model.parameter(a.name)) for f, a in (("--x", spec.x), ("--y", spec.y))]
+    par = [(f, a) for f, a, p in axes if not p.is_forcing_frequency]
+    om = [(f, a) for f, a, p in axes if p.is_forcing_frequency]
     for flag, ax in par:
         for v in (ax.lo, ax.hi):
             try:

@@ -205,6 +205,7 @@ class CurveMapFD(_MapFD):
     def __init__(self, model, names, omega, n, p, dps):
         super().__init__(model, dps, 2 * model.n)
         self.model, self.names, self.omega, self.n_periods, self.p = model, names, omega, n, p
+        self._pars = tuple(model.parameter(nm) for nm in names)      # parsed once
         self._flows = {}
         self.calls = 0
 
@@ -212,8 +213,9 @@ class CurveMapFD(_MapFD):
         from ..flow.linear import MP_LA, LinearFlow
         hit = self._flows.get(w)
         if hit is None:
-            vals = {nm: v for nm, v in zip(self.names, w) if nm != "omega"}
-            omega = dict(zip(self.names, w)).get("omega", self.omega)
+            vals = {par.name: v for par, v in zip(self._pars, w) if not par.is_forcing_frequency}
+            omega = next((v for par, v in zip(self._pars, w) if par.is_forcing_frequency),
+                         self.omega)
             flow = LinearFlow(_MpModel(self.model, vals), MP_LA)
             if len(self._flows) > 8:
                 self._flows.clear()
