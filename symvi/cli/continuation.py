@@ -47,7 +47,7 @@ def _sets(items, model):
     import math
 
     from ..errors import ParameterError
-    out = {}
+    out, pars = {}, {}
     for item in items:
         name, eq, val = item.partition("=")
         name = name.strip()
@@ -61,10 +61,9 @@ def _sets(items, model):
             raise ParameterError("--set", item, "NAME=VALUE with a finite number VALUE")
         if name in out:
             raise ParameterError("--set", item, f"each name once ({name} is set twice)")
-        if name != "omega":
-            _known(model, name, "--set")
+        pars[name] = _known(model, name, "--set")
         out[name] = v
-    others = {k: v for k, v in out.items() if k != "omega"}
+    others = {k: v for k, v in out.items() if not pars[k].is_forcing_frequency}
     try:
         model.with_(**others)
     except ParameterError as exc:
@@ -74,10 +73,11 @@ def _sets(items, model):
 
 
 def _known(model, name, flag):
-    """Refuse a name that is not a parameter of ``model``, naming ``flag``."""
+    """The parameter called ``name`` (omega included); refuse a name that is not a
+    parameter of ``model``, naming ``flag``."""
     from ..errors import ParameterError
     try:
-        model.value(name)
+        return model.parameter(name)
     except ParameterError as exc:
         raise ParameterError(flag, name, exc.valid) from None
 

@@ -72,14 +72,14 @@ def _names(model, text):
     from ..curves import parse_params
     from ..errors import ParameterError
     names = parse_params(text)
+    pars = []
     for nm in names:
-        if nm != "omega":
-            try:
-                model.value(nm)
-            except ParameterError as exc:
-                raise ParameterError("--params", nm, exc.valid) from None
-    if "omega" not in names:
-        ta, tb = (model.tangent(nm) for nm in names)
+        try:
+            pars.append(model.parameter(nm))
+        except ParameterError as exc:
+            raise ParameterError("--params", nm, exc.valid) from None
+    if not any(par.is_forcing_frequency for par in pars):
+        ta, tb = (par.tangent(model) for par in pars)
         if all(np.array_equal(getattr(ta, f), getattr(tb, f))
                for f in ("dM", "dK", "dC", "dP", "db", "dr")):
             raise ParameterError("--params", text, "two different parameters (these two "

@@ -11,3 +11,4 @@ from ._model import N_MAX as N_MAX
 from ._model import Model as Model
 from ._model import Stop as Stop
 from ._model import Tangent as Tangent
+from .parameters import Parameter as Parameter
