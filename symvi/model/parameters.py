@@ -73,6 +73,9 @@ class Parameter:
     def __repr__(self):
         return f"Parameter({self.name!r})"
 
+    def __reduce__(self):                   # unpickled through the parser's cache
+        return parse, (self.name, self.n, self.preset)
+
     def __str__(self):
         return self.name
 

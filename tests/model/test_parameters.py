@@ -148,6 +148,8 @@ def test_parsed_once_per_shape():
     assert a.parameter("gap") is not ONE_UNDAMPED.parameter("gap")     # another shape
     p = a.parameter("gap")
     assert a.parameter(p) is p and hash(p) == hash(b.parameter("gap")) and p == b.parameter("gap")
+    import pickle
+    assert pickle.loads(pickle.dumps(p)) is p
     # a parameter of the preset does not fit a general model: named as today
     with pytest.raises(ParameterError, match="preset only"):
         PAPER_DAMPED.parameter(PAPER_EX1.parameter("mu_k"))
