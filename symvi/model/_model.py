@@ -24,7 +24,9 @@ also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  ``omega`` is the forcing
 frequency and is not a field of the model.  Setting an off-diagonal entry sets
 its mirror too (the matrices stay symmetric).  :meth:`Model.tangent` gives the
 exact derivative of (M, C, K, P, b, r) with respect to any name: the data the
-exact parameter derivatives of the map are built from.
+exact parameter derivatives of the map are built from.  :meth:`Model.parameter` parses a
+name once into an object that reads, sets and differentiates it
+(:mod:`symvi.model.parameters`); ``value``, ``with_`` and ``tangent`` are thin wrappers.
 """
 import functools
 import math

@@ -79,10 +79,6 @@ class Parameter:
     def __str__(self):
         return self.name
 
-    def fits(self, model):
-        """True when ``model`` has the shape this parameter was parsed for."""
-        return model.n == self.n and (model._preset is not None) >= self.preset
-
     # ---- the lens ----------------------------------------------------------------
     def get(self, model, omega=None):
         """The value at the point (model, omega)."""
