@@ -748,7 +748,7 @@ def estimate_model_orbit(model, orbit, *, reuse=None):
                     name = par.name
                     v = w if par.is_forcing_frequency else abs(par.get(model))
                     try:
-                        d = _parameter_derivatives(model, w, yf, T, par)
+                        d = _parameter_derivatives(model, w, yf, T, name)
                     except SymviError as exc:
                         kin_y[name] = kin_l[name] = math.inf
                         notes.append(f"{name}: {exc}")
