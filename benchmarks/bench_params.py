@@ -2,7 +2,8 @@
 checkout, on the paths a parameter object touches at every corrector step.
 
     git worktree add --detach /tmp/base-params main
-    python benchmarks/bench_params.py /tmp/base-params 11
+    python benchmarks/bench_params.py /tmp/base-params 11          # all four cases
+    python benchmarks/bench_params.py /tmp/base-params 31 g        # one case (b, c, g, k)
 
 Two long-lived processes, one per checkout, asked in turn (the order alternating), so that
 each pair of timings shares the machine's load; medians and the median of the paired
@@ -69,7 +70,7 @@ def worker(root):
         print(f"{dt} {show(out)}", flush=True)
 
 
-def paired(base, n):
+def paired(base, n, which="bcgk"):
     def start(root):
         p = subprocess.Popen([sys.executable, __file__, "worker", root], stdin=subprocess.PIPE,
                              stdout=subprocess.PIPE, text=True,
@@ -86,7 +87,7 @@ def paired(base, n):
     print("| case | baseline (median) | objects (median) | ratio of medians | "
           "median of paired ratios (quartiles) | same result |")
     print("|---|---|---|---|---|---|")
-    for what, label in LABELS.items():
+    for what, label in ((k, LABELS[k]) for k in which):
         tb, tn, ratios, same = [], [], [], True
         for i in range(n):
             order = (old, new) if i % 2 == 0 else (new, old)
@@ -109,4 +110,4 @@ if __name__ == "__main__":
     if sys.argv[1] == "worker":
         worker(sys.argv[2])
     else:
-        paired(sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 11)
+        paired(sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 11, *sys.argv[3:4])
