@@ -38,58 +38,15 @@ from ..errors import ParameterError
 #: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
+from ._checks import DEF_TOL, _definite, _finite, _number, _short, _shown, _toml  # noqa: F401
 from ._constraint import Constraint
+from .parameters import PresetParameter, StopParameter, Tangent  # noqa: F401 (Tangent: re-exported)
+from .parameters import parse as _parse_parameter
 
 #: number of masses supported
 N_MAX = 8
 #: relative asymmetry tolerated (and removed) in a matrix given by the user
 SYM_TOL = 1e-12
-#: smallest eigenvalue of M and K, relative to the largest, accepted as definite
-DEF_TOL = 1e-12
-
-
-def _short(value, limit=40):
-    """repr of ``value`` cut to ``limit`` characters (a message stays one short line)."""
-    def plain(v):                          # numpy scalars as Python numbers: no np.float64(...)
-        if isinstance(v, (np.ndarray, np.generic)):
-            return v.tolist()
-        return type(v)(plain(x) for x in v) if isinstance(v, (list, tuple)) else v
-    try:
-        text = repr(plain(value))
-    except ValueError:                     # an int beyond the 4300-digit str limit
-        text = f"<an integer of {int(value.bit_length() * 0.30103) + 1} digits>"
-    return text if len(text) <= limit else text[:limit - 3] + "..."
-
-
-def _shown(value):
-    """``value`` itself where its repr is short, else :func:`_short` (for ParameterError)."""
-    text = _short(value)
-    return text if text.endswith(("...", "digits>")) else value
-
-
-def _number(value):
-    """float(value) for a real number; None for anything else (bool and str included:
-    ``true`` and ``"1.0"`` in a model file are not numbers)."""
-    if isinstance(value, (bool, np.bool_, str, bytes, list, tuple, dict, np.ndarray)):
-        return None
-    try:
-        return float(value)
-    except (TypeError, ValueError, OverflowError):
-        return None
-
-
-def _toml(x):
-    """How a value reads in a model file (true, "1.0", ...), for messages."""
-    return ("true" if x else "false") if isinstance(x, (bool, np.bool_)) else _short(x, 20)
-
-
-def _finite(name, value, valid="a finite real number"):
-    v = _number(value)
-    if v is None:
-        raise ParameterError(name, _shown(value), valid, f"not a number: {_toml(value)}")
-    if not math.isfinite(v):
-        raise ParameterError(name, v, valid)
-    return v
 
 
 @dataclass(frozen=True)
@@ -205,35 +162,6 @@ def _matrix(field, value, n=None, diag_ok=False):
                              f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r} but [{j + 1},{i + 1}] = "
                              f"{float(a[j, i])!r}")
     return 0.5 * (a + a.T)
-
-
-def _definite(field, a, semi):
-    """Refuse a matrix that is not positive (semi-)definite, or whose condition number
-    exceeds 1 / DEF_TOL: say which (an ill-conditioned positive definite matrix is not
-    "not positive definite")."""
-    w = np.linalg.eigvalsh(a)
-    top = max(abs(w).max(), 1e-300)
-    if semi:
-        if w.min() < -DEF_TOL * top:
-            raise ParameterError(field, _shown(a.tolist()), "a positive semi-definite matrix",
-                                 f"smallest eigenvalue {w.min():.3g}: not positive "
-                                 "semi-definite")
-        return
-    if w.min() > DEF_TOL * top:
-        return
-    valid = f"a positive definite matrix with condition number <= {1 / DEF_TOL:.0e}"
-    if w.min() > 64 * a.shape[0] * 2.0 ** -52 * top:
-        raise ParameterError(field, _shown(a.tolist()), valid,
-                             f"positive definite but ill-conditioned: condition number "
-                             f"{top / w.min():.3g}, limit {1 / DEF_TOL:.0e}")
-    what = ("; every free-flight mode must oscillate: a rigid-body or unstable mode is not "
-            "supported" if field == "stiffness" else "")
-    if w.min() > 0:
-        raise ParameterError(field, _shown(a.tolist()), valid,
-                             f"singular to rounding: smallest eigenvalue {w.min():.3g} of "
-                             f"largest {top:.3g}{what}")
-    raise ParameterError(field, _shown(a.tolist()), valid,
-                         f"not positive definite: smallest eigenvalue {w.min():.3g}{what}")
 
 
 def _tup(a):
@@ -416,7 +344,7 @@ class Model:
         parsed once per model shape (the objects are cached), then it reads, sets and
         differentiates that parameter on any model of this shape.  A bad name raises the
         one-line ParameterError naming the valid names."""
-        return _parameters.parse(name, len(self._P), self._preset is not None)
+        return _parse_parameter(name, len(self._P), self._preset is not None)
 
     def value(self, name):
         """The value of a named parameter (not omega, which is not a field of the model)."""
@@ -436,12 +364,12 @@ class Model:
             return self.parameter(name).apply(self, v)
         pars = {name: self.parameter(name) for name in changes}
         preset = dict(self._preset) if self._preset else None
-        if changes and all(isinstance(p, _parameters.StopParameter) for p in pars.values()):
+        if changes and all(isinstance(p, StopParameter) for p in pars.values()):
             new = self
             for name, v in changes.items():
                 new = pars[name].apply(new, v)
             return new
-        pre = {k: v for k, v in changes.items() if isinstance(pars[k], _parameters.PresetParameter)
+        pre = {k: v for k, v in changes.items() if isinstance(pars[k], PresetParameter)
                or (k in _PRESET and preset is not None)}
         if pre:
             vals = {k: preset[k] for k in _PRESET}
@@ -475,23 +403,3 @@ class Model:
         :class:`Tangent` (:meth:`Parameter.tangent`).  ``omega`` has the zero tangent here
         (it enters the map directly, not through the model)."""
         return self.parameter(name).tangent(self)
-
-
-@dataclass(frozen=True)
-class Tangent:
-    """Derivative of the model data with respect to one named parameter."""
-
-    dM: np.ndarray
-    dK: np.ndarray
-    dC: np.ndarray
-    dP: np.ndarray
-    db: float
-    dr: float
-
-    @property
-    def zero(self):
-        return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
-                and not np.any(self.dC) and not np.any(self.dP))
-
-
-from . import parameters as _parameters  # noqa: E402  (it builds on Model, Stop, Tangent)

@@ -35,10 +35,12 @@ import re
 
 import numpy as np
 
+from dataclasses import dataclass
+
 from ..errors import ParameterError
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
-from ._model import Model, Stop, Tangent, _definite, _finite, _shown
+from ._checks import _definite, _finite, _shown
 
 _NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
 
@@ -151,7 +153,7 @@ class StopParameter(Parameter):
         if preset is not None:                  # the preset's ranges and messages
             preset = dict(preset)
             preset.update(_preset.values(preset["mu_m"], preset["mu_k"], preset["f2"], gap, r))
-        return _copy(model, _stop=Stop(mass=s.mass, gap=gap, restitution=r), preset=preset)
+        return _copy(model, _stop=type(s)(mass=s.mass, gap=gap, restitution=r), preset=preset)
 
     def _fill(self, dM, dK, dC, dP):
         return (1.0, 0.0) if self.kind == "gap" else (0.0, 1.0)
@@ -219,7 +221,7 @@ class PresetParameter(Parameter):
     def apply(self, model, value):
         vals = {k: model._preset[k] for k in _preset.NAMES}
         vals[self.kind] = value
-        return Model.luo_xie(**vals)
+        return type(model).luo_xie(**vals)
 
     def _fill(self, dM, dK, dC, dP):
         if self.kind == "mu_m":
@@ -235,13 +237,32 @@ def _copy(model, *, preset, **slots):
     """A copy of ``model`` with some fields (slot names: ``_M``, ``_stop``, ...) replaced,
     already validated by the caller."""
     assert set(slots) <= {"_M", "_K", "_C", "_P", "_stop"}, slots
-    new = object.__new__(Model)
+    new = object.__new__(type(model))
     for slot in ("_M", "_K", "_C", "_P", "_stop"):
         object.__setattr__(new, slot, slots.get(slot, getattr(model, slot)))
     object.__setattr__(new, "_preset", preset)
     object.__setattr__(new, "_arrays", {})
     object.__setattr__(new, "_hash", hash(new.key()))
     return new
+
+
+@dataclass(frozen=True)
+class Tangent:
+    """Derivative of the model data with respect to one named parameter."""
+
+    dM: np.ndarray
+    dK: np.ndarray
+    dC: np.ndarray
+    dP: np.ndarray
+    db: float
+    dr: float
+
+    @property
+    def zero(self):
+        return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
+                and not np.any(self.dC) and not np.any(self.dP))
+
+
 
 
 #: how many names have been parsed (a test counts that a corrector loop parses none)
