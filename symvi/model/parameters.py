@@ -153,7 +153,13 @@ class StopParameter(Parameter):
         if preset is not None:                  # the preset's ranges and messages
             preset = dict(preset)
             preset.update(_preset.values(preset["mu_m"], preset["mu_k"], preset["f2"], gap, r))
-        return _copy(model, _stop=type(s)(mass=s.mass, gap=gap, restitution=r), preset=preset)
+        stop = type(s)(mass=s.mass, gap=gap, restitution=r)
+        # the constraint carried over at the new gap and r: the flow's caches of its guard
+        # and reset stay valid (a curve in b or r sets the stop at every corrector step)
+        cs = model._arrays.get("constraints")
+        arrays = {} if cs is None else {
+            "constraints": (cs[0].with_values(stop.gap, stop.restitution),)}
+        return _copy(model, _stop=stop, preset=preset, _arrays=arrays)
 
     def _fill(self, dM, dK, dC, dP):
         return (1.0, 0.0) if self.kind == "gap" else (0.0, 1.0)
@@ -236,12 +242,12 @@ class PresetParameter(Parameter):
 def _copy(model, *, preset, **slots):
     """A copy of ``model`` with some fields (slot names: ``_M``, ``_stop``, ...) replaced,
     already validated by the caller."""
-    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stop"}, slots
+    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stop", "_arrays"}, slots
     new = object.__new__(type(model))
     for slot in ("_M", "_K", "_C", "_P", "_stop"):
         object.__setattr__(new, slot, slots.get(slot, getattr(model, slot)))
     object.__setattr__(new, "_preset", preset)
-    object.__setattr__(new, "_arrays", {})
+    object.__setattr__(new, "_arrays", slots.get("_arrays", {}))
     object.__setattr__(new, "_hash", hash(new.key()))
     return new
 
