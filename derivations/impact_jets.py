@@ -84,9 +84,12 @@ def inputs(n, K):
         names += [f"dU{i}" for i in range(n)] + [f"dV{i}" for i in range(n)]
         names += [f"pE{k}_{i}_{j}" for k in range(2) for i in range(d) for j in range(d)]
         names += [f"pU{i}" for i in range(n)] + [f"pV{i}" for i in range(n)]
-    names += ["omega", "r", "b"]
+    # the constraint (symvi.codegen.layout.jet_constraint): guard normal g (flow order) and
+    # level, h = g . x - level; reset R (velocities, flow order), v+ = R v-
+    reset = [f"R{i}_{j}" for i in range(n) for j in range(n)]
+    names += ["omega"] + [f"g{i}" for i in range(n)] + ["level"] + reset
     if has_parameters(K):
-        names += ["pr", "pb"]
+        names += ["plevel"] + ["p" + x for x in reset]
     names += [f"y{i}" for i in range(d)] + ["te"]
     return names
 
@@ -171,7 +174,8 @@ def model(n, K):
     has_p = has_parameters(K)
     pE = ([[[sym[f"pE{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(2)]
           if has_p else None)
-    omega, r, b, te = sym["omega"], sym["r"], sym["b"], sym["te"]
+    omega, te = sym["omega"], sym["te"]
+    gn = [sym[f"g{i}"] for i in range(n)]
     y = [sym[f"y{i}"] for i in range(d)]
     dw, dp, th = V_.var(V_.w), V_.var(V_.p), V_.var(V_.th)
     # parameter-dependent inputs: X + pX dp (+ dX domega for the forcing amplitudes)
@@ -181,8 +185,9 @@ def model(n, K):
     Vv = [V_.add(V_.const(sym[f"V{i}"]),
                  V_.scale(dw, sym[f"dV{i}"]) if has_p else {},
                  V_.scale(dp, sym[f"pV{i}"]) if has_p else {}) for i in range(n)]
-    bS = V_.add(V_.const(b), V_.scale(dp, sym["pb"]) if has_p else {})
-    rS = V_.add(V_.const(r), V_.scale(dp, sym["pr"]) if has_p else {})
+    level = V_.add(V_.const(sym["level"]), V_.scale(dp, sym["plevel"]) if has_p else {})
+    RS = [[V_.add(V_.const(sym[f"R{i}_{j}"]), V_.scale(dp, sym[f"pR{i}_{j}"]) if has_p else {})
+           for j in range(n)] for i in range(n)]
     W = V_.add(V_.const(omega), dw)
     invW = V_.add(V_.const(1 / omega), V_.scale(dw, -1 / omega ** 2))
     dt = V_.mul(V_.add(th, V_.scale(dw, -te)), invW)
@@ -197,8 +202,12 @@ def model(n, K):
 
     s0, c0 = V_.trig(sp.sin(tau), sp.cos(tau), dtau)
     zp0 = zp(s0, c0)
-    # z0 from the section point, stop-first order: (b, x_j; v_k+, v_j)
-    z0 = [bS] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
+    # z0 from the section point, stop-first order: (x_0, x_j; v_0+, v_j), x_0 on the
+    # guard: g . x = level, x_0 = (level - sum_{j>0} g_j x_j) / g_0 (b for g = e_0)
+    xs = [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
+    x0 = V_.scale(V_.add(level, *[V_.scale(xs[i - 1], -gn[i]) for i in range(1, n)]),
+                  1 / gn[0])
+    z0 = [x0] + xs
     z0 += [V_.add(V_.const(y[0]), V_.var(0))]
     z0 += [V_.add(V_.const(y[n + i - 1]), V_.var(n + i - 1)) for i in range(1, n)]
     w = [V_.add(z0[i], V_.scale(zp0[i], -1)) for i in range(d)]
@@ -218,9 +227,10 @@ def model(n, K):
     se, ce = V_.trig(sp.sin(phe), sp.cos(phe), V_.add(th, dtau))
     zpe = zp(se, ce)
     ze = [V_.add(hom[i], zpe[i]) for i in range(d)]
-    g = V_.add(ze[0], V_.scale(bS, -1))
-    ft = [V_.scale(V_.mul(rS, ze[n]), -1)] + [ze[i] for i in range(1, n)] \
-        + [ze[n + i] for i in range(1, n)] + [V_.add(dtau, th)]
+    # the guard h = g . x(t') - level (eq. (27) generalised) and the reset v+ = R v-
+    g = V_.add(*[V_.scale(ze[i], gn[i]) for i in range(n)], V_.scale(level, -1))
+    vp = [V_.add(*[V_.mul(RS[i][j], ze[n + j]) for j in range(n)]) for i in range(n)]
+    ft = [vp[0]] + [ze[i] for i in range(1, n)] + vp[1:] + [V_.add(dtau, th)]
     # only derivatives are output: drop the constant terms
     g = {e: c for e, c in g.items() if e != V_.zero}
     ft = [{e: c for e, c in f.items() if e != V_.zero} for f in ft]

@@ -13,14 +13,15 @@ from ..flow._steady import _lu_factor, _lu_solve
 
 
 @nb.njit(cache=True)
-def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
+def assemble64(lam, W, Winv, A, U, V, dU, dV, w, con, y, te, order, params):
     """E_k = Phi(te) A^k (k = 0..order, row-major), U, V, [dU, dV, 0 (pE_0, pE_1, pU, pV)],
-    omega, r, b, [0, 0 (pr, pb)], y, te: the layout of :mod:`symvi.codegen.layout`."""
+    omega, g, level, R, [0, 0 (plevel, pR)], y, te: the layout of :mod:`symvi.codegen.layout`;
+    ``con`` is the flow's ``constraint64`` (b, level, guard g, R row-major)."""
     d = lam.shape[0]
     n = U.shape[0]
-    size = (order + 1) * d * d + 2 * n + 3 + d + 1
+    size = (order + 1) * d * d + 2 * n + 1 + n + 1 + n * n + d + 1
     if params:
-        size += 2 * n + 2 * d * d + 2 * n + 2
+        size += 2 * n + 2 * d * d + 2 * n + 1 + n * n
     out = np.zeros(size)
     e = np.empty(d, np.complex128)
     for k in range(d):
@@ -47,11 +48,15 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
         pos += n
         pos += 2 * d * d + 2 * n            # pE_0, pE_1, pU, pV: zero
     out[pos] = w
-    out[pos + 1] = r
-    out[pos + 2] = b
-    pos += 3
+    pos += 1
+    out[pos:pos + n] = con[2:2 + n]         # g
+    pos += n
+    out[pos] = con[1]                       # level
+    pos += 1
+    out[pos:pos + n * n] = con[2 + n:2 + n + n * n]     # R
+    pos += n * n
     if params:
-        pos += 2                            # pr, pb: zero
+        pos += 1 + n * n                    # plevel, pR: zero
     out[pos:pos + d] = y
     out[pos + d] = te
     return out

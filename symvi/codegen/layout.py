@@ -4,7 +4,7 @@ The generated functions take, in the order of the module's ``INPUTS``
 (:func:`derivations.impact_jets.inputs`):
 
     E_k = Phi(t_e) A^k (k = 0..K, row-major), U, V, [dU, dV, pE_0, pE_1, pU, pV],
-    omega, r, b, [pr, pb], y (2N), t_e
+    omega, g (N), level, R (N x N, row-major), [plevel, pR (N x N)], y (2N), t_e
 
 (bracketed groups for K = 2, 3 only; orders 4, 5 hold state derivatives alone,
 for l2): the flow matrices of :mod:`symvi.flow.linear`,
@@ -12,6 +12,12 @@ the steady-state response and its omega-derivative, and the derivative of all
 of these along one named parameter p (``pX = dX/dp``), exact: the Fréchet
 derivative of the matrix exponential (eigen-decomposition form), the
 derivative of the steady-state solve, and the model's :class:`symvi.model.Tangent`.
+
+The constraint enters as its guard h = g . x - level (normal g, flow order) and its
+reset v+ = R v- (:func:`jet_constraint`), with their derivatives along p
+(:func:`reset_tangent`): one generated structure per N and order serves every
+single rigid constraint the flow's section supports (a stop on any mass, either
+side, an impulse along M^-1 c for a non-diagonal M).
 """
 import importlib
 
@@ -113,26 +119,51 @@ def tangent_data(flow, forcing, te, tangent):
 
 
 def jet_constraint(flow):
-    """(r, b) of the flow's constraint as the generated structures take them: they are
-    derived for the guard x_0 = b and the reset v_0+ = -r v_0- (the stop on one mass, in
-    the flow's order).  Any other constraint is refused here, by name, rather than given
-    the stop's jets (its guard normal and reset are not yet inputs of the generated code)."""
-    if not flow.coordinate_law:
-        raise ParameterError("constraint", flow.constraint,
-                             "a stop on one mass with v_k+ = -r v_k- (the generated jets' "
-                             "guard and reset)")
-    return flow.r, flow.b
+    """(g, level, R) of the flow's constraint as the generated structures take them
+    (:meth:`symvi.flow.linear.LinearFlow._constrain`, flow order): the guard
+    h = g . x - level and the reset v+ = R v-.  Any constraint the flow's section
+    supports is served (the section eliminates x_0 through the guard: g_0 != 0)."""
+    g = flow.guard
+    if not g[0] != 0:
+        raise ParameterError("constraint.normal", flow.constraint.normal,
+                             "a normal with a component on the section's first coordinate")
+    return g, flow.level, flow.reset
+
+
+def reset_tangent(flow, tangent):
+    """(d level/dp, dR/dp) along a :class:`symvi.model.Tangent` (flow order).
+
+    level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
+    Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
+    dq = -M^-1 dM q, dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
+    con, la, lib = flow.constraint, flow.la, flow.lib
+    p = list(flow.perm)
+    Minv = None
+    if con.impulse is None:
+        Minv = la.inv(la.arr(np.asarray(flow.model.mass)))
+    c = la.arr(np.asarray(con.normal, dtype=float))
+    q = con.direction(Minv)
+    cq = c @ q
+    Q = np.outer(q, c) / cq
+    dR = -lib.num(tangent.dr) * Q
+    dM = np.asarray(tangent.dM, dtype=float)
+    if con.impulse is None and np.any(dM != 0):
+        dq = -(Minv @ la.arr(dM) @ q)
+        dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
+        dR = dR - (1 + flow.r) * dQ
+    return con.sign * lib.num(tangent.db), dR[np.ix_(p, p)]
 
 
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
-    r, b = jet_constraint(flow)
+    g, level, R = jet_constraint(flow)
     if la is NUMPY_LA and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
+        # constraint64 = (b, level, guard, R row-major): the compiled kernels' layout
         return tuple(assemble64(lam, W, Winv, A, F.U, F.V, F.dU, F.dV, float(F.omega),
-                                float(r), float(b), np.asarray(y, dtype=float),
+                                flow.constraint64, np.asarray(y, dtype=float),
                                 float(te), order, order in PARAMETER_ORDERS).tolist())
     parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
@@ -141,17 +172,20 @@ def assemble(flow, forcing, y, te, order, tangent=None):
         raise ParameterError("order", order, "2 or 3 with a parameter tangent")
     if order in PARAMETER_ORDERS:
         parts += [forcing.dU, forcing.dV]
+        n2 = flow.n * flow.n
         if tangent is None or tangent.zero:
             z = la.arr(np.zeros((2 * flow.n) ** 2))
             zn = la.arr(np.zeros(flow.n))
             parts += [z, z, zn, zn]
-            scal_p = [lib.num(0), lib.num(0)]
+            scal_p = [lib.num(0)] * (1 + n2)
         else:
-            pE0, pE1, pU, pV, pr, pb = tangent_data(flow, forcing, te, tangent)
+            pE0, pE1, pU, pV, _, _ = tangent_data(flow, forcing, te, tangent)
             parts += [pE0.ravel(), pE1.ravel(), pU, pV]
-            scal_p = [lib.num(pr), lib.num(pb)]
+            plevel, pR = reset_tangent(flow, tangent)
+            scal_p = [plevel] + list(np.asarray(pR).ravel())
     head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
-    tail = [forcing.omega, r, b] + scal_p + list(y) + [lib.num(te)]
+    tail = [forcing.omega] + list(g) + [level] + list(np.asarray(R).ravel()) + scal_p \
+        + list(y) + [lib.num(te)]
     if la is NUMPY_LA:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)

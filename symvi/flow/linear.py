@@ -269,8 +269,8 @@ class LinearFlow:
             self.reset = self.la.arr(self.reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
         self._unit_guard = con.sign == 1.0 and con.coordinate is not None
-        # ... with v_0+ = -r v_0-, every other velocity kept: the law the generated jets
-        # are derived for (symvi.codegen.layout.jet_constraint)
+        # ... with v_0+ = -r v_0-, every other velocity kept (today's stop; the generated
+        # jets take any guard and reset: symvi.codegen.layout.jet_constraint)
         law = np.eye(self.n, dtype=self.reset.dtype)
         law[0, 0] = -self.r
         self.coordinate_law = self._unit_guard and bool(np.all(self.reset == law))
