@@ -4,7 +4,7 @@ The generated functions take, in the order of the module's ``INPUTS``
 (:func:`derivations.impact_jets.inputs`):
 
     E_k = Phi(t_e) A^k (k = 0..K, row-major), U, V, [dU, dV, pE_0, pE_1, pU, pV],
-    omega, g (N), level, R (N x N, row-major), [plevel, pR (N x N)], y (2N), t_e
+    omega, g0, level, R_i0 (N), [plevel, pR_i0 (N)], y (2N), t_e
 
 (bracketed groups for K = 2, 3 only; orders 4, 5 hold state derivatives alone,
 for l2): the flow matrices of :mod:`symvi.flow.linear`,
@@ -13,8 +13,8 @@ of these along one named parameter p (``pX = dX/dp``), exact: the Fréchet
 derivative of the matrix exponential (eigen-decomposition form), the
 derivative of the steady-state solve, and the model's :class:`symvi.model.Tangent`.
 
-The constraint enters as its guard h = g . x - level (normal g, flow order) and its
-reset v+ = R v- (:func:`jet_constraint`), with their derivatives along p
+The constraint enters as its guard h = g0 x_0 - level and the column 0 of its reset
+v+ = R v- (:func:`jet_constraint`), with their derivatives along p
 (:func:`reset_tangent`): one generated structure per N and order serves every
 single rigid constraint the flow's section supports (a stop on any mass, either
 side, an impulse along M^-1 c for a non-diagonal M).
@@ -119,19 +119,25 @@ def tangent_data(flow, forcing, te, tangent):
 
 
 def jet_constraint(flow):
-    """(g, level, R) of the flow's constraint as the generated structures take them
+    """(g0, level, R[:, 0]) of the flow's constraint as the generated structures take them
     (:meth:`symvi.flow.linear.LinearFlow._constrain`, flow order): the guard
-    h = g . x - level and the reset v+ = R v-.  Any constraint the flow's section
-    supports is served (the section eliminates x_0 through the guard: g_0 != 0)."""
-    g = flow.guard
-    if not g[0] != 0:
+    h = g0 x_0 - level and the column 0 of the reset v+ = R v- (R is the identity but
+    for that column: a rigid reset is I - (1 + r) q c^T / (c^T q) and c = +-e_0 in the
+    section's frame).  Anything else is refused by name, never given wrong jets."""
+    g, R = flow.guard, np.asarray(flow.reset)
+    n = flow.n
+    if not (g[0] != 0 and all(x == 0 for x in g[1:])):
         raise ParameterError("constraint.normal", flow.constraint.normal,
-                             "a normal with a component on the section's first coordinate")
-    return g, flow.level, flow.reset
+                             "a normal along the section's first coordinate (a stop on one "
+                             "mass; other normals need a section frame, issue 25)")
+    if not all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(1, n)):
+        raise ParameterError("constraint.impulse", flow.constraint.impulse,
+                             "a reset along the guard's normal (R = I - (1 + r) q c^T / c^T q)")
+    return g[0], flow.level, R[:, 0]
 
 
 def reset_tangent(flow, tangent):
-    """(d level/dp, dR/dp) along a :class:`symvi.model.Tangent` (flow order).
+    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order).
 
     level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
     Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
@@ -151,13 +157,13 @@ def reset_tangent(flow, tangent):
         dq = -(Minv @ la.arr(dM) @ q)
         dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
         dR = dR - (1 + flow.r) * dQ
-    return con.sign * lib.num(tangent.db), dR[np.ix_(p, p)]
+    return con.sign * lib.num(tangent.db), dR[np.ix_(p, p)][:, 0]
 
 
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
-    g, level, R = jet_constraint(flow)
+    g0, level, R0 = jet_constraint(flow)
     if la is NUMPY_LA and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
@@ -172,20 +178,18 @@ def assemble(flow, forcing, y, te, order, tangent=None):
         raise ParameterError("order", order, "2 or 3 with a parameter tangent")
     if order in PARAMETER_ORDERS:
         parts += [forcing.dU, forcing.dV]
-        n2 = flow.n * flow.n
         if tangent is None or tangent.zero:
             z = la.arr(np.zeros((2 * flow.n) ** 2))
             zn = la.arr(np.zeros(flow.n))
             parts += [z, z, zn, zn]
-            scal_p = [lib.num(0)] * (1 + n2)
+            scal_p = [lib.num(0)] * (1 + flow.n)
         else:
             pE0, pE1, pU, pV, _, _ = tangent_data(flow, forcing, te, tangent)
             parts += [pE0.ravel(), pE1.ravel(), pU, pV]
             plevel, pR = reset_tangent(flow, tangent)
             scal_p = [plevel] + list(np.asarray(pR).ravel())
     head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
-    tail = [forcing.omega] + list(g) + [level] + list(np.asarray(R).ravel()) + scal_p \
-        + list(y) + [lib.num(te)]
+    tail = [forcing.omega, g0, level] + list(R0) + scal_p + list(y) + [lib.num(te)]
     if la is NUMPY_LA:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)

@@ -91,9 +91,8 @@ def test_one_structure_for_stops_on_different_masses():
     for m in (m1, m2):
         fl = LinearFlow.of(m)
         inp = dict(zip(mod.INPUTS, assemble(fl, fl.forcing(w), tuple(y), 5.0, 3)))
-        assert [inp["g0"], inp["g1"], inp["level"]] == [1.0, 0.0, m.constraints[0].gap]
-        R = [[inp[f"R{i}_{j}"] for j in range(2)] for i in range(2)]
-        assert R == [[-m.constraints[0].restitution, 0.0], [0.0, 1.0]]
+        assert [inp["g0"], inp["level"]] == [1.0, m.constraints[0].gap]
+        assert [inp["R0_0"], inp["R1_0"]] == [-m.constraints[0].restitution, 0.0]
     # the two stops differ in their frame (the stop's mass first), not in the structure
     assert LinearFlow.of(m1).perm == (0, 1) and LinearFlow.of(m2).perm == (1, 0)
     assert not np.allclose(_jet(m1, w, y, 1)["J"], _jet(m2, w, y, 1)["J"])
@@ -188,7 +187,8 @@ def test_mpmath_backend_and_high_orders(name):
 
 
 def test_guard_normal_without_a_section_coordinate_is_refused():
-    """A guard with no component on the section's first coordinate names the normal."""
+    """A guard off the section's first coordinate, or a reset that is not the identity
+    but for column 0 (no rigid reset of the interface), is refused by name."""
     from symvi.codegen.layout import jet_constraint
     from symvi.errors import ParameterError
     fl = LinearFlow.of(_case("stop-mass1")[1])
@@ -197,4 +197,27 @@ def test_guard_normal_without_a_section_coordinate_is_refused():
     bad.guard = np.array([0.0, 1.0])
     with pytest.raises(ParameterError, match="constraint.normal"):
         jet_constraint(bad)
+    bad = copy.copy(fl)
+    bad.reset = np.array([[-0.8, 0.1], [0.0, 1.0]])
+    with pytest.raises(ParameterError, match="constraint.impulse"):
+        jet_constraint(bad)
     assert math.isfinite(jet_constraint(fl)[1])
+
+
+def test_a_cache_of_the_old_layout_is_refused():
+    """A per-user cache module written for the r, b inputs (before the guard and reset
+    were inputs) is never run: its input hash is not the generator's, and a module that
+    claimed the new hash with the old INPUTS would be refused for its INPUTS."""
+    import os
+
+    import symvi._generated as g
+    from symvi._derivations import impact_jets as ij
+    from symvi.codegen import _usercache as uc
+    text = open(os.path.join(os.path.dirname(g.__file__), "impact_n1_order1.py")).read()
+    assert uc.verify(text, 1, 1) is None
+    new = "'omega', 'g0', 'level', 'R0_0',"
+    assert new in text and ij.inputs(1, 1)[-7:-3] == ["omega", "g0", "level", "R0_0"]
+    old_inputs = text.replace(new, "'omega', 'r', 'b',")
+    assert "other INPUTS" in uc.verify(old_inputs, 1, 1)
+    old_hash = old_inputs.replace(f"# input-hash: {ij.input_hash()}", "# input-hash: " + "0" * 64)
+    assert "other inputs" in uc.verify(old_hash, 1, 1)
