@@ -95,7 +95,8 @@ def frechet_exp(flow, t, dA):
 
 
 def tangent_data(flow, forcing, te, tangent):
-    """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order)."""
+    """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
+    the generated jets take the constraint's part through :func:`reset_tangent`."""
     la, n = flow.la, flow.n
     p = list(flow.perm)
 
