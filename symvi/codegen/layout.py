@@ -137,6 +137,18 @@ def jet_constraint(flow):
     return g[0], flow.level, R[:, 0]
 
 
+def _constraint_of(flow):
+    """:func:`jet_constraint`, checked once per constraint of a flow: kept on the flow beside
+    the very arrays it was read from (``_constrain`` makes new ones for a new gap or
+    restitution, and a copied flow keeps the old ones only until then), so it never goes
+    stale; the check costs ~7 us, a jet of order 1 ~15 us."""
+    c = getattr(flow, "_jet_constraint", None)
+    if c is None or c[0] is not flow.reset or c[1] is not flow.guard or c[2] is not flow.level:
+        c = (flow.reset, flow.guard, flow.level, jet_constraint(flow))
+        flow._jet_constraint = c
+    return c[3]
+
+
 def reset_tangent(flow, tangent):
     """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order).
 
@@ -164,7 +176,7 @@ def reset_tangent(flow, tangent):
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
-    g0, level, R0 = jet_constraint(flow)
+    g0, level, R0 = _constraint_of(flow)
     if la is NUMPY_LA and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
