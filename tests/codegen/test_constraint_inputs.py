@@ -221,3 +221,15 @@ def test_a_cache_of_the_old_layout_is_refused():
     assert "other INPUTS" in uc.verify(old_inputs, 1, 1)
     old_hash = old_inputs.replace(f"# input-hash: {ij.input_hash()}", "# input-hash: " + "0" * 64)
     assert "other inputs" in uc.verify(old_hash, 1, 1)
+
+
+def test_checked_constraint_follows_a_new_gap_and_restitution():
+    """Flows of models that differ in the stop's gap or restitution share their modal data
+    (a copy with a new constraint); the constraint the jets read is the copy's, never the
+    one checked first."""
+    mod = module(2, 1)[0]
+    for gap, r in ((0.61, 0.8), (0.62, 0.8), (0.62, 0.75), (0.61, 0.8)):
+        m = _model(1, gap, r)
+        fl = LinearFlow.of(m)
+        inp = dict(zip(mod.INPUTS, assemble(fl, fl.forcing(1.1), (-0.4, 0.1, -0.2, 0.7), 5.0, 1)))
+        assert (inp["level"], inp["R0_0"]) == (gap, -r)
