@@ -231,7 +231,8 @@ def model(n, K):
     zp0 = zp(s0, c0)
     # z0 from the section point, stop-first order: (x_0, x_j; v_0+, v_j), x_0 on the
     # guard: x_0 = level / g0 (b: g0 = +-1, level = +-b)
-    z0 = [V_.scale(level, 1 / g0)] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
+    x0 = V_.scale(level, 1 / g0)
+    z0 = [x0] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
     z0 += [V_.add(V_.const(y[0]), V_.var(0))]
     z0 += [V_.add(V_.const(y[n + i - 1]), V_.var(n + i - 1)) for i in range(1, n)]
     w = [V_.add(z0[i], V_.scale(zp0[i], -1)) for i in range(d)]
@@ -251,9 +252,10 @@ def model(n, K):
     se, ce = V_.trig(sp.sin(phe), sp.cos(phe), V_.add(th, dtau))
     zpe = zp(se, ce)
     ze = [V_.add(hom[i], zpe[i]) for i in range(d)]
-    # the guard h = g0 x_0(t') - level (eq. (27) generalised) and the reset v+ = R v-:
+    # the guard h = g0 x_0(t') - level (eq. (27) generalised), as h / g0 = x_0(t') - level / g0:
+    # theta does not see the factor, g_theta gets it back (build); and the reset v+ = R v-:
     # v_0+ = R_00 v_0-, v_i+ = v_i- + R_i0 v_0- (i > 0)
-    g = V_.add(V_.scale(ze[0], g0), V_.scale(level, -1))
+    g = V_.add(ze[0], V_.scale(x0, -1))
     vp = [V_.mul(RS[0], ze[n])] + [V_.add(ze[n + i], V_.mul(RS[i], ze[n])) for i in range(1, n)]
     ft = [vp[0]] + [ze[i] for i in range(1, n)] + vp[1:] + [V_.add(dtau, th)]
     # only derivatives are output: drop the constant terms
@@ -334,7 +336,7 @@ def build(n, K):
         names.append(("theta", e))
         exprs.append(theta.get(e, 0))
     names.append(("g_theta",))
-    exprs.append(g_th)
+    exprs.append(g_th * sp.Symbol("g0", real=True))     # dh/dtheta, h = g0 (x_0 - level / g0)
     return V_, defs, names, exprs
 
 

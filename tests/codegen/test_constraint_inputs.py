@@ -104,6 +104,7 @@ def test_jets_against_finite_differences(name):
     differences of the generated d2 (each at its own flight time)."""
     _, model, w, y = _case(name)
     v = _jet(model, w, y, 3)
+    assert v["g_theta"] > 0           # dh/dtheta > 0: h = sign (s - g) crosses 0 upwards, either side
     d = len(y)
     h = 1e-5
     J = np.column_stack([(_P(model, w, y + h * e)[0] - _P(model, w, y - h * e)[0]) / (2 * h)
