@@ -138,15 +138,15 @@ def jet_constraint(flow):
 
 
 def _constraint_of(flow):
-    """:func:`jet_constraint`, checked once per constraint of a flow: kept on the flow beside
-    the very arrays it was read from (``_constrain`` makes new ones for a new gap or
-    restitution, and a copied flow keeps the old ones only until then), so it never goes
-    stale; the check costs ~7 us, a jet of order 1 ~15 us."""
+    """:func:`jet_constraint`, checked once per guard and reset of a flow: kept on the flow
+    beside the very arrays it read (``_constrain`` puts new ones, or the shared ones of an
+    equal constraint, on a flow for a new gap or restitution), so it never goes stale; the
+    check costs ~7 us, a jet of order 1 ~15 us.  The level is read each time."""
     c = getattr(flow, "_jet_constraint", None)
-    if c is None or c[0] is not flow.reset or c[1] is not flow.guard or c[2] is not flow.level:
-        c = (flow.reset, flow.guard, flow.level, jet_constraint(flow))
-        flow._jet_constraint = c
-    return c[3]
+    if c is None or c[0] is not flow.reset or c[1] is not flow.guard:
+        g0, _, R0 = jet_constraint(flow)
+        c = flow._jet_constraint = (flow.reset, flow.guard, g0, R0)
+    return c[2], flow.level, c[3]
 
 
 def reset_tangent(flow, tangent):
