@@ -17,15 +17,42 @@ exactly to the order K of the jet.  The matrices E_k = Phi(t_e) A^k are
 so no matrix exponential or eigenproblem is ever symbolic, damping of any kind
 included, and the expressions stay polynomial in the E_k.
 
-1. Build f~ (the section point after the impact, eq. (26) generalised) and
-   g = x_k(t') - b (eq. (27)) directly as truncated power series in the
-   variables (dy, domega, dp, theta); dp is a *generic* named parameter whose
-   direction enters through the inputs pE_k = d(E_k)/dp, pU, pV, pr, pb.
+1. Build f~ (the section point after the impact, eq. (26) generalised) and the
+   guard h = g . x(t') - level (eq. (27) generalised) directly as truncated power
+   series in the variables (dy, domega, dp, theta); dp is a *generic* named
+   parameter whose direction enters through the inputs pE_k = d(E_k)/dp, pU, pV,
+   plevel, pR.
 2. Abstract their coefficients (the primitive partials) into symbols.
 3. The implicit function theorem order by order, theta_k = -[g(z, theta_<k)]_k / g_theta
    (eq. (37) generalised), then f = f~(z, theta(z)) (eq. (38) generalised).
 4. CSE, and print one body that takes sin, cos and the rationals as arguments,
    so the float64 and mpmath backends run the very same expressions.
+
+The constraint is an input (issue 24, item 3; :mod:`symvi.model._constraint`,
+:func:`symvi.codegen.layout.jet_constraint`), written in the section's frame, whose
+first coordinate is the constrained one (s = c^T x; x_0 = b on the section):
+
+* the guard h = g0 x_0 - level (g0 = +-1 for the upper / lower side, level = g0 b),
+  with d level/dp;
+* the reset v+ = R v-.  Every rigid reset of the interface is R = I - (1 + r) Q with
+  Q = q c^T / (c^T q) of rank one along the guard's normal, so in this frame R is
+  the identity but for its column 0: the inputs are R_i0 (i = 0..N-1) and dR_i0/dp.
+
+So one structure per N and order serves any single rigid constraint the section
+supports: a stop on any mass, either side, any impulse direction q (M^-1 c for a
+non-diagonal M).  A normal that is not a coordinate vector needs a section frame
+(issue 25): the flow's inputs change, this structure does not.
+
+Why R as inputs and not applied afterwards.  The reset is linear, so applying it to
+each output tensor in codegen would be exact too; but that costs one tensor
+contraction per output and order in numpy on every evaluation (microseconds each
+against a 16-80 us jet), the pre-impact state for the dR/dp . h term, and a second
+output layout.  As inputs, R_i0 adds one product per primitive of a velocity output
+inside the one straight-line function (the composition of eq. (38) works on the
+abstracted primitives and does not grow), the layout of the outputs is unchanged,
+and regeneration stays at seconds.  A general guard normal and a full R as inputs
+(tried first) cost up to 1.6x at N = 4, order 1, for entries that are zero in the
+section's frame by construction.
 
 Variables: states to degree K; domega or dp once, with at most one state (K = 2, 3).
 Module ``impact_n<N>_order<K>`` holds everything up to order K: a multiplier-only
@@ -84,9 +111,12 @@ def inputs(n, K):
         names += [f"dU{i}" for i in range(n)] + [f"dV{i}" for i in range(n)]
         names += [f"pE{k}_{i}_{j}" for k in range(2) for i in range(d) for j in range(d)]
         names += [f"pU{i}" for i in range(n)] + [f"pV{i}" for i in range(n)]
-    names += ["omega", "r", "b"]
+    # the constraint (symvi.codegen.layout.jet_constraint), in the section's frame: the
+    # guard h = g0 x_0 - level and the reset's column R_i0 (v+ = R v-, R = I off column 0)
+    reset = [f"R{i}_0" for i in range(n)]
+    names += ["omega", "g0", "level"] + reset
     if has_parameters(K):
-        names += ["pr", "pb"]
+        names += ["plevel"] + ["p" + x for x in reset]
     names += [f"y{i}" for i in range(d)] + ["te"]
     return names
 
@@ -171,7 +201,8 @@ def model(n, K):
     has_p = has_parameters(K)
     pE = ([[[sym[f"pE{k}_{i}_{j}"] for j in range(d)] for i in range(d)] for k in range(2)]
           if has_p else None)
-    omega, r, b, te = sym["omega"], sym["r"], sym["b"], sym["te"]
+    omega, te = sym["omega"], sym["te"]
+    g0 = sym["g0"]
     y = [sym[f"y{i}"] for i in range(d)]
     dw, dp, th = V_.var(V_.w), V_.var(V_.p), V_.var(V_.th)
     # parameter-dependent inputs: X + pX dp (+ dX domega for the forcing amplitudes)
@@ -181,8 +212,9 @@ def model(n, K):
     Vv = [V_.add(V_.const(sym[f"V{i}"]),
                  V_.scale(dw, sym[f"dV{i}"]) if has_p else {},
                  V_.scale(dp, sym[f"pV{i}"]) if has_p else {}) for i in range(n)]
-    bS = V_.add(V_.const(b), V_.scale(dp, sym["pb"]) if has_p else {})
-    rS = V_.add(V_.const(r), V_.scale(dp, sym["pr"]) if has_p else {})
+    level = V_.add(V_.const(sym["level"]), V_.scale(dp, sym["plevel"]) if has_p else {})
+    RS = [V_.add(V_.const(sym[f"R{i}_0"]), V_.scale(dp, sym[f"pR{i}_0"]) if has_p else {})
+          for i in range(n)]
     W = V_.add(V_.const(omega), dw)
     invW = V_.add(V_.const(1 / omega), V_.scale(dw, -1 / omega ** 2))
     dt = V_.mul(V_.add(th, V_.scale(dw, -te)), invW)
@@ -197,8 +229,10 @@ def model(n, K):
 
     s0, c0 = V_.trig(sp.sin(tau), sp.cos(tau), dtau)
     zp0 = zp(s0, c0)
-    # z0 from the section point, stop-first order: (b, x_j; v_k+, v_j)
-    z0 = [bS] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
+    # z0 from the section point, stop-first order: (x_0, x_j; v_0+, v_j), x_0 on the
+    # guard: x_0 = level / g0 (b: g0 = +-1, level = +-b)
+    x0 = V_.scale(level, 1 / g0)
+    z0 = [x0] + [V_.add(V_.const(y[i]), V_.var(i)) for i in range(1, n)]
     z0 += [V_.add(V_.const(y[0]), V_.var(0))]
     z0 += [V_.add(V_.const(y[n + i - 1]), V_.var(n + i - 1)) for i in range(1, n)]
     w = [V_.add(z0[i], V_.scale(zp0[i], -1)) for i in range(d)]
@@ -218,9 +252,12 @@ def model(n, K):
     se, ce = V_.trig(sp.sin(phe), sp.cos(phe), V_.add(th, dtau))
     zpe = zp(se, ce)
     ze = [V_.add(hom[i], zpe[i]) for i in range(d)]
-    g = V_.add(ze[0], V_.scale(bS, -1))
-    ft = [V_.scale(V_.mul(rS, ze[n]), -1)] + [ze[i] for i in range(1, n)] \
-        + [ze[n + i] for i in range(1, n)] + [V_.add(dtau, th)]
+    # the guard h = g0 x_0(t') - level (eq. (27) generalised), as h / g0 = x_0(t') - level / g0:
+    # theta does not see the factor, g_theta gets it back (build); and the reset v+ = R v-:
+    # v_0+ = R_00 v_0-, v_i+ = v_i- + R_i0 v_0- (i > 0)
+    g = V_.add(ze[0], V_.scale(x0, -1))
+    vp = [V_.mul(RS[0], ze[n])] + [V_.add(ze[n + i], V_.mul(RS[i], ze[n])) for i in range(1, n)]
+    ft = [vp[0]] + [ze[i] for i in range(1, n)] + vp[1:] + [V_.add(dtau, th)]
     # only derivatives are output: drop the constant terms
     g = {e: c for e, c in g.items() if e != V_.zero}
     ft = [{e: c for e, c in f.items() if e != V_.zero} for f in ft]
@@ -299,7 +336,7 @@ def build(n, K):
         names.append(("theta", e))
         exprs.append(theta.get(e, 0))
     names.append(("g_theta",))
-    exprs.append(g_th)
+    exprs.append(g_th * sp.Symbol("g0", real=True))     # dh/dtheta, h = g0 (x_0 - level / g0)
     return V_, defs, names, exprs
 
 

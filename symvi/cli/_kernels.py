@@ -30,7 +30,7 @@ HOPF = ORBIT + [
           "boolean", "boolean"), 2.0),
     ("symvi.orbits._shooting", "monodromy", _sig(_F2, "int64", "int64"), 0.3),
     ("symvi.codegen._assemble", "assemble64",
-     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F, _F, _F1, _F, "int64", "boolean"),
+     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F1, _F1, _F, "int64", "boolean"),
      0.6),
     ("symvi.codegen._assemble", "fixed_solve64", _sig(_F2, _F1), 1.1),
 ]

@@ -13,14 +13,17 @@ from ..flow._steady import _lu_factor, _lu_solve
 
 
 @nb.njit(cache=True)
-def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
+def assemble64(lam, W, Winv, A, U, V, dU, dV, w, con, y, te, order, params):
     """E_k = Phi(te) A^k (k = 0..order, row-major), U, V, [dU, dV, 0 (pE_0, pE_1, pU, pV)],
-    omega, r, b, [0, 0 (pr, pb)], y, te: the layout of :mod:`symvi.codegen.layout`."""
+    omega, g0, level, R[:, 0], [0, 0 (plevel, pR_i0)], y, te: the layout of
+    :mod:`symvi.codegen.layout`; ``con`` is the flow's ``constraint64`` (b, level, guard g,
+    R row-major), whose guard is g0 e_0 and R the identity but for column 0
+    (:func:`symvi.codegen.layout.jet_constraint` checks it)."""
     d = lam.shape[0]
     n = U.shape[0]
-    size = (order + 1) * d * d + 2 * n + 3 + d + 1
+    size = (order + 1) * d * d + 2 * n + 3 + n + d + 1
     if params:
-        size += 2 * n + 2 * d * d + 2 * n + 2
+        size += 2 * n + 2 * d * d + 2 * n + 1 + n
     out = np.zeros(size)
     e = np.empty(d, np.complex128)
     for k in range(d):
@@ -47,11 +50,14 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
         pos += n
         pos += 2 * d * d + 2 * n            # pE_0, pE_1, pU, pV: zero
     out[pos] = w
-    out[pos + 1] = r
-    out[pos + 2] = b
+    out[pos + 1] = con[2]                   # g0
+    out[pos + 2] = con[1]                   # level
     pos += 3
+    for i in range(n):                      # R[i, 0]
+        out[pos + i] = con[2 + n + i * n]
+    pos += n
     if params:
-        pos += 2                            # pr, pb: zero
+        pos += 1 + n                        # plevel, pR_i0: zero
     out[pos:pos + d] = y
     out[pos + d] = te
     return out

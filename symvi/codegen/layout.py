@@ -4,7 +4,7 @@ The generated functions take, in the order of the module's ``INPUTS``
 (:func:`derivations.impact_jets.inputs`):
 
     E_k = Phi(t_e) A^k (k = 0..K, row-major), U, V, [dU, dV, pE_0, pE_1, pU, pV],
-    omega, r, b, [pr, pb], y (2N), t_e
+    omega, g0, level, R_i0 (N), [plevel, pR_i0 (N)], y (2N), t_e
 
 (bracketed groups for K = 2, 3 only; orders 4, 5 hold state derivatives alone,
 for l2): the flow matrices of :mod:`symvi.flow.linear`,
@@ -12,6 +12,12 @@ the steady-state response and its omega-derivative, and the derivative of all
 of these along one named parameter p (``pX = dX/dp``), exact: the Fréchet
 derivative of the matrix exponential (eigen-decomposition form), the
 derivative of the steady-state solve, and the model's :class:`symvi.model.Tangent`.
+
+The constraint enters as its guard h = g0 x_0 - level and the column 0 of its reset
+v+ = R v- (:func:`jet_constraint`), with their derivatives along p
+(:func:`reset_tangent`): one generated structure per N and order serves every
+single rigid constraint the flow's section supports (a stop on any mass, either
+side, an impulse along M^-1 c for a non-diagonal M).
 """
 import importlib
 
@@ -89,7 +95,8 @@ def frechet_exp(flow, t, dA):
 
 
 def tangent_data(flow, forcing, te, tangent):
-    """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order)."""
+    """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
+    the generated jets take the constraint's part through :func:`reset_tangent`."""
     la, n = flow.la, flow.n
     p = list(flow.perm)
 
@@ -113,26 +120,69 @@ def tangent_data(flow, forcing, te, tangent):
 
 
 def jet_constraint(flow):
-    """(r, b) of the flow's constraint as the generated structures take them: they are
-    derived for the guard x_0 = b and the reset v_0+ = -r v_0- (the stop on one mass, in
-    the flow's order).  Any other constraint is refused here, by name, rather than given
-    the stop's jets (its guard normal and reset are not yet inputs of the generated code)."""
-    if not flow.coordinate_law:
-        raise ParameterError("constraint", flow.constraint,
-                             "a stop on one mass with v_k+ = -r v_k- (the generated jets' "
-                             "guard and reset)")
-    return flow.r, flow.b
+    """(g0, level, R[:, 0]) of the flow's constraint as the generated structures take them
+    (:meth:`symvi.flow.linear.LinearFlow._constrain`, flow order): the guard
+    h = g0 x_0 - level and the column 0 of the reset v+ = R v- (R is the identity but
+    for that column: a rigid reset is I - (1 + r) q c^T / (c^T q) and c = +-e_0 in the
+    section's frame).  Anything else is refused by name, never given wrong jets."""
+    g, R = flow.guard, np.asarray(flow.reset)
+    n = flow.n
+    if not (g[0] != 0 and all(x == 0 for x in g[1:])):
+        raise ParameterError("constraint.normal", flow.constraint.normal,
+                             "a normal along the section's first coordinate (a stop on one "
+                             "mass; other normals need a section frame, issue 25)")
+    if not all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(1, n)):
+        raise ParameterError("constraint.impulse", flow.constraint.impulse,
+                             "a reset along the guard's normal (R = I - (1 + r) q c^T / c^T q)")
+    return g[0], flow.level, R[:, 0]
+
+
+def _constraint_of(flow):
+    """:func:`jet_constraint`, checked once per guard and reset of a flow: kept on the flow
+    beside the very arrays it read (``_constrain`` puts new ones, or the shared ones of an
+    equal constraint, on a flow for a new gap or restitution), so it never goes stale; the
+    check costs ~7 us, a jet of order 1 ~15 us.  The level is read each time."""
+    c = getattr(flow, "_jet_constraint", None)
+    if c is None or c[0] is not flow.reset or c[1] is not flow.guard:
+        g0, _, R0 = jet_constraint(flow)
+        c = flow._jet_constraint = (flow.reset, flow.guard, g0, R0)
+    return c[2], flow.level, c[3]
+
+
+def reset_tangent(flow, tangent):
+    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order).
+
+    level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
+    Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
+    dq = -M^-1 dM q, dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
+    con, la, lib = flow.constraint, flow.la, flow.lib
+    p = list(flow.perm)
+    Minv = None
+    if con.impulse is None:
+        Minv = la.inv(la.arr(np.asarray(flow.model.mass)))
+    c = la.arr(np.asarray(con.normal, dtype=float))
+    q = con.direction(Minv)
+    cq = c @ q
+    Q = np.outer(q, c) / cq
+    dR = -lib.num(tangent.dr) * Q
+    dM = np.asarray(tangent.dM, dtype=float)
+    if con.impulse is None and np.any(dM != 0):
+        dq = -(Minv @ la.arr(dM) @ q)
+        dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
+        dR = dR - (1 + flow.r) * dQ
+    return con.sign * lib.num(tangent.db), dR[np.ix_(p, p)][:, 0]
 
 
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
     lib, la = flow.lib, flow.la
-    r, b = jet_constraint(flow)
+    g0, level, R0 = _constraint_of(flow)
     if la is NUMPY_LA and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
+        # constraint64 = (b, level, guard, R row-major): the compiled kernels' layout
         return tuple(assemble64(lam, W, Winv, A, F.U, F.V, F.dU, F.dV, float(F.omega),
-                                float(r), float(b), np.asarray(y, dtype=float),
+                                flow.constraint64, np.asarray(y, dtype=float),
                                 float(te), order, order in PARAMETER_ORDERS).tolist())
     parts = [E.ravel() for E in flow.phis(te, order)]
     parts += [forcing.U, forcing.V]
@@ -145,13 +195,14 @@ def assemble(flow, forcing, y, te, order, tangent=None):
             z = la.arr(np.zeros((2 * flow.n) ** 2))
             zn = la.arr(np.zeros(flow.n))
             parts += [z, z, zn, zn]
-            scal_p = [lib.num(0), lib.num(0)]
+            scal_p = [lib.num(0)] * (1 + flow.n)
         else:
-            pE0, pE1, pU, pV, pr, pb = tangent_data(flow, forcing, te, tangent)
+            pE0, pE1, pU, pV, _, _ = tangent_data(flow, forcing, te, tangent)
             parts += [pE0.ravel(), pE1.ravel(), pU, pV]
-            scal_p = [lib.num(pr), lib.num(pb)]
+            plevel, pR = reset_tangent(flow, tangent)
+            scal_p = [plevel] + list(np.asarray(pR).ravel())
     head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
-    tail = [forcing.omega, r, b] + scal_p + list(y) + [lib.num(te)]
+    tail = [forcing.omega, g0, level] + list(R0) + scal_p + list(y) + [lib.num(te)]
     if la is NUMPY_LA:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)

@@ -296,8 +296,8 @@ class LinearFlow:
             reset = self.la.arr(reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
         unit_guard = con.sign == 1.0 and con.coordinate is not None
-        # ... with v_0+ = -r v_0-, every other velocity kept: the law the generated jets
-        # are derived for (symvi.codegen.layout.jet_constraint)
+        # ... with v_0+ = -r v_0-, every other velocity kept (today's stop; the generated
+        # jets take any guard and reset: symvi.codegen.layout.jet_constraint)
         law = np.eye(self.n, dtype=reset.dtype)
         law[0, 0] = -self.r
         coordinate_law = unit_guard and bool(np.all(reset == law))

@@ -144,7 +144,7 @@ def test_assembled_inputs_match_each_order_and_no_parameter_slots_above_3():
         mod, _ = layout.module(2, K)
         assert len(layout.assemble(flow, F, y, te, K)) == len(mod.INPUTS) == len(ij.inputs(2, K))
         assert ij.has_parameters(K) == (K in layout.PARAMETER_ORDERS)
-    assert not any(s.startswith(("dU", "pE", "pr")) for s in layout.module(2, 5)[0].INPUTS)
+    assert not any(s.startswith(("dU", "pE", "pR", "plevel")) for s in layout.module(2, 5)[0].INPUTS)
 
 
 def test_orders_4_5_fresh_in_the_manifest_and_regenerate_identically(tmp_path):

@@ -155,7 +155,8 @@ def test_mpmath_backend_of_generated_code_agrees():
 def test_compiled_input_assembly_equals_numpy(name):
     """codegen/_assemble.py (one numba call) builds the layout of codegen.layout exactly as
     the numpy expressions do: Phi(t) A^k = Re(W diag(e^{lambda t} lambda^k) W^-1), U, V,
-    the omega-derivatives, zero parameter slots, omega, r, b, y, t_e."""
+    the omega-derivatives, zero parameter slots, omega, the guard (g0, level) and the reset's
+    column R[:, 0] of the flow's constraint, y, t_e."""
     from symvi.codegen.layout import assemble, module
     from symvi.flow.linear import LinearFlow
     model = N_MASS_SET[name]
@@ -172,8 +173,9 @@ def test_compiled_input_assembly_equals_numpy(name):
         if K in (2, 3):
             z, zn = np.zeros((2 * fl.n) ** 2), np.zeros(fl.n)
             parts += [F.dU, F.dV, z, z, zn, zn]
-            extra = (0.0, 0.0)
-        ref = np.array(list(np.concatenate(parts)) + [0.95, fl.r, fl.b, *extra, *y, te])
+            extra = (0.0,) * (1 + fl.n)
+        ref = np.array(list(np.concatenate(parts)) + [0.95, fl.guard[0], fl.level,
+                                                      *fl.reset[:, 0], *extra, *y, te])
         assert len(got) == len(ref) == len(module(fl.n, K)[0].INPUTS)
         scale = max(1.0, float(np.abs(ref).max()))
         assert np.abs(np.array(got) - ref).max() < 1e-13 * scale, (name, K)
