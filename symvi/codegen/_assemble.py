@@ -36,15 +36,11 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
                 pos += 1
         for k in range(d):
             e[k] = e[k] * lam[k]
-    out[pos:pos + n] = U
-    pos += n
-    out[pos:pos + n] = V
-    pos += n
+    pos = _put(out, pos, U)
+    pos = _put(out, pos, V)
     if params:
-        out[pos:pos + n] = dU
-        pos += n
-        out[pos:pos + n] = dV
-        pos += n
+        pos = _put(out, pos, dU)
+        pos = _put(out, pos, dV)
         pos += 2 * d * d + 2 * n            # pE_0, pE_1, pU, pV: zero
     out[pos] = w
     out[pos + 1] = r
@@ -52,9 +48,18 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, r, b, y, te, order, params):
     pos += 3
     if params:
         pos += 2                            # pr, pb: zero
-    out[pos:pos + d] = y
-    out[pos + d] = te
+    pos = _put(out, pos, y)
+    out[pos] = te
     return out
+
+
+@nb.njit(cache=True)
+def _put(out, pos, x):
+    """out[pos:pos + len(x)] = x, returning the next position; a loop, since a slice
+    assignment compiles numba's shape-mismatch message (~1.8 s of first-run compiling)."""
+    for k in range(x.shape[0]):
+        out[pos + k] = x[k]
+    return pos + x.shape[0]
 
 
 @nb.njit(cache=True)
