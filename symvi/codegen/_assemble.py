@@ -67,11 +67,18 @@ def fixed_solve64(J, dP):
     """(x, h): x = (I - J)^{-1} dP and h = |det(I - J)| / prod of its row norms (the
     Hadamard ratio, 1 for orthogonal rows, 0 when singular; x is zero then)."""
     n = J.shape[0]
-    M = -J.copy()
+    M = np.empty((n, n))
     h = 1.0
+    # loops, not array expressions (each costs a compiled kernel); the same sums in the
+    # same order as np.sum's
     for i in range(n):
+        for j in range(n):
+            M[i, j] = -J[i, j]
         M[i, i] += 1.0
-        h /= max(np.sqrt(np.sum(M[i] * M[i])), 1e-300)
+        s = 0.0
+        for j in range(n):
+            s += M[i, j] * M[i, j]
+        h /= max(np.sqrt(s), 1e-300)
     perm = np.arange(n)
     x = np.zeros(n)
     if not _lu_factor(M, perm):
