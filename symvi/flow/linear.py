@@ -256,30 +256,57 @@ class LinearFlow:
         ``b`` the gap (x_0 = b on the section), ``r`` the restitution, ``guard`` the
         signed normal and ``level`` the signed gap (h = guard . x - level < 0 off the stop),
         ``reset`` R with v+ = R v-.  The one place the flow reads the impact law."""
-        lib, p = self.lib, list(self.perm)
+        lib = self.lib
         self.constraint = con
         self.b, self.r = lib.num(con.gap), lib.num(con.restitution)
-        self.guard = self.la.arr(con.sign * np.array(con.normal)[p])
         self.level = con.sign * self.b
+        if self.la is NUMPY_LA:
+            # a curve in the gap or r builds a flow per corrector step: what does not
+            # depend on the gap is computed once per (normal, side, impulse, r, order, M)
+            key = (con.normal, con.side, con.impulse, con.restitution, self.perm,
+                   None if con.impulse is not None else self._mass_key)
+            hit = _CONSTRAINED.get(key)
+            if hit is None:
+                hit = _CONSTRAINED[key] = self._reset_data(con)
+                if len(_CONSTRAINED) > 4096:       # bounded: a long scan in r stays small
+                    _CONSTRAINED.pop(next(iter(_CONSTRAINED)))
+            self.guard, self.reset, self._unit_guard, self.coordinate_law, tail = hit
+            # (b, level, guard, R row-major): the layout the compiled kernels take
+            # (symvi.flow.compiled.CONSTRAINT), one array for one dispatch
+            self.constraint64 = np.concatenate(([float(self.b), float(self.level)], tail))
+        else:
+            self.guard, self.reset, self._unit_guard, self.coordinate_law, _ = \
+                self._reset_data(con)
+        self._resets = {}
+
+    @functools.cached_property
+    def _mass_key(self):
+        return tuple(map(tuple, np.asarray(self.model.mass, dtype=float)))
+
+    def _reset_data(self, con):
+        """(guard, reset, unit guard, coordinate law, guard and reset as float64 row-major)
+        of ``con`` at this flow's restitution and order; see :meth:`_constrain`."""
+        p = list(self.perm)
+        guard = self.la.arr(con.sign * np.array(con.normal)[p])
         Minv = None
         if con.impulse is None:                    # rigid: along M^-1 c (mass order)
             Minv = self.la.inv(self.la.arr(np.asarray(self.model.mass)))
-        self.reset = con.reset_matrix(Minv, order=p, r=self.r)
+        reset = con.reset_matrix(Minv, order=p, r=self.r)
         if self.la is not NUMPY_LA:
-            self.reset = self.la.arr(self.reset)
+            reset = self.la.arr(reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
-        self._unit_guard = con.sign == 1.0 and con.coordinate is not None
+        unit_guard = con.sign == 1.0 and con.coordinate is not None
         # ... with v_0+ = -r v_0-, every other velocity kept: the law the generated jets
         # are derived for (symvi.codegen.layout.jet_constraint)
-        law = np.eye(self.n, dtype=self.reset.dtype)
+        law = np.eye(self.n, dtype=reset.dtype)
         law[0, 0] = -self.r
-        self.coordinate_law = self._unit_guard and bool(np.all(self.reset == law))
+        coordinate_law = unit_guard and bool(np.all(reset == law))
+        tail = None
         if self.la is NUMPY_LA:
-            # (b, level, guard, R row-major): the layout the compiled kernels take
-            # (symvi.flow.compiled.CONSTRAINT), one array for one dispatch
-            self.constraint64 = np.concatenate([[float(self.b), float(self.level)], self.guard,
-                                                np.asarray(self.reset, dtype=float).ravel()])
-        self._resets = {}
+            tail = np.concatenate([guard, np.asarray(reset, dtype=float).ravel()])
+            for a in (guard, reset, tail):          # shared by the flows of one cache entry
+                a.setflags(write=False)
+        return guard, reset, unit_guard, coordinate_law, tail
 
     def reset_at(self, r):
         """The constraint's reset R (flow order) at restitution r (cached per flow)."""
@@ -423,6 +450,8 @@ class LinearFlow:
 
 
 _LINEAR = {}
+#: (guard, reset, ...) of a constraint per (normal, side, impulse, r, order, M): see _constrain
+_CONSTRAINED = {}
 
 
 @functools.lru_cache(maxsize=256)

@@ -66,6 +66,17 @@ class Constraint:
                                      f"{len(c)} finite numbers q with c^T q != 0")
             object.__setattr__(self, "impulse", q)
 
+    def with_values(self, gap, restitution):
+        """This constraint at another gap and restitution, both checked by the caller (the
+        Stop); the normal and impulse, checked once, are kept as they are: a curve in the
+        gap or r builds one constraint per corrector step."""
+        new = object.__new__(Constraint)
+        for name in ("normal", "side", "impulse"):
+            object.__setattr__(new, name, getattr(self, name))
+        object.__setattr__(new, "gap", float(gap))
+        object.__setattr__(new, "restitution", float(restitution))
+        return new
+
     @property
     def n(self):
         """Number of masses N the constraint is written for."""

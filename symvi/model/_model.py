@@ -509,9 +509,12 @@ class Model:
         new = object.__new__(Model)
         for slot in ("_M", "_K", "_C", "_P"):
             object.__setattr__(new, slot, getattr(self, slot))
-        object.__setattr__(new, "_stop", Stop(mass=self._stop.mass, gap=gap, restitution=r))
+        stop = Stop(mass=self._stop.mass, gap=gap, restitution=r)
+        object.__setattr__(new, "_stop", stop)
         object.__setattr__(new, "_preset", preset)
-        object.__setattr__(new, "_arrays", {})
+        cs = self._arrays.get("constraints")
+        object.__setattr__(new, "_arrays", {} if cs is None else {
+            "constraints": (cs[0].with_values(stop.gap, stop.restitution),)})
         object.__setattr__(new, "_hash", hash(new.key()))
         return new
 

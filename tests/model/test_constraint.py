@@ -174,3 +174,17 @@ def test_shooting_compiled_equals_reference_through_the_interface(model, omega):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * (1 + np.abs(b).max()))
     # the r-derivative of the residual is -v_k- in the reset's row (h_0 = -r v_k- - y_0)
     assert out[1][3][0] == pytest.approx(-o.impact_velocity, rel=1e-12)
+
+
+def test_a_model_with_another_gap_carries_the_same_constraint_at_that_gap():
+    """Model.with_(gap=...) (a curve's corrector step) derives its constraint from the old
+    one without checking the normal again; it equals the one built from scratch."""
+    m = PAPER_EX1
+    m.constraints                                   # built once
+    for g, r in ((1.2, 0.8), (1.5, 0.5)):
+        new = m.with_(gap=g, restitution=r)
+        fresh = Model(mass=np.asarray(m.mass), stiffness=np.asarray(m.stiffness),
+                      damping=np.asarray(m.damping), forcing=list(m.forcing),
+                      stop=Stop(mass=m.stop.mass, gap=g, restitution=r))
+        assert new.constraints == fresh.constraints
+        assert new.constraints[0].gap == g and new.constraints[0].restitution == r
