@@ -28,6 +28,14 @@ def register(sub):
     p.add_argument("--branches", action="store_true",
                    help="overlay the continued period-1 branches (stable solid, unstable "
                         "dashed), their period-doubled branches and special points")
+    p.add_argument("--classify", action="store_true",
+                   help="also label each omega's attractor with the one classifier of "
+                        "symvi simulate --classify and the plane (period-k, circle, "
+                        "doubled-torus, chaos, no-impact, sticking, escape, grazing): each "
+                        "omega's run is repeated with its tangent map (same start, "
+                        "--impacts >= 4 and --transient), in this process; the JSON gains "
+                        "\"classes\" (one label per omega, in grid order) and "
+                        "\"class_counts\", an .npz the array classes")
     add_engine(p, "default: 0, on numba threads")
     p.add_argument("--progress", choices=("auto", "always", "never"), default="auto",
                    help="progress bar on stderr (auto: when stderr is a terminal)")
@@ -40,7 +48,8 @@ def run(args):
     from .._io import atomic_path
     from ..errors import ParameterError
     from ..plane.engine import run_sweep
-    from ..simulations.simulation import MAX_TRANSIENT
+    from ..simulations.classifier import MIN_KEPT
+    from ..simulations.simulation import MAX_TRANSIENT, classify_sweep
     data, figs = check_paths(args)
     if not 2 <= args.steps <= MAX_STEPS:
         raise ParameterError("--steps", args.steps, f"an integer in 2 .. {MAX_STEPS}")
@@ -54,6 +63,9 @@ def run(args):
                              if args.impacts > most else "")
     if not 0 <= args.transient <= MAX_TRANSIENT:
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
+    if args.classify and args.impacts < MIN_KEPT:
+        raise ParameterError("--impacts", args.impacts,
+                             f"an integer >= {MIN_KEPT} with --classify")
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,
                              f"0 .. {len(names) - 1} ({', '.join(names)})")
@@ -68,12 +80,15 @@ def run(args):
     workers = 0 if args.workers is None and args.scheduler is None else args.workers
     res = run_sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
                     scheduler=args.scheduler, workers=workers, progress=enabled)
+    classes = classify_sweep(res).labels() if args.classify else None
+    extra = {} if classes is None else {"classes": classes}
     if data:
         with atomic_path(data, suffix=".npz") as tmp:
             with open(tmp, "wb") as fh:
                 np.savez(fh, omegas=res.omegas, section=res.section, counts=res.counts,
                          stops=np.array(res.stops), starts=res.starts,
-                         transient=res.transient, names=np.array(names), **data_key(params))
+                         transient=res.transient, names=np.array(names), **extra,
+                         **data_key(params))
     curves, special = None, []
     if args.branches:
         from ..continuation import diagram_branches
@@ -93,6 +108,10 @@ def run(args):
            "outputs": [p for p in (data, *figs) if p]}
     if args.branches:
         out["special"] = special
+    if classes is not None:
+        out["classes"] = classes.tolist()
+        out["class_counts"] = {c: int(n) for c, n in zip(*np.unique(classes,
+                                                                    return_counts=True))}
     print_json(out)
     return 0
 

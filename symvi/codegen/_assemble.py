@@ -39,15 +39,11 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, con, y, te, order, params):
                 pos += 1
         for k in range(d):
             e[k] = e[k] * lam[k]
-    out[pos:pos + n] = U
-    pos += n
-    out[pos:pos + n] = V
-    pos += n
+    pos = _put(out, pos, U)
+    pos = _put(out, pos, V)
     if params:
-        out[pos:pos + n] = dU
-        pos += n
-        out[pos:pos + n] = dV
-        pos += n
+        pos = _put(out, pos, dU)
+        pos = _put(out, pos, dV)
         pos += 2 * d * d + 2 * n            # pE_0, pE_1, pU, pV: zero
     out[pos] = w
     out[pos + 1] = con[2]                   # g0
@@ -58,9 +54,18 @@ def assemble64(lam, W, Winv, A, U, V, dU, dV, w, con, y, te, order, params):
     pos += n
     if params:
         pos += 1 + n                        # plevel, pR_i0: zero
-    out[pos:pos + d] = y
-    out[pos + d] = te
+    pos = _put(out, pos, y)
+    out[pos] = te
     return out
+
+
+@nb.njit(cache=True)
+def _put(out, pos, x):
+    """out[pos:pos + len(x)] = x, returning the next position; a loop, since a slice
+    assignment compiles numba's shape-mismatch message (~1.8 s of first-run compiling)."""
+    for k in range(x.shape[0]):
+        out[pos + k] = x[k]
+    return pos + x.shape[0]
 
 
 @nb.njit(cache=True)
@@ -68,11 +73,18 @@ def fixed_solve64(J, dP):
     """(x, h): x = (I - J)^{-1} dP and h = |det(I - J)| / prod of its row norms (the
     Hadamard ratio, 1 for orthogonal rows, 0 when singular; x is zero then)."""
     n = J.shape[0]
-    M = -J.copy()
+    M = np.empty((n, n))
     h = 1.0
+    # loops, not array expressions (each costs a compiled kernel); the same sums in the
+    # same order as np.sum's
     for i in range(n):
+        for j in range(n):
+            M[i, j] = -J[i, j]
         M[i, i] += 1.0
-        h /= max(np.sqrt(np.sum(M[i] * M[i])), 1e-300)
+        s = 0.0
+        for j in range(n):
+            s += M[i, j] * M[i, j]
+        h /= max(np.sqrt(s), 1e-300)
     perm = np.arange(n)
     x = np.zeros(n)
     if not _lu_factor(M, perm):

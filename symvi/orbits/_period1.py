@@ -89,7 +89,9 @@ def _line(lam, W, Winv, U, V, w, g, level, R):
         for c in range(n2 + 2):
             G[a, c] /= D[c]
     Uq, sig, Vt = np.linalg.svd(G)
-    null = Vt[n2 + 1] / D
+    null = np.empty(n2 + 2)
+    for c in range(n2 + 2):                 # a loop: an array expression costs ~1 s to compile
+        null[c] = Vt[n2 + 1, c] / D[c]
     share = Vt[n2 + 1, n2] ** 2 + Vt[n2 + 1, n2 + 1] ** 2
     # pseudo-inverse solutions of G x = e b and G x = e (e the last unit vector)
     q = np.empty(n2 + 1)
@@ -109,7 +111,7 @@ def _line(lam, W, Winv, U, V, w, g, level, R):
     return Phi, Pc, Ps, sig, null, Xp, p1, share
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _normal(null, n2):
     """The unit normal of the line in (cos tau, sin tau), along the gradient of x_k(0)
     up to sign."""
@@ -120,7 +122,7 @@ def _normal(null, n2):
     return ns / nrm, -nc / nrm
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _oriented(n0, n1, side):
     """nu in the paper's orientation (module doc of :mod:`symvi.orbits.period1`)."""
     if side < 0:
@@ -185,6 +187,9 @@ def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
     wv = np.empty(n2)
     z0 = np.empty(n2)
     u = np.empty(n2 + 1)
+    # typed int64 and boolean, not literals: shoot and monodromy are then the ones the
+    # Hopf scan calls (compiled once, not a second specialisation for Literal[int](1))
+    one, yes, no = np.int64(1), np.bool_(True), np.bool_(False)
     for i in range(2):
         tau = (phase + ac if i == 0 else phase - ac) % _TWO_PI
         c, s = math.cos(tau), math.sin(tau)
@@ -207,10 +212,15 @@ def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
             Y[i, n - 1 + q] = z0[n + q]
         Y[i, n2 - 1] = tau
         if want_mult:
-            u[:n2] = Y[i]
+            # element loops, not slice assignment: that compiles numba's shape-mismatch
+            # message (string formatting, ~2.6 s) into the kernel
+            for k in range(n2):
+                u[k] = Y[i, k]
             u[n2] = T
-            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
-            _, Mi, oki = monodromy(Gu, 1, n2)
-            M[i] = Mi
+            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, con, one, u, one, yes, no)[1]
+            _, Mi, oki = monodromy(Gu, one, np.int64(n2))
+            for ra in range(n2):
+                for rc in range(n2):
+                    M[i, ra, rc] = Mi[ra, rc]
             ok[i] = oki
     return OK, dmin, jmin, gap, share, Y, vimp, M, ok

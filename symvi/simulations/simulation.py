@@ -18,6 +18,7 @@ A run ends early, with a stop reason, on
 
 never with a hang or a section point past an unresolved contact.
 """
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -240,6 +241,14 @@ class Sweep:
     starts: np.ndarray        # (m, 4) start points used; (m, 2N) for a Model
     transient: int
     impacts_total: int        # map iterations requested (runs that stop early do fewer)
+    #: the attractor of each run (:class:`symvi.simulations.classifier.Classified`, one
+    #: row per omega) when asked for (``sweep(..., classify=True)``), else None
+    classes: object = None
+
+    def labels(self):
+        """The class of each omega in the one vocabulary (:func:`classifier.label`:
+        "period-1", "circle", ...); None when the sweep was not classified."""
+        return None if self.classes is None else self.classes.labels()
 
 
 def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
@@ -264,14 +273,18 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
 
 
 def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
-          perturbation=DEFAULT_PERTURBATION, chunk=None, progress=None):
+          perturbation=DEFAULT_PERTURBATION, chunk=None, progress=None, classify=False):
     """Independent runs at each omega in parallel (numba threads).
 
     ``progress(done, total)`` is called after each chunk of omegas.  ``params``
-    is a :class:`symvi.Params` or any :class:`symvi.model.Model`.
+    is a :class:`symvi.Params` or any :class:`symvi.model.Model`.  ``classify``: also
+    label each omega's attractor (:func:`classify_sweep`; ``n_impacts`` >= 4), in
+    ``Sweep.classes``.
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
+    if classify:
+        _check_classifiable(n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
@@ -295,8 +308,30 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
         sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
         if progress is not None:
             progress(hi, m)
-    return Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
-                 _frozen(starts), transient, int(m * (n_impacts + transient)))
+    res = Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
+                _frozen(starts), transient, int(m * (n_impacts + transient)))
+    return dataclasses.replace(res, classes=classify_sweep(res)) if classify else res
+
+
+def _check_classifiable(n_impacts, name="n_impacts"):
+    from .classifier import MIN_KEPT
+    if n_impacts < MIN_KEPT:
+        raise ParameterError(name, n_impacts, f"an integer >= {MIN_KEPT} to classify")
+
+
+def classify_sweep(res):
+    """The attractor of each run of the sweep ``res`` by the one classifier
+    (:func:`symvi.simulations.classifier.classify_runs`: the shared run loop with its
+    tangent map, then :func:`~symvi.simulations.classifier._judge`, as the plane and
+    ``symvi simulate --classify`` judge): the same runs again (the sweep's start points,
+    kept impacts and transient), one row per omega.  A
+    :class:`~symvi.simulations.classifier.Classified`; ``.labels()`` names the classes."""
+    from .classifier import classify_runs
+    n_keep = res.section.shape[1]
+    _check_classifiable(n_keep)
+    model = Model.of(res.params)
+    C = np.array([cf.constants(model, float(w)) for w in res.omegas])
+    return classify_runs(C, res.starts, n_keep, res.transient)
 
 
 def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):

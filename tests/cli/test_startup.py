@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from symvi._compiled import _dispatcher, _signature, is_cached
-from symvi.cli._kernels import HOPF, ORBIT
+from symvi.cli._kernels import HOPF, INSIDE, ORBIT
 from symvi.progress import shown
 
 HOPF_ARGS = ["hopf", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8",
@@ -28,11 +28,13 @@ def test_cold_cache_says_what_it_compiles_and_stdout_stays_json(tmp_path):
     cold = _symvi(HOPF_ARGS, tmp_path)
     assert cold.returncode == 0, cold.stderr
     lines = cold.stderr.splitlines()
-    assert any("first run after install: compiling 8 numba kernels" in s for s in lines), \
+    n = len(HOPF)
+    assert any(f"first run after install: compiling {n} numba kernels" in s for s in lines), \
         cold.stderr
-    done = [s for s in lines if s.startswith("symvi: compiled ") and "/8 " in s]
-    assert len(done) == 8 and all(" in " in s and " s" in s for s in done), cold.stderr
-    # the list in cli/_kernels.py matches the code: the scan compiled nothing more
+    done = [s for s in lines if s.startswith("symvi: compiled ") and f"/{n} " in s]
+    assert len(done) == n and all(" in " in s and " s" in s for s in done), cold.stderr
+    # the list in cli/_kernels.py matches the code: the scan compiled nothing more (shoot
+    # and monodromy included: period1 compiled them with the scan's argument types)
     assert not [s for s in lines if s.startswith("symvi: compiling ")], cold.stderr
     obj = json.loads(cold.stdout)
     assert obj["complete"] and len(obj["points"]) == 1
@@ -61,7 +63,7 @@ def test_a_compile_outside_the_list_is_announced(tmp_path):
 
 
 def test_kernel_lists_name_existing_kernels_with_valid_signatures():
-    for module, name, sig, secs in HOPF + ORBIT:
+    for module, name, sig, secs in HOPF + ORBIT + INSIDE:
         disp = _dispatcher(module, name)
         assert hasattr(disp, "compile") and secs > 0, (module, name)
         args = _signature(sig)

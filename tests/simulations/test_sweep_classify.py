@@ -1,0 +1,71 @@
+"""``symvi sweep --classify`` and ``sweep(..., classify=True)`` (issue 24, item 5): the
+sweep labels each omega with the one classifier, and agrees with ``simulate --classify``.
+
+Example 1 of the paper (b = 1.5, r = 0.8): the period-1 orbit is stable below the
+Neimark-Sacker point omega ~ 0.7368 and an invariant circle is born there; at
+omega = 0.738 the run from y* spirals out for ~2500 impacts, then settles on the circle
+(tests/simulations/test_classifier.py)."""
+import json
+
+import numpy as np
+import pytest
+
+from symvi import Params
+from symvi.cli import main
+from symvi.errors import ParameterError
+from symvi.simulations import classifier as cl
+from symvi.simulations.diagnostics import classify
+from symvi.simulations.simulation import classify_sweep, simulate, sweep
+
+EX1 = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
+P = Params(2, 5, 0, 1.5, 0.8)
+
+
+def test_sweep_classes_agree_with_simulate_classify():
+    res = sweep(P, [0.72, 0.738], n_impacts=1000, transient=2000, classify=True)
+    assert list(res.labels()) == ["period-1", "circle"]
+    # the same runs as the sweep's: each ends on the sweep's last stored point
+    last = res.section[np.arange(2), res.counts - 1]
+    assert np.array_equal(res.classes.y_end, last)
+    # simulate --classify (5000 impacts from the same start) says the same at both omegas
+    for i, w in enumerate((0.72, 0.738)):
+        mine = classify(simulate(P, w))
+        assert mine.code == res.classes.code[i], (w, mine)
+    assert classify(simulate(P, 0.738)).kind == "invariant circle"
+    assert res.classes.code[1] == cl.CIRCLE and cl.kind(cl.CIRCLE, 0) == "invariant circle"
+
+
+def test_unclassified_sweep_is_unchanged():
+    plain = sweep(P, [0.72, 0.738], n_impacts=50, transient=100)
+    both = sweep(P, [0.72, 0.738], n_impacts=50, transient=100, classify=True)
+    assert plain.classes is None and plain.labels() is None
+    assert np.array_equal(plain.section, both.section)
+    assert list(classify_sweep(plain).code) == list(both.classes.code)
+
+
+def test_too_few_impacts_to_classify_is_refused():
+    with pytest.raises(ParameterError, match="n_impacts"):
+        sweep(P, [0.72, 0.738], n_impacts=3, transient=10, classify=True)
+
+
+def test_cli_sweep_classify_adds_keys_only(tmp_path, capsys):
+    argv = ["sweep", *EX1, "--omega-min", "0.72", "--omega-max", "0.738", "--steps", "2",
+            "--impacts", "1000", "--transient", "2000"]
+    assert main([*argv, "--out", str(tmp_path / "a.npz")]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert main([*argv, "--out", str(tmp_path / "b.npz"), "--classify"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["classes"] == ["period-1", "circle"]
+    assert got["class_counts"] == {"circle": 1, "period-1": 1}
+    assert "classes" not in plain
+    plain["outputs"] = got["outputs"]
+    assert {k: v for k, v in got.items() if k not in ("classes", "class_counts")} == plain
+    with np.load(tmp_path / "b.npz") as z:
+        assert list(z["classes"]) == ["period-1", "circle"]
+
+
+def test_cli_sweep_classify_needs_four_impacts(tmp_path, capsys):
+    rc = main(["sweep", *EX1, "--omega-min", "0.72", "--omega-max", "0.738", "--steps", "2",
+               "--impacts", "3", "--out", str(tmp_path / "a.npz"), "--classify"])
+    assert rc == 2
+    assert "--impacts" in capsys.readouterr().err
