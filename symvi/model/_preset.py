@@ -1,30 +1,15 @@
 """The two-mass family of eq. (4) as a model preset: its five named parameters and their
-valid ranges, checked in one place for ``Model.luo_xie`` and the paper's ``Params``
+valid ranges, checked in one place (numbers by the model's own
+:func:`symvi.model._checks._finite`) for ``Model.luo_xie`` and the paper's ``Params``
 (:mod:`symvi.paper.params`, which sits on top and builds on this)."""
-import math
-
 from ..errors import ParameterError
 from ..numerics.tolerances import ABS_MAX
+from ._checks import _finite as finite
 
 #: the preset's parameters, in the order of eq. (4)
 NAMES = ("mu_m", "mu_k", "f2", "b", "r")
 #: valid mass and stiffness ratios; outside them float64 over- or underflows in eqs. (4)-(16)
 MU_RANGE = (1e-6, 1e6)
-
-
-def finite(name, value):
-    """A finite float; bools and strings are not numbers (``true``, ``"1.5"`` in a file)."""
-    if isinstance(value, (bool, str, bytes)) or type(value).__name__ == "bool_":
-        raise ParameterError(name, value, "a finite real number")
-    try:
-        v = float(value)
-    except (TypeError, ValueError, OverflowError):
-        shown = (f"an integer of ~{int(value.bit_length() * 0.30103) + 1} digits"
-                 if isinstance(value, int) else value)
-        raise ParameterError(name, shown, "a finite real number") from None
-    if not math.isfinite(v):
-        raise ParameterError(name, value, "a finite real number")
-    return v
 
 
 def values(mu_m, mu_k, f2, b, r):
