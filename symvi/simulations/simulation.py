@@ -78,10 +78,6 @@ def _positive_int(name, value, minimum=1, maximum=MAX_STORED):
     return int(value)
 
 
-def _is_model(params):
-    return isinstance(params, Model)
-
-
 def fixed_point(params, omega):
     """y* of the admissible period-1 orbit at omega, or None (eqs. (10)–(18))."""
     from ..orbits import admissible_orbits
@@ -101,19 +97,6 @@ def _no_orbit_reason(params, omega):
         return str(exc)
 
 
-def _check_start(y0):
-    try:
-        y = tuple(float(v) for v in y0)
-    except (TypeError, ValueError):
-        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)") from None
-    if len(y) != 4 or not all(math.isfinite(v) for v in y):
-        raise ParameterError("y0", y0, "four finite numbers (x1dot+, x2, x2dot, tau)")
-    if not y[0] < 0:
-        raise ParameterError("y0", y0, "x1dot+ < 0: the mass must leave the stop")
-    _check_size(y, y0, "y0")
-    return (y[0], y[1], y[2], y[3] % (2 * math.pi))
-
-
 def _check_size(y, y0, name):
     # a state beyond ABS_MAX over- or underflows in the flow (the finder's scale L = sum of
     # the amplitudes): refused, not simulated into a wrong stop reason
@@ -123,8 +106,8 @@ def _check_size(y, y0, name):
 
 
 def _check_system_start(params, y0, name="y0"):
-    """y0 checked for the system: 4 numbers for the paper's Params, 2N for a Model."""
-    return _check_model_start(params, y0, name) if _is_model(params) else _check_start(y0)
+    """y0 checked for the system (a Model, or the paper's Params as its Model): 2N numbers."""
+    return _check_model_start(Model.of(params), y0, name)
 
 
 def _check_model_start(model, y0, name="y0"):
@@ -140,10 +123,9 @@ def _check_model_start(model, y0, name="y0"):
 
 
 def _perturbation(params, perturbation):
-    """The start offset for params: a Model takes 2N numbers, the default 1e-4 each."""
-    if not _is_model(params):
-        return perturbation
-    dim = params.dim
+    """The start offset for params: 2N numbers (N = 2 for the paper's Params), the default
+    1e-4 each."""
+    dim = Model.of(params).dim
     if perturbation is DEFAULT_PERTURBATION:
         return (DEFAULT_PERTURBATION[0],) * dim
     try:
@@ -265,7 +247,7 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
         raise SingularCaseError("no-orbit", "no admissible period-1 orbit anywhere on the "
                                 "omega grid to start from"
                                 + (f": {why.pop()}" if len(why) == 1 else ""))
-    starts = np.empty((len(omegas), params.dim if _is_model(params) else 4))
+    starts = np.empty((len(omegas), Model.of(params).dim))
     for i in range(len(omegas)):
         j = min(have, key=lambda k: abs(k - i))
         starts[i] = np.add(ys[j], perturbation)
