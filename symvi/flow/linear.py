@@ -318,6 +318,27 @@ class LinearFlow:
             self._resets[r] = R
         return R
 
+    def constraint_rows(self):
+        """Every constraint of the model as the compiled kernels take it (float64, flow
+        order; :func:`symvi.flow.compiled.constants`): (p, gap, level, guard, R row-major),
+        p the position of its coordinate in the flow's order (its section is x_p = gap).
+        The first is this flow's own (:meth:`_constrain`, shared by its copies)."""
+        rows = [np.concatenate(([0.0], self.constraint64))]
+        order = list(self.perm)
+        Minv = None
+        for con in self.model.constraints[1:]:
+            k = con.coordinate
+            if k is None:
+                _frame(con, self.n)                 # refuses, naming the normal
+            if con.impulse is None and Minv is None:
+                Minv = np.linalg.inv(np.asarray(self.model.mass, dtype=float))
+            guard = con.sign * np.array(con.normal)[order]
+            R = np.asarray(con.reset_matrix(None if con.impulse else Minv, order=order),
+                           dtype=float)
+            rows.append(np.concatenate(([float(order.index(k)), con.gap, con.sign * con.gap],
+                                        guard, R.ravel())))
+        return rows
+
     def approach(self, z):
         """guard . v of a state z (flow order): > 0 moving towards the stop (v_k for the
         stop on mass k)."""

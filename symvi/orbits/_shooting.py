@@ -320,5 +320,5 @@ class _CompiledMotion:
         self.c, self.y = c, np.array(y, dtype=float)
 
     def first_impact(self, t_max=None):
-        st, t, z, _, steps = _fc.first_impact_from(self.c, self.y, t_max)
+        st, t, z, _, steps, _ = _fc.first_impact_from(self.c, self.y, t_max)
         return FirstImpact(_fc.STATUS_NAMES[st], t, z, steps)

@@ -383,8 +383,8 @@ def _classify_one(c, y, n_keep, transient, sec, times, vimp, glog, v, pts, ang, 
     omega = c[_OM]
     for i in range(dim):
         v[i] = 1.0 / math.sqrt(dim)
-    stop, kept, _, T0 = _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog,
-                                  ESCAPE_MAX)
+    stop, kept, _, T0, _ = _run_into(c, y, 0, n_keep, transient, sec, times, vimp,
+                                     np.empty(0, np.int64), v, glog, ESCAPE_MAX)
     nan = np.nan
     vmax = -1.0
     for j in range(kept):
