@@ -49,6 +49,8 @@ class Simulation:
     stop: str                 # "completed", "grazing", "chatter", "sticking", "no-impact"
     transient: int            # images dropped before the first stored one
     fixed_point: tuple = None     # the period-1 orbit y* at omega, when it exists
+    hits: np.ndarray = None   # (n,) the constraint (0-based index) each stored impact hit;
+                              # its section point lies on that constraint's section
 
     @property
     def n(self):
@@ -111,14 +113,26 @@ def _check_system_start(params, y0, name="y0"):
 
 
 def _check_model_start(model, y0, name="y0"):
-    """A 2N section point (:mod:`symvi.maps.section`) that leaves the stop, tau mod 2 pi."""
+    """A 2N section point (:mod:`symvi.maps.section`) of the first constraint that leaves
+    it, outside every other constraint, tau mod 2 pi."""
     from ..maps import Section
     sec = Section.of(model)
     y = tuple(float(v) for v in sec.check(y0, name))
     names = sec.names
-    if not y[0] < 0:
-        raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
+    first = model.constraints[0]
+    if not first.sign * y[0] < 0:
+        side = "< 0" if first.sign > 0 else "> 0"
+        raise ParameterError(name, y0, f"{names[0]} {side}: the mass must leave the stop")
     _check_size(y, y0, name)
+    if len(model.constraints) > 1:
+        z, _ = sec.state(np.array(y), first.gap)
+        x = np.empty(model.n)
+        x[list(sec.perm)] = z[:model.n]
+        for i, con in enumerate(model.constraints[1:], start=2):
+            if not con.guard(x) < 0:
+                raise ParameterError(name, y0, f"a start outside every other stop "
+                                     f"(stop {i}: s = {con.s(x):.10g} is at or past its gap "
+                                     f"{con.gap:g})")
     return y[:-1] + (y[-1] % (2 * math.pi),)
 
 
@@ -168,9 +182,11 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
         y0, ys = start_point(params, omega, perturbation)
     y0 = _check_system_start(params, y0)
     c = cf.constants(Model.of(params), omega)
-    code, sec, t, vimp, _ = cf.run(c, y0, n_impacts, transient)
+    code, sec, t, vimp, _, hits = cf.run(c, y0, n_impacts, transient, hits=True)
+    hits = np.ascontiguousarray(hits, dtype=np.int64)
+    hits.flags.writeable = False
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      STOP_NAMES[code], transient, ys)
+                      STOP_NAMES[code], transient, ys, hits)
 
 
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
@@ -179,7 +195,11 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     Uses :func:`symvi.maps.impact.step` on the mpmath flow, so it shares no code with the
     compiled kernels.  Values are rounded to float64 only on output.
     """
-    return _simulate_model_mp(Model.of(params), omega, y0, n_impacts, digits)
+    model = Model.of(params)
+    if len(model.constraints) > 1:
+        raise ParameterError("model", f"{len(model.constraints)} stops",
+                             "one stop: the mpmath reference map runs one constraint")
+    return _simulate_model_mp(model, omega, y0, n_impacts, digits)
 
 
 def _simulate_model_mp(model, omega, y0, n_impacts, digits):
