@@ -44,6 +44,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from .linear import LinearFlow
@@ -346,7 +347,7 @@ def _root(h, h1, K):
 
 
 @nb.njit(cache=True, inline="always")
-def _safe_step(h, h1, h2, h3, h4, M2, M5, S):
+def _safe_dt(h, h1, h2, h3, h4, M2, M5, S):
     """A step along which guard h provably stays < 0, and the next horizon S (module
     docstring: the reference step, then S -> fixed point of S = root(K(S)))."""
     step = _root(h, h1, M2)           # the reference step (M2 decays with the motion)
@@ -420,7 +421,7 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
             # the start touches another stop too (a corner): no safe way on
             return GRAZING, 0.0, h2, 0, g
         else:
-            tg, s[q + _SS] = _safe_step(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
+            tg, s[q + _SS] = _safe_dt(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
         t = min(t, tg)
     for it in range(1, _MAX_STEPS + 1):
         _modes_at(c, e, x, m, tau, t)
@@ -456,7 +457,7 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
                 return IMPACT, t, h2, it, g
             if t > t_max or not math.isfinite(h):
                 return NO_IMPACT, t, h2, it, g
-            sg, s[q + _SS] = _safe_step(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
+            sg, s[q + _SS] = _safe_dt(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
             step = min(step, sg)
         t += step
         for g in range(nc):

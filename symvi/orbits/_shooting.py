@@ -17,6 +17,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..flow import compiled as _fc
 from ..flow.linear import OMEGA_RANGE, FirstImpact
 from ..maps.section import Section

@@ -92,6 +92,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING,
                              STOP_NO_IMPACT, STOP_STICKING, _run_into)

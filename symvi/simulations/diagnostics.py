@@ -25,6 +25,7 @@ import numpy as np
 
 import numba as nb
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..flow import compiled as cf
 #: stored impacts below which a run is not classified: period detection compares
 #: points k apart (k <= n/2) and the chaos test needs 10 blocks of exponents
