@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from ..numerics.backend import FLOAT64, backend
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..numerics.backend import FLOAT64, backend
 # relative distance to a forcing resonance refused / warned about (as for the paper), and
 # at which scans and branches through a natural frequency are cut (symvi.numerics.tolerances)
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR, OMEGA_RANGE
@@ -88,7 +88,8 @@ class LinearFlow:
     """The exact flow of one model in one backend (see the module docstring).
 
     ``LinearFlow.of(model, digits=None)`` is cached; ``digits`` selects mpmath
-    (the flow then holds mpf data and must be used at that precision).
+    (the flow then holds mpf data and must be used at that precision).  ``bk`` is the
+    flow's backend (:mod:`symvi.numerics.backend`): FLOAT64 or ``backend(digits)``.
     """
 
     def __init__(self, model, bk):

@@ -82,21 +82,10 @@ class _Float64:
     def real(x):
         return float(np.real(x))
 
-    @staticmethod
-    def arr(x):
-        return np.array(x, dtype=float)
-
-    @staticmethod
-    def carr(x):
-        return np.array(x, dtype=complex)
-
-    @staticmethod
-    def ceye(n):
-        return np.eye(n, dtype=complex)
-
-    @staticmethod
-    def czeros(shape):
-        return np.zeros(shape, dtype=complex)
+    arr = staticmethod(functools.partial(np.array, dtype=float))
+    carr = staticmethod(functools.partial(np.array, dtype=complex))
+    ceye = staticmethod(functools.partial(np.eye, dtype=complex))
+    czeros = staticmethod(functools.partial(np.zeros, dtype=complex))
 
     @staticmethod
     def eigh_pair(K, M):
