@@ -18,6 +18,7 @@ import numba as nb
 import numpy as np
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
+from ..numerics.tolerances import EPS64
 from ._shooting import monodromy, shoot
 
 #: status codes of :func:`period1`
@@ -164,7 +165,7 @@ def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
         return NOT_ISOLATED, dmin, jmin, 0.0, 0.0, Y, vimp, M, ok
     Phi, Pc, Ps, sig, null, Xp, p1, share = _line(lam, W, Winv, U, V, w, g, level, R)
     gap = sig[n2] / sig[0]
-    scale = 64 * 2.0 ** -52
+    scale = 64 * EPS64
     if not gap > scale:
         return DEGENERATE, dmin, jmin, gap, share, Y, vimp, M, ok
     if not share > scale:
