@@ -327,7 +327,7 @@ def _guard_at(c, d, e, x, n, m, g):
     return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _eval(c, d, e, x, n, m, tau, t, g):
     """Guard g's h and derivatives and bounds at t (:func:`_modes_at`, :func:`_guard_at`)."""
     _modes_at(c, e, x, m, tau, t)
