@@ -194,6 +194,10 @@ class _MpStop:
     mass: int
     gap: object
     restitution: object
+    between: tuple = None
+    side: str = "upper"
+    stiffness: object = None
+    damping: object = None
 
 
 class CurveMapFD(_MapFD):
