@@ -515,14 +515,13 @@ class Model:
         if len(stops) == 1 and stops[0].plain:
             return self
         if len(stops) > 1:
-            raise ParameterError("stop[2]", stops[1], _ONE_STOP,
-                                 f"the model has {len(stops)} stops; several stops are not "
-                                 "supported by the dynamics yet (issue 25)")
+            raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
+                                 "supported by the dynamics yet: issue 25")
         s = stops[0]
         what = ("an elastic stop" if s.stiffness is not None else
                 "a stop between two masses" if s.between is not None else "a lower stop")
         raise ParameterError("stop", s, _ONE_STOP,
-                             f"{what} is not supported by the dynamics yet (issue 25)")
+                             f"{what} is not supported by the dynamics yet: issue 25")
 
     @property
     def n(self):
