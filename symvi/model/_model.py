@@ -135,11 +135,12 @@ class Stop:
         table of a model file says all of it)."""
         return self.mass is not None and self.side == "upper" and self.stiffness is None
 
-    def fields(self):
-        """The fields that are set, in the order of a model file's ``[[stop]]`` table."""
+    def fields(self, short=False):
+        """The fields that are set, in the order of a model file's ``[[stop]]`` table
+        (``short``: the side left out where it is the default, as in a ``[stop]`` table)."""
         d = {"mass": self.mass} if self.mass is not None else {"between": list(self.between)}
         d["gap"] = self.gap
-        if not self.plain:
+        if not (short and self.plain):
             d["side"] = self.side
         if self.stiffness is None:
             d["restitution"] = self.restitution
@@ -157,7 +158,7 @@ class Stop:
                 self.stiffness, self.damping)
 
     def __repr__(self):
-        return "Stop(" + ", ".join(f"{k}={v!r}" for k, v in self.fields().items()) + ")"
+        return "Stop(" + ", ".join(f"{k}={v!r}" for k, v in self.fields(True).items()) + ")"
 
     def replaced(self, **values):
         """This stop with some numbers (gap, restitution, stiffness, damping) replaced,
@@ -577,7 +578,7 @@ class Model:
         s = self._stops
         d = {"mass": [list(r) for r in self._M], "stiffness": [list(r) for r in self._K],
              "damping": [list(r) for r in self._C], "forcing": list(self._P),
-             "stop": s[0].fields() if len(s) == 1 and s[0].plain else [t.fields() for t in s]}
+             "stop": s[0].fields(True) if len(s) == 1 and s[0].plain else [t.fields() for t in s]}
         if self._preset is not None:
             d["preset"] = dict(self._preset)
         return d
