@@ -1,13 +1,17 @@
-"""A linear impact oscillator: N masses, damping, one rigid stop on any mass.
+"""A linear impact oscillator: N masses, damping, stops (one rigid stop on any mass today).
 
 Between impacts::
 
     M x'' + C x' + K x = P sin(omega t + tau),   x_k < b;
     at x_k = b:  v_k+ = -r v_k-                    (Newton's impact law, eq. (2) generalised)
 
-The stop is the model's one constraint (:attr:`Model.constraints`, a
+Each stop is one constraint of the model (:attr:`Model.constraints`, a
 :class:`symvi.model.Constraint` built by :meth:`Stop.constraint`): its guard and
 its reset are what the flow, the maps, the orbits and the compiled kernels read.
+A model may hold several stops, stops between two masses (s = x_j - x_i), lower stops
+(s >= g) and elastic ones (issue 25); the model layer reads, checks and writes them, and
+the dynamics take one rigid upper stop on one mass for now
+(:meth:`Model.require_one_rigid_stop`, called where a model enters them).
 
 M symmetric positive definite, K symmetric positive definite (every free-flight
 mode oscillates), C symmetric positive semi-definite (zero by default, as in
@@ -18,7 +22,8 @@ and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
 Named parameters
 ----------------
 Every scalar that defines the model has a stable name (1-based indices):
-``gap``, ``restitution``, ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``,
+``gap``, ``restitution`` (the first stop's), ``stop[k].gap``, ``stop[k].restitution``,
+``stop[k].stiffness``, ``stop[k].damping``, ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``,
 ``stiffness[i,j]``, ``damping[i,j]``, ``forcing[i]``; for the paper's preset
 also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  ``omega`` is the forcing
 frequency and is not a field of the model.  Setting an off-diagonal entry sets
@@ -38,7 +43,8 @@ from ..errors import ParameterError
 #: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
-from ._checks import DEF_TOL, _check_stops, _definite, _finite, _number, _short, _shown, _toml  # noqa: F401
+from ._checks import DEF_TOL, _number, _short, _toml  # noqa: F401 (re-exported)
+from ._checks import _check_stops, _definite, _finite, _shown
 from ._constraint import SIDES, Constraint
 from .parameters import PresetParameter, StopParameter, Tangent  # noqa: F401 (Tangent: re-exported)
 from .parameters import parse as _parse_parameter
@@ -188,124 +194,6 @@ class Stop:
             c = tuple(-1.0 if k == i - 1 else 1.0 if k == j - 1 else 0.0 for k in range(n))
         return Constraint(normal=c, gap=self.gap, restitution=self.restitution,
                           side=self.side, stiffness=self.stiffness, damping=self.damping)
-
-
-def _index(field, k):
-    """A 1-based mass index (an integer from 1 to N_MAX)."""
-    if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
-        raise ParameterError(field, _shown(k), "a 1-based mass index (integer >= 1)")
-    if not 1 <= k <= N_MAX:
-        raise ParameterError(field, _shown(k), f"a 1-based mass index (integer from 1 to {N_MAX})")
-    return int(k)
-
-
-def _size(field, value, n, valid):
-    """len(value) for a list of at most N_MAX (or exactly n) items, checked before any
-    array is built (a file's 30000-entry list must not become a 30000 x 30000 matrix)."""
-    if isinstance(value, np.ndarray):
-        if value.ndim == 0:
-            raise ParameterError(field, _shown(value), valid)
-        size = value.shape[0]
-    elif isinstance(value, (list, tuple)):
-        size = len(value)
-    else:
-        raise ParameterError(field, _shown(value), valid)
-    if n is None and not 1 <= size <= N_MAX:
-        raise ParameterError(field, f"{size} entries", valid, f"it has {size}")
-    if n is not None and size != n:
-        raise ParameterError(field, f"{size} entries", valid, f"it has {size}, not {n}")
-    return size
-
-
-def _entry(field, x, where):
-    """One matrix or vector entry: a finite real number (not a bool or a string)."""
-    v = _number(x)
-    if v is None:
-        raise ParameterError(field, _shown(x), "finite real numbers only (not booleans, "
-                             "strings or nested lists)", f"entry {where} = {_toml(x)}")
-    if not math.isfinite(v):
-        raise ParameterError(field, v, "finite numbers only", f"entry {where}: NaN or infinity")
-    return v
-
-
-def _rows(value):
-    """The items of a list, tuple or array (a 2-D array as its rows)."""
-    return list(value) if not isinstance(value, np.ndarray) else [r for r in value]
-
-
-def _vector(field, value, n=None, valid=None):
-    """A float vector of n (or 1..N_MAX) finite numbers, checked entry by entry."""
-    valid = valid or f"a list of {n or 'N'} finite numbers"
-    size = _size(field, value, n, valid)
-    return np.array([_entry(field, x, f"[{i + 1}]") for i, x in
-                     enumerate(_rows(value))], dtype=float).reshape(size)
-
-
-def _matrix(field, value, n=None, diag_ok=False):
-    """A symmetric square float matrix from a list (the diagonal, when ``diag_ok``) or a
-    list of rows.  Sizes, shapes and entry types are checked in Python first: nothing
-    larger than N_MAX x N_MAX is allocated and no nesting is followed past two levels."""
-    nn = n or "N"
-    an = "an" if str(nn) in ("N", "8") else "a"
-    valid = (f"a list of {nn} numbers (the diagonal) or {an} {nn}x{nn} matrix (list of rows)"
-             if diag_ok else f"{an} {nn}x{nn} matrix (list of rows)")
-    if n is None:
-        valid += f", 1 <= N <= {N_MAX}"
-    size = _size(field, value, n, valid)
-    rows = _rows(value)
-    flat = [not isinstance(r, (list, tuple, np.ndarray)) for r in rows]
-    if all(flat) and diag_ok:
-        a = np.diag([_entry(field, x, f"[{i + 1}]") for i, x in enumerate(rows)])
-    elif any(flat):
-        i = flat.index(True) if not all(flat) else 0
-        raise ParameterError(field, _shown(value), valid,
-                             f"row {i + 1} is {_short(rows[i], 20)}, not a list")
-    else:
-        for i, r in enumerate(rows):
-            if len(r) != size:
-                raise ParameterError(field, _shown(value), valid,
-                                     f"row {i + 1} has {len(r)} entr{'y' if len(r) == 1 else 'ies'}"
-                                     f", not {size}")
-        a = np.array([[_entry(field, x, f"[{i + 1},{j + 1}]") for j, x in enumerate(_rows(r))]
-                      for i, r in enumerate(rows)], dtype=float)
-    if np.abs(a).max() > ABS_MAX:
-        i, j = np.unravel_index(np.argmax(np.abs(a)), a.shape)
-        raise ParameterError(field, _shown(a.tolist()), f"entries with |a_ij| <= {ABS_MAX:g}",
-                             f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r}")
-    scale = np.abs(a).max()
-    if np.abs(a - a.T).max() > SYM_TOL * max(scale, 1e-300):
-        i, j = np.unravel_index(np.argmax(np.abs(a - a.T)), a.shape)
-        raise ParameterError(field, _shown(a.tolist()), "a symmetric matrix",
-                             f"entry [{i + 1},{j + 1}] = {float(a[i, j])!r} but [{j + 1},{i + 1}] = "
-                             f"{float(a[j, i])!r}")
-    return 0.5 * (a + a.T)
-
-
-def _tup(a):
-    return tuple(tuple(float(x) for x in row) for row in np.asarray(a))
-
-
-_PRESET = _preset.NAMES
-#: what the dynamics take today (:meth:`Model.require_one_rigid_stop`)
-_ONE_STOP = "one rigid stop on one mass (upper side)"
-
-
-def _stop_list(stop, stops):
-    """The model's stops as a tuple: ``stop=`` (one) or ``stops=`` (one or more)."""
-    if (stop is None) == (stops is None):
-        raise ParameterError("stop", _shown(stop if stops is None else stops),
-                             "exactly one of stop=Stop(...) or stops=[Stop(...), ...]",
-                             "both given" if stop is not None else "neither given")
-    if stop is not None:
-        if not isinstance(stop, Stop):
-            raise ParameterError("stop", stop, "a symvi.Stop(mass=k, gap=b, restitution=r)")
-        return (stop,)
-    if isinstance(stops, Stop) or not isinstance(stops, (list, tuple)) or not stops:
-        raise ParameterError("stops", _shown(stops), "a non-empty list of symvi.Stop")
-    for k, s in enumerate(stops, 1):
-        if not isinstance(s, Stop):
-            raise ParameterError(f"stop[{k}]", _shown(s), "a symvi.Stop(mass=k, gap=b, ...)")
-    return tuple(stops)
 
 
 def _index(field, k):

@@ -176,13 +176,16 @@ class StopParameter(Parameter):
         stops = list(model._stops)
         try:
             stop = stops[self.i] = s.replaced(**{self.kind: value})
-            if len(stops) > 1 and self.kind == "gap":
-                _check_stops(stops, model.n, named=True)
         except ParameterError as exc:           # named as the user named it: stop[2].gap
-            if exc.name.startswith("stop.") and (self.i or self.name.startswith("stop[")):
+            if exc.name.startswith("stop.") and self.name.startswith("stop["):
                 raise ParameterError(f"stop[{self.i + 1}].{exc.name[5:]}", exc.value,
                                      exc.valid, exc.detail) from None
             raise
+        if len(stops) > 1 and self.kind == "gap":
+            try:                                # the stops still leave free space
+                _check_stops(stops, model.n, named=True)
+            except ParameterError as exc:
+                raise ParameterError(self.name, value, exc.valid, exc.detail) from None
         # the constraints carried over at the new numbers: the flow's caches of the guard
         # and reset stay valid (a curve in b or r sets the stop at every corrector step)
         cs = model._arrays.get("constraints")

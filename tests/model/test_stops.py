@@ -245,6 +245,8 @@ def test_stop_parameters_carry_the_constraints_over():
 
 @pytest.mark.parametrize("name,value,field,words", [
     ("stop[2].gap", 0.6, "stop[2].gap", "free space"),
+    ("gap", -0.5, "gap", "free space"),                  # the first stop, below the lower
+    ("stop[1].gap", -0.5, "stop[1].gap", "free space"),
     ("stop[2].restitution", 1.5, "stop[2].restitution", "0 < restitution <= 1"),
     ("stop[3].stiffness", -1.0, "stop[3].stiffness", "0 < stiffness"),
     ("restitution", 0.0, "stop.restitution", "0 < restitution <= 1"),
