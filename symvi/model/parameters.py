@@ -281,7 +281,7 @@ class PresetParameter(Parameter):
 
 
 def _copy(model, *, preset, **slots):
-    """A copy of ``model`` with some fields (slot names: ``_M``, ``_stop``, ...) replaced,
+    """A copy of ``model`` with some fields (slot names: ``_M``, ``_stops``, ...) replaced,
     already validated by the caller."""
     assert set(slots) <= {"_M", "_K", "_C", "_P", "_stops", "_arrays"}, slots
     new = object.__new__(type(model))
