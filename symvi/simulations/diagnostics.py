@@ -82,7 +82,10 @@ def _spectrum(logs, te):
 
 def _logs(sim, n=None):
     """(log |R_k[i, i]| of the QR method over the last ``n`` points, their flight times);
-    column 0 is log |DP v| of one tangent vector, the classifier's input."""
+    column 0 is log |DP v| of one tangent vector, the classifier's input.  One stop only
+    for now: the tangent maps follow one constraint's section (issue 25)."""
+    from ..model import Model
+    Model.of(sim.params).require_one_rigid_stop()
     sec, t = np.asarray(sim.section), np.asarray(sim.t)
     if len(sec) < 3:
         raise ValueError("need at least 3 section points")

@@ -177,7 +177,17 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
-    ys = fixed_point(params, omega)
+    model = Model.of(params)
+    if len(model.constraints) > 1:
+        # several stops: no period-1 closed form to start from (issue 25)
+        if y0 is None:
+            from ..maps import Section
+            raise ParameterError("y0", None, f"a start on the first stop's section "
+                                 f"({', '.join(Section.of(model).names)}): a model with "
+                                 "several stops has no period-1 orbit to start from")
+        ys = None
+    else:
+        ys = fixed_point(params, omega)
     if y0 is None:
         y0, ys = start_point(params, omega, perturbation)
     y0 = _check_system_start(params, y0)
