@@ -15,19 +15,15 @@ import time
 import numpy as np
 
 from symvi.flow import compiled as cf
-from symvi.model import Constraint, Model, Stop
+from symvi.model import Model, Stop
 from symvi.simulations import simulation
 
 
 def two_sided():
-    """The 1-DOF oscillator between two stops (the second stop given as a constraint:
-    the several-stop model API comes with issue 25's model step)."""
-    m = Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.3],
-              stop=Stop(mass=1, gap=0.5, restitution=0.8))
-    if len(m.constraints) == 1:
-        m._arrays["constraints"] = m.constraints + (Constraint((1.0,), -0.4, 0.7,
-                                                               side="lower"),)
-    return m
+    """The 1-DOF oscillator between two stops."""
+    return Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.3],
+                 stops=[Stop(mass=1, gap=0.5, restitution=0.8),
+                        Stop(mass=1, gap=-0.4, side="lower", restitution=0.7)])
 
 
 def rate(c, y0, n, reps):

@@ -23,18 +23,15 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from symvi.flow import compiled as cf
-from symvi.model import Constraint, Model, Stop
+from symvi.model import Model, Stop
 
 GAP, P, R, OMEGA, DAMPING = 0.1, 2.0, 0.95, 1.3, 0.02
 
 
 def model():
-    m = Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[DAMPING]], forcing=[P],
-              stop=Stop(mass=1, gap=GAP, restitution=R))
-    if len(m.constraints) == 1:       # before the several-stop model API (issue 25)
-        m._arrays["constraints"] = m.constraints + (Constraint((1.0,), -GAP, R,
-                                                               side="lower"),)
-    return m
+    return Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[DAMPING]], forcing=[P],
+                 stops=[Stop(mass=1, gap=GAP, restitution=R),
+                        Stop(mass=1, gap=-GAP, side="lower", restitution=R)])
 
 
 def reference(y, k, t_cap):

@@ -427,7 +427,7 @@ class Model:
         what = ("an elastic stop" if s.stiffness is not None else
                 "a stop between two masses" if s.between is not None else "a lower stop")
         raise ParameterError("stop", s, _ONE_STOP,
-                             f"{what} is not supported by the dynamics yet: issue 25")
+                             f"{what} is not supported by the orbit analyses yet: issue 25")
 
     @property
     def n(self):

@@ -136,6 +136,15 @@ def _check_model_start(model, y0, name="y0"):
     return y[:-1] + (y[-1] % (2 * math.pi),)
 
 
+def _one_stop(model):
+    """Whether the orbit analyses take ``model`` (:meth:`Model.require_one_rigid_stop`)."""
+    try:
+        model.require_one_rigid_stop()
+    except ParameterError:
+        return False
+    return True
+
+
 def _perturbation(params, perturbation):
     """The start offset for params: 2N numbers (N = 2 for the paper's Params), the default
     1e-4 each."""
@@ -178,13 +187,14 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
     model = Model.of(params)
-    if len(model.constraints) > 1:
-        # several stops: no period-1 closed form to start from (issue 25)
+    if not _one_stop(model):
+        # several stops, or a lower one: no period-1 orbit to start from yet (issue 25)
         if y0 is None:
             from ..maps import Section
             raise ParameterError("y0", None, f"a start on the first stop's section "
-                                 f"({', '.join(Section.of(model).names)}): a model with "
-                                 "several stops has no period-1 orbit to start from")
+                                 f"({', '.join(Section.of(model).names)}): no period-1 "
+                                 "orbit to start from with several stops or a lower one "
+                                 "(issue 25)")
         ys = None
     else:
         ys = fixed_point(params, omega)

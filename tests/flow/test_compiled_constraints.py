@@ -2,8 +2,7 @@
 against solve_ivp with one event per guard, the determinant identity along the constraints
 hit, and never a contact stepped over.
 
-Models with several stops are built here by giving a one-stop Model further constraints
-(the model layer's several-stop API is issue 25's model step)."""
+"""
 import math
 
 import numpy as np
@@ -12,28 +11,22 @@ from scipy.integrate import solve_ivp
 
 from symvi.flow import compiled as cf
 from symvi.flow.linear import LinearFlow
-from symvi.model import Constraint, Model, Stop
-
-
-def _with(model, *extra):
-    """``model`` with the further constraints ``extra`` after its stop."""
-    model._arrays["constraints"] = model.constraints + tuple(extra)
-    return model
+from symvi.model import Model, Stop
 
 
 def _one_dof(gap_up, gap_lo, r_up, r_lo, damping, forcing):
     """One mass between an upper stop x <= gap_up and a lower one x >= gap_lo."""
-    m = Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[damping]], forcing=[forcing],
-              stop=Stop(mass=1, gap=gap_up, restitution=r_up))
-    return _with(m, Constraint((1.0,), gap_lo, r_lo, side="lower"))
+    return Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[damping]], forcing=[forcing],
+                 stops=[Stop(mass=1, gap=gap_up, restitution=r_up),
+                        Stop(mass=1, gap=gap_lo, side="lower", restitution=r_lo)])
 
 
 def _two_mass(gap1, gap2, r1, r2):
     """Two masses in a chain; an upper stop on mass 1, a lower stop on mass 2."""
-    m = Model(mass=[[1.0, 0], [0, 1.3]], stiffness=[[2.0, -1.0], [-1.0, 2.5]],
-              damping=[[0.03, 0], [0, 0.02]], forcing=[0.8, 1.1],
-              stop=Stop(mass=1, gap=gap1, restitution=r1))
-    return _with(m, Constraint((0.0, 1.0), gap2, r2, side="lower"))
+    return Model(mass=[[1.0, 0], [0, 1.3]], stiffness=[[2.0, -1.0], [-1.0, 2.5]],
+                 damping=[[0.03, 0], [0, 0.02]], forcing=[0.8, 1.1],
+                 stops=[Stop(mass=1, gap=gap1, restitution=r1),
+                        Stop(mass=2, gap=gap2, side="lower", restitution=r2)])
 
 
 def _state(model, c, y, k):

@@ -32,3 +32,28 @@ def test_a_start_inside_another_stop_is_refused():
         simulate(model, 1.2, y0=(-0.3, -0.7, 0.0, 0.4), n_impacts=10)
     sim = simulate(model, 1.2, y0=(-0.3, -0.2, 0.0, 0.4), n_impacts=200)
     assert sim.stop == "completed" and set(np.unique(sim.hits)) <= {0, 1}
+
+
+def test_several_stops_need_a_start():
+    model = _one_dof(0.5, -0.4, 0.8, 0.7, 0.05, 1.3)
+    with pytest.raises(ParameterError, match=r"y0 = None.*first stop's section \(v1\+, tau\)"):
+        simulate(model, 1.1, n_impacts=10)
+
+
+def test_a_lower_stop_mirrors_an_upper_one():
+    """x -> -x: a lower stop at -g with forcing -P runs the mirror image of an upper stop
+    at g with P (section points negated but the phase), to rounding."""
+    from symvi import Model, Stop
+    mats = dict(mass=[[1.0, 0], [0, 1.3]], stiffness=[[2.0, -1.0], [-1.0, 2.5]],
+                damping=[[0.03, 0], [0, 0.02]])
+    up = Model(**mats, forcing=[0.8, 1.1], stop=Stop(mass=1, gap=0.6, restitution=0.85))
+    lo = Model(**mats, forcing=[-0.8, -1.1],
+               stops=[Stop(mass=1, gap=-0.6, side="lower", restitution=0.85)])
+    a = simulate(up, 1.2, y0=(-0.3, 0.1, 0.2, 0.4), n_impacts=300)
+    b = simulate(lo, 1.2, y0=(0.3, -0.1, -0.2, 0.4), n_impacts=300)
+    assert a.stop == b.stop == "completed"
+    np.testing.assert_allclose(b.section[:, :3], -a.section[:, :3], atol=1e-9)
+    np.testing.assert_allclose(b.section[:, 3], a.section[:, 3], atol=1e-9)
+    np.testing.assert_allclose(b.t, a.t, rtol=1e-12)
+    with pytest.raises(ParameterError, match=r"v1\+ > 0: the mass must leave the stop"):
+        simulate(lo, 1.2, y0=(-0.3, -0.1, -0.2, 0.4), n_impacts=10)
