@@ -154,6 +154,17 @@ def data_key(params):
         else {"params": np.array(params.key())}
 
 
+def save_npz(path, **arrays):
+    """Write ``arrays`` (numpy.savez) to ``path`` atomically: the one place the command line
+    writes data (and, with :func:`data_key`, the one place it imports numpy)."""
+    import numpy as np
+
+    from .._io import atomic_path
+    with atomic_path(path, suffix=".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+
 def print_special(kind, where, coefficients, detail, orbit, width):
     """Two lines of text for a located special point: kind, where, float coefficients,
     the orbit's admissibility (grazing points are inadmissible by nature); the detail."""

@@ -28,31 +28,27 @@ PROJECTIONS = ((1, 0), (3, 0), (2, 1))
 LABELS = (r"$\dot x_{1+}$", r"$x_2$", r"$\dot x_2$", r"$\tau$")
 
 
-def save(fig, path, dpi=150):
-    """Write ``fig`` to ``path`` (PNG or PDF by suffix) atomically and close it."""
-    ext = os.path.splitext(os.fspath(path))[1].lower()
-    if ext not in FIGURE_SUFFIXES:
-        from ..errors import ParameterError      # a ValueError: one line on the CLI
-        raise ParameterError("figure path", os.fspath(path), "a file name ending in .png "
-                             "or .pdf")
+def save(fig, path, *more, dpi=150):
+    """Write ``fig`` to ``path`` and to each of ``more`` (PNG or PDF by suffix, every name
+    checked first) atomically and close it; returns ``path``."""
+    paths = [os.fspath(p) for p in (path, *more)]
+    for p in paths:
+        if os.path.splitext(p)[1].lower() not in FIGURE_SUFFIXES:
+            from ..errors import ParameterError      # a ValueError: one line on the CLI
+            raise ParameterError("figure path", p, "a file name ending in .png or .pdf")
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=ext[1:])
+        for p in paths:
+            with atomic_path(p) as tmp:
+                fig.savefig(tmp, dpi=dpi, format=os.path.splitext(p)[1].lower()[1:])
     finally:
         plt.close(fig)          # also when the write is refused: no figure left open
-    return os.fspath(path)
+    return paths[0]
 
 
 def save_all(fig, stem, formats=("png", "pdf")):
     """Write ``fig`` as ``stem.png`` and ``stem.pdf``; returns the paths."""
-    paths = []
-    try:
-        for f in formats:
-            with atomic_path(f"{stem}.{f}") as tmp:
-                fig.savefig(tmp, dpi=150, format=f)
-            paths.append(f"{stem}.{f}")
-    finally:
-        plt.close(fig)
+    paths = [f"{stem}.{f}" for f in formats]
+    save(fig, *paths)
     return paths
 
 
