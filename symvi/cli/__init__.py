@@ -75,6 +75,13 @@ _PRESET_FLAGS = (("mu_m", "--mu-m", "mass ratio M2/M1 (> 0)"),
                  ("r", "--r", "coefficient of restitution (0 < r <= 1)"))
 
 
+#: the named parameters of a model, as the help of --param, --params, --x and --y lists them
+#: (symvi.model.parameters parses them)
+NAMED = "gap, restitution, mass[i], stiffness[i,j], damping[i,j], forcing[i]"
+#: ... with the preset's own names first
+PRESET_NAMED = f"b, r, mu_m, mu_k, f2 for the preset; {NAMED}"
+
+
 def add_params(parser, defaults=None, model=False):
     """The five system parameters of eq. (4) as --mu-m --mu-k --f2 --b --r; with
     ``model``, ``--model FILE`` (a model file) as the alternative to all five."""

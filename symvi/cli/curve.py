@@ -1,6 +1,7 @@
 """``symvi curve``: continue an NS, flip or fold curve in two parameters from the point of
 that kind found in [omega_min, omega_max], with its codimension-two points."""
-from . import add_params, check_value, describe, params_from, print_json, print_special
+from . import (PRESET_NAMED, add_params, check_value, describe, params_from, print_json,
+               print_special)
 
 
 def register(sub):
@@ -12,8 +13,7 @@ def register(sub):
     p.add_argument("--omega-max", type=float, required=True, metavar="B")
     p.add_argument("--params", required=True, metavar="omega,NAME",
                    help="the two curve parameters: omega and a named parameter of the model "
-                        "(b, r, mu_m, mu_k, f2 for the preset; gap, restitution, mass[i], "
-                        "stiffness[i,j], damping[i,j], forcing[i])")
+                        f"({PRESET_NAMED})")
     p.add_argument("--bounds", action="append", default=[], metavar="NAME=LO:HI",
                    help="range of a curve parameter (default: half to twice its start value)")
     p.add_argument("--kind", default="ns", choices=("ns", "flip", "fold"),
