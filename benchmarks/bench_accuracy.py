@@ -44,7 +44,7 @@ import mpmath
 import numpy as np
 
 import symvi
-from symvi._backend import FLOAT, MP
+from symvi.numerics.backend import FLOAT64, backend
 from symvi._io import write_text
 from symvi.analysis import precision
 from symvi.errors import NearSingularWarning, SymviError
@@ -141,7 +141,7 @@ def chain_generated(params, interval, digits=None):
 
         a, b, fa, fb = scan_bracket(crit, *interval)
         to = float if digits is None else mpmath.mpf
-        tol = 4 * (FLOAT.eps if digits is None else 10.0 ** (-digits))
+        tol = 4 * (FLOAT64.eps if digits is None else 10.0 ** (-digits))
         w = newton_bracketed(sd, a, b, fa, fb, tol, to=to)
         o = _orbit(params, w, digits)
         j = jet(params, w, order=3, orbit=o, **kw)
@@ -177,7 +177,7 @@ class _Null:
 class MapFD:
     """Central finite differences of the numeric map P (symvi.paper.modal_map.step) with step h."""
 
-    def __init__(self, params, h, lib=FLOAT):
+    def __init__(self, params, h, lib=FLOAT64):
         self.p, self.h, self.lib = params, h, lib
         self.m = modal(params, lib)
         self.b, self.r = lib.num(params.b), lib.num(params.r)
@@ -187,13 +187,13 @@ class MapFD:
         if s.status != "impact":
             raise SymviError(f"map flight status {s.status}")
         return np.array([s.y[0], s.y[1], s.y[2], s.tau_unwrapped], dtype=object
-                        if self.lib is MP else float)
+                        if self.lib is not FLOAT64 else float)
 
     def jac(self, w, y):
         h, n = self.lib.num(self.h), 4
         cols = []
         for k in range(n):
-            e = np.zeros(n, dtype=object if self.lib is MP else float)
+            e = np.zeros(n, dtype=object if self.lib is not FLOAT64 else float)
             e[k] = h
             cols.append((self.f(w, y + e) - self.f(w, y - e)) / (2 * h))
         return np.stack(cols, axis=1)
@@ -201,7 +201,7 @@ class MapFD:
     def tensors(self, w, y):
         """d2, d3 by the symmetric stencils (unique index combinations only)."""
         h, n = self.lib.num(self.h), 4
-        dt = object if self.lib is MP else float
+        dt = object if self.lib is not FLOAT64 else float
         E = [np.array([h if i == k else 0 for i in range(n)], dtype=dt) for k in range(n)]
         cache = {}
 
@@ -256,7 +256,7 @@ def chain_fd(params, interval, h, digits=None):
     """
     ctx = mpmath.mp.workdps(digits) if digits else _Null()
     with ctx:
-        fd = MapFD(params, h, MP if digits else FLOAT)
+        fd = MapFD(params, h, backend(digits) if digits else FLOAT64)
         kw = {"digits": digits} if digits else {}
         to = mpmath.mpf if digits else float
 
@@ -411,7 +411,7 @@ def reference(params, vc0):
         res, dm, l1, _ = precision._hopf_quantities(params, w, br, d)
         ref = (w, dm, l1)
         # independent: central FD of the numeric map itself at 60 digits
-        fd = MapFD(params, mpmath.mpf("1e-12"), MP)
+        fd = MapFD(params, mpmath.mpf("1e-12"), backend(d))
         y = _y(params, w, d)
         J = fd.jac(w, y)
         hw = mpmath.mpf("1e-12")

@@ -36,11 +36,10 @@ import numpy as np
 from symvi import Model
 from symvi.paper import modal_flow as flow
 from symvi.paper import jets, orbit
-from symvi._backend import MP
+from symvi.numerics.backend import FLOAT64, backend
 from symvi._compiled import f64_kernel
 from symvi._io import write_text
 from symvi.flow import compiled
-from symvi.normal_forms import normal_form as nf
 from symvi.paper.params import modal
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -122,7 +121,8 @@ def stages():
     with mpmath.mp.workdps(50):
         o50 = BA._orbit(PARAMS, W, 50)
         inp50 = jets._orbit_inputs(PARAMS, o50)
-        m50 = modal(PARAMS, MP)
+        bk = backend(50)
+        m50 = modal(PARAMS, bk)
         for K in (1, 2, 3):
             mod, _ = jets._gen(K)
             t_mp = median_time(lambda: mod.mp(inp50), 1, 5)
@@ -133,24 +133,23 @@ def stages():
         t_mp = median_time(lambda: mpmath.eig(J50, left=False, right=False), 1, 5)
         out["eigenvalues 4x4"] = (t_mp, compiled_loop_time(_eigvals_loop, (J,)),
                                   "LAPACK zgeev via numba")
-        bk = nf._MpBackend(50)
-        A50 = bk.arr(J50)
-        t_mp = median_time(lambda: bk.inv(bk.eig(A50)[1]), 1, 5)
+        A50 = bk.carr(J50)
+        t_mp = median_time(lambda: bk.cinv(bk.ceig(A50)[1]), 1, 5)
         out["eigenvectors + inverse 4x4"] = (t_mp, compiled_loop_time(_eig_inv_loop, (J,)),
                                              "LAPACK zgeev + zgetri via numba")
-        M50, v50 = bk.arr(J50) - bk.eye(4) * mpmath.mpc(0.3, 0.9), bk.arr([1, 2, 3, 4])
-        t_mp = median_time(lambda: bk.solve(M50, v50), 1, 5)
+        M50, v50 = bk.carr(J50) - bk.ceye(4) * mpmath.mpc(0.3, 0.9), bk.carr([1, 2, 3, 4])
+        t_mp = median_time(lambda: bk.csolve(M50, v50), 1, 5)
         M = J.astype(complex) - np.eye(4) * (0.3 + 0.9j)
         out["complex solve 4x4"] = (t_mp, compiled_loop_time(
             _solve_loop, (M, np.array([1, 2, 3, 4], dtype=complex))), "LAPACK zgesv via numba")
-        b50 = MP.num(PARAMS.b)
-        t_mp = median_time(lambda: orbit._branches(PARAMS, o50.omega, m50, MP), 1, 5)
+        b50 = bk.num(PARAMS.b)
+        t_mp = median_time(lambda: orbit._branches(PARAMS, o50.omega, m50, bk), 1, 5)
         out["closed-form orbit, both branches"] = (
             t_mp, compiled_loop_time(_libm_loop, (0.4,)), "lower bound: its 12 libm calls")
-        T = 2 * MP.pi / o50.omega
+        T = 2 * bk.pi / o50.omega
         mot = flow.motion_from(m50, o50.omega, (b50, o50.x20), (o50.v1_plus, o50.x20_dot),
-                               o50.tau0, MP)
-        t_mp = median_time(lambda: flow.first_impact(mot, b50, MP, t_max=2 * T), 1, 5)
+                               o50.tau0, bk)
+        t_mp = median_time(lambda: flow.first_impact(mot, b50, bk, t_max=2 * T), 1, 5)
     c = compiled.constants(Model.of(PARAMS), W)
     d = np.empty(48)                  # the flight's mode data (N = 2), as in a run
     _, amp = compiled._start(c, np.array([o.v1_plus, o.x20, o.x20_dot, o.tau0]), np.empty(8),
@@ -164,13 +163,13 @@ def stages():
 # --------------------------------------------------------------------------- counts
 def _counted(digits):
     """stage -> (object, attribute) whose calls are counted in the chain at ``digits``."""
-    bk = nf._NumpyBackend if digits is None else nf._MpBackend
+    bk = FLOAT64 if digits is None else backend(digits)     # the normal form's backend
     return {
         "closed-form orbit, both branches": (orbit, "_branches"),
         "flight over one period (admissibility)": (orbit, "_admissibility"),
         "eigenvalues 4x4": (jets, "eigenvalues"),
-        "eigenvectors + inverse 4x4": (bk, "eig"),
-        "complex solve 4x4": (bk, "solve"),
+        "eigenvectors + inverse 4x4": (bk, "ceig"),
+        "complex solve 4x4": (bk, "csolve"),
     }
 
 

@@ -12,8 +12,8 @@ from symvi.reporting import scenes as sc
 
 #: lowest first; a module belongs to the layer of its longest matching prefix
 LAYERS = [
-    ("numerics: shared tolerances", ("numerics",)),
-    ("base", ("errors", "_io", "_backend", "progress", "_compiled", "_deprecated")),
+    ("numerics: shared tolerances and the precision backend", ("numerics",)),
+    ("base", ("errors", "_io", "progress", "_compiled", "_deprecated")),
     ("model", ("model",)),
     ("flow and maps", ("flow", "maps")),
     ("codegen", ("codegen",)),

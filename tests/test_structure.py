@@ -2,7 +2,10 @@
 of the impact map, one attractor classifier, one period detector in symvi/.  (On the
 tree before that item the scans find two of each: flow/compiled._run_into and
 plane/kernel._run; plane/kernel._classify_one and simulations/diagnostics.classify;
-plane/kernel._period and simulations/diagnostics.period_of.)"""
+plane/kernel._period and simulations/diagnostics.period_of.)  One precision backend
+(item 6): only symvi/numerics/backend.py defines backend classes (before that item the
+scan finds six: _backend._Float and _Mp, flow/linear._NumpyLA and _MpLA,
+normal_forms/normal_form._NumpyBackend and _MpBackend)."""
 import ast
 from pathlib import Path
 
@@ -74,6 +77,31 @@ def period_detectors():
             and ("_dist" in _called(fn) or "_unwrapped" in _called(fn))]
 
 
+#: what a precision backend defines (scalar functions, linear algebra): a class that defines
+#: two of them is one
+BACKEND_OPS = {"sin", "cos", "atan2", "acos", "eig", "ceig", "eigh_pair", "solve", "csolve",
+               "inv", "cinv", "svd"}
+
+
+def backend_classes():
+    """Classes defining (as methods or class attributes) two or more of BACKEND_OPS."""
+    found = []
+    for path in sorted(PKG.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text("utf-8"))):
+            if not isinstance(node, ast.ClassDef):
+                continue
+            names = {b.name for b in node.body if isinstance(b, ast.FunctionDef)}
+            names |= {t.id for b in node.body if isinstance(b, ast.Assign)
+                      for t in b.targets if isinstance(t, ast.Name)}
+            if len(names & BACKEND_OPS) >= 2:
+                found.append(f"{path.relative_to(PKG)}:{node.name}")
+    return found
+
+
+def test_one_precision_backend():
+    assert backend_classes() == ["numerics/backend.py:_Float64", "numerics/backend.py:_Mp"]
+
+
 def test_one_run_loop():
     assert run_loops() == ["flow/compiled.py:_run_into"]
 
@@ -87,8 +115,8 @@ def test_one_period_detector():
 
 
 def test_the_scans_can_fail(tmp_path):
-    """The scans see a second loop, classifier or detector (here: the old plane kernel's
-    loop, and the old diagnostics' period detector)."""
+    """The scans see a second loop, classifier, detector or backend (here: the old plane
+    kernel's loop, the old diagnostics' period detector, the old flow's and scalar backends)."""
     src = '''
 import numba as nb
 @nb.njit(cache=True)
@@ -101,6 +129,14 @@ def classify(sim):
 def period_of(section):
     for k in range(1, 10):
         D = _unwrapped(section[k:], 0)
+class _NumpyLA:
+    def solve(A, b):
+        return np.linalg.solve(A, b)
+    def inv(A):
+        return np.linalg.inv(A)
+class _Float:
+    sin = staticmethod(math.sin)
+    cos = staticmethod(math.cos)
 '''
     global PKG
     old = PKG
@@ -110,5 +146,6 @@ def period_of(section):
         assert run_loops() == ["extra.py:_run"]
         assert classifiers() == ["extra.py:classify"]
         assert period_detectors() == ["extra.py:period_of"]
+        assert backend_classes() == ["extra.py:_NumpyLA", "extra.py:_Float"]
     finally:
         PKG = old

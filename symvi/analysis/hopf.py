@@ -104,7 +104,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-from ..numerics.tolerances import FORCING_RESONANCE_CUT, OMEGA_RANGE
+from ..numerics.tolerances import EPS64, FORCING_RESONANCE_CUT, OMEGA_RANGE
 from ..normal_forms.normal_form import normal_form, resonance
 
 #: the crossing is located to this absolute tolerance in omega (plus 4 eps relative)
@@ -783,7 +783,7 @@ def _brent(f, a, b):
         return None
     from scipy.optimize import brentq     # ~0.1 s to import: only when a boundary is located
     try:
-        return brentq(f, a, b, xtol=XTOL, rtol=4 * np.finfo(float).eps, maxiter=200)
+        return brentq(f, a, b, xtol=XTOL, rtol=4 * EPS64, maxiter=200)
     except (ValueError, RuntimeError):
         return None
 

@@ -63,7 +63,7 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
-#: float64 unit roundoff used throughout (2^-52, as in symvi._backend)
+#: float64 unit roundoff used throughout (2^-52)
 from ..numerics.tolerances import EPS64
 
 #: significant digits below which a result is recomputed at higher precision

@@ -61,4 +61,4 @@ def _high(flow, F, y, te, order, mp):
     _check_grazing(vals, mp)
     return HighJet(jacobian=vals["J"], d2=vals["d2"], d3=vals["d3"], d4=vals["d4"],
                    d5=vals.get("d5"), theta1=vals["theta1"], g_theta=vals["g_theta"],
-                   digits=flow.la.digits)
+                   digits=flow.bk.digits)

@@ -31,7 +31,7 @@ def evaluate(flow, forcing, y, te, order, tangent=None):
     """Flat generated values -> dict of numpy arrays (object arrays of mpf on mpmath)."""
     mod, layout = module(flow.n, order)
     inp = assemble(flow, forcing, y, te, order, tangent)
-    if flow.la.digits is None:
+    if flow.bk.digits is None:
         vals = mod.f64(inp)
         flat = np.fromiter(vals, float, len(vals))
     else:
@@ -170,7 +170,7 @@ def _jet(flow, F, y, te, order, mp):
     vals = evaluate(flow, F, y, te, order)
     _check_grazing(vals, mp)
     kw = dict(omega=F.omega, y=y, order=order, jacobian=vals["J"], theta1=vals["theta1"],
-              g_theta=vals["g_theta"], digits=flow.la.digits)
+              g_theta=vals["g_theta"], digits=flow.bk.digits)
     if order >= 2:
         J, d2 = vals["J"], vals["d2"]
         dy = fixed_point_motion(J, vals["dwP"], mp)

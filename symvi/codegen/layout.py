@@ -25,7 +25,7 @@ import mpmath
 import numpy as np
 
 from ..errors import ParameterError
-from ..flow.linear import NUMPY_LA
+from ..numerics.backend import FLOAT64
 from ._assemble import assemble64
 
 _LOADED = {}
@@ -79,11 +79,11 @@ def frechet_kernel(lt, ex, t):
 def frechet_exp(flow, t, dA):
     """d/de e^{(A + e dA) t} at e = 0, by the eigen-decomposition of A:
     W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t)."""
-    la = flow.la
+    bk = flow.bk
     lt = flow.lam * t
-    ex = la.exp(lt)
+    ex = bk.vexp(lt)
     m = len(lt)
-    if la is NUMPY_LA:
+    if bk is FLOAT64:
         G = frechet_kernel(lt, ex, t)
     else:
         G = np.empty((m, m), dtype=object)
@@ -91,32 +91,32 @@ def frechet_exp(flow, t, dA):
             for j in range(m):
                 d = lt[i] - lt[j]
                 G[i, j] = t * ex[j] * (mpmath.expm1(d) / d if d != 0 else 1)
-    return la.real(flow.W @ (G * (flow.Winv @ dA @ flow.W)) @ flow.Winv)
+    return bk.vreal(flow.W @ (G * (flow.Winv @ dA @ flow.W)) @ flow.Winv)
 
 
 def tangent_data(flow, forcing, te, tangent):
     """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
     the generated jets take the constraint's part through :func:`reset_tangent`."""
-    la, n = flow.la, flow.n
+    bk, n = flow.bk, flow.n
     p = list(flow.perm)
 
     def perm(a):
-        return la.arr(np.asarray(a)[np.ix_(p, p)] if np.ndim(a) == 2 else np.asarray(a)[p])
+        return bk.arr(np.asarray(a)[np.ix_(p, p)] if np.ndim(a) == 2 else np.asarray(a)[p])
     dM, dK, dC, dP = perm(tangent.dM), perm(tangent.dK), perm(tangent.dC), perm(tangent.dP)
     Minv = flow.Minv
     dMinv = -(Minv @ dM @ Minv)
-    Z = la.arr(np.zeros((n, n)))
+    Z = bk.arr(np.zeros((n, n)))
     dA = np.block([[Z, Z], [-(dMinv @ flow.K + Minv @ dK), -(dMinv @ flow.C + Minv @ dC)]])
     dPhi = frechet_exp(flow, te, dA)
     Phi = flow.phi(te)
     pE0 = dPhi
     pE1 = dPhi @ flow.A + Phi @ dA
     w = forcing.omega
-    i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+    i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
     D = flow.K - w * w * flow.M + i * w * flow.C
     X = forcing.U + i * forcing.V
-    dX = la.solve(D, dP - (dK - w * w * dM + i * w * dC) @ X)
-    return pE0, pE1, la.real(dX), la.real(-i * dX), tangent.dr, tangent.db
+    dX = bk.solve(D, dP - (dK - w * w * dM + i * w * dC) @ X)
+    return pE0, pE1, bk.vreal(dX), bk.vreal(-i * dX), tangent.dr, tangent.db
 
 
 def jet_constraint(flow):
@@ -155,29 +155,29 @@ def reset_tangent(flow, tangent):
     level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
     Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
     dq = -M^-1 dM q, dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
-    con, la, lib = flow.constraint, flow.la, flow.lib
+    con, bk = flow.constraint, flow.bk
     p = list(flow.perm)
     Minv = None
     if con.impulse is None:
-        Minv = la.inv(la.arr(np.asarray(flow.model.mass)))
-    c = la.arr(np.asarray(con.normal, dtype=float))
+        Minv = bk.inv(bk.arr(np.asarray(flow.model.mass)))
+    c = bk.arr(np.asarray(con.normal, dtype=float))
     q = con.direction(Minv)
     cq = c @ q
     Q = np.outer(q, c) / cq
-    dR = -lib.num(tangent.dr) * Q
+    dR = -bk.num(tangent.dr) * Q
     dM = np.asarray(tangent.dM, dtype=float)
     if con.impulse is None and np.any(dM != 0):
-        dq = -(Minv @ la.arr(dM) @ q)
+        dq = -(Minv @ bk.arr(dM) @ q)
         dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
         dR = dR - (1 + flow.r) * dQ
-    return con.sign * lib.num(tangent.db), dR[np.ix_(p, p)][:, 0]
+    return con.sign * bk.num(tangent.db), dR[np.ix_(p, p)][:, 0]
 
 
 def assemble(flow, forcing, y, te, order, tangent=None):
     """The input tuple of ``impact_n<N>_order<K>`` at section point y with flight time te."""
-    lib, la = flow.lib, flow.la
+    bk = flow.bk
     g0, level, R0 = _constraint_of(flow)
-    if la is NUMPY_LA and (tangent is None or tangent.zero):
+    if bk is FLOAT64 and (tangent is None or tangent.zero):
         lam, W, Winv, A = flow.modal64
         F = forcing
         # constraint64 = (b, level, guard, R row-major): the compiled kernels' layout
@@ -192,17 +192,17 @@ def assemble(flow, forcing, y, te, order, tangent=None):
     if order in PARAMETER_ORDERS:
         parts += [forcing.dU, forcing.dV]
         if tangent is None or tangent.zero:
-            z = la.arr(np.zeros((2 * flow.n) ** 2))
-            zn = la.arr(np.zeros(flow.n))
+            z = bk.arr(np.zeros((2 * flow.n) ** 2))
+            zn = bk.arr(np.zeros(flow.n))
             parts += [z, z, zn, zn]
-            scal_p = [lib.num(0)] * (1 + flow.n)
+            scal_p = [bk.num(0)] * (1 + flow.n)
         else:
             pE0, pE1, pU, pV, _, _ = tangent_data(flow, forcing, te, tangent)
             parts += [pE0.ravel(), pE1.ravel(), pU, pV]
             plevel, pR = reset_tangent(flow, tangent)
             scal_p = [plevel] + list(np.asarray(pR).ravel())
-    head = np.concatenate(parts) if la is NUMPY_LA else list(np.concatenate(parts))
-    tail = [forcing.omega, g0, level] + list(R0) + scal_p + list(y) + [lib.num(te)]
-    if la is NUMPY_LA:
+    head = np.concatenate(parts) if bk is FLOAT64 else list(np.concatenate(parts))
+    tail = [forcing.omega, g0, level] + list(R0) + scal_p + list(y) + [bk.num(te)]
+    if bk is FLOAT64:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)

@@ -26,8 +26,8 @@ h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
 of that quadratic.  A crossing with h' below a grazing speed is reported as
 grazing, never stepped over.  Damped motion is covered by the same bound.
 
-Both backends (float64 through numpy, mpmath at the current precision) run
-this one implementation.
+Both backends of :mod:`symvi.numerics.backend` (float64 through numpy, mpmath at the
+flow's digits: ``LinearFlow.bk``) run this one implementation.
 """
 import cmath
 import copy
@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from .._backend import FLOAT, MP
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..numerics.backend import FLOAT64, backend
 # relative distance to a forcing resonance refused / warned about (as for the paper), and
 # at which scans and branches through a natural frequency are cut (symvi.numerics.tolerances)
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR, OMEGA_RANGE
@@ -55,126 +55,6 @@ IMPACT, GRAZING, NO_IMPACT = "impact", "grazing", "no-impact"
 EIGVEC_COND_MAX = 1e10
 
 
-# --------------------------------------------------------------------------- backends
-class _NumpyLA:
-    """Complex float64 linear algebra."""
-
-    lib = FLOAT
-    digits = None
-
-    @staticmethod
-    def arr(x, dtype=float):
-        return np.array(x, dtype=dtype)
-
-    @staticmethod
-    def exp(v):
-        return np.exp(v)
-
-    @staticmethod
-    def inv(A):
-        return np.linalg.inv(A)
-
-    @staticmethod
-    def solve(A, b):
-        return np.linalg.solve(A, b)
-
-    @staticmethod
-    def eigh_pair(K, M):
-        """omega_j ascending and M-normalised modes (columns) of K psi = omega^2 M psi."""
-        L = np.linalg.cholesky(M)
-        Li = np.linalg.inv(L)
-        w2, Q = np.linalg.eigh(Li @ K @ Li.T)
-        return np.sqrt(w2), Li.T @ Q
-
-    @staticmethod
-    def eig(A):
-        lam, W = np.linalg.eig(A)
-        return lam, W
-
-    @staticmethod
-    def cond(W):
-        return np.linalg.cond(W)
-
-    @staticmethod
-    def real(x):
-        return np.real(x)
-
-    @staticmethod
-    def absv(x):
-        return np.abs(x)
-
-
-class _MpLA:
-    """mpmath linear algebra at the current ``mpmath.mp.dps``, on numpy object arrays."""
-
-    lib = MP
-
-    @property
-    def digits(self):
-        return mpmath.mp.dps
-
-    @staticmethod
-    def arr(x, dtype=None):
-        a = np.array(x, dtype=object)
-        return np.vectorize(lambda v: v if isinstance(v, (mpmath.mpf, mpmath.mpc))
-                            else mpmath.mpf(v) if not isinstance(v, complex)
-                            else mpmath.mpc(v), otypes=[object])(a) if a.size else a
-
-    @staticmethod
-    def _m(A):
-        return mpmath.matrix(A.tolist())
-
-    @staticmethod
-    def _a(m, shape):
-        out = np.empty(shape, dtype=object)
-        for i in range(shape[0]):
-            if len(shape) == 1:
-                out[i] = m[i]
-            else:
-                for j in range(shape[1]):
-                    out[i, j] = m[i, j]
-        return out
-
-    def exp(self, v):
-        return np.array([mpmath.exp(x) for x in v], dtype=object)
-
-    def inv(self, A):
-        return self._a(mpmath.inverse(self._m(A)), A.shape)
-
-    def solve(self, A, b):
-        return self._a(mpmath.lu_solve(self._m(A), mpmath.matrix(list(b))), b.shape)
-
-    def eigh_pair(self, K, M):
-        L = mpmath.cholesky(self._m(M))
-        Li = mpmath.inverse(L)
-        E, Q = mpmath.eigsy(Li * self._m(K) * Li.T)
-        n = K.shape[0]
-        order = sorted(range(n), key=lambda i: E[i])
-        psi = self._a(Li.T * Q, (n, n))[:, order]
-        return np.array([mpmath.sqrt(E[i]) for i in order], dtype=object), psi
-
-    def eig(self, A):
-        E, ER = mpmath.eig(self._m(A))
-        n = A.shape[0]
-        return np.array([E[i] for i in range(n)], dtype=object), self._a(ER, (n, n))
-
-    def cond(self, W):
-        m = self._m(W)
-        return float(mpmath.mnorm(m, 1) * mpmath.mnorm(mpmath.inverse(m), 1))
-
-    @staticmethod
-    def real(x):
-        return np.vectorize(lambda v: mpmath.re(v), otypes=[object])(x)
-
-    @staticmethod
-    def absv(x):
-        return np.vectorize(lambda v: abs(v), otypes=[object])(x)
-
-
-NUMPY_LA = _NumpyLA()
-MP_LA = _MpLA()
-
-
 # --------------------------------------------------------------------------- the flow
 @dataclass(frozen=True)
 class Forcing:
@@ -187,19 +67,19 @@ class Forcing:
     dU: np.ndarray
     dV: np.ndarray
 
-    def zp(self, phase, lib):
+    def zp(self, phase, bk):
         """(x_p, v_p) at phase phi = omega t + tau, as one 2N vector."""
-        s, c = lib.sin(phase), lib.cos(phase)
+        s, c = bk.sin(phase), bk.cos(phase)
         return np.concatenate([self.U * s + self.V * c, self.omega * (self.U * c - self.V * s)])
 
-    def zp_phase(self, phase, lib):
+    def zp_phase(self, phase, bk):
         """d zp / d phi at phase phi."""
-        s, c = lib.sin(phase), lib.cos(phase)
+        s, c = bk.sin(phase), bk.cos(phase)
         return np.concatenate([self.U * c - self.V * s, -self.omega * (self.U * s + self.V * c)])
 
-    def zp_omega(self, phase, lib):
+    def zp_omega(self, phase, bk):
         """d zp / d omega at fixed phase (U, V and the velocity's factor omega move)."""
-        s, c = lib.sin(phase), lib.cos(phase)
+        s, c = bk.sin(phase), bk.cos(phase)
         return np.concatenate([self.dU * s + self.dV * c,
                                self.U * c - self.V * s + self.omega * (self.dU * c - self.dV * s)])
 
@@ -208,46 +88,46 @@ class LinearFlow:
     """The exact flow of one model in one backend (see the module docstring).
 
     ``LinearFlow.of(model, digits=None)`` is cached; ``digits`` selects mpmath
-    (the flow then holds mpf data and must be used at that precision).
+    (the flow then holds mpf data and must be used at that precision).  ``bk`` is the
+    flow's backend (:mod:`symvi.numerics.backend`): FLOAT64 or ``backend(digits)``.
     """
 
-    def __init__(self, model, la):
-        self.model, self.la = model, la
-        lib = la.lib
+    def __init__(self, model, bk):
+        self.model, self.bk = model, bk
         n = model.n
         con = model.constraints[0]
         self.perm = _frame(con, n)
         p = list(self.perm)
         self.n = n
-        M = la.arr(np.asarray(model.mass)[np.ix_(p, p)])
-        K = la.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
-        C = la.arr(np.asarray(model.damping)[np.ix_(p, p)])
+        M = bk.arr(np.asarray(model.mass)[np.ix_(p, p)])
+        K = bk.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
+        C = bk.arr(np.asarray(model.damping)[np.ix_(p, p)])
         self.M, self.K, self.C = M, K, C
-        self.P = la.arr(np.asarray(model.forcing)[p])
-        Minv = self.Minv = la.inv(M)
+        self.P = bk.arr(np.asarray(model.forcing)[p])
+        Minv = self.Minv = bk.inv(M)
         self._constrain(con)
         Z, I = np.zeros((n, n)), np.eye(n)
-        self.A = np.block([[la.arr(Z), la.arr(I)], [-(Minv @ K), -(Minv @ C)]])
+        self.A = np.block([[bk.arr(Z), bk.arr(I)], [-(Minv @ K), -(Minv @ C)]])
         # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
-        self.omegas, psi = la.eigh_pair(K, M)
+        self.omegas, psi = bk.eigh_pair(K, M)
         if not model.damped:
             Om = self.omegas
-            i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+            i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
             self.lam = np.concatenate([i * Om, -i * Om])
             self.W = np.block([[psi, psi], [i * psi * Om, -i * psi * Om]])
             PM = psi.T @ M
-            half = 0.5 if la is NUMPY_LA else mpmath.mpf(1) / 2
+            half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
             Oi = (1 / Om)[:, None]
             self.Winv = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
         else:
-            self.lam, self.W = la.eig(self.A)
-            cond = la.cond(self.W)
+            self.lam, self.W = bk.eig(self.A)
+            cond = bk.cond(self.W)
             if not cond < EIGVEC_COND_MAX:
                 raise SingularCaseError(
                     "defective-flow", f"the eigenvectors of the state matrix are nearly "
                     f"dependent (condition {cond:.3g}): a mode is (close to) critically damped "
                     "and the modal form of the flow would lose all accuracy")
-            self.Winv = la.inv(self.W)
+            self.Winv = bk.inv(self.W)
         self._forcing_cache = {}
         self._resonance_cache = {}
 
@@ -256,11 +136,11 @@ class LinearFlow:
         ``b`` the gap (x_0 = b on the section), ``r`` the restitution, ``guard`` the
         signed normal and ``level`` the signed gap (h = guard . x - level < 0 off the stop),
         ``reset`` R with v+ = R v-.  The one place the flow reads the impact law."""
-        lib = self.lib
+        bk = self.bk
         self.constraint = con
-        self.b, self.r = lib.num(con.gap), lib.num(con.restitution)
+        self.b, self.r = bk.num(con.gap), bk.num(con.restitution)
         self.level = con.sign * self.b
-        if self.la is NUMPY_LA:
+        if self.bk is FLOAT64:
             # a curve in the gap or r builds a flow per corrector step: what does not
             # depend on the gap is computed once per (normal, side, impulse, r, order, M)
             key = (con.normal, con.side, con.impulse, con.restitution, self.perm,
@@ -287,13 +167,13 @@ class LinearFlow:
         """(guard, reset, unit guard, coordinate law, guard and reset as float64 row-major)
         of ``con`` at this flow's restitution and order; see :meth:`_constrain`."""
         p = list(self.perm)
-        guard = self.la.arr(con.sign * np.array(con.normal)[p])
+        guard = self.bk.arr(con.sign * np.array(con.normal)[p])
         Minv = None
         if con.impulse is None:                    # rigid: along M^-1 c (mass order)
-            Minv = self.la.inv(self.la.arr(np.asarray(self.model.mass)))
+            Minv = self.bk.inv(self.bk.arr(np.asarray(self.model.mass)))
         reset = con.reset_matrix(Minv, order=p, r=self.r)
-        if self.la is not NUMPY_LA:
-            reset = self.la.arr(reset)
+        if self.bk is not FLOAT64:
+            reset = self.bk.arr(reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
         unit_guard = con.sign == 1.0 and con.coordinate is not None
         # ... with v_0+ = -r v_0-, every other velocity kept (today's stop; the generated
@@ -302,7 +182,7 @@ class LinearFlow:
         law[0, 0] = -self.r
         coordinate_law = unit_guard and bool(np.all(reset == law))
         tail = None
-        if self.la is NUMPY_LA:
+        if self.bk is FLOAT64:
             tail = np.concatenate([guard, np.asarray(reset, dtype=float).ravel()])
             for a in (guard, reset, tail):          # shared by the flows of one cache entry
                 a.setflags(write=False)
@@ -313,8 +193,8 @@ class LinearFlow:
         R = self._resets.get(r)
         if R is None:
             con = self.constraint
-            R = con.reset_matrix(None if con.impulse else self.la.inv(
-                self.la.arr(np.asarray(self.model.mass))), order=list(self.perm), r=r)
+            R = con.reset_matrix(None if con.impulse else self.bk.inv(
+                self.bk.arr(np.asarray(self.model.mass))), order=list(self.perm), r=r)
             self._resets[r] = R
         return R
 
@@ -341,10 +221,6 @@ class LinearFlow:
             return _flow_float(model)
         with mpmath.mp.workdps(digits):
             return _flow_mp(model, digits)
-
-    @property
-    def lib(self):
-        return self.la.lib
 
     @functools.cached_property
     def mass_scaled(self):
@@ -392,21 +268,21 @@ class LinearFlow:
 
     def forcing(self, omega):
         """U, V and their omega-derivatives at omega (no checks; see :meth:`check_omega`)."""
-        if self.la is not NUMPY_LA:
+        if self.bk is not FLOAT64:
             return self._forcing(omega)
         return _memo(self._forcing_cache, omega, lambda: self._forcing(omega))
 
     def _forcing(self, omega):
-        la, lib = self.la, self.lib
-        if la is NUMPY_LA:                 # the same two solves, compiled (one LU)
+        bk = self.bk
+        if bk is FLOAT64:                 # the same two solves, compiled (one LU)
             w = float(omega)
             return Forcing(w, *steady_state(self.K, self.M, self.C, self.P, w))
-        w = lib.num(omega)
-        i = 1j if la is NUMPY_LA else mpmath.mpc(0, 1)
+        w = bk.num(omega)
+        i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
         D = self.K - w * w * self.M + i * w * self.C
-        X = la.solve(D, self.P * (1 if la is NUMPY_LA else mpmath.mpf(1)))
-        dX = la.solve(D, (2 * w * self.M - i * self.C) @ X)
-        re, im = la.real, lambda v: la.real(-i * v)
+        X = bk.solve(D, self.P * (1 if bk is FLOAT64 else mpmath.mpf(1)))
+        dX = bk.solve(D, (2 * w * self.M - i * self.C) @ X)
+        re, im = bk.vreal, lambda v: bk.vreal(-i * v)
         return Forcing(w, re(X), im(X), re(dX), im(dX))
 
     # ---- the homogeneous part --------------------------------------------------
@@ -416,35 +292,35 @@ class LinearFlow:
 
     def phis(self, t, K):
         """[Phi(t) A^k for k = 0..K], one exponential for all."""
-        e = self.la.exp(self.lam * t)
+        e = self.bk.vexp(self.lam * t)
         out = []
         for _ in range(K + 1):
-            out.append(self.la.real((self.W * e) @ self.Winv))
+            out.append(self.bk.vreal((self.W * e) @ self.Winv))
             e = e * self.lam
         return out
 
     def flight(self, forcing, z0, tau, t):
         """z(t) of the flight from z0 at phase tau and its first derivatives (variational
         equations, exact): (z, dz/dz0 = Phi(t), dz/dtau, dz/dt)."""
-        lib = self.lib
+        bk = self.bk
         Phi = self.phi(t)
         ph = tau + forcing.omega * t
-        zpt, dzpt = forcing.zp(ph, lib), forcing.zp_phase(ph, lib)
-        hom = Phi @ (z0 - forcing.zp(tau, lib))
-        return (hom + zpt, Phi, dzpt - Phi @ forcing.zp_phase(tau, lib),
+        zpt, dzpt = forcing.zp(ph, bk), forcing.zp_phase(ph, bk)
+        hom = Phi @ (z0 - forcing.zp(tau, bk))
+        return (hom + zpt, Phi, dzpt - Phi @ forcing.zp_phase(tau, bk),
                 self.A @ hom + forcing.omega * dzpt)
 
     def motion(self, forcing, z0, tau):
         """The free flight from state z0 (stop-first order) at phase tau."""
-        z0 = np.asarray(z0) if self.la is NUMPY_LA else self.la.arr(z0)
-        w = z0 - forcing.zp(tau, self.lib)
+        z0 = np.asarray(z0) if self.bk is FLOAT64 else self.bk.arr(z0)
+        w = z0 - forcing.zp(tau, self.bk)
         return Motion(self, forcing, tau, self.Winv @ w)
 
     def one_minus_exp(self, omega):
         """min_j |1 - e^{lambda_j 2 pi / omega}| and its mode index: 0 where the
         period-1 orbit is not isolated (omega_j / omega an integer, undamped mode)."""
-        T = 2 * self.lib.pi / self.lib.num(omega)
-        d = self.la.absv(1 - self.la.exp(self.lam * T))
+        T = 2 * self.bk.pi / self.bk.num(omega)
+        d = self.bk.vabs(1 - self.bk.vexp(self.lam * T))
         j = int(np.argmin([float(x) for x in d]))
         return d[j], j % self.n
 
@@ -461,13 +337,9 @@ def _flow_float(model):
     con = model.constraints[0]
     key = (con.normal, con.side, con.impulse) + tuple(np.asarray(a, dtype=float).tobytes() for a in
                                      (model.mass, model.stiffness, model.damping, model.forcing))
-    base = _LINEAR.get(key)
-    if base is None:
-        if len(_LINEAR) > 64:
-            _LINEAR.clear()
-        base = _LINEAR[key] = LinearFlow(model, NUMPY_LA)
-        return base
-    flow = copy.copy(base)
+    if key not in _LINEAR:
+        return _memo(_LINEAR, key, lambda: LinearFlow(model, FLOAT64), size=64)
+    flow = copy.copy(_LINEAR[key])
     flow.model = model
     flow._constrain(con)
     return flow
@@ -488,20 +360,14 @@ _MP_CACHE = {}
 
 
 def _flow_mp(model, digits):
-    key = (model, digits)
-    f = _MP_CACHE.get(key)
-    if f is None:
-        if len(_MP_CACHE) > 64:
-            _MP_CACHE.clear()
-        f = _MP_CACHE[key] = LinearFlow(model, MP_LA)
-    return f
+    return _memo(_MP_CACHE, (model, digits), lambda: LinearFlow(model, backend(digits)), size=64)
 
 
-def _memo(cache, key, compute):
-    """cache[key], computed once; the cache is emptied past 256 entries."""
+def _memo(cache, key, compute, size=256):
+    """cache[key], computed once; the cache is emptied past ``size`` entries."""
     hit = cache.get(key)
     if hit is None:
-        if len(cache) > 256:
+        if len(cache) > size:
             cache.clear()
         hit = cache[key] = compute()
     return hit
@@ -533,36 +399,35 @@ class Motion:
 
     def __init__(self, flow, forcing, tau, c):
         self.flow, self.forcing, self.tau, self.c = flow, forcing, tau, c
-        la = flow.la
+        bk = flow.bk
         n, g = flow.n, flow.guard
         # s(t) = guard . x(t) = Re sum d_j e^{lambda_j t} + guard . x_p (x_k for a stop on k)
         self.d = (g @ flow.W[:n]) * c
         self.dv = (g @ flow.W[n:]) * c            # s'(t), likewise
-        lib = flow.lib
         self._U0, self._V0 = g @ forcing.U, g @ forcing.V
-        if flow.la is NUMPY_LA:           # scalar Python is faster than numpy at this size
+        if flow.bk is FLOAT64:           # scalar Python is faster than numpy at this size
             self._terms = [(complex(l), complex(a), complex(b))
                            for l, a, b in zip(flow.lam, self.d, self.dv)]
             self._U0, self._V0 = float(self._U0), float(self._V0)
-        self.Xk = lib.sqrt(self._U0 ** 2 + self._V0 ** 2)
-        ad = la.absv(self.d)
-        al = la.absv(flow.lam)
+        self.Xk = bk.sqrt(self._U0 ** 2 + self._V0 ** 2)
+        ad = bk.vabs(self.d)
+        al = bk.vabs(flow.lam)
         self.amp = sum(ad)
         self.M2 = sum(ad * al * al) + self.Xk * forcing.omega ** 2
 
     def state(self, t):
         """z(t), a real 2N vector."""
-        f, la = self.flow, self.flow.la
-        hom = la.real(f.W @ (self.c * la.exp(f.lam * t)))
-        return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.lib)
+        f, bk = self.flow, self.flow.bk
+        hom = bk.vreal(f.W @ (self.c * bk.vexp(f.lam * t)))
+        return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.bk)
 
     def h(self, t):
         """(h, h') at t, h = guard . x - level (x_k - b for a stop on mass k)."""
         f = self.flow
         om = self.forcing.omega
         ph = om * t + self.tau
-        s, c = f.lib.sin(ph), f.lib.cos(ph)
-        if f.la is NUMPY_LA:
+        s, c = f.bk.sin(ph), f.bk.cos(ph)
+        if f.bk is FLOAT64:
             hh = hv = 0j
             for lam, a, b in self._terms:
                 e = cmath.exp(lam * t)
@@ -570,21 +435,21 @@ class Motion:
                 hv += b * e
             return (hh.real + self._U0 * s + self._V0 * c - f.level,
                     hv.real + om * (self._U0 * c - self._V0 * s))
-        e = f.la.exp(f.lam * t)
+        e = f.bk.vexp(f.lam * t)
         h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.level
         hd = (self.dv @ e).real + om * (self._U0 * c - self._V0 * s)
         return h, hd
 
     def first_impact(self, t_max=None, max_steps=100000):
         """First t > 0 with h(t) = 0 (x_k(t) = b) for a flight that leaves the stop (h' < 0)."""
-        f, lib = self.flow, self.flow.lib
+        f, bk = self.flow, self.flow.bk
         om = self.forcing.omega
         if t_max is None:
-            t_max = 2000 * lib.pi / om                 # 1000 forcing periods
+            t_max = 2000 * bk.pi / om                 # 1000 forcing periods
         M2 = self.M2
-        L = self.amp + self.Xk + lib.fabs(f.level)
-        eps_h = CONTACT_ULPS * lib.eps * L
-        v_graze = GRAZING_SPEED_FACTOR * lib.sqrt(2 * M2 * eps_h)
+        L = self.amp + self.Xk + bk.fabs(f.level)
+        eps_h = CONTACT_ULPS * bk.eps * L
+        v_graze = GRAZING_SPEED_FACTOR * bk.sqrt(2 * M2 * eps_h)
         t0 = 0 * t_max
         _, hd = self.h(t0)
         if not hd < 0:
@@ -599,11 +464,11 @@ class Motion:
                     dt = -h / hd
                     t += dt
                     h, hd = self.h(t)
-                    if lib.fabs(dt) <= CONTACT_TIME_ULPS * lib.eps * t:
+                    if bk.fabs(dt) <= CONTACT_TIME_ULPS * bk.eps * t:
                         break
                 return FirstImpact(IMPACT, t, self.state(t), n)
             if t > t_max:
                 return FirstImpact(NO_IMPACT, t, self.state(t), n)
             # safe step: first positive root of h + hd s + M2 s^2/2 = 0 (stable form)
-            t += -2 * h / (hd + lib.sqrt(hd * hd - 2 * M2 * h))
+            t += -2 * h / (hd + bk.sqrt(hd * hd - 2 * M2 * h))
         return FirstImpact(NO_IMPACT, t, self.state(t), max_steps)

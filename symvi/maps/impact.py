@@ -29,12 +29,12 @@ class MapStep:
 def step(flow, forcing, y, t_max=None):
     """Apply P once from y (flow and forcing in one backend, at its precision)."""
     sec = Section(flow.n, flow.perm)
-    lib = flow.lib
+    bk = flow.bk
     z0, tau = sec.state(y, flow.b)
     hit = flow.motion(forcing, z0, tau).first_impact(t_max=t_max)
     tau_u = tau + forcing.omega * hit.t
     z = hit.state
-    y1 = sec.image(z, flow.reset, tau_u % (2 * lib.pi))
+    y1 = sec.image(z, flow.reset, tau_u % (2 * bk.pi))
     return MapStep(tuple(y1), hit.t, flow.approach(z), hit.status, tau_u)
 
 

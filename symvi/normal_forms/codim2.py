@@ -77,7 +77,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, SingularCaseError
-from .normal_form import _B, _C, _eigen, _kuznetsov, _phase_fix, _symmetrise, _vdot, backend
+from .normal_form import _B, _C, _backend, _eigen, _kuznetsov, _phase_fix, _symmetrise, _vdot
 
 #: default bound on the distance of the critical multipliers from their exact
 #: codimension-two values (relative to max(1, max|multiplier|))
@@ -110,13 +110,13 @@ def _sym(d, first=1):
 
 def _jet(bk, A, *ds):
     """Backend arrays of A and the symmetrised derivatives, shapes checked."""
-    A = bk.arr(A)
+    A = bk.carr(A)
     if A.ndim != 2 or A.shape[0] != A.shape[1] or A.shape[0] < 2:
         raise ParameterError("A", A.shape, "a square n x n matrix with n >= 2")
     n = A.shape[0]
     out = [A]
     for k, d in enumerate(ds, start=2):
-        d = bk.arr(d)
+        d = bk.carr(d)
         if d.shape != (n,) * (k + 1):
             raise ParameterError(f"d{k}", d.shape, f"shape {(n,) * (k + 1)}")
         out.append(_symmetrise(d) if k <= 3 else _sym(d))
@@ -132,7 +132,7 @@ def _num(bk, x):
 
 
 def _real(bk, x):
-    return float(np.real(x)) if bk.digits is None else bk.real(x)
+    return bk.real(x)
 
 
 def _norm(v):
@@ -149,18 +149,18 @@ def _solve(bk, M, b, what):
     if not c < 1e-3 / bk.eps:
         raise SingularCaseError("singular-solve", f"{what} is singular (cond {c:.2e}): a "
                                 "further multiplier is critical (higher codimension)")
-    return bk.solve(M, b)
+    return bk.csolve(M, b)
 
 
 def _bordered(bk, M, q, p, r, what):
     """The h with M h = r - s q, <p, h> = 0 (s fixed by solvability): the bordered system
     [[M, q], [conj(p)^T, 0]] [h; s] = [r; 0]  [Kuznetsov & Meijer 2005]."""
     n = M.shape[0]
-    K = bk.zeros((n + 1, n + 1))
+    K = bk.czeros((n + 1, n + 1))
     K[:n, :n] = M
     K[:n, n] = q
     K[n, :n] = np.conj(p)
-    rhs = bk.zeros(n + 1)
+    rhs = bk.czeros(n + 1)
     rhs[:n] = r
     return _solve(bk, K, rhs, what)[:n]
 
@@ -208,7 +208,7 @@ def _real_eig(bk, A, target, tol, vals=None, V=None, tag=""):
     scaled to <p, q> = 1 (A^T p = mu p).  Refused when the multiplier is not within
     ``tol`` of the target or is not simple."""
     if vals is None:
-        vals, V = bk.eig(A)
+        vals, V = bk.ceig(A)
     n = A.shape[0]
     s = _scale(vals)
     k = min(range(n), key=lambda i: (float(abs(vals[i] - target)), i))
@@ -221,10 +221,10 @@ def _real_eig(bk, A, target, tol, vals=None, V=None, tag=""):
                                 f"the multiplier {target:+g} is not simple (distance "
                                 f"{gap:.2e} to another): a 1:{1 if target > 0 else 2} "
                                 "resonance, see resonance_1_1 / resonance_1_2")
-    q = bk.re(_phase_fix(bk, V[:, k].copy()))
-    u = bk.inv(V)[k, :]
+    q = bk.carr(bk.vreal(_phase_fix(bk, V[:, k].copy())))
+    u = bk.cinv(V)[k, :]
     u = u / np.dot(u, q)
-    p = bk.re(np.conj(u))
+    p = bk.carr(bk.vreal(np.conj(u)))
     mu = mu.real
     res = {f"|A q{tag} - mu q{tag}|": _norm(np.dot(A, q) - mu * q),
            f"|A^T p{tag} - mu p{tag}|": _norm(np.dot(A.T, p) - mu * p),
@@ -233,16 +233,9 @@ def _real_eig(bk, A, target, tol, vals=None, V=None, tag=""):
 
 
 def _svd(bk, M):
-    """(U, singular values ascending-sorted indices, V) of a real matrix M = U S V^T."""
-    if bk.digits is None:
-        U, S, Vt = np.linalg.svd(np.real(M).astype(float))
-        return U, list(S), Vt.T
-    import mpmath
-    U, S, Vt = mpmath.svd_r(mpmath.matrix([[x.real for x in row] for row in M.tolist()]))
-    n = M.shape[0]
-    U = np.array([[U[i, j] for j in range(n)] for i in range(n)], dtype=object)
-    V = np.array([[Vt[j, i] for j in range(n)] for i in range(n)], dtype=object)
-    return U, [S[i] for i in range(n)], V
+    """(U, singular values, V) of the real part of a square M = U S V^T."""
+    U, S, Vt = bk.svd(bk.vreal(M))
+    return U, list(S), Vt.T
 
 
 @dataclass(frozen=True)
@@ -265,7 +258,7 @@ def _jordan(bk, A, mu, tol):
     Refused: no multiplier mu; mu semisimple (two singular values ~ 0); mu simple
     (<p1, q0> != 0); a longer Jordan chain (<p1, q1> = 0)."""
     n = A.shape[0]
-    M = A - mu * bk.eye(n)
+    M = A - mu * bk.ceye(n)
     U, S, V = _svd(bk, M)
     order = sorted(range(n), key=lambda i: float(S[i]))
     s = max(1.0, float(max(S)))
@@ -279,9 +272,9 @@ def _jordan(bk, A, mu, tol):
                                 f"A - ({name}) I vanish: {float(S[order[0]]):.1e}, "
                                 f"{float(S[order[1]]):.1e}): two independent eigenvectors, "
                                 "no Jordan block, not a 1:%s resonance" % ("1" if mu > 0 else "2"))
-    q0 = bk.arr(V[:, order[0]])
-    p1 = bk.arr(U[:, order[0]])
-    q0 = bk.re(_phase_fix(bk, q0))
+    q0 = bk.carr(V[:, order[0]])
+    p1 = bk.carr(U[:, order[0]])
+    q0 = bk.carr(bk.vreal(_phase_fix(bk, q0)))
     overlap = float(abs(_vdot(p1, q0))) / _norm(p1)
     if overlap > tol ** 0.5:
         raise SingularCaseError("simple", f"the multiplier {name} is simple (<p, q> = "
@@ -314,7 +307,7 @@ def _prepared(tol, digits, A, *ds):
     """(tol, backend, [A, *ds] as the backend's arrays, the derivatives symmetrised), inside
     the backend's precision: the start of every normal form here."""
     tol = _default_tol(tol)
-    bk = backend(digits, A, *ds)
+    bk = _backend(digits, A, *ds)
     with bk.context():
         yield tol, bk, _jet(bk, A, *ds)
 
@@ -373,7 +366,7 @@ def chenciner(A, d2, d3, d4, d5, *, index=None, tol=None, digits=None):
         e, res = _complex_pair(bk, A, index, None, tol)
         lam, q, p = e.lam, e.q, e.p
         lb, qb = np.conj(lam), np.conj(q)
-        I = bk.eye(n)
+        I = bk.ceye(n)
 
         def B(u, v):
             return _B(d2, u, v)
@@ -510,7 +503,7 @@ def resonance_1_2(A, d2, d3, *, tol=None, digits=None):
     with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         J = _jordan(bk, A, -1, tol)
         q0, q1, p0, p1 = J.q0, J.q1, J.p0, J.p1
-        ImA = bk.eye(A.shape[0]) - A
+        ImA = bk.ceye(A.shape[0]) - A
         h20 = _solve(bk, ImA, _B(d2, q0, q0), "I - A")
         h11 = _solve(bk, ImA, _B(d2, q0, q1) + h20, "I - A")
         r30 = _C(d3, q0, q0, q0) + 3 * _B(d2, q0, h20)
@@ -557,10 +550,10 @@ def resonance_1_3(A, d2, d3, *, index=None, tol=None, digits=None):
     """
     with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         n = A.shape[0]
-        e, res = _complex_pair(bk, A, index, bk.exp(2j * bk.pi / 3), tol)
+        e, res = _complex_pair(bk, A, index, bk.cexp(2j * bk.pi / 3), tol)
         lam, q, p = e.lam, e.q, e.p
         qb = np.conj(q)
-        I = bk.eye(n)
+        I = bk.ceye(n)
         Bqbqb = _B(d2, qb, qb)
         b1 = _vdot(p, Bqbqb) / 2
         if not float(abs(b1)) > tol:
@@ -731,7 +724,7 @@ def _xz(A, d2, d3, mu, index, tol, digits):
         lam, q2, p2 = e.lam, e.q, e.p
         q1, p1 = R.q, R.p
         qb2 = np.conj(q2)
-        I = bk.eye(n)
+        I = bk.ceye(n)
 
         def B(u, v):
             return _B(d2, u, v)
@@ -825,11 +818,11 @@ def fold_flip(A, d2, d3, *, tol=None, digits=None):
     b03 = <p1, C(q1,q1,q1) + 3B(q1,h02)>/6.
     """
     with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
-        vals, V = bk.eig(A)
+        vals, V = bk.ceig(A)
         F = _real_eig(bk, A, 1, tol, vals, V, tag="0")
         P = _real_eig(bk, A, -1, tol, vals, V, tag="1")
         q0, p0, q1, p1 = F.q, F.p, P.q, P.p
-        I = bk.eye(A.shape[0])
+        I = bk.ceye(A.shape[0])
 
         def B(u, v):
             return _B(d2, u, v)
@@ -891,7 +884,7 @@ def cusp(A, d2, d3, *, tol=None, digits=None):
         q, p = R.q, R.p
         Bqq = _B(d2, q, q)
         a = _vdot(p, Bqq) / 2
-        h2 = _bordered(bk, A - bk.eye(A.shape[0]), q, p, 2 * a * q - Bqq, "A - I")
+        h2 = _bordered(bk, A - bk.ceye(A.shape[0]), q, p, 2 * a * q - Bqq, "A - I")
         c = _vdot(p, _C(d3, q, q, q) + 3 * _B(d2, q, h2)) / 6
         return Cusp(a=_real(bk, a), c=_real(bk, c), q=q, p=p, residuals=R.res,
                     backend=bk.name, digits=bk.digits)
@@ -931,7 +924,7 @@ def degenerate_flip(A, d2, d3, d4, d5, *, tol=None, digits=None):
     with _prepared(tol, digits, A, d2, d3, d4, d5) as (tol, bk, (A, d2, d3, d4, d5)):
         R = _real_eig(bk, A, -1, tol)
         q, p = R.q, R.p
-        I = bk.eye(A.shape[0])
+        I = bk.ceye(A.shape[0])
 
         def B(u, v):
             return _B(d2, u, v)

@@ -56,8 +56,6 @@ References
 of Applied Bifurcation Theory, 3rd ed., Springer 2004, Sec. 5.4 (Neimark–Sacker
 bifurcation in n-dimensional maps; c1 formula) and Sec. 4.7 (planar normal form).
 """
-import cmath
-import contextlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -67,6 +65,8 @@ import numpy as np
 
 from .._deprecated import moved_call, moved_names
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..numerics.backend import backend
+from ..numerics.tolerances import EPS64
 # |lambda^m - 1| (m = 1..5) below which the reduction is refused / warned about: the strong
 # resonances of the multiplier, not the forcing resonance of symvi.flow.linear's names
 from ..numerics.tolerances import STRONG_RESONANCE_REFUSE as RESONANCE_REFUSE
@@ -75,142 +75,14 @@ from ..numerics.tolerances import STRONG_RESONANCE_WARN as RESONANCE_WARN
 COLLISION_WARN = 1e-6
 
 
-# --------------------------------------------------------------------------- backends
-class _NumpyBackend:
-    """float64 / complex128 linear algebra."""
-
-    name = "float64"
-    digits = None
-    eps = 2.0 ** -52
-
-    def context(self):
-        return contextlib.nullcontext()
-
-    def arr(self, x):
-        return np.array(x, dtype=complex)
-
-    def eye(self, n):
-        return np.eye(n, dtype=complex)
-
-    def zeros(self, shape):
-        return np.zeros(shape, dtype=complex)
-
-    def eig(self, A):
-        return np.linalg.eig(A)
-
-    def solve(self, M, b):
-        return np.linalg.solve(M, b)
-
-    def inv(self, M):
-        return np.linalg.inv(M)
-
-    def re(self, x):
-        return np.real(x).astype(complex)
-
-    sqrt = staticmethod(cmath.sqrt)
-    exp = staticmethod(cmath.exp)
-    arg = staticmethod(cmath.phase)
-    pi = math.pi
-
-    def real(self, x):
-        return float(np.real(x))
-
-    def cond(self, M):
-        return float(np.linalg.cond(M))
-
-
-class _MpBackend:
-    """mpmath at ``digits`` significant digits; arrays are numpy object arrays of mpc."""
-
-    name = "mpmath"
-
-    def __init__(self, digits):
-        self.digits = int(digits)
-
-    def context(self):
-        return mpmath.mp.workdps(self.digits)
-
-    @property
-    def eps(self):
-        return mpmath.mp.eps
-
-    _to_mpc = staticmethod(np.frompyfunc(lambda e: mpmath.mpc(e), 1, 1))
-
-    def arr(self, x):
-        if isinstance(x, mpmath.matrix):
-            x = x.tolist()
-        a = np.array(x, dtype=object)
-        return self._to_mpc(a) if a.ndim else mpmath.mpc(a.item())
-
-    def eye(self, n):
-        return self.arr(np.eye(n))
-
-    def zeros(self, shape):
-        return self.arr(np.zeros(shape))
-
-    def _mat(self, M):
-        return mpmath.matrix(M.tolist())
-
-    def eig(self, A):
-        E, ER = mpmath.eig(self._mat(A))
-        n = A.shape[0]
-        vals = np.array([mpmath.mpc(e) for e in E], dtype=object)
-        vecs = np.array([[mpmath.mpc(ER[i, j]) for j in range(n)] for i in range(n)], dtype=object)
-        return vals, vecs
-
-    def solve(self, M, b):
-        x = mpmath.lu_solve(self._mat(M), mpmath.matrix(list(b)))
-        return np.array([mpmath.mpc(x[i]) for i in range(M.shape[0])], dtype=object)
-
-    def inv(self, M):
-        Mi = mpmath.inverse(self._mat(M))
-        n = M.shape[0]
-        return np.array([[mpmath.mpc(Mi[i, j]) for j in range(n)] for i in range(n)], dtype=object)
-
-    _re = staticmethod(np.frompyfunc(lambda e: mpmath.mpc(e.real), 1, 1))
-
-    def re(self, x):
-        return self._re(x)
-
-    sqrt = staticmethod(mpmath.sqrt)
-    exp = staticmethod(mpmath.exp)
-    arg = staticmethod(mpmath.arg)
-
-    @property
-    def pi(self):
-        return +mpmath.pi
-
-    def real(self, x):
-        return mpmath.mpf(mpmath.mpc(x).real)
-
-    def cond(self, M):
-        Mm = self._mat(M)
-        return float(mpmath.mnorm(Mm, 1) * mpmath.mnorm(mpmath.inverse(Mm), 1))
-
-
-FLOAT64 = _NumpyBackend()
-
-
-def _is_mp(x):
-    if isinstance(x, (mpmath.mpf, mpmath.mpc, mpmath.matrix)):
-        return True
-    if isinstance(x, np.ndarray):
-        return x.dtype == object and x.size > 0 and _is_mp(x.flat[0])
-    if isinstance(x, (list, tuple)):
-        return len(x) > 0 and _is_mp(x[0])
-    return False
-
-
-def backend(digits=None, *example):
-    """The backend for ``digits`` (None: float64, unless an ``example`` holds mpmath numbers,
-    in which case the current ``mp.dps`` is used)."""
-    if digits is None:
-        if any(_is_mp(e) for e in example):
-            return _MpBackend(mpmath.mp.dps)
-        return FLOAT64
-    if not isinstance(digits, int) or isinstance(digits, bool) or not 16 <= digits <= 10000:
+def _backend(digits=None, *like):
+    """The backend (:func:`symvi.numerics.backend.backend`) for a caller's ``digits``, checked:
+    None (float64, or mpmath at the current precision when ``like`` holds mpmath numbers) or
+    an integer from 16 to 10000."""
+    if digits is not None and (not isinstance(digits, int) or isinstance(digits, bool)
+                               or not 16 <= digits <= 10000):
         raise ParameterError("digits", digits, "an integer from 16 to 10000")
-    return _MpBackend(digits)
+    return backend(digits, *like)
 
 
 # --------------------------------------------------------------------------- multilinear forms
@@ -279,14 +151,14 @@ def eigen(A, *, index=None, digits=None):
     ``values[index]`` when ``index`` is given.  Raises SingularCaseError when
     there is no non-real eigenvalue or lambda1 is not simple.
     """
-    bk = backend(digits, A)
+    bk = _backend(digits, A)
     with bk.context():
-        return _eigen(bk, bk.arr(A), index)
+        return _eigen(bk, bk.carr(A), index)
 
 
 def _eigen(bk, A, index):
     n = A.shape[0]
-    vals, V = bk.eig(A)
+    vals, V = bk.ceig(A)
     scale = max(1.0, float(max(abs(e) for e in vals)))
     tol = 1e3 * bk.eps * scale          # in the backend: float(eps) is 0 past ~320 digits
     if index is None:
@@ -318,7 +190,7 @@ def _eigen(bk, A, index):
                       NearSingularWarning, stacklevel=3)
     q = _phase_fix(bk, V[:, k].copy())
     # the adjoint vector is the k-th row of V^{-1}: u A = lambda u, u V = e_k
-    u = bk.inv(V)[k, :]
+    u = bk.cinv(V)[k, :]
     u = u / np.dot(u, q)
     p = np.conj(u)
     return Eigen(vals, V, k, kbar, lam, q, p)
@@ -345,10 +217,10 @@ def _kuznetsov(bk, A, d2, d3, e):
     n = A.shape[0]
     q, p, lam = e.q, e.p, e.lam
     qb = np.conj(q)
-    I = bk.eye(n)
+    I = bk.ceye(n)
     # (I - A) h11 = B(q, qb);  (e^{2 i theta} I - A) h20 = B(q, q)   [Kuznetsov, NS normal form]
-    h11 = bk.solve(lam * lam.conjugate() * I - A, _B(d2, q, qb))
-    h20 = bk.solve(lam * lam * I - A, _B(d2, q, q))
+    h11 = bk.csolve(lam * lam.conjugate() * I - A, _B(d2, q, qb))
+    h20 = bk.csolve(lam * lam * I - A, _B(d2, q, q))
     c1 = _vdot(p, _C(d3, q, q, qb) + 2 * _B(d2, q, h11) + _B(d2, qb, h20)) / 2
     l1 = (lam.conjugate() / abs(lam) * c1).real
     return c1, l1, h11, h20
@@ -359,9 +231,9 @@ def kuznetsov(A, d2, d3, *, index=None, digits=None):
 
     l1 = Re(exp(-i theta) c1); the circle is stable (supercritical) when l1 < 0.
     """
-    bk = backend(digits, A, d2, d3)
+    bk = _backend(digits, A, d2, d3)
     with bk.context():
-        A, d2, d3 = bk.arr(A), _symmetrise(bk.arr(d2)), _symmetrise(bk.arr(d3))
+        A, d2, d3 = bk.carr(A), _symmetrise(bk.carr(d2)), _symmetrise(bk.carr(d3))
         e = _eigen(bk, A, index)
         c1, l1, _, _ = _kuznetsov(bk, A, d2, d3, e)
         return c1, l1
@@ -372,7 +244,7 @@ def kuznetsov_resolved(A, d2, d3):
     of the sums of products in c1, with the absolute tensors |d2|, |d3|, times the
     condition numbers of the two solves).  Near grazing the jets of an impact map
     grow like powers of 1/v and l1 drowns in rounding: |l1| < noise decides nothing."""
-    bk = backend(None, A, d2, d3)
+    bk = _backend(None, A, d2, d3)
     A, d2, d3 = np.asarray(A, float), _symmetrise(np.asarray(d2, float)), \
         _symmetrise(np.asarray(d3, float))
     e = _eigen(bk, A, None)
@@ -383,7 +255,7 @@ def kuznetsov_resolved(A, d2, d3):
     cond = max(np.linalg.cond(np.eye(n) * abs(e.lam) ** 2 - A),
                np.linalg.cond(e.lam ** 2 * np.eye(n) - A))
     size = np.dot(ap, _C(D3, aq, aq, aq) + cond * (2 * _B(D2, aq, a11) + _B(D2, aq, a20))) / 2
-    return c1, float(l1), float(16 * np.finfo(float).eps * n * size), complex(e.lam)
+    return c1, float(l1), float(16 * EPS64 * n * size), complex(e.lam)
 
 
 # --------------------------------------------------------------------------- transversality
@@ -394,9 +266,9 @@ def dmod_A3(A, dA, *, index=None, digits=None):
     d|lambda|/dv = Re(conj(lambda) dlambda/dv) / |lambda| (= the printed (A3) on |lambda| = 1).
     Returns (dlambda_dv, dmod_dv).
     """
-    bk = backend(digits, A, dA)
+    bk = _backend(digits, A, dA)
     with bk.context():
-        A, dA = bk.arr(A), bk.arr(dA)
+        A, dA = bk.carr(A), bk.carr(dA)
         e = _eigen(bk, A, index)
         return _dmod(e, dA)
 
@@ -523,13 +395,13 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, pape
     if paper:
         red = moved_call("normal_form(paper=True)", "symvi.paper.reduction", "normal_form")
         return red(A, d2, d3, dA, index=index, digits=digits, names=names)
-    bk = backend(digits, A, d2, d3, dA)
+    bk = _backend(digits, A, d2, d3, dA)
     with bk.context():
-        A = bk.arr(A)
+        A = bk.carr(A)
         if A.ndim != 2 or A.shape[0] != A.shape[1] or A.shape[0] < 2:
             raise ParameterError("A", A.shape, "a square n x n matrix with n >= 2")
         n = A.shape[0]
-        d2, d3 = bk.arr(d2), bk.arr(d3)
+        d2, d3 = bk.carr(d2), bk.carr(d3)
         if d2.shape != (n,) * 3 or d3.shape != (n,) * 4:
             raise ParameterError("d2/d3", (d2.shape, d3.shape),
                                  f"shapes {(n,) * 3} and {(n,) * 4}")
@@ -548,7 +420,7 @@ def normal_form(A, d2, d3, dA=None, *, index=None, digits=None, names=None, pape
         c1, l1, h11, h20 = _kuznetsov(bk, A, d2, d3, e)
         dlam = dmod = circle = None
         if dA is not None:
-            dlam, dmod = _dmod(e, bk.arr(dA))
+            dlam, dmod = _dmod(e, bk.carr(dA))
             if float(l1) != 0 and float(dmod) != 0:
                 circle = Circle(float(l1), float(dmod), tuple(float(abs(x)) for x in e.q),
                                 **({"names": tuple(names)} if names else {}))

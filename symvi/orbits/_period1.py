@@ -17,6 +17,7 @@ import math
 import numba as nb
 import numpy as np
 
+from ..numerics.tolerances import EPS64
 from ._shooting import monodromy, shoot
 
 #: status codes of :func:`period1`
@@ -163,7 +164,7 @@ def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
         return NOT_ISOLATED, dmin, jmin, 0.0, 0.0, Y, vimp, M, ok
     Phi, Pc, Ps, sig, null, Xp, p1, share = _line(lam, W, Winv, U, V, w, g, level, R)
     gap = sig[n2] / sig[0]
-    scale = 64 * 2.0 ** -52
+    scale = 64 * EPS64
     if not gap > scale:
         return DEGENERATE, dmin, jmin, gap, share, Y, vimp, M, ok
     if not share > scale:

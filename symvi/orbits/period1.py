@@ -37,10 +37,11 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
-from ..flow.linear import NUMPY_LA, LinearFlow
+from ..flow.linear import LinearFlow
+from ..numerics.backend import FLOAT64
 from ..maps.section import Section
 #: |1 - e^{lambda_j T}| below which the period-1 orbit is refused as not isolated / warned about
-from ..numerics.tolerances import ISOLATION_REFUSE, ISOLATION_WARN
+from ..numerics.tolerances import EPS64, ISOLATION_REFUSE, ISOLATION_WARN
 from . import _period1
 from ._shooting import CompiledFinder
 from .admissibility import END_TOL, check_flight
@@ -87,34 +88,23 @@ class Orbit:
                 "stable": bool(self.stable)}
 
 
-def _svd(la, G):
-    """(U, s, Vt) of G, float or mpmath."""
-    if la is NUMPY_LA:
-        return np.linalg.svd(G)
-    U, s, V = mpmath.svd_r(mpmath.matrix(G.tolist()), full_matrices=True)
-    m, n = G.shape
-    Ua = np.array([[U[i, j] for j in range(m)] for i in range(m)], dtype=object)
-    Va = np.array([[V[i, j] for j in range(n)] for i in range(n)], dtype=object)
-    return Ua, np.array([s[i] for i in range(len(s))], dtype=object), Va
-
-
 class _Line:
     """The solution line of the period-1 conditions at one omega."""
 
     def __init__(self, flow, omega, restitution=None):
-        la, lib = flow.la, flow.lib
+        bk = flow.bk
         n2 = 2 * flow.n
         self.flow, self.omega = flow, omega
-        T = 2 * lib.pi / omega
+        T = 2 * bk.pi / omega
         F = self.forcing = flow.forcing(omega)
         self.Phi = flow.phi(T)
         self.Pc = np.concatenate([F.V, omega * F.U])
         self.Ps = np.concatenate([F.U, -omega * F.V])
-        one = 1 if la is NUMPY_LA else mpmath.mpf(1)
+        one = 1 if bk is FLOAT64 else mpmath.mpf(1)
         E = _state_reset(flow, restitution)
-        I = la.arr(np.eye(n2))
+        I = bk.arr(np.eye(n2))
         IE = I - E
-        G = np.zeros((n2 + 1, n2 + 2), dtype=object if la is not NUMPY_LA else float)
+        G = np.zeros((n2 + 1, n2 + 2), dtype=object if bk is not FLOAT64 else float)
         G[:n2, :n2] = I - E @ self.Phi
         G[:n2, n2] = IE @ self.Pc
         G[:n2, n2 + 1] = IE @ self.Ps
@@ -122,18 +112,18 @@ class _Line:
         G[n2, :flow.n] = g
         G[n2, n2] = g @ self.Pc[:flow.n]
         G[n2, n2 + 1] = g @ self.Ps[:flow.n]
-        if la is not NUMPY_LA:
+        if bk is not FLOAT64:
             G[G == 0] = mpmath.mpf(0)
         # equilibrate the columns: near forcing resonance (U, V) ~ 1 / |omega_j - omega|
         # dwarfs the I - E Phi block, and the rank test must not read that as degeneracy
-        if la is NUMPY_LA:
+        if bk is FLOAT64:
             D = np.linalg.norm(G, axis=0)
         else:
-            D = np.array([lib.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
+            D = np.array([bk.sqrt(sum(x * x for x in G[:, j])) for j in range(n2 + 2)],
                          dtype=object)
         # a zero (or underflowing) column stays as it is: the rank tests below see it
         D = np.array([x if x > 0 else one for x in D], dtype=D.dtype)
-        U, s, Vt = _svd(la, G / D)
+        U, s, Vt = bk.svd(G / D)
         self.sigma = s
         self.null = Vt[-1] / D
         # share of the (unit, equilibrated) kernel vector in the (cos, sin) directions
@@ -145,32 +135,32 @@ class _Line:
             return (Vt[:r].T @ ((U.T @ rhs)[:r] / s[:r])) / D
 
         e = np.zeros(n2 + 1, dtype=G.dtype)
-        if la is not NUMPY_LA:
+        if bk is not FLOAT64:
             e[:] = mpmath.mpf(0)
         e[-1] = one
         self.Xp = solve(e * flow.level)
         p1 = solve(e)
         nc, ns = self.null[n2], self.null[n2 + 1]
         self.a = nc * nc + ns * ns
-        nrm = lib.sqrt(self.a)
+        nrm = bk.sqrt(self.a)
         nu = (ns / nrm, -nc / nrm)                 # along the gradient of x_k(0)
         side = nu[0] * p1[n2] + nu[1] * p1[n2 + 1]
-        if restitution is None and not lib.fabs(side) > ORIENT_NOISE * (lib.fabs(p1[n2]) + lib.fabs(p1[n2 + 1])):
+        if restitution is None and not bk.fabs(side) > ORIENT_NOISE * (bk.fabs(p1[n2]) + bk.fabs(p1[n2 + 1])):
             # r = 1 with no damping: b no longer moves the line (the paper's alpha = (1 - r)
             # w1 w2 D = 0) and the sign above is rounding noise; orient as the limit r -> 1-
-            ref = _Line(flow, omega, flow.r - lib.num(ORIENT_DR)).nu
+            ref = _Line(flow, omega, flow.r - bk.num(ORIENT_DR)).nu
             side = -(nu[0] * ref[0] + nu[1] * ref[1])
         if side < 0:
             nu = (-nu[0], -nu[1])
         self.nu = (-nu[0], -nu[1])                 # the paper's orientation (see module doc)
         self.ratio = self.nu[0] * self.Xp[n2] + self.nu[1] * self.Xp[n2 + 1]
-        self.phase = lib.atan2(self.nu[1], self.nu[0])
+        self.phase = bk.atan2(self.nu[1], self.nu[0])
 
     def point(self, tau):
         """(z0, w) on the line at phase tau."""
-        lib = self.flow.lib
+        bk = self.flow.bk
         n2 = 2 * self.flow.n
-        c, s = lib.cos(tau), lib.sin(tau)
+        c, s = bk.cos(tau), bk.sin(tau)
         mu = ((c - self.Xp[n2]) * self.null[n2] + (s - self.Xp[n2 + 1]) * self.null[n2 + 1]) / self.a
         w = self.Xp[:n2] + mu * self.null[:n2]
         return w + c * self.Pc + s * self.Ps, w
@@ -180,12 +170,12 @@ def _state_reset(flow, restitution=None):
     """E = diag(I, R) (2N x 2N, the flow's backend): the state just after an impact is E z
     of the state z just before it, R the constraint's reset (E = diag(1, .., -r, .., 1) for
     the stop); ``restitution`` overrides r (the orientation's limit r -> 1-)."""
-    n, la = flow.n, flow.la
+    n, bk = flow.n, flow.bk
     R = flow.reset if restitution is None else flow.reset_at(restitution)
-    E = np.zeros((2 * n, 2 * n), dtype=object if la is not NUMPY_LA else float)
-    if la is not NUMPY_LA:
+    E = np.zeros((2 * n, 2 * n), dtype=object if bk is not FLOAT64 else float)
+    if bk is not FLOAT64:
         E[:] = mpmath.mpf(0)
-    E[:n, :n] = la.arr(np.eye(n))
+    E[:n, :n] = bk.arr(np.eye(n))
     E[n:, n:] = R
     return E
 
@@ -203,7 +193,7 @@ def _line(model, omega, digits):
         return flow, why
     L = _Line(flow, omega)
     try:
-        _check_fixed(flow.lib, L.rank_gap, L.phase_share)
+        _check_fixed(flow.bk, L.rank_gap, L.phase_share)
     except SingularCaseError:
         why = _out_of_reach(flow, F, omega)
         if not why:
@@ -262,7 +252,7 @@ def _stop_forcing(flow, F, omega):
     else:
         M, K, C = (np.asarray(a, dtype=float) for a in (flow.M, flow.K, flow.C))
         cond = float(np.linalg.cond(K - w * w * M + 1j * w * C))
-        delta = 64 * float(flow.lib.eps) * cond * top
+        delta = 64 * float(flow.bk.eps) * cond * top
         if xk > delta:
             return ""                      # small but resolved: _warn_stop_forcing
     if not np.any(P):
@@ -276,7 +266,7 @@ def _stop_forcing(flow, F, omega):
     H, s = _period_matrix(flow, omega)
     b = float(flow.b)
     none = f"{cause}; no period-1 one-impact orbit: the period-1 conditions reduce to "
-    if s[-1] > 64 * 2.0 ** -52 * s[0]:
+    if s[-1] > 64 * EPS64 * s[0]:
         reach = _reach(flow, delta, omega, s[-1])
         if abs(b) > 2 * reach:
             return none + (f"(I - E Phi(T)) w = 0, whose only solution w = 0 is the steady "
@@ -307,7 +297,7 @@ def _period_matrix(flow, omega):
     """(H, its singular values): H = I - E Phi(T) in float64, E = diag(1, .., -r, ..) at the
     stop's velocity, the left side of the period-1 conditions (module docstring)."""
     n, T = flow.n, 2 * math.pi / float(omega)
-    Phi = np.asarray(flow.phi(T) if flow.la is NUMPY_LA else
+    Phi = np.asarray(flow.phi(T) if flow.bk is FLOAT64 else
                      LinearFlow.of(flow.model).phi(T), dtype=float)
     E = np.asarray(_state_reset(flow), dtype=float)
     H = np.eye(2 * n) - E @ Phi
@@ -377,7 +367,7 @@ def no_orbit_reason(model, omega):
 def _check_isolated(flow, omega, d, j):
     """SingularCaseError where min_j |1 - e^{lambda_j T}| = d (mode j) says the orbit
     is not isolated; a warning where it is ill-conditioned (float64)."""
-    lib = flow.lib
+    bk = flow.bk
     if d < ISOLATION_REFUSE:
         ratio = float(flow.omegas[j]) / float(omega)
         raise SingularCaseError(
@@ -388,14 +378,14 @@ def _check_isolated(flow, omega, d, j):
             f"isolated. Move omega away from omega_{j + 1} / n"
             + (" (a natural frequency near 0 is a nearly rigid mode: no omega helps)."
                if round(ratio) == 0 else "."))
-    if lib is NUMPY_LA.lib and d < ISOLATION_WARN:
+    if bk is FLOAT64 and d < ISOLATION_WARN:
         warnings.warn(f"1 - cos(2 pi omega_{j + 1}/omega) = {d * d / 2:.2e} is small: the "
                       "period-1 conditions are ill-conditioned", NearSingularWarning, stacklevel=5)
 
 
-def _check_fixed(lib, rank_gap, phase_share):
+def _check_fixed(bk, rank_gap, phase_share):
     """SingularCaseError where the period-1 conditions do not fix the orbit or its phase."""
-    scale = 64 * lib.eps
+    scale = 64 * bk.eps
     if not rank_gap > scale:
         raise SingularCaseError("degenerate-orbit-conditions",
                                 "the period-1 conditions do not fix the orbit (their matrix "
@@ -408,9 +398,9 @@ def _check_fixed(lib, rank_gap, phase_share):
 
 
 def _admissibility(flow, forcing, omega, z0, tau, vimp):
-    lib = flow.lib
-    tol = END_TOL if flow.la is NUMPY_LA else lib.eps ** 0.5
-    return check_flight(flow.motion(forcing, z0, tau).first_impact, 2 * lib.pi / omega,
+    bk = flow.bk
+    tol = END_TOL if flow.bk is FLOAT64 else bk.eps ** 0.5
+    return check_flight(flow.motion(forcing, z0, tau).first_impact, 2 * bk.pi / omega,
                         flow.approach(z0), vimp, mass=flow.perm[0] + 1, tol=tol,
                         require_return=True)
 
@@ -439,16 +429,16 @@ def _orbits(model, omega, digits, want_multipliers):
     flow, L = _line(model, omega, digits)
     if isinstance(L, str):
         return []
-    lib = flow.lib
-    if lib.fabs(L.ratio) > 1:
+    bk = flow.bk
+    if bk.fabs(L.ratio) > 1:
         return []
     _warn_stop_forcing(L.forcing, digits)
-    ac = lib.acos(L.ratio)
+    ac = bk.acos(L.ratio)
     sec = Section(flow.n, flow.perm)
-    T = 2 * lib.pi / omega
+    T = 2 * bk.pi / omega
     out = []
     for branch, tau in (("+", L.phase + ac), ("-", L.phase - ac)):
-        tau = tau % (2 * lib.pi)
+        tau = tau % (2 * bk.pi)
         z0, w = L.point(tau)
         z0[0] = flow.b                              # exact by construction; remove rounding
         zT = L.Phi @ w + (z0 - w)
@@ -482,7 +472,7 @@ def _orbits_compiled(model, omega, want_multipliers):
     _check_isolated(flow, omega, d, j)
     if st in (_period1.DEGENERATE, _period1.NO_PHASE) and _out_of_reach(flow, F, omega):
         return []
-    _check_fixed(flow.lib, gap, share)
+    _check_fixed(flow.bk, gap, share)
     if st == _period1.NO_ORBIT:
         return []
     if not forced:                          # forced: |X_k| is not small, nothing to warn

@@ -238,13 +238,13 @@ class Problem:
         """dG/dname at fixed u, exact (omega: dU, dV; any other: its tangent); ``name`` a
         :class:`symvi.model.parameters.Parameter` (or a name, parsed here)."""
         name = self.model.parameter(name)
-        d, p, idx, lib = self.d, self.p, self.idx, flow.lib
+        d, p, idx, bk = self.d, self.p, self.idx, flow.bk
         out = np.zeros(self.size)
         E, g, N = self._reset_rows(flow.reset), flow.guard, self.N
         if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 ph = tau + F.omega * T[i]
-                dz = F.zp_omega(ph, lib) + T[i] * F.zp_phase(ph, lib) - Phi @ F.zp_omega(tau, lib)
+                dz = F.zp_omega(ph, bk) + T[i] * F.zp_phase(ph, bk) - Phi @ F.zp_omega(tau, bk)
                 out[i * d:i * d + d - 1] = E @ dz
                 out[i * d + d - 1] = T[i]
                 out[p * d + i] = g @ dz[:N]
@@ -263,7 +263,7 @@ class Problem:
             ph = tau + F.omega * T[i]
             dz0 = np.zeros(d)
             dz0[0] = pb
-            dz = pE0 @ (z0 - F.zp(tau, lib)) + Phi @ (dz0 - dF.zp(tau, lib)) + dF.zp(ph, lib)
+            dz = pE0 @ (z0 - F.zp(tau, bk)) + Phi @ (dz0 - dF.zp(tau, bk)) + dF.zp(ph, bk)
             out[i * d:i * d + d - 1] = E @ dz
             if dE is not None:
                 out[i * d:i * d + d - 1] += pr * (dE @ z)

@@ -10,7 +10,7 @@ import importlib
 import mpmath
 import numpy as np
 
-from .._backend import FLOAT, MP
+from ..numerics.backend import backend
 from ..codegen.jets import eigenvalues
 from .params import modal as _modal
 
@@ -45,7 +45,7 @@ def _evaluate(order, inp, mp):
 
 
 def _orbit_inputs(params, orbit):
-    lib = FLOAT if orbit.digits is None else MP
+    lib = backend(orbit.digits)
     m = _modal(params, lib)
     te = 2 * lib.pi / orbit.omega
     return _inputs(m, orbit.omega, lib.num(params.r), lib.num(params.b), orbit.y, te)

@@ -12,7 +12,7 @@ transversal; a crossing with h' ~ 0 is reported as grazing, never stepped over.
 """
 from dataclasses import dataclass
 
-from .._backend import FLOAT
+from ..numerics.backend import FLOAT64
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 
 #: statuses returned by first_impact
@@ -31,7 +31,7 @@ class Motion:
     b: tuple
     A: tuple
 
-    def state(self, t, lib=FLOAT):
+    def state(self, t, lib=FLOAT64):
         """(x1, x2, x1dot, x2dot) at time t, eqs. (7)–(8)."""
         m, w = self.modal, self.omega
         ph = w * t + self.tau
@@ -51,7 +51,7 @@ def forcing_amplitudes(modal, omega):
     return tuple(modal.F[j] / (wj * wj - omega * omega) for j, wj in enumerate(modal.omegas))
 
 
-def motion_from(modal, omega, x, xdot, tau, lib=FLOAT):
+def motion_from(modal, omega, x, xdot, tau, lib=FLOAT64):
     """Integration constants for initial physical state (x, xdot) and phase tau, eqs. (21)–(24).
 
     xi(0) = psi^{-1} x(0) = adj(psi) x(0) / D.
@@ -88,7 +88,7 @@ def _bounds(motion, lib):
     return L + q, M2 + q * motion.omega ** 2
 
 
-def first_impact(motion, b, lib=FLOAT, t_max=None, max_steps=100000):
+def first_impact(motion, b, lib=FLOAT64, t_max=None, max_steps=100000):
     """First t > 0 with x1(t) = b, for a motion that leaves x1 = b with x1dot < 0.
 
     Grazing: the crossing is reported as GRAZING when x1dot at contact is below

@@ -12,7 +12,7 @@ applied and tau' = tau + omega t_e (mod 2 pi), eq. (26).
 import contextlib
 from dataclasses import dataclass
 
-from .._backend import FLOAT, MP
+from ..numerics.backend import FLOAT64, backend
 from .modal_flow import first_impact, motion_from
 from .params import modal as _modal
 
@@ -28,7 +28,7 @@ class MapStep:
     tau_unwrapped: object     # tau + omega t_e, before reduction mod 2 pi
 
 
-def step(m, omega, b, r, y, lib=FLOAT, t_max=None):
+def step(m, omega, b, r, y, lib=FLOAT64, t_max=None):
     """Apply P once from y with modal data m (already in backend ``lib``)."""
     v1, x2, v2, tau = y
     mot = motion_from(m, omega, (b, x2), (v1, v2), tau, lib)
@@ -47,9 +47,10 @@ def poincare_map(params, omega, y, *, digits=None):
     if digits is None:
         return step(_modal(params), omega, params.b, params.r, tuple(map(float, y)))
     with mpmath.mp.workdps(digits):
-        m = _modal(params, MP)
-        return step(m, MP.num(omega), MP.num(params.b), MP.num(params.r),
-                    tuple(MP.num(v) for v in y), MP)
+        bk = backend(digits)
+        m = _modal(params, bk)
+        return step(m, bk.num(omega), bk.num(params.b), bk.num(params.r),
+                    tuple(bk.num(v) for v in y), bk)
 
 
 def fd_jacobian(params, omega, y, h=1e-6, digits=None):
@@ -60,7 +61,7 @@ def fd_jacobian(params, omega, y, h=1e-6, digits=None):
     import numpy as np
     import mpmath
     with mpmath.mp.workdps(digits) if digits else contextlib.nullcontext():
-        lib = MP if digits else FLOAT
+        lib = backend(digits) if digits else FLOAT64
         m = _modal(params, lib)
         om, b, r = lib.num(omega), lib.num(params.b), lib.num(params.r)
         yy = [lib.num(v) for v in y]

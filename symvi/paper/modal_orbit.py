@@ -26,7 +26,7 @@ This form stays regular at r = 1 and b = 0.
 import warnings
 import mpmath
 
-from .._backend import FLOAT, MP
+from ..numerics.backend import FLOAT64, backend
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from .modal_flow import first_impact, forcing_amplitudes, motion_from
 from ..maps.section import Section
@@ -56,7 +56,7 @@ def _branches(params, omega, m, lib):
                 f"{float(omega):.12g}: omega_{j} / omega is an integer, eq. (15) divides by zero "
                 "and the period-1 orbit is not isolated. Move omega away from omega_"
                 f"{j} / n.")
-        if lib is FLOAT and abs(sn) < KAPPA_WARN:
+        if lib is FLOAT64 and abs(sn) < KAPPA_WARN:
             warnings.warn(f"1 - cos(2 pi omega_{j}/omega) = {2 * sn * sn:.2e} is small: "
                           "eq. (15) is ill-conditioned", NearSingularWarning, stacklevel=3)
         kappa.append(lib.cos(pi * wj / omega) / sn)
@@ -99,7 +99,7 @@ def _admissibility(params, omega, m, lib, tau, v1p, vimp, x20, x20d):
     b = lib.num(params.b)
     mot = motion_from(m, omega, (b, x20), (v1p, x20d), tau, lib)
     return check_flight(lambda t_max: first_impact(mot, b, lib, t_max=t_max), 2 * lib.pi / omega,
-                        v1p, vimp, mass=1, tol=END_TOL if lib is FLOAT else lib.eps ** 0.5,
+                        v1p, vimp, mass=1, tol=END_TOL if lib is FLOAT64 else lib.eps ** 0.5,
                         require_return=True)
 
 
@@ -117,9 +117,10 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
             raise ParameterError("digits", digits, "an integer from 16 to 10000")
         with mpmath.mp.workdps(digits):
             # keep an mpf omega at full precision (a 50-digit v_c must not be rounded)
-            w = MP.num(omega) if isinstance(omega, (mpmath.mpf, str)) else MP.num(omega_f)
-            return _orbits(params, w, MP, multipliers, digits)
-    return _orbits(params, omega_f, FLOAT, multipliers, None)
+            bk = backend(digits)
+            w = bk.num(omega) if isinstance(omega, (mpmath.mpf, str)) else bk.num(omega_f)
+            return _orbits(params, w, bk, multipliers, digits)
+    return _orbits(params, omega_f, FLOAT64, multipliers, None)
 
 
 def _orbits(params, omega, lib, want_multipliers, digits):
@@ -158,4 +159,4 @@ def _replace(obj, **kw):
 def existence_ratio(params, omega):
     """alpha b / rho: the period-1 orbit exists iff |ratio| <= 1 (eq. 16, corrected)."""
     omega = check_omega(params, omega, warn=False)
-    return _branches(params, omega, _modal(params), FLOAT)[1]
+    return _branches(params, omega, _modal(params), FLOAT64)[1]

@@ -7,13 +7,12 @@ in the paper's terms: :class:`Orbit` with (x1dot+, x20, x20dot, tau0) and the mo
 integration constants a_j, b_j of eqs. (13)–(15).  The paper's own modal derivation
 stays as the independent oracle, :mod:`symvi.paper.modal_orbit`.
 """
-import contextlib
 import functools
 from dataclasses import dataclass, field, fields, replace
 
 import mpmath
 
-from .._backend import FLOAT, MP
+from ..numerics.backend import backend
 from ..orbits.period1 import Orbit as _AnyOrbit
 from .params import check_omega
 
@@ -53,8 +52,8 @@ class Orbit(_AnyOrbit):
         """(a, b): the modal constants of xi_j = a_j cos w_j t + b_j sin w_j t + A_j sin(omega t + tau)."""
         from .modal_flow import motion_from
         from .params import modal
-        lib = FLOAT if self.digits is None else MP
-        with mpmath.workdps(self.digits) if self.digits else contextlib.nullcontext():
+        lib = backend(self.digits)
+        with lib.context():
             mot = motion_from(modal(self.params, lib), self.omega, (lib.num(self.params.b),
                               self.x20), (self.v1_plus, self.x20_dot), self.tau0, lib)
         return mot.a, mot.b

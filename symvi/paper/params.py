@@ -13,7 +13,7 @@ the first row of ``psi`` is positive (our sign convention).
 import functools
 from dataclasses import dataclass
 
-from .._backend import FLOAT
+from ..numerics.backend import FLOAT64
 from ..model import _preset
 from ..model._preset import MU_RANGE as MU_RANGE
 from ..model._preset import finite as _finite
@@ -84,13 +84,13 @@ class Modal:
         return (self.omega1, self.omega2)
 
 
-def modal(params, lib=FLOAT):
+def modal(params, lib=FLOAT64):
     """Eigenfrequencies and mass-normalised modes of eq. (3), eqs. (5)–(6).
 
     det(K - w^2 M) = 0 gives mu_m w^4 - (1 + mu_k + mu_m) w^2 + mu_k = 0.
     The mode for w_j^2 is (1, 1 - w_j^2) before normalisation.
     """
-    if lib is FLOAT:
+    if lib is FLOAT64:
         return _modal_float(params)
     return _modal(params, lib)
 
@@ -98,7 +98,7 @@ def modal(params, lib=FLOAT):
 @functools.lru_cache(maxsize=1024)
 def _modal_float(params):
     # hot path of every jet and map evaluation; Params is frozen and hashable
-    return _modal(params, FLOAT)
+    return _modal(params, FLOAT64)
 
 
 def _modal(params, lib):

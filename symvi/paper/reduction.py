@@ -74,8 +74,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import SingularCaseError
-from ..normal_forms.normal_form import (NormalForm, _B, _C, _eigen, _phase_fix, _symmetrise,
-                                        backend, transform_jet)
+from ..normal_forms.normal_form import (NormalForm, _B, _C, _backend, _eigen, _phase_fix,
+                                        _symmetrise, transform_jet)
 from ..normal_forms.normal_form import normal_form as _normal_form
 
 
@@ -111,18 +111,18 @@ def eigenmatrix(A, *, index=None, digits=None):
     Columns: Re r1, -Im r1, then a real basis of the complementary invariant
     subspace (real eigenvectors; Re r, -Im r for each further complex pair).
     """
-    bk = backend(digits, A)
+    bk = _backend(digits, A)
     with bk.context():
-        A = bk.arr(A)
+        A = bk.carr(A)
         e = _eigen(bk, A, index)
         P = _eigenmatrix(bk, A, e)
-        return P, bk.inv(P)
+        return P, bk.cinv(P)
 
 
 def _eigenmatrix(bk, A, e):
     n = A.shape[0]
     r1 = e.q
-    cols = [bk.re(r1), -bk.re(-1j * r1)]  # Im r1 = Re(-i r1)
+    cols = [bk.carr(bk.vreal(r1)), -bk.carr(bk.vreal(-1j * r1))]  # Im r1 = Re(-i r1)
     vals, V = e.values, e.vectors
     scale = max(1.0, float(max(abs(x) for x in vals)))
     tol = 1e3 * bk.eps * scale          # in the backend: float(eps) is 0 past ~320 digits
@@ -132,12 +132,12 @@ def _eigenmatrix(bk, A, e):
             continue
         r = _phase_fix(bk, V[:, i].copy())
         if abs(vals[i].imag) <= tol:
-            cols.append(bk.re(r))
+            cols.append(bk.carr(bk.vreal(r)))
             used.add(i)
         elif vals[i].imag > 0:
             j = min((m for m in range(n) if m not in used and m != i),
                     key=lambda m: abs(vals[m] - vals[i].conjugate()))
-            cols.extend([bk.re(r), -bk.re(-1j * r)])
+            cols.extend([bk.carr(bk.vreal(r)), -bk.carr(bk.vreal(-1j * r))])
             used.update({i, j})
     if len(cols) != n:
         raise SingularCaseError("defective", "the multipliers do not give a real eigenbasis "
@@ -155,12 +155,12 @@ def _wirtinger(bk, dY, n):
     """Complex coefficients of G = F1 + i F2 - lambda z and H = (F3..Fn) - D W from the
     real jets in Y, using d/dz = (d/dy1 - i d/dy2)/2: the generic form of (A4)–(A16)."""
     d2Y, d3Y = dY
-    a = bk.zeros(n)
+    a = bk.czeros(n)
     a[0], a[1] = 0.5, -0.5j
     ab = np.conj(a)
-    wG = bk.zeros(n)
+    wG = bk.czeros(n)
     wG[0], wG[1] = 1, 1j
-    E = bk.eye(n)
+    E = bk.ceye(n)
 
     def cG(v):
         return np.dot(wG, v)
@@ -181,8 +181,8 @@ def _wirtinger(bk, dY, n):
     Bzb = [_B(d2Y, ab, E[:, k]) for k in range(2, n)]
     G["10"] = np.array([cG(b) for b in Bz], dtype=a.dtype)
     G["01"] = np.array([cG(b) for b in Bzb], dtype=a.dtype)
-    H["10"] = np.stack([b[2:] for b in Bz], axis=1) if n > 2 else bk.zeros((0, 0))
-    H["01"] = np.stack([b[2:] for b in Bzb], axis=1) if n > 2 else bk.zeros((0, 0))
+    H["10"] = np.stack([b[2:] for b in Bz], axis=1) if n > 2 else bk.czeros((0, 0))
+    H["01"] = np.stack([b[2:] for b in Bzb], axis=1) if n > 2 else bk.czeros((0, 0))
     return {("G" + k): v for k, v in G.items()}, {("H" + k): v for k, v in H.items()}
 
 
@@ -257,7 +257,7 @@ def f1_eq60(lam, g20, g11, g02, g21):
 def _paper(bk, A, d2, d3, e):
     n = A.shape[0]
     P = _eigenmatrix(bk, A, e)
-    Pinv = bk.inv(P)
+    Pinv = bk.cinv(P)
     AY = np.dot(Pinv, np.dot(A, P))
     D = AY[2:, 2:]
     lam = e.lam
@@ -265,21 +265,21 @@ def _paper(bk, A, d2, d3, e):
     d3Y = transform_jet(Pinv, P, d3)
     G, H = _wirtinger(bk, (d2Y, d3Y), n)
     lb = lam.conjugate()
-    I = bk.eye(n - 2)
+    I = bk.ceye(n - 2)
     W = {}
     if n > 2:
         # (lambda^i conj(lambda)^j I - D) W_ij = H_ij, i + j = 2    eq. (46)
-        W["W20"] = bk.solve(lam * lam * I - D, H["H20"])
-        W["W11"] = bk.solve(lam * lb * I - D, H["H11"])
-        W["W02"] = bk.solve(lb * lb * I - D, H["H02"])
+        W["W20"] = bk.csolve(lam * lam * I - D, H["H20"])
+        W["W11"] = bk.csolve(lam * lb * I - D, H["H11"])
+        W["W02"] = bk.csolve(lb * lb * I - D, H["H02"])
         W20, W11, W02 = W["W20"], W["W11"], W["W02"]
         G20, G11, G02 = G["G20"], G["G11"], G["G02"]
         H10, H01 = H["H10"], H["H01"]
         # eq. (46), W30 corrected (as printed: symvi.paper.audit.printed_W, the errata)
-        W["W30"] = bk.solve(lam ** 3 * I - D, H["H30"] + 3 * np.dot(H10, W20)
+        W["W30"] = bk.csolve(lam ** 3 * I - D, H["H30"] + 3 * np.dot(H10, W20)
                             - 3 * lam * G20 * W20 - 3 * lam * G02.conjugate() * W11)
         # eq. (46), W21 (right as printed)
-        W["W21"] = bk.solve(lam * lam * lb * I - D,
+        W["W21"] = bk.csolve(lam * lam * lb * I - D,
                             np.dot(H01, W20) + 2 * np.dot(H10, W11) - lb * G20 * W11
                             - 2 * lam * G11 * W20 - 2 * lam * G11.conjugate() * W11
                             - lb * G02.conjugate() * W02 + H["H21"])
@@ -313,10 +313,10 @@ class PaperNormalForm(NormalForm):
 def reduction(A, d2, d3, *, index=None, digits=None):
     """The paper's reduction of the map with jet (A, d2, d3), eqs. (39)–(55), (A4)–(A17):
     a :class:`PaperReduction` in the paper's normalisation (see the module docstring)."""
-    bk = backend(digits, A, d2, d3)
+    bk = _backend(digits, A, d2, d3)
     with bk.context():
-        A = bk.arr(A)
-        d2, d3 = _symmetrise(bk.arr(d2)), _symmetrise(bk.arr(d3))
+        A = bk.carr(A)
+        d2, d3 = _symmetrise(bk.carr(d2)), _symmetrise(bk.carr(d3))
         return _paper(bk, A, d2, d3, _eigen(bk, A, index))[0]
 
 

@@ -93,6 +93,7 @@ import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
 from ..model import Stop
+from ..numerics.backend import backend
 from .mpcheck import _MapFD, digits_of_agreement, kuznetsov_l1
 
 #: kinds of point the chain can re-solve, per curve kind
@@ -210,13 +211,13 @@ class CurveMapFD(_MapFD):
         self.calls = 0
 
     def _flow(self, w):
-        from ..flow.linear import MP_LA, LinearFlow
+        from ..flow.linear import LinearFlow
         hit = self._flows.get(w)
         if hit is None:
             vals = {par.name: v for par, v in zip(self._pars, w) if not par.is_forcing_frequency}
             omega = next((v for par, v in zip(self._pars, w) if par.is_forcing_frequency),
                          self.omega)
-            flow = LinearFlow(_MpModel(self.model, vals), MP_LA)
+            flow = LinearFlow(_MpModel(self.model, vals), backend(self.dps))
             if len(self._flows) > 8:
                 self._flows.clear()
             hit = self._flows[w] = (flow, flow.forcing(mpmath.mpf(omega)))

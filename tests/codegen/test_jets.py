@@ -12,7 +12,7 @@ from symvi import Params, period1_orbits
 from symvi.paper.jets import jet
 from symvi.paper.params import modal
 from symvi.paper.modal_map import step
-from symvi._backend import MP
+from symvi.numerics.backend import backend
 
 from ..conftest import EX1, EX2, OWN
 
@@ -30,10 +30,11 @@ def _orbit(params, omega, branch):
 
 def _P_mp(params, omega, y, dps=40):
     """Numeric map P in mpmath, tau unwrapped (a smooth function of y and omega)."""
-    with mpmath.mp.workdps(dps):
-        m = modal(params, MP)
-        s = step(m, MP.num(omega), MP.num(params.b), MP.num(params.r),
-                 tuple(MP.num(v) for v in y), MP)
+    bk = backend(dps)
+    with bk.context():
+        m = modal(params, bk)
+        s = step(m, bk.num(omega), bk.num(params.b), bk.num(params.r),
+                 tuple(bk.num(v) for v in y), bk)
         return [*s.y[:3], s.tau_unwrapped]
 
 

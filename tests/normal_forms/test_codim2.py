@@ -232,7 +232,7 @@ def test_chenciner_wrong_pairing_detected(monkeypatch):
     fj = m.to_float(jet)
     good = codim2.chenciner(*fj)
     real_eigen = codim2._eigen
-    from symvi.normal_forms.normal_form import FLOAT64
+    from symvi.numerics.backend import FLOAT64
     A = fj[0].astype(complex)
     e = real_eigen(FLOAT64, A, None)
     c1_wrong = _kuznetsov(FLOAT64, A, fj[1].astype(complex), fj[2].astype(complex),
@@ -433,7 +433,8 @@ def test_flip_ns_known():
             assert close(x, y, tol)
     r = codim2.flip_ns(*m.to_float(jet))
     small_residuals(r)
-    from symvi.normal_forms.normal_form import FLOAT64, _eigen
+    from symvi.normal_forms.normal_form import _eigen
+    from symvi.numerics.backend import FLOAT64
     A, d2, d3 = m.to_float(jet)
     c1 = _kuznetsov(FLOAT64, A.astype(complex), d2.astype(complex), d3.astype(complex),
                     _eigen(FLOAT64, A.astype(complex), None))[0]
