@@ -462,10 +462,11 @@ def _system(params):
     :meth:`symvi.Model.of`)."""
     from ..model import Model
     try:
-        return _ModelSystem(Model.of(params))
+        model = Model.of(params)
     except ParameterError:
         raise ParameterError("params", params, "a symvi.Model or the paper's symvi.Params") \
             from None
+    return _ModelSystem(model)      # its own errors as they are (a model the flow refuses)
 
 
 # --------------------------------------------------------------------------- sampling

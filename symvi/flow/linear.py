@@ -95,6 +95,7 @@ class LinearFlow:
     def __init__(self, model, bk):
         self.model, self.bk = model, bk
         n = model.n
+        model.require_one_rigid_stop()             # what this flow takes (issue 25)
         con = model.constraints[0]
         self.perm = _frame(con, n)
         p = list(self.perm)
@@ -334,7 +335,7 @@ _CONSTRAINED = {}
 def _flow_float(model):
     # models that differ only in the stop's gap or restitution (a curve in b or r) share
     # the modal data, which a new stop does not change: only b and r are replaced
-    con = model.constraints[0]
+    con = model.require_one_rigid_stop().constraints[0]
     key = (con.normal, con.side, con.impulse) + tuple(np.asarray(a, dtype=float).tobytes() for a in
                                      (model.mass, model.stiffness, model.damping, model.forcing))
     if key not in _LINEAR:

@@ -82,3 +82,41 @@ def _definite(field, a, semi):
                              f"largest {top:.3g}{what}")
     raise ParameterError(field, _shown(a.tolist()), valid,
                          f"not positive definite: smallest eigenvalue {w.min():.3g}{what}")
+
+
+def _coordinate_name(idx):
+    return f"x{idx[0] + 1}" if len(idx) == 1 else f"x{idx[1] + 1} - x{idx[0] + 1}"
+
+
+def _check_stops(stops, n, named):
+    """Mass indices within 1..n; at most one upper and one lower stop per coordinate, the
+    lower one below the upper one (else there is no free space between them).  ``named``:
+    errors name ``stop[k].field`` (``stops=``), else ``stop.field`` (``stop=``)."""
+    def field(k, f):
+        return f"stop[{k}].{f}" if named else f"stop.{f}"
+    seen = {}
+    for k, s in enumerate(stops, 1):
+        if s.mass is not None and s.mass > n:
+            raise ParameterError(field(k, "mass"), s.mass, f"a mass index from 1 to {n}")
+        if s.between is not None and max(s.between) > n:
+            raise ParameterError(field(k, "between"), list(s.between),
+                                 f"two different mass indices from 1 to {n}")
+        idx, sign = s.coordinate()
+        # in terms of the coordinate s' = x_max - x_min (or x_k): an upper stop at g on
+        # -s' is a lower stop at -g on s'
+        upper = (s.side == "upper") == (sign > 0)
+        g = sign * s.gap
+        if (idx, upper) in seen:
+            raise ParameterError(field(k, "side"), s.side,
+                                 f"at most one upper and one lower stop on a coordinate "
+                                 f"(stop[{seen[idx, upper][0]}] is on the same side of it)")
+        seen[idx, upper] = (k, g)
+        other = seen.get((idx, not upper))
+        if other is not None:
+            lo, hi = (other[1], g) if upper else (g, other[1])
+            if not lo < hi:
+                raise ParameterError(field(k, "gap"), s.gap,
+                                     f"a gap that leaves free space between the lower and "
+                                     f"the upper stop on one coordinate (stop[{other[0]}])",
+                                     f"lower at {lo!r}, upper at {hi!r} in terms of "
+                                     f"{_coordinate_name(idx)}")

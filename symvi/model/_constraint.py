@@ -6,18 +6,25 @@ normal*, N numbers in mass order), with a gap g and a side:
 * ``side = "upper"``: s <= g, the stop is above; the guard h = s - g < 0 off it;
 * ``side = "lower"``: s >= g; h = g - s < 0 off it.
 
-At a contact (h = 0, moving towards the stop) a rigid constraint resets the
-velocities by an impulse along a direction q (velocity space)::
+A constraint is of one of two kinds:
+
+* **rigid** (``restitution`` 0 < r <= 1): at a contact (h = 0, moving towards the stop)
+  the velocities jump by an impulse along a direction q (velocity space), below;
+* **elastic** (``stiffness`` k_s > 0, optional ``damping`` c_s >= 0): while the stop is
+  penetrated (h > 0) the force -sign (k_s h + c_s h') acts along c; no jump, no reset.
+
+The rigid reset::
 
     v+ = v- - (1 + r) q (c^T v-) / (c^T q) = R v-,   R = (I - Q) - r Q,  Q = q c^T / (c^T q),
 
 which sends c^T v to -r c^T v and leaves every velocity with c^T v = 0 alone.  For a
 rigid contact q = M^-1 c (the impulse of a force along c; momentum is conserved
 along any direction orthogonal to c).  :class:`symvi.model.Stop`, today's stop on
-mass k, builds the constraint c = e_k with q = e_k, Newton's law v_k+ = -r v_k-
-(eq. (2) generalised) with every other velocity unchanged: the rigid reset where
-M is diagonal.  R is written as (I - Q) - r Q so that for q = c = e_k its entries
-are exactly 1, 0 and -r: the reset applied as a matrix gives today's numbers bit for bit.
+mass k, builds the constraint c = e_k with the rigid impulse q = M^-1 c: for a
+diagonal M, q = e_k / m_k and Q = e_k e_k^T exactly (m_k^-1 / m_k^-1 = 1 in floating
+point), Newton's law v_k+ = -r v_k- (eq. (2) generalised) with every other velocity
+unchanged.  R is written as (I - Q) - r Q so that its entries are then exactly 1, 0 and
+-r: the reset applied as a matrix gives the paper's numbers bit for bit.
 
 A signature says which constraint (an index into ``model.constraints``) each
 impact of an orbit hits: with one stop, an n-p orbit has the signature (0,)*p.
@@ -35,21 +42,27 @@ from ..errors import ParameterError
 SIDES = ("upper", "lower")
 
 
+KINDS = ("rigid", "elastic")
+
+
 @dataclass(frozen=True)
 class Constraint:
-    """One rigid contact on s = c^T x (see the module docstring).
+    """One contact on s = c^T x (see the module docstring).
 
-    ``normal`` is c (N numbers, mass order), ``gap`` g, ``restitution`` r with
-    0 < r <= 1, ``side`` "upper" or "lower"; ``impulse`` is the direction q of
-    the velocity jump (None: M^-1 c, the rigid contact).  Built by
-    :meth:`symvi.model.Stop.constraint`; checked there and by the model.
+    ``normal`` is c (N numbers, mass order), ``gap`` g, ``side`` "upper" or "lower".
+    A rigid contact has ``restitution`` r with 0 < r <= 1 and ``impulse`` the direction
+    q of the velocity jump (None: M^-1 c, the rigid contact); an elastic one has
+    ``restitution`` None, ``stiffness`` k_s > 0 and ``damping`` c_s >= 0, and no reset.
+    Built by :meth:`symvi.model.Stop.constraint`; the numbers are checked there.
     """
 
     normal: tuple
     gap: float
-    restitution: float
+    restitution: float = None
     side: str = "upper"
     impulse: tuple = None
+    stiffness: float = None
+    damping: float = None
 
     def __post_init__(self):
         c = tuple(float(x) for x in self.normal)
@@ -65,16 +78,33 @@ class Constraint:
                 raise ParameterError("constraint.impulse", self.impulse,
                                      f"{len(c)} finite numbers q with c^T q != 0")
             object.__setattr__(self, "impulse", q)
+        if (self.restitution is None) == (self.stiffness is None):
+            raise ParameterError("constraint.kind", (self.restitution, self.stiffness),
+                                 "a restitution (rigid) or a stiffness (elastic), not both")
+        if self.stiffness is None and self.damping is not None:
+            raise ParameterError("constraint.damping", self.damping,
+                                 "none for a rigid contact (an elastic one has a stiffness)")
+        if self.stiffness is not None and self.impulse is not None:
+            raise ParameterError("constraint.impulse", self.impulse,
+                                 "none for an elastic contact (it has no jump)")
 
-    def with_values(self, gap, restitution):
-        """This constraint at another gap and restitution, both checked by the caller (the
-        Stop); the normal and impulse, checked once, are kept as they are: a curve in the
-        gap or r builds one constraint per corrector step."""
+    @property
+    def kind(self):
+        """"rigid" (a reset) or "elastic" (a contact phase, no reset)."""
+        return "rigid" if self.stiffness is None else "elastic"
+
+    def with_values(self, gap, restitution, stiffness=None, damping=None):
+        """This constraint at other numbers (gap and restitution, or gap, stiffness and
+        damping), checked by the caller (the Stop); the normal and impulse, checked once,
+        are kept as they are: a curve in the gap or r builds one constraint per corrector
+        step."""
         new = object.__new__(Constraint)
         for name in ("normal", "side", "impulse"):
             object.__setattr__(new, name, getattr(self, name))
         object.__setattr__(new, "gap", float(gap))
-        object.__setattr__(new, "restitution", float(restitution))
+        for name, v in (("restitution", restitution), ("stiffness", stiffness),
+                        ("damping", damping)):
+            object.__setattr__(new, name, None if v is None else float(v))
         return new
 
     @property
@@ -109,6 +139,9 @@ class Constraint:
     def direction(self, Minv=None):
         """The impulse direction q: ``impulse``, or M^-1 c (``Minv`` is M^-1, float64 or
         mpmath object array; q keeps its type)."""
+        if self.stiffness is not None:
+            raise ParameterError("constraint.kind", "elastic",
+                                 "a rigid contact (an elastic contact has no impulse or reset)")
         if self.impulse is not None:
             return np.array(self.impulse)
         if Minv is None:

@@ -11,6 +11,16 @@
     gap = 1.2
     restitution = 0.8
 
+or, for several stops (or a stop between masses, on the lower side, or elastic), one
+``[[stop]]`` table per stop, in order (``stop[k]`` in parameter names)::
+
+    [[stop]]
+    mass = 1                        # or: between = [1, 2]  (s = x_2 - x_1)
+    gap = 0.5
+    side = "upper"                  # or "lower" (s >= gap); "upper" by default
+    restitution = 0.8               # rigid; or stiffness = 50.0 (and damping = 0.1): elastic
+
+(The dynamics take one rigid stop on one mass for now: :meth:`Model.require_one_rigid_stop`.)
 A bad file raises :class:`ModelFileError`: one line naming the file and the key.
 Sizes are bounded before anything is allocated: the file (MAX_BYTES), the nesting of
 its arrays (MAX_DEPTH, checked before the recursive TOML parser runs) and N.
@@ -29,7 +39,7 @@ MAX_BYTES = 1 << 20
 MAX_DEPTH = 8
 
 _MODEL_KEYS = {"mass", "stiffness", "damping", "forcing"}
-_STOP_KEYS = {"mass", "gap", "restitution"}
+_STOP_KEYS = {"mass", "between", "gap", "side", "restitution", "stiffness", "damping"}
 
 
 class ModelFileError(ParameterError):
@@ -42,45 +52,89 @@ class ModelFileError(ParameterError):
         self.name, self.value, self.valid = key, None, message
 
 
-def _key_of(field):
-    """The file key of a constructor field name."""
+#: the most [[stop]] tables a file may hold (each stop is a constraint of the model)
+MAX_STOPS = 64
+
+
+def _key_of(field, where=None):
+    """The file key of a constructor field name: ``stop.gap`` is ``[stop] gap`` (or
+    ``where``'s, the ``[[stop]] #k`` table being read), ``stop[2].gap`` is ``[[stop]] #2 gap``."""
+    m = re.match(r"^stop\[(\d+)\](?:\.(\w+))?$", field)
+    if m:
+        return f"[[stop]] #{m.group(1)}" + (f" {m.group(2)}" if m.group(2) else "")
     if field.startswith("stop."):
-        return "[stop] " + field[5:]
+        return f"{where or '[stop]'} {field[5:]}"
+    if field in ("stop", "stops"):
+        return where or "[stop]"
     return "[model] " + field
 
 
+def _invalid(source, exc, where=None):
+    """The model file's error for a constructor's ParameterError: the key as the file says
+    it, the range and the detail, not the value (the file holds it)."""
+    detail = str(exc).split(f"valid range: {exc.valid}", 1)[-1]
+    return ModelFileError(source, _key_of(exc.name, where), f"invalid; valid: {exc.valid}{detail}")
+
+
+def _table(source, where, t, keys):
+    """Check one table: a table of keys, each one known."""
+    if not isinstance(t, dict):
+        raise ModelFileError(source, where, "must be a table of keys")
+    for k in t:
+        if k not in keys:
+            raise ModelFileError(source, f"{where} {_cut(str(k))}",
+                                 f"unknown key; valid keys: {', '.join(sorted(keys))}")
+
+
+def _stop(source, where, t):
+    """One Stop from a ``[stop]`` or ``[[stop]]`` table (``where`` names it)."""
+    _table(source, where, t, _STOP_KEYS)
+    if "mass" not in t and "between" not in t:
+        raise ModelFileError(source, f"{where} mass", "missing (required; or between = [i, j] "
+                             "for a stop between two masses)")
+    if "gap" not in t:
+        raise ModelFileError(source, f"{where} gap", "missing (required)")
+    if "restitution" not in t and "stiffness" not in t:
+        raise ModelFileError(source, f"{where} restitution",
+                             "missing (required: 0 < restitution <= 1 for a rigid stop, or "
+                             "stiffness > 0 for an elastic one)")
+    try:
+        return Stop(**t)
+    except ParameterError as exc:
+        raise _invalid(source, exc, where) from None
+
+
 def model_from_dict(data, source="<model>"):
-    """A :class:`Model` from the parsed tables ``{"model": {...}, "stop": {...}}``."""
+    """A :class:`Model` from the parsed tables ``{"model": {...}, "stop": {...}}`` (one
+    ``[stop]`` table) or ``{"model": {...}, "stop": [{...}, ...]}`` (``[[stop]]`` tables)."""
     if not isinstance(data, dict):
         raise ModelFileError(source, "", "expected the tables [model] and [stop]")
     unknown = set(data) - {"model", "stop"}
     if unknown:
         raise ModelFileError(source, _cut(sorted(map(str, unknown))[0]),
-                             "unknown table; a model file has [model] and [stop]")
-    for table, keys, required in (("model", _MODEL_KEYS, ("mass", "stiffness", "forcing")),
-                                  ("stop", _STOP_KEYS, ("mass", "gap", "restitution"))):
-        t = data.get(table)
-        if t is None:
-            raise ModelFileError(source, f"[{table}]", "missing table")
-        if not isinstance(t, dict):
-            raise ModelFileError(source, f"[{table}]", "must be a table of keys")
-        for k in t:
-            if k not in keys:
-                raise ModelFileError(source, f"[{table}] {_cut(str(k))}",
-                                     f"unknown key; valid keys: {', '.join(sorted(keys))}")
-        for k in required:
-            if k not in t:
-                raise ModelFileError(source, f"[{table}] {k}", "missing (required)")
-    m, s = data["model"], data["stop"]
+                             "unknown table; a model file has [model] and [stop] (or [[stop]])")
+    m = data.get("model")
+    if m is None:
+        raise ModelFileError(source, "[model]", "missing table")
+    _table(source, "[model]", m, _MODEL_KEYS)
+    for k in ("mass", "stiffness", "forcing"):
+        if k not in m:
+            raise ModelFileError(source, f"[model] {k}", "missing (required)")
+    s = data.get("stop")
+    if s is None:
+        raise ModelFileError(source, "[stop]", "missing table; a model file has a [stop] "
+                             "table or [[stop]] tables")
+    if isinstance(s, list):
+        if not 1 <= len(s) <= MAX_STOPS:
+            raise ModelFileError(source, "[[stop]]", f"{len(s)} tables; valid: 1 to {MAX_STOPS}")
+        stops = {"stops": [_stop(source, f"[[stop]] #{k}", t) for k, t in enumerate(s, 1)]}
+    else:
+        stops = {"stop": _stop(source, "[stop]", s)}
     try:
-        stop = Stop(mass=s["mass"], gap=s["gap"], restitution=s["restitution"])
         return Model(mass=m["mass"], stiffness=m["stiffness"], damping=m.get("damping"),
-                     forcing=m["forcing"], stop=stop)
+                     forcing=m["forcing"], **stops)
     except ParameterError as exc:
-        # keep the range and the detail, not the value (the file holds it)
-        detail = str(exc).split(f"valid range: {exc.valid}", 1)[-1]
-        raise ModelFileError(source, _key_of(exc.name),
-                             f"invalid; valid: {exc.valid}{detail}") from None
+        raise _invalid(source, exc) from None
 
 
 def _cut(text, limit=40):
@@ -139,6 +193,8 @@ def _key_at(text, pos):
 
 
 _SPECIAL = re.compile(r"[\"'#\[\]{}=\n]")
+_STOP_TABLE = re.compile(r"^[ \t]*\[[ \t]*stop[ \t]*\]", re.M)
+_STOP_TABLES = re.compile(r"^[ \t]*\[\[[ \t]*stop[ \t]*\]\]", re.M)
 
 
 def loads(text, source="<model>"):
@@ -153,6 +209,9 @@ def loads(text, source="<model>"):
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        if _STOP_TABLE.search(text) and _STOP_TABLES.search(text):
+            raise ModelFileError(source, "[stop]", "both [stop] and [[stop]] given; valid: one "
+                                 "[stop] table, or one [[stop]] table per stop") from None
         raise ModelFileError(source, "", f"malformed TOML: {_cut(str(exc), 160)}") from None
     except ValueError as exc:              # e.g. an integer of more than 4300 digits
         m = re.search(r"\d{4000,}", text)
@@ -202,11 +261,16 @@ def dumps(model):
     def mat(a):
         return "[" + ", ".join("[" + ", ".join(repr(float(x)) for x in row) + "]"
                                for row in a) + "]"
-    s = model.stop
+    def value(v):
+        if isinstance(v, str):
+            return f'"{v}"'
+        return "[" + ", ".join(map(str, v)) + "]" if isinstance(v, list) else repr(v)
     lines = ["[model]", f"mass = {mat(model.mass)}", f"stiffness = {mat(model.stiffness)}"]
     if model.damped:
         lines.append(f"damping = {mat(model.damping)}")
-    lines += [f"forcing = [{', '.join(repr(float(x)) for x in model.forcing)}]", "",
-              "[stop]", f"mass = {s.mass}", f"gap = {s.gap!r}", f"restitution = {s.restitution!r}",
-              ""]
-    return "\n".join(lines)
+    lines.append(f"forcing = [{', '.join(repr(float(x)) for x in model.forcing)}]")
+    stops = model.as_dict()["stop"]        # one table for today's stop, else [[stop]]
+    for t in (stops if isinstance(stops, list) else [stops]):
+        lines += ["", "[[stop]]" if isinstance(stops, list) else "[stop]"]
+        lines += [f"{k} = {value(v)}" for k, v in t.items()]
+    return "\n".join(lines + [""])

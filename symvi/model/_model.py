@@ -1,13 +1,17 @@
-"""A linear impact oscillator: N masses, damping, one rigid stop on any mass.
+"""A linear impact oscillator: N masses, damping, stops (one rigid stop on any mass today).
 
 Between impacts::
 
     M x'' + C x' + K x = P sin(omega t + tau),   x_k < b;
     at x_k = b:  v_k+ = -r v_k-                    (Newton's impact law, eq. (2) generalised)
 
-The stop is the model's one constraint (:attr:`Model.constraints`, a
+Each stop is one constraint of the model (:attr:`Model.constraints`, a
 :class:`symvi.model.Constraint` built by :meth:`Stop.constraint`): its guard and
 its reset are what the flow, the maps, the orbits and the compiled kernels read.
+A model may hold several stops, stops between two masses (s = x_j - x_i), lower stops
+(s >= g) and elastic ones (issue 25); the model layer reads, checks and writes them, and
+the dynamics take one rigid upper stop on one mass for now
+(:meth:`Model.require_one_rigid_stop`, called where a model enters them).
 
 M symmetric positive definite, K symmetric positive definite (every free-flight
 mode oscillates), C symmetric positive semi-definite (zero by default, as in
@@ -18,7 +22,8 @@ and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
 Named parameters
 ----------------
 Every scalar that defines the model has a stable name (1-based indices):
-``gap``, ``restitution``, ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``,
+``gap``, ``restitution`` (the first stop's), ``stop[k].gap``, ``stop[k].restitution``,
+``stop[k].stiffness``, ``stop[k].damping``, ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``,
 ``stiffness[i,j]``, ``damping[i,j]``, ``forcing[i]``; for the paper's preset
 also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  ``omega`` is the forcing
 frequency and is not a field of the model.  Setting an off-diagonal entry sets
@@ -38,8 +43,9 @@ from ..errors import ParameterError
 #: |entry| and |gap| limits: beyond them float64 over- or underflows in the flow
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
-from ._checks import DEF_TOL, _definite, _finite, _number, _short, _shown, _toml  # noqa: F401
-from ._constraint import Constraint
+from ._checks import DEF_TOL, _number, _short, _toml  # noqa: F401 (re-exported)
+from ._checks import _check_stops, _definite, _finite, _shown
+from ._constraint import SIDES, Constraint
 from .parameters import PresetParameter, StopParameter, Tangent  # noqa: F401 (Tangent: re-exported)
 from .parameters import parse as _parse_parameter
 
@@ -49,37 +55,154 @@ N_MAX = 8
 SYM_TOL = 1e-12
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Stop:
-    """The rigid stop: on mass ``mass`` (1-based), at x_mass = ``gap``, restitution r."""
+    """One stop (keyword fields; ``Stop(mass, gap, restitution)`` as before).
 
-    mass: int
-    gap: float
-    restitution: float
+    The coordinate: exactly one of ``mass=k`` (s = x_k) or ``between=(i, j)``
+    (s = x_j - x_i, an impact between two masses), 1-based, i != j.  ``gap`` g;
+    ``side`` "upper" (s <= g, the default) or "lower" (s >= g).  The contact: rigid
+    with ``restitution`` 0 < r <= 1, or elastic with ``stiffness`` > 0 and an optional
+    ``damping`` >= 0 (:mod:`symvi.model._constraint`).  Each field is checked here; the
+    model checks the indices against N and the stops against each other.
+    """
+
+    mass: int = None
+    gap: float = None
+    restitution: float = None
+    between: tuple = None
+    side: str = "upper"
+    stiffness: float = None
+    damping: float = None
 
     def __post_init__(self):
-        if isinstance(self.mass, bool) or not isinstance(self.mass, (int, np.integer)):
+        if (self.mass is None) == (self.between is None):
             raise ParameterError("stop.mass", _shown(self.mass),
-                                 "a 1-based mass index (integer >= 1)")
-        object.__setattr__(self, "mass", int(self.mass))
-        if not 1 <= self.mass <= N_MAX:
-            raise ParameterError("stop.mass", _shown(self.mass),
-                                 f"a 1-based mass index (integer from 1 to {N_MAX})")
+                                 "exactly one of mass=k (a 1-based mass index) or "
+                                 "between=(i, j) (two different mass indices)",
+                                 "both given" if self.mass is not None else "neither given")
+        if self.mass is not None:
+            object.__setattr__(self, "mass", _index("stop.mass", self.mass))
+        else:
+            b = self.between
+            if isinstance(b, (str, bytes)) or not isinstance(b, (list, tuple, np.ndarray)) \
+                    or len(b) != 2:
+                raise ParameterError("stop.between", _shown(b),
+                                     "two different 1-based mass indices [i, j] (s = x_j - x_i)")
+            i, j = (_index("stop.between", x) for x in b)
+            if i == j:
+                raise ParameterError("stop.between", [i, j],
+                                     "two different 1-based mass indices [i, j] (s = x_j - x_i)")
+            object.__setattr__(self, "between", (i, j))
+        if self.gap is None:
+            raise ParameterError("stop.gap", None, "a finite real number (required)")
         g = _finite("stop.gap", self.gap)
         if not abs(g) <= ABS_MAX:
             raise ParameterError("stop.gap", g, f"|gap| <= {ABS_MAX:g}")
-        r = _finite("stop.restitution", self.restitution, "0 < restitution <= 1")
-        if not 0 < r <= 1:
-            raise ParameterError("stop.restitution", r, "0 < restitution <= 1")
         object.__setattr__(self, "gap", g)
-        object.__setattr__(self, "restitution", r)
+        if self.side not in SIDES:
+            raise ParameterError("stop.side", _shown(self.side), '"upper" or "lower"')
+        if self.stiffness is None:
+            if self.damping is not None:
+                raise ParameterError("stop.damping", _shown(self.damping),
+                                     "only with a stiffness > 0 (an elastic stop); a rigid "
+                                     "stop has a restitution 0 < r <= 1 and no damping")
+            if self.restitution is None:
+                raise ParameterError("stop.restitution", None,
+                                     "0 < restitution <= 1 (a rigid stop), or a stiffness > 0 "
+                                     "(an elastic stop)")
+            r = _finite("stop.restitution", self.restitution, "0 < restitution <= 1")
+            if not 0 < r <= 1:
+                raise ParameterError("stop.restitution", r, "0 < restitution <= 1")
+            object.__setattr__(self, "restitution", r)
+            return
+        if self.restitution is not None:
+            raise ParameterError("stop.stiffness", _shown(self.stiffness),
+                                 "none for a rigid stop (it has a restitution); an elastic "
+                                 "stop has a stiffness > 0 and no restitution")
+        k = _finite("stop.stiffness", self.stiffness, "stiffness > 0")
+        if not 0 < k <= ABS_MAX:
+            raise ParameterError("stop.stiffness", k, f"0 < stiffness <= {ABS_MAX:g}")
+        object.__setattr__(self, "stiffness", k)
+        if self.damping is not None:
+            c = _finite("stop.damping", self.damping, "damping >= 0")
+            if not 0 <= c <= ABS_MAX:
+                raise ParameterError("stop.damping", c, f"0 <= damping <= {ABS_MAX:g}")
+            object.__setattr__(self, "damping", c)
+
+    @property
+    def kind(self):
+        """"rigid" (a restitution) or "elastic" (a stiffness)."""
+        return "rigid" if self.stiffness is None else "elastic"
+
+    @property
+    def plain(self):
+        """True for today's stop: rigid, upper side, on one mass (the single ``[stop]``
+        table of a model file says all of it)."""
+        return self.mass is not None and self.side == "upper" and self.stiffness is None
+
+    def fields(self, short=False):
+        """The fields that are set, in the order of a model file's ``[[stop]]`` table
+        (``short``: the side left out where it is the default, as in a ``[stop]`` table)."""
+        d = {"mass": self.mass} if self.mass is not None else {"between": list(self.between)}
+        d["gap"] = self.gap
+        if not (short and self.plain):
+            d["side"] = self.side
+        if self.stiffness is None:
+            d["restitution"] = self.restitution
+        else:
+            d["stiffness"] = self.stiffness
+            if self.damping is not None:
+                d["damping"] = self.damping
+        return d
+
+    def key(self):
+        """Every number of the stop, for hashing (today's (mass, gap, r) for a plain stop)."""
+        if self.plain:
+            return (self.mass, self.gap, self.restitution)
+        return (self.mass, self.between, self.side, self.gap, self.restitution,
+                self.stiffness, self.damping)
+
+    def __repr__(self):
+        return "Stop(" + ", ".join(f"{k}={v!r}" for k, v in self.fields(True).items()) + ")"
+
+    def replaced(self, **values):
+        """This stop with some numbers (gap, restitution, stiffness, damping) replaced,
+        each checked as the constructor does."""
+        d = self.fields()
+        d.pop("between", None)
+        d.update(values)
+        return Stop(between=self.between, **d)
+
+    def coordinate(self):
+        """(0-based mass indices of s, sign) with s = sign (x_j - x_i) or x_k, indices
+        sorted: two stops on one coordinate have one key (for the model's checks)."""
+        if self.mass is not None:
+            return (self.mass - 1,), 1.0
+        i, j = self.between
+        return (min(i, j) - 1, max(i, j) - 1), (1.0 if i < j else -1.0)
 
     def constraint(self, n):
         """This stop as the :class:`symvi.model.Constraint` of a model of n masses: guard
-        normal c = e_mass, side "upper", impulse along e_mass (v_k+ = -r v_k-, eq. (2))."""
-        e = tuple(1.0 if i == self.mass - 1 else 0.0 for i in range(n))
-        return Constraint(normal=e, gap=self.gap, restitution=self.restitution,
-                          side="upper", impulse=e)
+        normal c = e_mass (or e_j - e_i), its side; rigid: the impulse along M^-1 c
+        (impulse None), which is v_k+ = -r v_k- (eq. (2)) bit for bit where M is diagonal;
+        elastic: stiffness and damping, no reset."""
+        if self.mass is not None:
+            c = tuple(1.0 if i == self.mass - 1 else 0.0 for i in range(n))
+        else:
+            i, j = self.between
+            c = tuple(-1.0 if k == i - 1 else 1.0 if k == j - 1 else 0.0 for k in range(n))
+        return Constraint(normal=c, gap=self.gap, restitution=self.restitution,
+                          side=self.side, stiffness=self.stiffness, damping=self.damping)
+
+
+def _index(field, k):
+    """A 1-based mass index (an integer from 1 to N_MAX)."""
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+        raise ParameterError(field, _shown(k), "a 1-based mass index (integer >= 1)")
+    if not 1 <= k <= N_MAX:
+        raise ParameterError(field, _shown(k), f"a 1-based mass index (integer from 1 to {N_MAX})")
+    return int(k)
 
 
 def _size(field, value, n, valid):
@@ -169,21 +292,42 @@ def _tup(a):
 
 
 _PRESET = _preset.NAMES
+#: what the dynamics take today (:meth:`Model.require_one_rigid_stop`)
+_ONE_STOP = "one rigid stop on one mass (upper side)"
+
+
+def _stop_list(stop, stops):
+    """The model's stops as a tuple: ``stop=`` (one) or ``stops=`` (one or more)."""
+    if (stop is None) == (stops is None):
+        raise ParameterError("stop", _shown(stop if stops is None else stops),
+                             "exactly one of stop=Stop(...) or stops=[Stop(...), ...]",
+                             "both given" if stop is not None else "neither given")
+    if stop is not None:
+        if not isinstance(stop, Stop):
+            raise ParameterError("stop", stop, "a symvi.Stop(mass=k, gap=b, restitution=r)")
+        return (stop,)
+    if isinstance(stops, Stop) or not isinstance(stops, (list, tuple)) or not stops:
+        raise ParameterError("stops", _shown(stops), "a non-empty list of symvi.Stop")
+    for k, s in enumerate(stops, 1):
+        if not isinstance(s, Stop):
+            raise ParameterError(f"stop[{k}]", _shown(s), "a symvi.Stop(mass=k, gap=b, ...)")
+    return tuple(stops)
 
 
 class Model:
     """A linear impact oscillator (see the module docstring); immutable, hashable.
 
-    ``Model(mass=..., stiffness=..., forcing=..., damping=None, stop=Stop(...))``;
+    ``Model(mass=..., stiffness=..., forcing=..., damping=None, stop=Stop(...))``, or
+    ``stops=[Stop(...), ...]`` for several stops (exactly one of ``stop`` and ``stops``);
     every argument is keyword-only and validated here; an error names the
-    field and its valid range.
+    field and its valid range (``stop.gap`` for ``stop=``, ``stop[2].gap`` for ``stops=``).
     """
 
-    __slots__ = ("_M", "_K", "_C", "_P", "_stop", "_preset", "_arrays", "_hash")
+    __slots__ = ("_M", "_K", "_C", "_P", "_stops", "_preset", "_arrays", "_hash")
 
-    def __init__(self, *, mass, stiffness, forcing, stop, damping=None, _preset=None):
-        if not isinstance(stop, Stop):
-            raise ParameterError("stop", stop, "a symvi.Stop(mass=k, gap=b, restitution=r)")
+    def __init__(self, *, mass, stiffness, forcing, stop=None, stops=None, damping=None,
+                 _preset=None):
+        stops = _stop_list(stop, stops)
         M = _matrix("mass", mass, diag_ok=True)
         n = M.shape[0]
         K = _matrix("stiffness", stiffness, n)
@@ -194,13 +338,12 @@ class Model:
         P = _vector("forcing", forcing, n)
         if np.abs(P).max() > ABS_MAX:
             raise ParameterError("forcing", P.tolist(), f"|forcing[i]| <= {ABS_MAX:g}")
-        if stop.mass > n:
-            raise ParameterError("stop.mass", stop.mass, f"a mass index from 1 to {n}")
+        _check_stops(stops, n, named=stop is None)
         object.__setattr__(self, "_M", _tup(M))
         object.__setattr__(self, "_K", _tup(K))
         object.__setattr__(self, "_C", _tup(C))
         object.__setattr__(self, "_P", tuple(float(x) for x in P))
-        object.__setattr__(self, "_stop", stop)
+        object.__setattr__(self, "_stops", stops)
         object.__setattr__(self, "_preset", _preset)
         object.__setattr__(self, "_arrays", {})
         object.__setattr__(self, "_hash", hash(self.key()))     # hashed on every cache lookup
@@ -236,16 +379,38 @@ class Model:
 
     @property
     def stop(self):
-        return self._stop
+        """The first stop (the one stop of a one-stop model)."""
+        return self._stops[0]
+
+    @property
+    def stops(self):
+        """Every stop, in order (``stop[k]`` in parameter names is ``stops[k - 1]``)."""
+        return self._stops
 
     @property
     def constraints(self):
-        """The model's constraints (:class:`symvi.model.Constraint`), indexed by a
-        :class:`symvi.model.Signature`: today the one stop, ``(stop.constraint(N),)``."""
+        """The model's constraints (:class:`symvi.model.Constraint`), one per stop in order,
+        indexed by a :class:`symvi.model.Signature`."""
         cs = self._arrays.get("constraints")
         if cs is None:
-            cs = self._arrays["constraints"] = (self._stop.constraint(self.n),)
+            cs = self._arrays["constraints"] = tuple(s.constraint(self.n) for s in self._stops)
         return cs
+
+    def require_one_rigid_stop(self):
+        """``self``, or the one-line ParameterError saying what the dynamics cannot handle
+        yet: they take one rigid stop on one mass (issue 25).  The one check, called where a
+        model enters the dynamics (:class:`symvi.flow.linear.LinearFlow`, the section)."""
+        stops = self._stops
+        if len(stops) == 1 and stops[0].plain:
+            return self
+        if len(stops) > 1:
+            raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
+                                 "supported by the dynamics yet: issue 25")
+        s = stops[0]
+        what = ("an elastic stop" if s.stiffness is not None else
+                "a stop between two masses" if s.between is not None else "a lower stop")
+        raise ParameterError("stop", s, _ONE_STOP,
+                             f"{what} is not supported by the dynamics yet: issue 25")
 
     @property
     def n(self):
@@ -265,7 +430,7 @@ class Model:
     def conservative(self):
         """r = 1 and C = 0: the impact map preserves volume (multipliers may sit on
         the unit circle over whole intervals, and (H3) has no meaning)."""
-        return self._stop.restitution == 1.0 and not self.damped
+        return all(s.restitution == 1.0 for s in self._stops) and not self.damped
 
     @property
     def preset(self):
@@ -274,8 +439,10 @@ class Model:
 
     def key(self):
         """A stable tuple of every number, for hashing and caching."""
-        s = self._stop
-        return (self._M, self._K, self._C, self._P, s.mass, s.gap, s.restitution)
+        s = self._stops
+        if len(s) == 1 and s[0].plain:
+            return (self._M, self._K, self._C, self._P) + s[0].key()
+        return (self._M, self._K, self._C, self._P, tuple(t.key() for t in s))
 
     def __eq__(self, other):
         return isinstance(other, Model) and self.key() == other.key()
@@ -289,14 +456,17 @@ class Model:
             return ("Model.luo_xie(" + ", ".join(f"{k}={p[k]!r}" for k in _PRESET) + ")")
         return (f"Model(mass={[list(r) for r in self._M]}, stiffness={[list(r) for r in self._K]}, "
                 f"damping={[list(r) for r in self._C]}, forcing={list(self._P)}, "
-                f"stop={self._stop!r})")
+                + (f"stop={self._stops[0]!r})" if len(self._stops) == 1 else
+                   f"stops={list(self._stops)!r})"))
 
     def as_dict(self):
-        """The model as plain data (the ``[model]``/``[stop]`` tables of a model file)."""
+        """The model as plain data (the ``[model]`` and ``[stop]`` tables of a model file):
+        ``stop`` is one table for a one-stop model whose stop is today's (rigid, upper, on
+        one mass), else a list of tables (``[[stop]]``)."""
+        s = self._stops
         d = {"mass": [list(r) for r in self._M], "stiffness": [list(r) for r in self._K],
              "damping": [list(r) for r in self._C], "forcing": list(self._P),
-             "stop": {"mass": self._stop.mass, "gap": self._stop.gap,
-                      "restitution": self._stop.restitution}}
+             "stop": s[0].fields(True) if len(s) == 1 and s[0].plain else [t.fields() for t in s]}
         if self._preset is not None:
             d["preset"] = dict(self._preset)
         return d
@@ -330,7 +500,13 @@ class Model:
     def parameter_names(self):
         """Every named scalar of this model (``omega`` excluded), in a stable order."""
         n = self.n
-        names = ["gap", "restitution"]
+        stops = self._stops
+        names = ["gap"] + (["restitution"] if stops[0].stiffness is None else [])
+        if len(stops) > 1 or not stops[0].plain:
+            for k, s in enumerate(stops, 1):
+                names += [f"stop[{k}].{f}" for f in
+                          (("gap", "restitution") if s.stiffness is None else
+                           ("gap", "stiffness", "damping"))]
         names += [f"mass[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
         names += [f"stiffness[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
         names += [f"damping[{i + 1},{j + 1}]" for i in range(n) for j in range(i, n)]
@@ -344,7 +520,10 @@ class Model:
         parsed once per model shape (the objects are cached), then it reads, sets and
         differentiates that parameter on any model of this shape.  A bad name raises the
         one-line ParameterError naming the valid names."""
-        return _parse_parameter(name, len(self._P), self._preset is not None)
+        par = _parse_parameter(name, len(self._P), self._preset is not None)
+        if isinstance(par, StopParameter):
+            par.stop_of(self)                     # the model has that stop, of that kind
+        return par
 
     def value(self, name):
         """The value of a named parameter (not omega, which is not a field of the model)."""
@@ -379,24 +558,24 @@ class Model:
             return base.with_(**rest) if rest else base
         M, K, C = (np.array(x) for x in (self._M, self._K, self._C))
         P = np.array(self._P)
-        gap, r = self._stop.gap, self._stop.restitution
+        on_stops = {}
         for name, v in changes.items():
             par = pars[name]
             if par.is_forcing_frequency:
                 par.apply(self, v)                # refuses: omega lives beside the model
             kind, i, j = par.kind, par.i, par.j
             v = _finite(name, v)
-            if kind == "gap":
-                gap = v
-            elif kind == "restitution":
-                r = v
+            if isinstance(par, StopParameter):
+                on_stops[name] = v                # set on the new model, below
             elif kind == "forcing":
                 P[i] = v
             else:
                 A = {"mass": M, "stiffness": K, "damping": C}[kind]
                 A[i, j] = A[j, i] = v
-        return Model(mass=M, stiffness=K, damping=C, forcing=P,
-                     stop=Stop(mass=self._stop.mass, gap=gap, restitution=r))
+        new = Model(mass=M, stiffness=K, damping=C, forcing=P, stops=self._stops)
+        for name, v in on_stops.items():
+            new = pars[name].apply(new, v)
+        return new
 
     def tangent(self, name):
         """d(M, C, K, P, b, r) / d(name): exact derivative of the model data, as a

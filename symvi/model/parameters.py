@@ -5,7 +5,9 @@ A :class:`Parameter` is a lens on the point (model, omega), as in BifurcationKit
 changed, ``tangent`` is d(M, C, K, P, b, r)/d(value), the data the exact parameter
 derivatives of the map, eqs. (36)-(38) generalised, are built from.
 
-Names (1-based indices): ``omega``; ``gap``, ``restitution``; ``mass[i]`` (=
+Names (1-based indices): ``omega``; ``gap``, ``restitution`` (the first stop's);
+``stop[k].gap``, ``stop[k].restitution``, ``stop[k].stiffness``, ``stop[k].damping``
+(stop k's, as its kind has them); ``mass[i]`` (=
 ``mass[i,i]``), ``mass[i,j]``, ``stiffness[i,j]``, ``damping[i,j]``, ``forcing[i]``;
 for the paper's preset also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  A name is parsed
 by :meth:`symvi.model.Model.parameter` (once per model shape: the objects are cached),
@@ -40,9 +42,12 @@ from dataclasses import dataclass
 from ..errors import ParameterError
 from ..numerics.tolerances import ABS_MAX
 from . import _preset
-from ._checks import _definite, _finite, _shown
+from ._checks import _check_stops, _definite, _finite, _shown
 
 _NAME = re.compile(r"^(mass|stiffness|damping|forcing)\[(\d+)(?:,\s*(\d+))?\]$")
+_STOP_NAME = re.compile(r"^stop\[(\d+)\]\.(gap|restitution|stiffness|damping)$")
+#: the numbers of a stop that are parameters, by the stop's kind
+_STOP_FIELDS = {"rigid": ("gap", "restitution"), "elastic": ("gap", "stiffness", "damping")}
 
 
 class Parameter:
@@ -136,32 +141,68 @@ class Omega(Parameter):
 
 
 class StopParameter(Parameter):
-    """``gap`` / ``restitution`` (the preset's ``b`` / ``r``): the stop only, so a new
-    model shares the validated matrices (a curve in b or r builds one per corrector step)."""
+    """``gap`` / ``restitution`` (the preset's ``b`` / ``r``; the first stop's), and
+    ``stop[k].gap``, ``.restitution``, ``.stiffness``, ``.damping`` (stop k = i + 1): the
+    stops only, so a new model shares the validated matrices (a curve in b or r builds one
+    per corrector step)."""
 
     __slots__ = ()
 
+    def stop_of(self, model):
+        """The stop this parameter names on ``model``, or ParameterError when the model has
+        no such stop or the stop has no such number (a rigid stop's stiffness)."""
+        stops = model._stops
+        if self.i >= len(stops):
+            raise ParameterError("parameter", self.name, f"stop[k] with 1 <= k <= {len(stops)} "
+                                 f"(the model has {len(stops)} stop{'s' if len(stops) > 1 else ''})")
+        s = stops[self.i]
+        if self.kind not in _STOP_FIELDS[s.kind]:
+            valid = ", ".join(f"stop[{self.i + 1}].{f}" for f in _STOP_FIELDS[s.kind])
+            raise ParameterError("parameter", self.name, valid,
+                                 f"stop {self.i + 1} is {s.kind}: it has no {self.kind}")
+        return s
+
     def get(self, model, omega=None):
-        s = model._stop
-        return s.gap if self.kind == "gap" else s.restitution
+        return getattr(self.stop_of(model), self.kind)
 
     def apply(self, model, value):
         value = _finite(self.name, value)
-        s = model._stop
-        gap, r = (value, s.restitution) if self.kind == "gap" else (s.gap, value)
+        s = self.stop_of(model)
         preset = model._preset
         if preset is not None:                  # the preset's ranges and messages
+            gap, r = (value, s.restitution) if self.kind == "gap" else (s.gap, value)
             preset = dict(preset)
             preset.update(_preset.values(preset["mu_m"], preset["mu_k"], preset["f2"], gap, r))
-        stop = type(s)(mass=s.mass, gap=gap, restitution=r)
-        # the constraint carried over at the new gap and r: the flow's caches of its guard
+        stops = list(model._stops)
+        try:
+            stop = stops[self.i] = s.replaced(**{self.kind: value})
+        except ParameterError as exc:           # named as the user named it: stop[2].gap
+            if exc.name.startswith("stop.") and self.name.startswith("stop["):
+                raise ParameterError(f"stop[{self.i + 1}].{exc.name[5:]}", exc.value,
+                                     exc.valid, exc.detail) from None
+            raise
+        if len(stops) > 1 and self.kind == "gap":
+            try:                                # the stops still leave free space
+                _check_stops(stops, model.n, named=True)
+            except ParameterError as exc:
+                raise ParameterError(self.name, value, exc.valid, exc.detail) from None
+        # the constraints carried over at the new numbers: the flow's caches of the guard
         # and reset stay valid (a curve in b or r sets the stop at every corrector step)
         cs = model._arrays.get("constraints")
-        arrays = {} if cs is None else {
-            "constraints": (cs[0].with_values(stop.gap, stop.restitution),)}
-        return _copy(model, _stop=stop, preset=preset, _arrays=arrays)
+        arrays = {}
+        if cs is not None:
+            cs = list(cs)
+            cs[self.i] = cs[self.i].with_values(stop.gap, stop.restitution, stop.stiffness,
+                                                stop.damping)
+            arrays["constraints"] = tuple(cs)
+        return _copy(model, _stops=tuple(stops), preset=preset, _arrays=arrays)
 
     def _fill(self, dM, dK, dC, dP):
+        # the Tangent holds the first stop's gap and restitution only (what the dynamics
+        # take today: Model.require_one_rigid_stop refuses the other models first)
+        if self.i != 0 or self.kind not in ("gap", "restitution"):
+            raise ParameterError("parameter", self.name, "gap or restitution of the first "
+                                 "stop", "its derivative is not supported yet (issue 25)")
         return (1.0, 0.0) if self.kind == "gap" else (0.0, 1.0)
 
 
@@ -240,11 +281,11 @@ class PresetParameter(Parameter):
 
 
 def _copy(model, *, preset, **slots):
-    """A copy of ``model`` with some fields (slot names: ``_M``, ``_stop``, ...) replaced,
+    """A copy of ``model`` with some fields (slot names: ``_M``, ``_stops``, ...) replaced,
     already validated by the caller."""
-    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stop", "_arrays"}, slots
+    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stops", "_arrays"}, slots
     new = object.__new__(type(model))
-    for slot in ("_M", "_K", "_C", "_P", "_stop"):
+    for slot in ("_M", "_K", "_C", "_P", "_stops"):
         object.__setattr__(new, slot, slots.get(slot, getattr(model, slot)))
     object.__setattr__(new, "_preset", preset)
     object.__setattr__(new, "_arrays", slots.get("_arrays", {}))
@@ -277,7 +318,8 @@ PARSES = [0]
 
 def valid_names(n, preset):
     """The valid names, in words, for ParameterError."""
-    return ("omega, gap, restitution, mass[i], mass[i,j], stiffness[i,j], damping[i,j], "
+    return ("omega, gap, restitution, stop[k].gap, stop[k].restitution, stop[k].stiffness, "
+            "stop[k].damping, mass[i], mass[i,j], stiffness[i,j], damping[i,j], "
             f"forcing[i] with 1 <= i, j <= {n}"
             + ("; for this preset also mu_m, mu_k, f2, b, r" if preset else ""))
 
@@ -292,8 +334,14 @@ def _parse(name, n, preset):
         if name in ("b", "r") and not preset:
             raise ParameterError("parameter", name, valid,
                                  f"{name} belongs to the Luo-Xie preset only")
-        return StopParameter(name, "gap" if name in ("gap", "b") else "restitution", n=n,
+        return StopParameter(name, "gap" if name in ("gap", "b") else "restitution", 0, n=n,
                              preset=name in ("b", "r"))
+    m = _STOP_NAME.match(name.replace(" ", ""))
+    if m:
+        k = int(m.group(1))
+        if not 1 <= k <= 64:
+            raise ParameterError("parameter", name, valid, "stop[k] with k >= 1")
+        return StopParameter(name, m.group(2), k - 1, n=n)
     if name in _preset.NAMES:
         if not preset:
             raise ParameterError("parameter", name, valid,

@@ -183,6 +183,12 @@ class _MpModel:
         self.mass, self.stiffness, self.damping, self.forcing = M, K, C, P
         self.stop = _MpStop(model.stop.mass, gap, r)
         self.damped = any(x != 0 for x in np.ravel(C))
+        self._model = model
+
+    def require_one_rigid_stop(self):
+        """The checked model's answer (:meth:`symvi.model.Model.require_one_rigid_stop`)."""
+        self._model.require_one_rigid_stop()
+        return self
 
     @property
     def constraints(self):
@@ -195,6 +201,10 @@ class _MpStop:
     mass: int
     gap: object
     restitution: object
+    between: tuple = None
+    side: str = "upper"
+    stiffness: object = None
+    damping: object = None
 
 
 class CurveMapFD(_MapFD):

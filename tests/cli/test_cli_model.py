@@ -106,3 +106,41 @@ def test_model_shaped_arguments_are_checked(tmp_path, args, name):
                                 "--steps", "3", "--out", str(tmp_path / "x.npz"))
     r = _run(*cmd, "--model", str(f), *args)
     assert r.returncode == 2 and name in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+TWO_STOPS = """[model]
+mass = [1.0, 2.0]
+stiffness = [[1.0, -1.0], [-1.0, 6.0]]
+forcing = [1.0, 0.3]
+
+[[stop]]
+mass = 1
+gap = 0.5
+restitution = 0.8
+
+[[stop]]
+mass = 1
+gap = -0.5
+side = "lower"
+restitution = 0.8
+"""
+
+
+@pytest.mark.parametrize("args", [
+    ["orbit", "--omega", "1.1"],
+    ["hopf", "--omega-min", "0.9", "--omega-max", "1.1"],
+    ["continue", "--param", "omega", "--from", "1.0", "--to", "1.2"],
+    ["curve", "--omega-min", "0.9", "--omega-max", "1.1", "--params", "omega,gap"],
+    ["simulate", "--omega", "1.1", "--impacts", "10", "--transient", "10", "--out", "s.npz"],
+])
+def test_several_stops_are_refused_in_one_line(tmp_path, args):
+    """A two-stop file reads (the model layer takes it) but the dynamics take one rigid stop
+    on one mass for now (issue 25): exit 2, one line, no traceback, nothing written."""
+    f = tmp_path / "two.toml"
+    f.write_text(TWO_STOPS)
+    args = [str(tmp_path / a) if a.endswith(".npz") else a for a in args]
+    r = _run(args[0], "--model", str(f), *args[1:])
+    assert r.returncode == 2 and r.stdout == ""
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+    assert "stops = 2" in r.stderr and "issue 25" in r.stderr
+    assert not (tmp_path / "s.npz").exists()

@@ -14,7 +14,7 @@ from symvi.orbits.period1 import period1_orbits
 from symvi.orbits.periodic import Problem
 from tests.zoo import FOUR_STOP3, N_MASS_SET, PAPER_EX1, THREE_STOP2_GAP05, TWO_OVERDAMPED
 
-#: a non-diagonal mass matrix: today's law is not the impulse along M^-1 c there
+#: a non-diagonal mass matrix: the rigid impulse along M^-1 c moves both velocities
 OFFDIAG = Model(mass=[[1.0, 0.2], [0.2, 1.5]], stiffness=[[2.0, -1.0], [-1.0, 2.0]],
                 damping=[[0.02, 0.0], [0.0, 0.02]], forcing=[1.0, 0.3],
                 stop=Stop(mass=2, gap=0.4, restitution=0.8))
@@ -39,28 +39,48 @@ def test_model_constraints_is_its_stop():
 
 
 @pytest.mark.parametrize("r", [0.8, 0.3, 1.0, 0.123456789])
-def test_stop_reset_is_todays_law_bit_for_bit(r):
-    """R has entries exactly 1, 0 and -r: R v gives v_k+ = -r v_k- and leaves the rest."""
+@pytest.mark.parametrize("masses", [(1.0, 1.0, 1.0), (1.3, 0.7, 2.9), (1e-3, 3.7e5, 0.1)])
+def test_stop_reset_is_todays_law_bit_for_bit(r, masses):
+    """The stop's impulse is along M^-1 c; for a diagonal M, q = e_k / m_k and
+    Q = q c^T / (c^T q) = e_k e_k^T exactly, so R has entries exactly 1, 0 and -r: R v gives
+    v_k+ = -r v_k- and leaves the rest, bit for bit."""
     con = Stop(mass=2, gap=0.0, restitution=r).constraint(3)
-    R = con.reset_matrix()
+    assert con.impulse is None and con.kind == "rigid"
+    Minv = np.linalg.inv(np.diag(masses))
+    assert np.array_equal(con.projector(Minv), np.diag([0.0, 1.0, 0.0]))
+    R = con.reset_matrix(Minv)
     expect = np.eye(3)
     expect[1, 1] = -r
     assert np.array_equal(R, expect)
     v = np.array([0.3, -1.7, 2.9])
-    assert np.array_equal(con.reset(v), [0.3, -r * -1.7, 2.9])
+    assert np.array_equal(con.reset(v, Minv), [0.3, -r * -1.7, 2.9])
 
 
 def test_rigid_reset_on_diagonal_mass_is_todays_law():
-    """The impulse along M^-1 c (the rigid contact, impulse=None) equals the stop's law
-    where M is diagonal, and sends c^T v to -r c^T v."""
+    """The impulse along M^-1 c (the stop's, impulse=None) equals the old impulse along e_k
+    bit for bit where M is diagonal, and sends c^T v to -r c^T v."""
     M = np.diag([1.0, 2.5, 0.7])
     stop = Stop(mass=3, gap=0.1, restitution=0.8).constraint(3)
-    rigid = Constraint(normal=stop.normal, gap=0.1, restitution=0.8)
+    old = Constraint(normal=stop.normal, gap=0.1, restitution=0.8, impulse=stop.normal)
     Minv = np.linalg.inv(M)
-    np.testing.assert_allclose(rigid.reset_matrix(Minv), stop.reset_matrix(), rtol=0,
-                               atol=1e-15)
+    assert np.array_equal(stop.reset_matrix(Minv), old.reset_matrix())
     v = np.array([0.4, -0.2, 1.3])
-    assert rigid.s(rigid.reset(v, Minv)) == pytest.approx(-0.8 * rigid.s(v), rel=1e-15)
+    assert stop.s(stop.reset(v, Minv)) == pytest.approx(-0.8 * stop.s(v), rel=1e-15)
+
+
+def test_stop_on_a_non_diagonal_mass_is_the_rigid_impulse():
+    """With a non-diagonal M the stop's reset is the impulse along M^-1 c (issue 25): the
+    momentum M v changes along c only, and c^T v goes to -r c^T v; the old law (along e_k)
+    did not conserve momentum orthogonal to c."""
+    M = np.asarray(OFFDIAG.mass)
+    con = OFFDIAG.constraints[0]
+    Minv = np.linalg.inv(M)
+    v = np.array([0.7, -1.1])
+    vp = con.reset(v, Minv)
+    dp = M @ (vp - v)                                  # the impulse, along c = e_2
+    assert abs(dp[0]) < 1e-15 and dp[1] != 0
+    assert con.s(vp) == pytest.approx(-0.8 * con.s(v), rel=1e-15)
+    assert vp[0] != v[0]                               # the other mass moves too
 
 
 def test_rigid_reset_between_two_masses_conserves_momentum():
@@ -114,12 +134,17 @@ def test_problem_signature():
                          ids=[*N_MASS_SET, "overdamped", "four-stop3", "offdiag"])
 def test_flow_and_constants_carry_the_constraint(model):
     """The flow holds the guard e_0 and the reset in its order; the compiled constants
-    hold the same blocks; with a non-diagonal M the stop keeps today's law."""
+    hold the same blocks; with a diagonal M the reset is today's law bit for bit, with a
+    non-diagonal M the impulse along M^-1 c."""
     flow = LinearFlow.of(model)
     n = model.n
     assert np.array_equal(flow.guard, np.eye(n)[0]) and flow.level == model.stop.gap
     expect = np.eye(n)
     expect[0, 0] = -model.stop.restitution
+    if model is OFFDIAG:
+        expect = _rigid_reset(model)
+        assert np.abs(flow.reset - expect).max() < 1e-15 and expect[1, 0] != 0
+        expect = flow.reset
     assert np.array_equal(flow.reset, expect)
     c = fc.constants(model, 1.3)
     og, orr = fc._offsets(n)[3:]
@@ -128,12 +153,25 @@ def test_flow_and_constants_carry_the_constraint(model):
     assert len(c) == fc.size(n)
 
 
+def _rigid_reset(model):
+    """R = I - (1 + r) q c^T / (c^T q), q = M^-1 c, written out in the flow's order."""
+    p = list(LinearFlow.of(model).perm)
+    M = np.asarray(model.mass)[np.ix_(p, p)]
+    c = np.eye(model.n)[0]
+    q = np.linalg.solve(M, c)
+    return np.eye(model.n) - (1 + model.stop.restitution) * np.outer(q, c) / q[0]
+
+
 def _law_by_hand(model, omega, y):
-    """P(y) with the law written out: the first impact's state, then v_k+ = -r v_k-."""
+    """P(y) with the law written out: the first impact's state, then v_k+ = -r v_k- (the
+    rigid impulse along M^-1 c where M is not diagonal)."""
     c = fc.constants(model, omega)
     st, t, z, _, _ = fc.first_impact_from(c, y)
     n = model.n
     tau = (y[-1] + omega * t) % (2 * np.pi)
+    if model is OFFDIAG:
+        v = _rigid_reset(model) @ z[n:]
+        return np.array([v[0], *z[1:n], *v[1:], tau]), z[n]
     return np.array([-model.stop.restitution * z[n], *z[1:n], *z[n + 1:], tau]), z[n]
 
 
