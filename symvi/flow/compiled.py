@@ -194,6 +194,14 @@ def _offsets(n):
     return ow, ov, ou, og, og + n
 
 
+@nb.njit(cache=True, inline="always")
+def _response(c, ou, n, i, sp, cp):
+    """(U_i sin + V_i cos, U_i cos - V_i sin) at the phase (sp, cp): the steady response
+    zp_i of mass i (eq. (7)) and its velocity over omega, = d_tau zp_i."""
+    U, V = c[ou + i], c[ou + n + i]
+    return U * sp + V * cp, U * cp - V * sp
+
+
 @nb.njit(cache=True)
 def _start(c, y, cc, d, w):
     """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from
@@ -208,9 +216,9 @@ def _start(c, y, cc, d, w):
     sp, cp = math.sin(tau), math.cos(tau)
     # z0 = (b, y[1:n], y[0], y[n:2n-1]) in the stop-first order, minus zp(0)
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        w[i] = (c[_GAP] if i == 0 else y[i]) - (U * sp + V * cp)
-        w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * (U * cp - V * sp)
+        s0, s1 = _response(c, ou, n, i, sp, cp)
+        w[i] = (c[_GAP] if i == 0 else y[i]) - s0
+        w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * s1
     amp = 0.0
     for j in range(m):
         lr, li, wt = c[_HDR + 3 * j], c[_HDR + 3 * j + 1], c[_HDR + 3 * j + 2]
@@ -391,9 +399,9 @@ def _state(c, cc, e, z):
             z[i] += c[q] * er - c[q + 1] * ei
     sp, cp = e[2 * m], e[2 * m + 1]
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        z[i] += U * sp + V * cp
-        z[n + i] += om * (U * cp - V * sp)
+        s0, s1 = _response(c, ou, n, i, sp, cp)
+        z[i] += s0
+        z[n + i] += om * s1
 
 
 @nb.njit(cache=True)
@@ -476,9 +484,9 @@ def _tangent(c, tau, v, cc, e, z, w):
     sp, cp = math.sin(tau), math.cos(tau)
     # u = dz0 - d_tau zp(0) dtau; d_tau zp = zp' / omega (zp depends on omega t + tau)
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        w[i] = (0.0 if i == 0 else v[i]) - (U * cp - V * sp) * dtau
-        w[n + i] = (v[0] if i == 0 else v[n + i - 1]) + om * (U * sp + V * cp) * dtau
+        s0, s1 = _response(c, ou, n, i, sp, cp)
+        w[i] = (0.0 if i == 0 else v[i]) - s1 * dtau
+        w[n + i] = (v[0] if i == 0 else v[n + i - 1]) + om * s0 * dtau
     # dz = Phi(t) u = Re sum_j W_j w_j (W^-1_j u) e^{lambda_j t}, into w[dim:]
     for i in range(dim):
         w[dim + i] = 0.0
@@ -511,11 +519,10 @@ def _tangent(c, tau, v, cc, e, z, w):
     sp, cp = e[2 * m], e[2 * m + 1]
     o2 = om * om
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        s0 = U * sp + V * cp
+        s0, s1 = _response(c, ou, n, i, sp, cp)
         w[i] -= o2 * s0
         # + d_tau zp(t_e) dtau
-        w[dim + i] += (U * cp - V * sp) * dtau
+        w[dim + i] += s1 * dtau
         w[dim + n + i] -= om * s0 * dtau
     # h(t_e + dte) = 0: dte = -guard . dx / guard . v- (-dx_k / v_k- for the stop)
     gx, gv = 0.0, 0.0
