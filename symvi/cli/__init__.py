@@ -75,6 +75,13 @@ _PRESET_FLAGS = (("mu_m", "--mu-m", "mass ratio M2/M1 (> 0)"),
                  ("r", "--r", "coefficient of restitution (0 < r <= 1)"))
 
 
+#: the named parameters of a model, as the help of --param, --params, --x and --y lists them
+#: (symvi.model.parameters parses them)
+NAMED = "gap, restitution, mass[i], stiffness[i,j], damping[i,j], forcing[i]"
+#: ... with the preset's own names first
+PRESET_NAMED = f"b, r, mu_m, mu_k, f2 for the preset; {NAMED}"
+
+
 def add_params(parser, defaults=None, model=False):
     """The five system parameters of eq. (4) as --mu-m --mu-k --f2 --b --r; with
     ``model``, ``--model FILE`` (a model file) as the alternative to all five."""
@@ -152,6 +159,17 @@ def data_key(params):
     from ..model import Model, dumps
     return {"model": np.array(dumps(params))} if isinstance(params, Model) \
         else {"params": np.array(params.key())}
+
+
+def save_npz(path, **arrays):
+    """Write ``arrays`` (numpy.savez) to ``path`` atomically: the one place the command line
+    writes data (and, with :func:`data_key`, the one place it imports numpy)."""
+    import numpy as np
+
+    from .._io import atomic_path
+    with atomic_path(path, suffix=".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
 
 
 def print_special(kind, where, coefficients, detail, orbit, width):

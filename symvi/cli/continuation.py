@@ -1,6 +1,6 @@
 """``symvi continue``: continue n-p orbits in any named parameter, with fold, flip, NS and
 grazing points located (module named ``continuation``: ``continue`` is a Python keyword)."""
-from . import add_params, describe, params_from, print_json, print_special
+from . import NAMED, add_params, describe, params_from, print_json, print_special
 
 
 def register(sub):
@@ -9,8 +9,7 @@ def register(sub):
     add_params(p, model=True)
     p.add_argument("--param", required=True, metavar="NAME",
                    help="the continued parameter: omega or a named parameter of the model "
-                        "(gap, restitution, mass[i], stiffness[i,j], damping[i,j], "
-                        "forcing[i]; mu_m, mu_k, f2, b, r for the preset)")
+                        f"({NAMED}; mu_m, mu_k, f2, b, r for the preset)")
     p.add_argument("--from", dest="start", type=float, required=True, metavar="A",
                    help="start value of the parameter")
     p.add_argument("--to", dest="stop", type=float, required=True, metavar="B",

@@ -1,6 +1,7 @@
 """``symvi curve``: continue an NS, flip or fold curve in two parameters from the point of
 that kind found in [omega_min, omega_max], with its codimension-two points."""
-from . import add_params, check_value, describe, params_from, print_json, print_special
+from . import (PRESET_NAMED, add_params, check_value, describe, params_from, print_json,
+               print_special)
 
 
 def register(sub):
@@ -12,8 +13,7 @@ def register(sub):
     p.add_argument("--omega-max", type=float, required=True, metavar="B")
     p.add_argument("--params", required=True, metavar="omega,NAME",
                    help="the two curve parameters: omega and a named parameter of the model "
-                        "(b, r, mu_m, mu_k, f2 for the preset; gap, restitution, mass[i], "
-                        "stiffness[i,j], damping[i,j], forcing[i])")
+                        f"({PRESET_NAMED})")
     p.add_argument("--bounds", action="append", default=[], metavar="NAME=LO:HI",
                    help="range of a curve parameter (default: half to twice its start value)")
     p.add_argument("--kind", default="ns", choices=("ns", "flip", "fold"),
@@ -64,38 +64,15 @@ def parse_bounds(items, names, model=None):
     return out
 
 
-def _names(model, text):
-    """The two curve parameters of ``--params``: names of ``model``, not the same one twice
-    (``b`` and ``gap``, ``mass[1,2]`` and ``mass[2,1]`` are one parameter)."""
-    import numpy as np
-
-    from ..curves import parse_params
-    from ..errors import ParameterError
-    names = parse_params(text)
-    pars = []
-    for nm in names:
-        try:
-            pars.append(model.parameter(nm))
-        except ParameterError as exc:
-            raise ParameterError("--params", nm, exc.valid) from None
-    if not any(par.is_forcing_frequency for par in pars):
-        ta, tb = (par.tangent(model) for par in pars)
-        if all(np.array_equal(getattr(ta, f), getattr(tb, f))
-               for f in ("dM", "dK", "dC", "dP", "db", "dr")):
-            raise ParameterError("--params", text, "two different parameters (these two "
-                                 "names are one parameter)")
-    return names
-
-
 def run(args):
     import warnings
 
     from .._io import FIGURE_SUFFIXES, check_output
-    from ..curves import curve_from_interval
+    from ..curves import curve_from_interval, curve_params
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
     model = Model.of(params_from(args))
-    names = _names(model, args.params)
+    names = curve_params(model, args.params)
     bounds = parse_bounds(args.bounds, names, model)
     a, b = args.omega_min, args.omega_max
     check_value(model, "omega", a, "--omega-min", resonance=False)

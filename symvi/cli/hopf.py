@@ -36,8 +36,8 @@ def run(args):
         raise exc.renamed({"omega_min": "--omega-min", "omega_max": "--omega-max"}) from None
     checks = []
     if args.digits is not None:
-        from ..studies.mpcheck import check_point
-        checks = [check_point(params, pt, digits=args.digits) for pt in res.points]
+        from ..studies.mpcheck import check_points
+        checks = check_points(params, res.points, digits=args.digits)
     if args.json:
         obj = res.as_dict()
         for d, c in zip(obj["points"], checks):

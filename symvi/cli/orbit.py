@@ -11,25 +11,14 @@ def register(sub):
 
 
 def run(args):
-    import dataclasses
-
-    from ..analysis.precision import auto_model_orbits
-    from ..flow.linear import LinearFlow
     from ..model import Model
+    from ..paper.orbit import auto_orbits
     system = params_from(args)
     model = Model.of(system)
     paper = system is not model                 # the preset flags: the paper's view
-    flow = LinearFlow.of(model)
-    if paper:
-        from ..paper.orbit import Orbit
-        from ..paper.params import check_omega, modal
-        omega = check_omega(system, args.omega)
-    else:
-        omega = flow.check_omega(args.omega)
+    omega = args.omega                          # a float: the value the library checked
     # error estimates; mpmath recomputation where float64 gives < 8 digits
-    autos = auto_model_orbits(model, omega)
-    if paper:
-        autos = [dataclasses.replace(a, orbit=Orbit.of(system, a.orbit)) for a in autos]
+    autos = auto_orbits(system, omega)
     orbits = [a.orbit for a in autos]
     if args.json:
         items = _json_items(autos)
@@ -44,6 +33,7 @@ def run(args):
         print_json(out)
         return 0
     if paper:
+        from ..paper.params import modal
         m = modal(system)
         print(f"params: mu_m={system.mu_m:g} mu_k={system.mu_k:g} f2={system.f2:g} "
               f"b={system.b:g} r={system.r:g}   omega={omega:.10g}")
@@ -52,7 +42,9 @@ def run(args):
         print(f"model: N = {model.n}, stop on mass {model.stop.mass} at gap "
               f"{model.stop.gap:g}, r = {model.stop.restitution:g}"
               f"{', damped' if model.damped else ''}   omega={omega:.10g}")
-        print("natural frequencies: " + " ".join(f"{float(w):.10g}" for w in flow.omegas))
+        from ..flow.linear import LinearFlow
+        print("natural frequencies: " + " ".join(f"{float(w):.10g}"
+                                                  for w in LinearFlow.of(model).omegas))
     if not orbits:
         print("no period-1 one-impact orbit exists here: " + _why_none(model, omega))
         return 0

@@ -1,5 +1,5 @@
 """``symvi plane``: the attractor over a grid of two parameters, on Dask, into zarr."""
-from . import add_engine, add_params, params_from, print_json
+from . import PRESET_NAMED, add_engine, add_params, params_from, print_json
 
 
 def register(sub):
@@ -7,9 +7,8 @@ def register(sub):
                                      "impacts per period over a parameter plane (Dask, zarr)")
     add_params(p, model=True)
     p.add_argument("--x", required=True, metavar="NAME:LO:HI:N",
-                   help="first axis: omega or a named parameter (b, r, mu_m, mu_k, f2 for "
-                        "the preset; gap, restitution, mass[i], stiffness[i,j], "
-                        "damping[i,j], forcing[i]), N values from LO to HI")
+                   help=f"first axis: omega or a named parameter ({PRESET_NAMED}), N values "
+                        "from LO to HI")
     p.add_argument("--y", required=True, metavar="NAME:LO:HI:N", help="second axis")
     p.add_argument("--omega", type=float, default=None,
                    help="forcing frequency, when neither axis is omega")

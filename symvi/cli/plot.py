@@ -25,13 +25,9 @@ def run(args):
     done = int(ds["done"].sum())
     curves, notes = [], []
     spec = st.spec
-    if not args.no_curves and "omega" in (spec.x.name, spec.y.name):
-        from ..curves import curves_in_box
-        names = (spec.x.name, spec.y.name)
-        box = {spec.x.name: (spec.x.lo, spec.x.hi), spec.y.name: (spec.y.lo, spec.y.hi)}
-        curves, notes = curves_in_box(spec.model, names, box)
-    elif not args.no_curves:
-        notes.append("no curves: neither axis is omega")
+    if not args.no_curves:
+        from ..curves import curves_of_plane
+        curves, notes = curves_of_plane(spec)
     title = os.path.basename(os.path.normpath(args.store))
     if done < spec.y.n:
         title += f" (incomplete: {done} of {spec.y.n} rows)"

@@ -1,5 +1,5 @@
 """``symvi simulate``: iterate the Poincaré map and save the section (npz), optionally a plot."""
-from . import add_params, data_key, describe, params_from, print_json, section_view
+from . import add_params, data_key, describe, params_from, print_json, save_npz, section_view
 
 #: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY;
 #: from symvi.numerics, so that registering the command imports nothing heavy)
@@ -27,9 +27,6 @@ def register(sub):
 
 
 def run(args):
-    import numpy as np
-
-    from .._io import atomic_path
     from ..errors import ParameterError
     from ..simulations.simulation import MAX_STORED, MAX_TRANSIENT, simulate
     check_paths(args)
@@ -55,11 +52,8 @@ def run(args):
                        transient=args.transient)
     except ParameterError as exc:
         raise exc.renamed({"y0": "--y0", "omega": "--omega"}) from None
-    with atomic_path(args.out, suffix=".npz") as tmp:
-        with open(tmp, "wb") as fh:
-            np.savez(fh, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,
-                     y0=np.array(sim.y0), omega=sim.omega,
-                     stop=sim.stop, names=np.array(names), **data_key(params))
+    save_npz(args.out, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,
+             y0=sim.y0, omega=sim.omega, stop=sim.stop, names=names, **data_key(params))
     out = {"omega": sim.omega, "n": sim.n, "stop": sim.stop, "y0": list(sim.y0),
            "transient": sim.transient, "out": args.out}
     if args.classify:

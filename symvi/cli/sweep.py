@@ -1,8 +1,11 @@
 """``symvi sweep``: a bifurcation diagram over omega from parallel simulations."""
-from . import add_engine, add_params, data_key, describe, params_from, print_json, section_view
+from . import (add_engine, add_params, data_key, describe, params_from, print_json, save_npz,
+               section_view)
 
 #: most omega values of one sweep (each needs its period-1 start and a task's share)
 MAX_STEPS = 100_000
+#: how the sweep's grid (symvi.simulations.simulation.omega_grid) names its arguments
+GRID_FLAGS = {"omega_min": "--omega-min", "omega_max": "--omega-max", "steps": "--steps"}
 #: most stored section values (--steps x --impacts x 2N float64: 320 MB); the transient
 #: is dropped as it runs and costs time only
 MAX_VALUES = 40_000_000
@@ -43,18 +46,14 @@ def register(sub):
 
 
 def run(args):
-    import numpy as np
-
-    from .._io import atomic_path
     from ..errors import ParameterError
     from ..plane.engine import run_sweep
     from ..simulations.classifier import MIN_KEPT
-    from ..simulations.simulation import MAX_TRANSIENT, classify_sweep
+    from ..simulations.simulation import MAX_TRANSIENT, omega_grid
     data, figs = check_paths(args)
     if not 2 <= args.steps <= MAX_STEPS:
         raise ParameterError("--steps", args.steps, f"an integer in 2 .. {MAX_STEPS}")
     params = params_from(args)
-    from ..flow import check_omega
     labels, _, names = section_view(params)
     most = max(1, MAX_VALUES // (args.steps * len(names)))
     if not 1 <= args.impacts <= most:
@@ -69,26 +68,18 @@ def run(args):
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,
                              f"0 .. {len(names) - 1} ({', '.join(names)})")
-    check_omega(params, args.omega_min, "--omega-min", warn=False)
-    check_omega(params, args.omega_max, "--omega-max", warn=False)
-    if not args.omega_min < args.omega_max:
-        raise ParameterError("--omega-max", args.omega_max,
-                             f"greater than --omega-min = {args.omega_min!r}")
-    omegas = np.linspace(args.omega_min, args.omega_max, args.steps)
-    check_grid(params, omegas)
+    omegas = omega_grid(params, args.omega_min, args.omega_max, args.steps, names=GRID_FLAGS)
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
     workers = 0 if args.workers is None and args.scheduler is None else args.workers
     res = run_sweep(params, omegas, n_impacts=args.impacts, transient=args.transient,
-                    scheduler=args.scheduler, workers=workers, progress=enabled)
-    classes = classify_sweep(res).labels() if args.classify else None
+                    scheduler=args.scheduler, workers=workers, progress=enabled,
+                    classify=args.classify)
+    classes = res.labels()
     extra = {} if classes is None else {"classes": classes}
     if data:
-        with atomic_path(data, suffix=".npz") as tmp:
-            with open(tmp, "wb") as fh:
-                np.savez(fh, omegas=res.omegas, section=res.section, counts=res.counts,
-                         stops=np.array(res.stops), starts=res.starts,
-                         transient=res.transient, names=np.array(names), **extra,
-                         **data_key(params))
+        save_npz(data, omegas=res.omegas, section=res.section, counts=res.counts,
+                 stops=res.stops, starts=res.starts, transient=res.transient, names=names,
+                 **extra, **data_key(params))
     curves, special = None, []
     if args.branches:
         from ..continuation import diagram_branches
@@ -97,11 +88,10 @@ def run(args):
     if figs:
         from ..reporting import figures
         title = describe(params)
-        for path in figs:
-            fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,
-                                              component=args.component, title=title,
-                                              labels=labels, curves=curves)
-            figures.save(fig, path)
+        fig = figures.bifurcation_diagram(res.omegas, res.section, res.counts,
+                                          component=args.component, title=title,
+                                          labels=labels, curves=curves)
+        figures.save(fig, *figs)
     stops = {s: res.stops.count(s) for s in sorted(set(res.stops))}
     out = {"steps": len(omegas), "omega_min": args.omega_min, "omega_max": args.omega_max,
            "impacts": args.impacts, "transient": args.transient, "stops": stops,
@@ -110,8 +100,7 @@ def run(args):
         out["special"] = special
     if classes is not None:
         out["classes"] = classes.tolist()
-        out["class_counts"] = {c: int(n) for c, n in zip(*np.unique(classes,
-                                                                    return_counts=True))}
+        out["class_counts"] = res.class_counts()
     print_json(out)
     return 0
 
@@ -126,18 +115,3 @@ def check_paths(args):
     data = args.out if args.out.lower().endswith(".npz") else None
     return data, [p for p in (args.out, args.plot)
                   if p and p.lower().endswith(FIGURE_SUFFIXES)]
-
-
-def check_grid(params, omegas):
-    """Every inner grid point is a valid frequency (the ends were checked by flag): a point
-    at a natural frequency is refused naming the flags that put it there."""
-    from ..errors import ParameterError, SymviError
-    from ..flow import check_omega
-    for k, w in enumerate(omegas[1:-1], start=1):
-        try:
-            check_omega(params, float(w), "omega", warn=False)
-        except SymviError as exc:
-            raise ParameterError("--steps", len(omegas), "a grid (--omega-min, --omega-max, "
-                                 "--steps) with no point at a natural frequency",
-                                 f"grid point {k} is omega = {float(w)!r}: "
-                                 f"{str(exc).split(':', 1)[0]}") from None

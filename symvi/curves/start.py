@@ -27,6 +27,27 @@ def parse_params(text, flag="--params"):
     return names
 
 
+def curve_params(model, text, flag="--params"):
+    """The two curve parameters of "NAME,NAME" (:func:`parse_params`) as names of ``model``:
+    each one of its parameters, not the same one twice (``b`` and ``gap``, ``mass[1,2]`` and
+    ``mass[2,1]`` are one parameter: the same tangent); an error names ``flag``."""
+    import numpy as np
+    names = parse_params(text, flag)
+    pars = []
+    for nm in names:
+        try:
+            pars.append(model.parameter(nm))
+        except ParameterError as exc:
+            raise ParameterError(flag, nm, exc.valid) from None
+    if not any(par.is_forcing_frequency for par in pars):
+        ta, tb = (par.tangent(model) for par in pars)
+        if all(np.array_equal(getattr(ta, f), getattr(tb, f))
+               for f in ("dM", "dK", "dC", "dP", "db", "dr")):
+            raise ParameterError(flag, text, "two different parameters (these two "
+                                 "names are one parameter)")
+    return names
+
+
 def start_points(model, omega_min, omega_max, kind, *, branches=None):
     """The admissible located points of ``kind`` on the branches over the interval, those of
     the primary (fewest-impact) orbits first, then by omega: [(SpecialPoint, Branch)].
@@ -63,6 +84,16 @@ def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=
     if "omega" not in names:
         fixed["omega"] = sp.value
     return continue_curve(model, kind, names, sp.orbit, **fixed, **kw), sp
+
+
+def curves_of_plane(spec, **kw):
+    """The fold, flip and NS curves over the plane of ``spec`` (a
+    :class:`symvi.plane.PlaneSpec`; ``symvi plot``): :func:`curves_in_box` of its two axes,
+    (curves, notes); none, with a note saying why, when neither axis is omega."""
+    if "omega" not in (spec.x.name, spec.y.name):
+        return [], ["no curves: neither axis is omega"]
+    box = {spec.x.name: (spec.x.lo, spec.x.hi), spec.y.name: (spec.y.lo, spec.y.hi)}
+    return curves_in_box(spec.model, (spec.x.name, spec.y.name), box, **kw)
 
 
 def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, omega=None,

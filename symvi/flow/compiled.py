@@ -217,6 +217,14 @@ def _slot(i, p):
     return i + 1 if i < p else i
 
 
+@nb.njit(cache=True, inline="always")
+def _response(c, ou, n, i, sp, cp):
+    """(U_i sin + V_i cos, U_i cos - V_i sin) at the phase (sp, cp): the steady response
+    zp_i of mass i (eq. (7)) and its velocity over omega, = d_tau zp_i."""
+    U, V = c[ou + i], c[ou + n + i]
+    return U * sp + V * cp, U * cp - V * sp
+
+
 @nb.njit(cache=True)
 def _start(c, y, k, cc, d, amp, w):
     """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from the
@@ -235,14 +243,14 @@ def _start(c, y, k, cc, d, amp, w):
     sp, cp = math.sin(tau), math.cos(tau)
     # z0 = (x_p = gap, the others from y) in the flow's order, minus zp(0)
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
+        s0, s1 = _response(c, ou, n, i, sp, cp)
         if i == p:
             xi, vi = c[ob + _GAP], y[0]
         else:
             s = _slot(i, p)
             xi, vi = y[s], y[n - 1 + s]
-        w[i] = xi - (U * sp + V * cp)
-        w[n + i] = vi - om * (U * cp - V * sp)
+        w[i] = xi - s0
+        w[n + i] = vi - om * s1
     for g in range(nc):
         amp[g] = 0.0
     for j in range(m):
@@ -484,9 +492,9 @@ def _state(c, cc, e, z):
             z[i] += c[q] * er - c[q + 1] * ei
     sp, cp = e[2 * m], e[2 * m + 1]
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        z[i] += U * sp + V * cp
-        z[n + i] += om * (U * cp - V * sp)
+        s0, s1 = _response(c, ou, n, i, sp, cp)
+        z[i] += s0
+        z[n + i] += om * s1
 
 
 @nb.njit(cache=True, inline="always")
@@ -585,14 +593,14 @@ def _tangent(c, tau, v, cc, e, z, w, k, g):
     sp, cp = math.sin(tau), math.cos(tau)
     # u = dz0 - d_tau zp(0) dtau; d_tau zp = zp' / omega (zp depends on omega t + tau)
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
+        s0, s1 = _response(c, ou, n, i, sp, cp)
         if i == pk:
             dx, dv = 0.0, v[0]
         else:
             q = _slot(i, pk)
             dx, dv = v[q], v[n - 1 + q]
-        w[i] = dx - (U * cp - V * sp) * dtau
-        w[n + i] = dv + om * (U * sp + V * cp) * dtau
+        w[i] = dx - s1 * dtau
+        w[n + i] = dv + om * s0 * dtau
     # dz = Phi(t) u = Re sum_j W_j w_j (W^-1_j u) e^{lambda_j t}, into w[dim:]
     for i in range(dim):
         w[dim + i] = 0.0
@@ -625,11 +633,10 @@ def _tangent(c, tau, v, cc, e, z, w, k, g):
     sp, cp = e[2 * m], e[2 * m + 1]
     o2 = om * om
     for i in range(n):
-        U, V = c[ou + i], c[ou + n + i]
-        s0 = U * sp + V * cp
+        s0, s1 = _response(c, ou, n, i, sp, cp)
         w[i] -= o2 * s0
         # + d_tau zp(t_e) dtau
-        w[dim + i] += (U * cp - V * sp) * dtau
+        w[dim + i] += s1 * dtau
         w[dim + n + i] -= om * s0 * dtau
     # h(t_e + dte) = 0: dte = -guard . dx / guard . v- (-dx_k / v_k- for the stop)
     gx, gv = 0.0, 0.0

@@ -70,6 +70,7 @@ eigenvalues, SIAM J. Sci. Comput. 26 (2005) 1932-1954.
 [MatContM] MultilinearForms/nf_*m.m of MatContM (W. Govaerts, Yu. A. Kuznetsov,
 R. Khoshsiar Ghaziani, H. G. E. Meijer).
 """
+import contextlib
 import math
 from dataclasses import dataclass, field
 
@@ -301,6 +302,16 @@ def _jordan(bk, A, mu, tol):
     return _Jordan(mu, q0, q1, p0, p1, res)
 
 
+@contextlib.contextmanager
+def _prepared(tol, digits, A, *ds):
+    """(tol, backend, [A, *ds] as the backend's arrays, the derivatives symmetrised), inside
+    the backend's precision: the start of every normal form here."""
+    tol = _default_tol(tol)
+    bk = _backend(digits, A, *ds)
+    with bk.context():
+        yield tol, bk, _jet(bk, A, *ds)
+
+
 def _default_tol(tol):
     if tol is None:
         return TOL
@@ -350,10 +361,7 @@ def chenciner(A, d2, d3, d4, d5, *, index=None, tol=None, digits=None):
     when ||lambda| - 1| > tol, or lambda^m = 1 for m <= 4 (a singular solve).
     Normalisation: ||q||_2 = 1, <p, q> = 1 (see :class:`Chenciner`).
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3, d4, d5)
-    with bk.context():
-        A, d2, d3, d4, d5 = _jet(bk, A, d2, d3, d4, d5)
+    with _prepared(tol, digits, A, d2, d3, d4, d5) as (tol, bk, (A, d2, d3, d4, d5)):
         n = A.shape[0]
         e, res = _complex_pair(bk, A, index, None, tol)
         lam, q, p = e.lam, e.q, e.p
@@ -446,10 +454,7 @@ def resonance_1_1(A, d2, *, tol=None, digits=None):
     or no multiplier 1 is refused (SingularCaseError).  Normalisation: see
     :class:`Resonance11`.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2)
-    with bk.context():
-        A, d2 = _jet(bk, A, d2)
+    with _prepared(tol, digits, A, d2) as (tol, bk, (A, d2)):
         J = _jordan(bk, A, 1, tol)
         Bqq = _B(d2, J.q0, J.q0)
         a = _vdot(J.p1, Bqq) / 2
@@ -495,10 +500,7 @@ def resonance_1_2(A, d2, d3, *, tol=None, digits=None):
     (the xi1^3 and xi1^2 xi2 solvability conditions, with <p1, h30> = -<p0, r30>).
     Needs a double multiplier -1 with a Jordan block (else SingularCaseError).
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         J = _jordan(bk, A, -1, tol)
         q0, q1, p0, p1 = J.q0, J.q1, J.p0, J.p1
         ImA = bk.ceye(A.shape[0]) - A
@@ -546,10 +548,7 @@ def resonance_1_3(A, d2, d3, *, index=None, tol=None, digits=None):
     c1 = <p, C(q,q,qb) + B(qb,h20) + 2B(q,h11)>/2.  lambda (Im > 0) must be within tol
     of exp(2 pi i/3); b1 = 0 is refused.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         n = A.shape[0]
         e, res = _complex_pair(bk, A, index, bk.cexp(2j * bk.pi / 3), tol)
         lam, q, p = e.lam, e.q, e.p
@@ -600,10 +599,7 @@ def resonance_1_4(A, d2, d3, *, index=None, tol=None, digits=None):
     h20 = -(A + I)^{-1} B(q,q)); d1 = <p, C(qb,qb,qb) + 3B(qb,h02)>/6, h02 = conj(h20).
     lambda (Im > 0) must be within tol of i; d1 = 0 is refused.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         e, res = _complex_pair(bk, A, index, 1j, tol)
         q, p = e.q, e.p
         qb = np.conj(q)
@@ -716,10 +712,7 @@ def flip_ns(A, d2, d3, *, index=None, tol=None, digits=None):
 
 def _xz(A, d2, d3, mu, index, tol, digits):
     """The common computation of LPNS (mu = 1) and PDNS (mu = -1)."""
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         n = A.shape[0]
         if n < 3:
             raise ParameterError("A", A.shape, "n >= 3 (a real and a complex critical multiplier)")
@@ -824,10 +817,7 @@ def fold_flip(A, d2, d3, *, tol=None, digits=None):
     2B(q1,h11)>/2, b21 = <p1, C(q0,q0,q1) + B(q1,h20) + 2B(q0,h11)>/2,
     b03 = <p1, C(q1,q1,q1) + 3B(q1,h02)>/6.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         vals, V = bk.ceig(A)
         F = _real_eig(bk, A, 1, tol, vals, V, tag="0")
         P = _real_eig(bk, A, -1, tol, vals, V, tag="1")
@@ -889,10 +879,7 @@ def cusp(A, d2, d3, *, tol=None, digits=None):
     a = <p, B(q,q)>/2; (I - A) h2 = B(q,q) - 2a q with <p, h2> = 0;
     c = <p, C(q,q,q) + 3B(q,h2)>/6.  Needs a simple multiplier 1.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3)
-    with bk.context():
-        A, d2, d3 = _jet(bk, A, d2, d3)
+    with _prepared(tol, digits, A, d2, d3) as (tol, bk, (A, d2, d3)):
         R = _real_eig(bk, A, 1, tol)
         q, p = R.q, R.p
         Bqq = _B(d2, q, q)
@@ -934,10 +921,7 @@ def degenerate_flip(A, d2, d3, d4, d5, *, tol=None, digits=None):
     (the 24 c h2 from h2 G^2/2; MatContM omits it, right at c = 0);
     e = <p, E(q^5) + 10D(q,q,q,h2) + 15C(q,h2,h2) + 10C(q,q,h3) + 10B(h2,h3) + 5B(q,h4)>/120.
     """
-    tol = _default_tol(tol)
-    bk = _backend(digits, A, d2, d3, d4, d5)
-    with bk.context():
-        A, d2, d3, d4, d5 = _jet(bk, A, d2, d3, d4, d5)
+    with _prepared(tol, digits, A, d2, d3, d4, d5) as (tol, bk, (A, d2, d3, d4, d5)):
         R = _real_eig(bk, A, -1, tol)
         q, p = R.q, R.p
         I = bk.ceye(A.shape[0])

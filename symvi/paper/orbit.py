@@ -8,7 +8,7 @@ integration constants a_j, b_j of eqs. (13)–(15).  The paper's own modal deriv
 stays as the independent oracle, :mod:`symvi.paper.modal_orbit`.
 """
 import functools
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 
 import mpmath
 
@@ -97,6 +97,21 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
         omega_f = omega                       # a 50-digit omega must not be rounded
     return [Orbit.of(params, o) for o in any_model(Model.of(params), omega_f, digits=digits,
                                                   multipliers=multipliers)]
+
+
+def auto_orbits(params, omega):
+    """Every period-1 orbit at omega with its precision estimate, recomputed with mpmath
+    where float64 gives too few digits (:func:`symvi.analysis.precision.auto_model_orbits`;
+    ``symvi orbit``), omega checked first: of a :class:`symvi.Model`, or of the paper's
+    Params in the paper's terms (its check of omega, each orbit its :class:`Orbit`)."""
+    from ..analysis.precision import auto_model_orbits
+    from ..flow import check_omega as check
+    from ..model import Model
+    model = Model.of(params)
+    if model is params:
+        return auto_model_orbits(model, check(model, omega))
+    autos = auto_model_orbits(model, check_omega(params, omega))
+    return [replace(a, orbit=Orbit.of(params, a.orbit)) for a in autos]
 
 
 def admissible_orbits(params, omega, *, digits=None, multipliers=True):

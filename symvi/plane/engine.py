@@ -10,6 +10,7 @@ store by the client as it completes.
   what is missing.
 """
 import contextlib
+import dataclasses
 import functools
 import json
 import math
@@ -349,17 +350,22 @@ def _sweep_block(params, omegas, starts, n_impacts, transient):
 
 
 def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=None,
-              chunk=None, progress=None, client=None):
+              chunk=None, progress=None, client=None, classify=False):
     """:func:`symvi.simulations.simulation.sweep` as tasks of ``chunk`` omegas on this engine (a local
     cluster, ``scheduler``, or in-process with ``workers=0``); the same Sweep, bit for
-    bit, as one call of ``sweep``."""
-    from ..simulations.simulation import MAX_STORED, Sweep, _positive_int, sweep_starts
+    bit, as one call of ``sweep``.  ``classify``: also label each omega's attractor
+    (:func:`symvi.simulations.simulation.classify_sweep`, in this process), in
+    ``Sweep.classes``."""
+    from ..simulations.simulation import (MAX_STORED, Sweep, _check_classifiable,
+                                          _positive_int, classify_sweep, sweep_starts)
     check_workers(scheduler, workers)
     check_scheduler(scheduler)
     omegas = np.asarray(omegas, dtype=float)
     m = len(omegas)
     # the limits of one sweep call over all omegas (chunks would allow more)
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // m))
+    if classify:
+        _check_classifiable(n_impacts)
     starts = sweep_starts(params, omegas)
     chunk = chunk or max(1, math.ceil(m / 32))
     parts = {}
@@ -371,8 +377,9 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     run_tasks(_sweep_block, tasks, done, scheduler=scheduler, workers=workers, client=client,
               name=f"sweep-{_token(repr((params, omegas.tobytes())))}", progress=progress)
     got = [parts[k] for k in sorted(parts)]
-    return Sweep(params, np.concatenate([g.omegas for g in got]),
-                 np.concatenate([g.section for g in got]),
-                 np.concatenate([g.counts for g in got]),
-                 tuple(s for g in got for s in g.stops), np.concatenate([g.starts for g in got]),
-                 transient, sum(g.impacts_total for g in got))
+    res = Sweep(params, np.concatenate([g.omegas for g in got]),
+                np.concatenate([g.section for g in got]),
+                np.concatenate([g.counts for g in got]),
+                tuple(s for g in got for s in g.stops), np.concatenate([g.starts for g in got]),
+                transient, sum(g.impacts_total for g in got))
+    return dataclasses.replace(res, classes=classify_sweep(res)) if classify else res

@@ -28,31 +28,27 @@ PROJECTIONS = ((1, 0), (3, 0), (2, 1))
 LABELS = (r"$\dot x_{1+}$", r"$x_2$", r"$\dot x_2$", r"$\tau$")
 
 
-def save(fig, path, dpi=150):
-    """Write ``fig`` to ``path`` (PNG or PDF by suffix) atomically and close it."""
-    ext = os.path.splitext(os.fspath(path))[1].lower()
-    if ext not in FIGURE_SUFFIXES:
-        from ..errors import ParameterError      # a ValueError: one line on the CLI
-        raise ParameterError("figure path", os.fspath(path), "a file name ending in .png "
-                             "or .pdf")
+def save(fig, path, *more, dpi=150):
+    """Write ``fig`` to ``path`` and to each of ``more`` (PNG or PDF by suffix, every name
+    checked first) atomically and close it; returns ``path``."""
+    paths = [os.fspath(p) for p in (path, *more)]
+    for p in paths:
+        if os.path.splitext(p)[1].lower() not in FIGURE_SUFFIXES:
+            from ..errors import ParameterError      # a ValueError: one line on the CLI
+            raise ParameterError("figure path", p, "a file name ending in .png or .pdf")
     try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=ext[1:])
+        for p in paths:
+            with atomic_path(p) as tmp:
+                fig.savefig(tmp, dpi=dpi, format=os.path.splitext(p)[1].lower()[1:])
     finally:
         plt.close(fig)          # also when the write is refused: no figure left open
-    return os.fspath(path)
+    return paths[0]
 
 
 def save_all(fig, stem, formats=("png", "pdf")):
     """Write ``fig`` as ``stem.png`` and ``stem.pdf``; returns the paths."""
-    paths = []
-    try:
-        for f in formats:
-            with atomic_path(f"{stem}.{f}") as tmp:
-                fig.savefig(tmp, dpi=150, format=f)
-            paths.append(f"{stem}.{f}")
-    finally:
-        plt.close(fig)
+    paths = [f"{stem}.{f}" for f in formats]
+    save(fig, *paths)
     return paths
 
 
@@ -162,6 +158,29 @@ def circle_loglog(mu, measured, predicted=None, names=LABELS, title=""):
     return fig
 
 
+def _axes(ax, figsize):
+    """(axes, own): ``ax``, or the axes of a new figure of ``figsize`` (own: this call made
+    it, and returns the figure)."""
+    if ax is not None:
+        return ax, False
+    return plt.subplots(figsize=figsize)[1], True
+
+
+def _done(ax, own, title):
+    """``ax`` titled; its figure, laid out, when this call made it (``own``), else ``ax``."""
+    if title:
+        ax.set_title(title, fontsize=9)
+    if own:
+        ax.figure.tight_layout()
+        return ax.figure
+    return ax
+
+
+def _axis_label(name):
+    """A parameter's axis label: omega as its symbol."""
+    return name if name != "omega" else r"$\omega$"
+
+
 #: marker and colour of each special-point kind on a branch plot
 _SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o", "tab:green"),
                   "grazing": ("v", "tab:purple"), "admissibility": ("x", "tab:gray"),
@@ -172,9 +191,7 @@ def branches(curves, param, ylabel=None, title="", ax=None):
     """Continued branches (the plain data of :meth:`symvi.continuation.Branch.curve`):
     each impact point's coordinate against the parameter; stable solid, unstable
     dashed, inadmissible dotted grey; special points marked and labelled."""
-    own = ax is None
-    if own:
-        fig, ax = plt.subplots(figsize=(7, 4.2))
+    ax, own = _axes(ax, (7, 4.2))
     for c in curves:
         lam = np.asarray(c["values"], dtype=float)
         Y = np.asarray(c["Y"], dtype=float).reshape(len(lam), -1)
@@ -193,14 +210,9 @@ def branches(curves, param, ylabel=None, title="", ax=None):
                          "branch-point": "BP"}.get(kind, kind),
                         (value, ys[0]), textcoords="offset points", xytext=(4, 4), fontsize=7,
                         color=col)
-    ax.set_xlabel(param if param != "omega" else r"$\omega$")
+    ax.set_xlabel(_axis_label(param))
     ax.set_ylabel(ylabel or "")
-    if title:
-        ax.set_title(title, fontsize=9)
-    if own:
-        fig.tight_layout()
-        return fig
-    return ax
+    return _done(ax, own, title)
 
 
 _CURVE_COLOUR = {"ns": "tab:blue", "flip": "tab:red", "fold": "tab:green"}
@@ -213,9 +225,7 @@ def two_parameter(curves, names, title="", ax=None):
     or the fold is simple, dashed where subcritical, dotted on neutral-saddle
     stretches, grey where the orbit is not admissible), short ticks on the side
     where the orbit is stable, and the codimension-two points labelled."""
-    own = ax is None
-    if own:
-        fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    ax, own = _axes(ax, (6.4, 4.6))
     spans = [np.ptp(np.concatenate([np.asarray(c["a"], float) for c in curves])) or 1.0,
              np.ptp(np.concatenate([np.asarray(c["b"], float) for c in curves])) or 1.0]
     for c in curves:
@@ -237,14 +247,9 @@ def two_parameter(curves, names, title="", ax=None):
         for kind, va, vb in c["special"]:
             ax.plot(va, vb, "o", color="k", ms=4, mfc="w")
             ax.annotate(kind, (va, vb), textcoords="offset points", xytext=(4, 4), fontsize=7)
-    ax.set_xlabel(names[0] if names[0] != "omega" else r"$\omega$")
-    ax.set_ylabel(names[1] if names[1] != "omega" else r"$\omega$")
-    if title:
-        ax.set_title(title, fontsize=9)
-    if own:
-        fig.tight_layout()
-        return fig
-    return ax
+    ax.set_xlabel(_axis_label(names[0]))
+    ax.set_ylabel(_axis_label(names[1]))
+    return _done(ax, own, title)
 
 
 def codim2_evidence(result, arrays, axes=(1, 2), title=""):

@@ -260,61 +260,77 @@ def _summary(by_kind):
     return L
 
 
-def _numbers(parts):
-    L = ["## Numbers table", "",
-         "Each number the paper prints beside symvi's own value. *agrees*: within one unit of "
-         "the last printed digit (or the grid step of the check), or the same qualitative "
-         "finding; *not checkable*: the paper does not give what the number depends on.", ""]
+def _unavailable(p):
+    """The lines of a part that could not be computed: why."""
+    return [f"**not available**: {_text(p.result.get('why'))}", ""]
+
+
+def _section(heading, intro, parts, body, head=lambda p: []):
+    """A section of the report: its heading and intro, then for each part its ``head``
+    lines and its ``body`` (or why it is not available)."""
+    L = [heading, "", intro, ""]
     for p in parts:
-        if not p.available:
-            L += [f"**not available**: {_text(p.result.get('why'))}", ""]
-            continue
-        if p.result.get("quick"):
-            L += ["*Quick mode: simulation rows use fewer impacts and coarser grids (see each "
-                  "reason).*", ""]
-        L += ["| # | printed claim | where | paper | symvi | status | reason and evidence |",
-              "|---|---|---|---|---|---|---|"]
-        for i, r in enumerate(p.result["rows"], start=1):
-            L.append(f"| {i} | {_cell(_text(r['label']))} | {_cell(_text(r['where']))} | "
-                     f"{_cell(_text(r['printed']))} "
-                     f"| {_cell(fmt(r['symvi']) if r['symvi'] is not None else '—')} | "
-                     f"{_status(r['status'])} | {_cell(r['reason'])} |")
-        L.append("")
+        L += head(p)
+        L += body(p) if p.available else _unavailable(p)
+    return L
+
+
+def _numbers(parts):
+    return _section("## Numbers table",
+                    "Each number the paper prints beside symvi's own value. *agrees*: within "
+                    "one unit of the last printed digit (or the grid step of the check), or the "
+                    "same qualitative finding; *not checkable*: the paper does not give what "
+                    "the number depends on.", parts, _numbers_rows)
+
+
+def _numbers_rows(p):
+    L = []
+    if p.result.get("quick"):
+        L += ["*Quick mode: simulation rows use fewer impacts and coarser grids (see each "
+              "reason).*", ""]
+    L += ["| # | printed claim | where | paper | symvi | status | reason and evidence |",
+          "|---|---|---|---|---|---|---|"]
+    for i, r in enumerate(p.result["rows"], start=1):
+        L.append(f"| {i} | {_cell(_text(r['label']))} | {_cell(_text(r['where']))} | "
+                 f"{_cell(_text(r['printed']))} "
+                 f"| {_cell(fmt(r['symvi']) if r['symvi'] is not None else '—')} | "
+                 f"{_status(r['status'])} | {_cell(r['reason'])} |")
+    L.append("")
     return L
 
 
 def _audit(parts):
-    L = ["## Formula audit", "",
-         "Each printed formula evaluated exactly as printed, beside an independent route to the "
-         "same quantity (column *symvi*; the route is in the details). abs/rel: 2-norm of the "
-         "difference, and relative to symvi's value.", ""]
-    for p in parts:
-        L += [f"### At {_code(p.output.params_name)}: " + ", ".join(
-            f"{k} = {v:g}" for k, v in p.scene.params_for(p.output).as_dict().items()),
-              ""]
-        if not p.available:
-            L += [f"**not available**: {_text(p.result.get('why'))}", ""]
-            continue
-        r0 = p.result
-        L += [f"Orbit formulas at ω = {fmt(r0['omega_orbit'], 10)}; normal form at the Hopf "
-              f"point v_c = {fmt(r0['omega_c'], 12)} (branch {r0['branch']}).", "",
-              "| eq. | quantity | as printed | symvi | abs | rel | status |",
-              "|---|---|---|---|---|---|---|"]
-        for r in r0["rows"]:
-            L.append(f"| {r['eq']} | {_cell(r['what'])} | {_cell(r['printed'])} | "
-                     f"{_cell(r['symvi'])} | {_e(r['abs'])} | {_e(r['rel'])} | "
-                     f"{_status(r['status'])} |")
-        L += ["", "Details:", ""]
-        for r in r0["rows"]:
-            line = f"- **{r['eq']} {r['what']}** — {r['status']}. Matters: {r['matters'] or '—'}. " \
-                   f"Evidence: {r['evidence']}."
-            L.append(line)
-            if r.get("corrected"):
-                L.append(f"  Corrected: $${r['corrected']}$$")
-        L.append("")
+    L = _section("## Formula audit",
+                 "Each printed formula evaluated exactly as printed, beside an independent route "
+                 "to the same quantity (column *symvi*; the route is in the details). abs/rel: "
+                 "2-norm of the difference, and relative to symvi's value.", parts, _audit_rows,
+                 head=lambda p: [f"### At {_code(p.output.params_name)}: " + ", ".join(
+                     f"{k} = {v:g}" for k, v in p.scene.params_for(p.output).as_dict().items()),
+                     ""])
     L += ["### Typos and conventions (no number to compare)", ""]
     for n in NOTES:
         L.append(f"- eq. {n['eq']} — {n['status']}: {n['text']}")
+    L.append("")
+    return L
+
+
+def _audit_rows(p):
+    r0 = p.result
+    L = [f"Orbit formulas at ω = {fmt(r0['omega_orbit'], 10)}; normal form at the Hopf "
+         f"point v_c = {fmt(r0['omega_c'], 12)} (branch {r0['branch']}).", "",
+         "| eq. | quantity | as printed | symvi | abs | rel | status |",
+         "|---|---|---|---|---|---|---|"]
+    for r in r0["rows"]:
+        L.append(f"| {r['eq']} | {_cell(r['what'])} | {_cell(r['printed'])} | "
+                 f"{_cell(r['symvi'])} | {_e(r['abs'])} | {_e(r['rel'])} | "
+                 f"{_status(r['status'])} |")
+    L += ["", "Details:", ""]
+    for r in r0["rows"]:
+        line = f"- **{r['eq']} {r['what']}** — {r['status']}. Matters: {r['matters'] or '—'}. " \
+               f"Evidence: {r['evidence']}."
+        L.append(line)
+        if r.get("corrected"):
+            L.append(f"  Corrected: $${r['corrected']}$$")
     L.append("")
     return L
 
@@ -324,7 +340,7 @@ def _part(p):
          f"({'from the cache' if p.source == 'cache' else f'computed in {p.seconds:.2f} s'})", ""]
     r = p.result
     if not p.available:
-        return L + [f"**not available**: {_text(r.get('why'))}", ""]
+        return L + _unavailable(p)
     k = p.output.kind
     if r.get("quick_note"):
         L += [f"*{r['quick_note']}*", ""]

@@ -272,6 +272,42 @@ class Sweep:
         "period-1", "circle", ...); None when the sweep was not classified."""
         return None if self.classes is None else self.classes.labels()
 
+    def class_counts(self):
+        """{class: number of omegas}, the classes sorted by name; None when the sweep was
+        not classified."""
+        labels = self.labels()
+        if labels is None:
+            return None
+        return {c: int(n) for c, n in zip(*np.unique(labels, return_counts=True))}
+
+
+#: how :func:`omega_grid` names its arguments in an error (the command line passes its flags)
+GRID_NAMES = {"omega_min": "omega_min", "omega_max": "omega_max", "steps": "steps"}
+
+
+def omega_grid(params, omega_min, omega_max, steps, *, names=None):
+    """``steps`` evenly spaced forcing frequencies from ``omega_min`` to ``omega_max`` (the
+    grid of a sweep, ``symvi sweep``), each valid for ``params``: the ends in range, in
+    order, and no point at a natural frequency.  Errors name the arguments as ``names``
+    spells them (:data:`GRID_NAMES`)."""
+    from ..errors import SymviError
+    N = {**GRID_NAMES, **(names or {})}
+    check_omega(params, omega_min, N["omega_min"], warn=False)
+    check_omega(params, omega_max, N["omega_max"], warn=False)
+    if not omega_min < omega_max:
+        raise ParameterError(N["omega_max"], omega_max,
+                             f"greater than {N['omega_min']} = {omega_min!r}")
+    omegas = np.linspace(omega_min, omega_max, steps)
+    for k, w in enumerate(omegas[1:-1], start=1):
+        try:
+            check_omega(params, float(w), "omega", warn=False)
+        except SymviError as exc:
+            raise ParameterError(N["steps"], len(omegas), f"a grid ({N['omega_min']}, "
+                                 f"{N['omega_max']}, {N['steps']}) with no point at a "
+                                 "natural frequency", f"grid point {k} is omega = "
+                                 f"{float(w)!r}: {str(exc).split(':', 1)[0]}") from None
+    return omegas
+
 
 def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     """Start points for a sweep: y* + perturbation at each omega.

@@ -322,8 +322,7 @@ def mpcheck(params, omega_min, omega_max, *, digits=50, index=0):
     """Run float64 hopf_points, then chains A and B at the ``index``-th point; compare."""
     from ..analysis.hopf import spans_text
     from ..paper.hopf import hopf_points
-    if not isinstance(digits, int) or isinstance(digits, bool) or not 30 <= digits <= 500:
-        raise ParameterError("digits", digits, "an integer from 30 to 500")
+    _check_digits(digits)
     res = hopf_points(params, omega_min, omega_max)
     if not res.points:
         spans = spans_text(res.uncertified, 6)
@@ -335,6 +334,18 @@ def mpcheck(params, omega_min, omega_max, *, digits=50, index=0):
         raise ParameterError("index", index, f"0 .. {len(res.points) - 1}")
     pt = res.points[index]
     return check_point(params, pt, digits=digits)
+
+
+def _check_digits(digits):
+    if not isinstance(digits, int) or isinstance(digits, bool) or not 30 <= digits <= 500:
+        raise ParameterError("digits", digits, "an integer from 30 to 500")
+
+
+def check_points(params, points, *, digits=50):
+    """Chains A and B at each float64 HopfPoint of ``points`` (a scan's, in its order:
+    ``symvi hopf --digits``); ``digits`` from 30 to 500."""
+    _check_digits(digits)
+    return [check_point(params, pt, digits=digits) for pt in points]
 
 
 def check_point(params, pt, *, digits=50):

@@ -1,7 +1,6 @@
 """Orders 4 and 5 of the impact map (issue 13, l2): d4 and d5 against central finite
 differences of the order-3 d3 at 60 digits, symmetry, float64 against mpmath, the
 input layout, freshness, and that no other job imports them."""
-import argparse
 import itertools
 import json
 import math
@@ -161,12 +160,11 @@ def test_orders_4_5_fresh_in_the_manifest_and_regenerate_identically(tmp_path):
 
 def test_regenerate_jobs_cover_the_shipped_set(tmp_path):
     from symvi._derivations import impact_jets as ij
-    from symvi.cli.regenerate import jobs_of
+    from symvi.codegen.regenerate import jobs
     from symvi.model import dumps
 
     def orders(**kw):
-        a = argparse.Namespace(**{"order": None, "model": None, "out": None, **kw})
-        return [(o, k["orders"], k.get("ns")) for _, _, o, k in jobs_of(a)]
+        return [(job.folder, job.orders, job.ns) for job in jobs(**kw)]
     plain = orders()
     assert (GEN, (4, 5), ij.NS_HIGH) in plain and (GEN, (1, 2, 3), ij.NS_SHIPPED) in plain
     assert all(max(k) <= 3 for _, k, _ in orders(order=3))

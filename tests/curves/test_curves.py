@@ -195,3 +195,28 @@ def test_fold_curve_agrees_with_the_fold_of_branches_at_fixed_b():
         folds += [s for s in br.special if s.kind == "fold"]
     assert folds and folds[0].value == pytest.approx(w, abs=1e-9)
     assert folds[0].coefficients["a"] == pytest.approx(pt.coefficient, rel=1e-6)
+
+
+def test_curve_params_are_two_parameters_of_the_model():
+    """``symvi curve --params``: names of the model, not one parameter twice."""
+    from symvi.curves import curve_params
+    from symvi.errors import ParameterError
+    from symvi.model import Model
+    m = Model.luo_xie(**EX1)
+    assert curve_params(m, "omega,b") == ("omega", "b")
+    assert curve_params(m, "gap,restitution") == ("gap", "restitution")
+    for text, why in (("b,gap", "two different parameters"), ("omega,zz", "omega, gap"),
+                      ("omega", "two different names")):
+        with pytest.raises(ParameterError, match=why) as exc:
+            curve_params(m, text)
+        assert exc.value.name == "--params"
+
+
+def test_curves_of_a_plane_without_omega_are_none_with_a_note():
+    from symvi.curves import curves_of_plane
+    from symvi.model import Model
+    from symvi.plane import PlaneSpec, parse_axis
+    spec = PlaneSpec(model=Model.luo_xie(**EX1), x=parse_axis("b:1.3:1.7:3", "--x"),
+                     y=parse_axis("r:0.7:0.8:3", "--y"), impacts=10, transient=10,
+                     omega=0.74)
+    assert curves_of_plane(spec) == ([], ["no curves: neither axis is omega"])

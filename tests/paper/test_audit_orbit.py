@@ -48,3 +48,24 @@ def test_21_to_24_agree_with_flow():
                       o.tau0 + dX[3])
     got = au.modal_constants_printed(p, omega, o.y, o.tau0, dX)
     assert np.allclose(got, [*mot.a, *mot.b], rtol=1e-12, atol=1e-13)
+
+
+def test_auto_orbits_in_the_papers_terms():
+    """``symvi orbit``'s one call: the paper's Params give the paper's Orbit, with the
+    numbers and estimates of the model's orbits; a Model gives its own; omega is checked
+    first, by the paper's rule for the paper's Params."""
+    import pytest
+
+    from symvi.analysis.precision import auto_model_orbits
+    from symvi.errors import ParameterError
+    from symvi.paper.orbit import Orbit, auto_orbits
+    p = EX1
+    paper, model = auto_orbits(p, 0.74), auto_model_orbits(p.as_model(), 0.74)
+    assert paper and all(isinstance(a.orbit, Orbit) for a in paper)
+    assert [list(a.orbit.y) for a in paper] == [list(a.orbit.y) for a in model]
+    assert [a.estimate.y.as_dict() for a in paper] == [a.estimate.y.as_dict() for a in model]
+    mine = auto_orbits(p.as_model(), 0.74)
+    assert [type(a.orbit) for a in mine] == [type(a.orbit) for a in model]
+    for system in (p, p.as_model()):
+        with pytest.raises(ParameterError, match="omega"):
+            auto_orbits(system, -1.0)

@@ -69,3 +69,32 @@ def test_cli_sweep_classify_needs_four_impacts(tmp_path, capsys):
                "--impacts", "3", "--out", str(tmp_path / "a.npz"), "--classify"])
     assert rc == 2
     assert "--impacts" in capsys.readouterr().err
+
+
+def test_run_sweep_classifies_as_sweep_does():
+    """The engine's sweep with ``classify`` (what ``symvi sweep --classify`` calls): the
+    same classes as one call of ``sweep``, and their counts by name."""
+    from symvi.plane.engine import run_sweep
+    one = sweep(P, [0.72, 0.738], n_impacts=1000, transient=2000, classify=True)
+    res = run_sweep(P, [0.72, 0.738], n_impacts=1000, transient=2000, workers=0,
+                    classify=True)
+    assert list(res.labels()) == list(one.labels()) == ["period-1", "circle"]
+    assert res.class_counts() == {"circle": 1, "period-1": 1}
+    assert run_sweep(P, [0.72, 0.738], n_impacts=5, transient=10, workers=0).class_counts() \
+        is None
+    with pytest.raises(ParameterError, match="n_impacts"):
+        run_sweep(P, [0.72, 0.738], n_impacts=3, transient=10, workers=0, classify=True)
+
+
+def test_omega_grid_checks_every_point_naming_the_arguments():
+    from symvi import modal
+    from symvi.simulations.simulation import omega_grid
+    assert np.array_equal(omega_grid(P, 0.7, 0.76, 4), np.linspace(0.7, 0.76, 4))
+    w2 = modal(P).omega2
+    with pytest.raises(ParameterError, match=r"steps = 3 .*grid point 1 is omega = "):
+        omega_grid(P, 0.5, 2 * w2 - 0.5, 3)                # the midpoint: omega_2
+    with pytest.raises(ParameterError, match=r"--steps = 3 .*\(--a, --b, --steps\)"):
+        omega_grid(P, 0.5, 2 * w2 - 0.5, 3, names={"omega_min": "--a", "omega_max": "--b",
+                                                   "steps": "--steps"})
+    with pytest.raises(ParameterError, match="omega_max = 0.7 .*greater than omega_min"):
+        omega_grid(P, 0.8, 0.7, 3)

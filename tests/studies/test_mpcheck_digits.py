@@ -84,3 +84,12 @@ def test_secant_on_a_flat_or_nan_function_says_so():
         for f in (lambda w: mpmath.mpf(1), lambda w: mpmath.nan):
             with pytest.raises(SingularCaseError, match="did not converge"):
                 mc._secant_root(f, 0.5, 30, "A")
+
+
+def test_check_points_refuses_digits_out_of_range_before_any_work():
+    from symvi.errors import ParameterError
+    p = Params(2, 5, 0, 1.5, 0.8)
+    assert mc.check_points(p, [], digits=30) == []
+    for bad in (29, 501, 50.0, True):
+        with pytest.raises(ParameterError, match="digits"):
+            mc.check_points(p, [object()], digits=bad)
