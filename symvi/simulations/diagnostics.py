@@ -80,6 +80,18 @@ def _spectrum(logs, te):
     return Lyapunov(np.sort(logs.mean(axis=0))[::-1], len(logs), float(np.mean(te)), err)
 
 
+def classifiable(params):
+    """Whether :func:`classify` and :func:`lyapunov` take the model of ``params``: one
+    rigid upper stop (the tangent maps follow one stop's section; issue 25)."""
+    from ..errors import ParameterError
+    from ..model import Model
+    try:
+        Model.of(params).require_one_rigid_stop()
+    except ParameterError:
+        return False
+    return True
+
+
 def _logs(sim, n=None):
     """(log |R_k[i, i]| of the QR method over the last ``n`` points, their flight times);
     column 0 is log |DP v| of one tangent vector, the classifier's input.  One stop only

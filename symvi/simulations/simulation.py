@@ -61,6 +61,20 @@ class Simulation:
         """t_e of eq. (26) from each stored point to the next impact (n - 1 values)."""
         return np.diff(self.t)
 
+    @property
+    def stops(self):
+        """Number of stops of the model run."""
+        return len(Model.of(self.params).constraints)
+
+    def impacts_per_stop(self):
+        """Stored impacts on each stop, in the model's order."""
+        return [int(v) for v in np.bincount(self.hits, minlength=self.stops)]
+
+    def on_stop(self, k):
+        """The stored section points of impacts on stop k (0-based): the points of one
+        section (with several stops, each point lies on the section of its stop)."""
+        return self.section[np.asarray(self.hits) == k]
+
 
 def _frozen(a):
     a = np.ascontiguousarray(a, dtype=np.float64)
