@@ -15,6 +15,8 @@ import types
 
 import numba as nb
 
+from . import _numba_cache  # noqa: F401  (one cache key for all kernels)
+
 _KERNELS = {}
 
 

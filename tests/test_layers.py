@@ -13,7 +13,7 @@ from symvi.reporting import scenes as sc
 #: lowest first; a module belongs to the layer of its longest matching prefix
 LAYERS = [
     ("numerics: shared tolerances and the precision backend", ("numerics",)),
-    ("base", ("errors", "_io", "progress", "_compiled", "_deprecated")),
+    ("base", ("errors", "_io", "progress", "_compiled", "_numba_cache", "_deprecated")),
     ("model", ("model",)),
     ("flow and maps", ("flow", "maps")),
     ("codegen", ("codegen",)),

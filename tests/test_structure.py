@@ -7,6 +7,7 @@ plane/kernel._period and simulations/diagnostics.period_of.)  One precision back
 scan finds six: _backend._Float and _Mp, flow/linear._NumpyLA and _MpLA,
 normal_forms/normal_form._NumpyBackend and _MpBackend)."""
 import ast
+import re
 from pathlib import Path
 
 PKG = Path(__file__).resolve().parents[1] / "symvi"
@@ -149,3 +150,34 @@ class _Float:
         assert backend_classes() == ["extra.py:_NumpyLA", "extra.py:_Float"]
     finally:
         PKG = old
+
+
+def test_every_kernel_file_shares_the_cache_key():
+    """The files that define numba kernels are exactly symvi._numba_cache.KERNEL_FILES, and
+    each imports that module (its stamp joins them all: a kernel whose callee's file
+    changed is recompiled, not loaded stale)."""
+    from symvi import _numba_cache
+    root = PKG
+    defining = {str(p.relative_to(root)) for p in root.rglob("*.py")
+                if re.search(r"^\s*@nb\.njit|^\s*@numba\.njit|nb\.njit\(cache",
+                             p.read_text(), re.M)}
+    assert defining == set(_numba_cache.KERNEL_FILES)
+    for name in _numba_cache.KERNEL_FILES:
+        assert "import _numba_cache" in (root / name).read_text(), name
+
+
+def test_a_kernel_is_stamped_with_every_kernel_file(monkeypatch):
+    """A kernel's cache stamp holds the digest of all kernel files: another digest (a
+    changed callee file) is another stamp, so numba's index no longer matches."""
+    from symvi import _numba_cache
+    from symvi.flow import compiled as cf
+    from symvi.simulations import classifier
+    assert _numba_cache.installed()
+    for kernel in (cf._run_into, classifier._classify_one):
+        locator = kernel._cache._impl.locator
+        assert isinstance(locator, _numba_cache._Joint)
+        stamp = locator.get_source_stamp()
+        assert stamp[1] == _numba_cache.DIGEST
+        monkeypatch.setattr(_numba_cache, "DIGEST", b"another")
+        assert locator.get_source_stamp() != stamp
+        monkeypatch.undo()

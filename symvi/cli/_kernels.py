@@ -24,7 +24,7 @@ ORBIT = [
     ("symvi.orbits._period1", "period1",
      _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F, _F1, _F1, _F, _F, "boolean"), 7.4),
     ("symvi.flow.compiled", "_offsets", _sig("int64"), 0.1),
-    ("symvi.flow.compiled", "_first_impact_from", _sig(_F1, _F1, _F), 3.1),
+    ("symvi.flow.compiled", "_first_impact_from", _sig(_F1, _F1, _F, "int64"), 3.1),
 ]
 #: the Hopf scan: the orbits, the located crossings (shooting, compiled with period1) and
 #: the order-3 jets

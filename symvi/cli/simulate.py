@@ -39,6 +39,12 @@ def run(args):
     if not 0 <= args.transient <= MAX_TRANSIENT:
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     params = params_from(args)
+    if args.classify:
+        from ..simulations.diagnostics import classifiable
+        if not classifiable(params):
+            raise ParameterError("--classify", "on", "a model with one rigid upper stop",
+                                 "the Lyapunov spectrum follows one stop's section "
+                                 "(issue 25)")
     labels, projections, names = section_view(params)
     if args.y0 is not None and len(args.y0) != len(names):
         raise ParameterError("--y0", args.y0, f"{len(names)} numbers: {' '.join(names)}")
@@ -52,10 +58,16 @@ def run(args):
                        transient=args.transient)
     except ParameterError as exc:
         raise exc.renamed({"y0": "--y0", "omega": "--omega"}) from None
+    several = sim.stops > 1
+    # with several stops each point lies on the section of the stop it hit: "hits"
+    extra = {"hits": sim.hits} if several else {}
     save_npz(args.out, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,
-             y0=sim.y0, omega=sim.omega, stop=sim.stop, names=names, **data_key(params))
+             y0=sim.y0, omega=sim.omega, stop=sim.stop, names=names, **extra,
+             **data_key(params))
     out = {"omega": sim.omega, "n": sim.n, "stop": sim.stop, "y0": list(sim.y0),
            "transient": sim.transient, "out": args.out}
+    if several:
+        out["impacts_per_stop"] = sim.impacts_per_stop()
     if args.classify:
         from ..simulations.diagnostics import classify
         cl = classify(sim)
@@ -73,7 +85,11 @@ def run(args):
     if args.plot:
         from ..reporting import figures
         title = f"{describe(params)}  omega={sim.omega:g}  ({sim.n} impacts, {sim.stop})"
-        figures.save(figures.sections(sim.section, title, sim.fixed_point, projections,
+        # one section in one figure: with several stops, the points on the first stop's
+        points = sim.on_stop(0) if several else sim.section
+        if several:
+            title += f", the {len(points)} on stop 1"
+        figures.save(figures.sections(points, title, sim.fixed_point, projections,
                                       labels=labels), args.plot)
         out["plot"] = args.plot
     print_json(out)

@@ -9,6 +9,7 @@ dominates a jet of a few masses in Python:
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..flow._steady import _lu_factor, _lu_solve
 
 

@@ -125,6 +125,7 @@ def jet_constraint(flow):
     h = g0 x_0 - level and the column 0 of the reset v+ = R v- (R is the identity but
     for that column: a rigid reset is I - (1 + r) q c^T / (c^T q) and c = +-e_0 in the
     section's frame).  Anything else is refused by name, never given wrong jets."""
+    flow.model.require_one_rigid_stop()
     g, R = flow.guard, np.asarray(flow.reset)
     n = flow.n
     if not (g[0] != 0 and all(x == 0 for x in g[1:])):

@@ -15,6 +15,7 @@ rounding (the test: tests/continuation/test_compiled_shooting.py).
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 
 @nb.njit(cache=True)
 def _steady(K, M, C, P, w):

@@ -44,6 +44,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from .linear import LinearFlow
@@ -71,23 +72,28 @@ _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 1_000_000
 
 # The constants array, typed against the constraint interface (symvi.model.Constraint).
-# Header: N, kept modes, omega; the constraint's gap b (x_0 = b on the section) and its
-# guard level (h = guard . x - level); t_max; the guard's steady amplitudes
-# (guard . U, guard . V, |guard . X|); max(|lambda|, omega); the growth factor.
-# Then, for a model of N masses (capacity 2N modes), in the flow's order:
+# Header: N, kept modes, omega, t_max, max(|lambda|, omega), the growth factor, and the
+# number of constraints. Then, for a model of N masses (capacity 2N modes), in the flow's
+# order:
 #   modes   [_HDR, +6N)            (Re lambda_j, Im lambda_j, weight w_j)
 #   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
 #   W^-1    [ov, +8N^2)            W^-1[j, i] at ov + 2 (2N j + i)
 #   U, V    [ou, +2N)              steady-state amplitudes
-#   guard   [og, +N)               the signed guard normal (e_0 for the stop)
-#   reset   [orr, +N^2)            R[i, j] at orr + N i + j: v+ = R v- (the impact law)
-_NN, _NM, _OM, _GAP, _LEVEL, _TMAX, _US, _VS, _XS, _LMAX, _GROW = range(11)
-_HDR = 11
+#   constraint table [oc, ...)     one block of _CB + N + N^2 per constraint k, in the
+#       model's order: the position p of its coordinate in the flow's order (its section is
+#       x_p = gap), the gap, the guard level (h = guard . x - level < 0 off it), the guard's
+#       steady amplitudes (guard . U, guard . V, |guard . X|), the signed guard normal (N),
+#       the reset R (N^2, R[i, j] at + N i + j: v+ = R v-, the impact law)
+_NN, _NM, _OM, _TMAX, _LMAX, _GROW, _NC = range(7)
+_HDR = 7
+#: the fields at the head of a constraint's block
+_P, _GAP, _LEVEL, _US, _VS, _XS = range(6)
+_CB = 6
 
 
-def size(n):
-    """Length of the constants array of a model with n masses."""
-    return _HDR + 6 * n + 16 * n * n + 2 * n + n + n * n
+def size(n, m=1):
+    """Length of the constants array of a model with n masses and m constraints."""
+    return _HDR + 6 * n + 16 * n * n + 2 * n + m * (_CB + n + n * n)
 
 
 def _modes(lam):
@@ -120,7 +126,7 @@ def constants(model, omega, t_max=None):
 
     ``omega`` is validated by :meth:`LinearFlow.check_omega` (no warning here);
     ``t_max`` (default 1000 forcing periods, as the reference finder) bounds one
-    flight.
+    flight.  Every constraint of the model is in the table (:meth:`LinearFlow.constraint_rows`).
     """
     flow = LinearFlow.of(model)
     omega = flow.check_omega(omega, warn=False)
@@ -132,11 +138,16 @@ def constants(model, omega, t_max=None):
     keep = _modes(np.asarray(flow.lam, dtype=complex))
     W = np.asarray(flow.W, dtype=complex)
     Winv = np.asarray(flow.Winv, dtype=complex)
-    c = np.zeros(size(n))
+    rows = flow.constraint_rows()
+    c = np.zeros(size(n, len(rows)))
     U, V = np.asarray(fo.U, dtype=float), np.asarray(fo.V, dtype=float)
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega
     c[_TMAX] = t_max
-    set_constraint(c, flow)
+    c[_NC] = len(rows)
+    _, _, ou, oc, cb = _offsets(n)
+    for k, row in enumerate(rows):
+        c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
+        c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
     set_guard_forcing(c, flow, U, V)
     c[_LMAX] = max(max(abs(flow.lam)), omega)
     # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
@@ -144,7 +155,6 @@ def constants(model, omega, t_max=None):
     c[_GROW] = math.exp(max(0.0, float(np.max(flow.lam.real))) * 4 * t_max)
     ow = _HDR + 3 * dim
     ov = ow + 2 * dim * dim
-    ou = ov + 2 * dim * dim
     for q, (j, w) in enumerate(keep):
         lj = complex(flow.lam[j])
         c[_HDR + 3 * q:_HDR + 3 * q + 3] = (lj.real, lj.imag, w)
@@ -163,35 +173,48 @@ CONSTRAINT = ("b", "level", "guard", "reset")
 
 def set_constraint(c, flow):
     """Write the flow's constraint (gap, guard, reset: :meth:`LinearFlow._constrain`) into
-    the constants array ``c`` (a flow copied for a new gap or restitution shares the rest)."""
+    the first block of the constants array ``c`` (a flow copied for a new gap or
+    restitution shares the rest)."""
     n = flow.n
     k = flow.constraint64
-    og = _offsets(n)[3]
-    c[_GAP], c[_LEVEL] = k[0], k[1]
-    c[og:og + n + n * n] = k[2:]
+    oc = _offsets(n)[3]
+    c[oc + _GAP], c[oc + _LEVEL] = k[0], k[1]
+    c[oc + _CB:oc + _CB + n + n * n] = k[2:]
 
 
 def set_guard_forcing(c, flow, U, V):
-    """The guard's steady amplitudes guard . U, guard . V and |guard . X| (U[0], V[0], |X_k|
-    for the stop on mass k)."""
-    if flow._unit_guard:
-        us, vs = U[0], V[0]
-    else:
-        g = flow.guard
-        us, vs = float(g @ U), float(g @ V)
-    c[_US], c[_VS], c[_XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
+    """Each guard's steady amplitudes guard . U, guard . V and |guard . X| (U[0], V[0],
+    |X_k| for the stop on mass k)."""
+    n = flow.n
+    _, _, _, oc, cb = _offsets(n)
+    for k in range(int(c[_NC])):
+        o = oc + k * cb
+        if k == 0 and flow._unit_guard:
+            us, vs = U[0], V[0]
+        else:
+            g = c[o + _CB:o + _CB + n]
+            us, vs = float(g @ U), float(g @ V)
+        c[o + _US], c[o + _VS], c[o + _XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
 
 
 # --------------------------------------------------------------------------- kernels
 @nb.njit(cache=True, inline="always")
 def _offsets(n):
-    """(ow, ov, ou, og, orr): the blocks of the constants array (layout above)."""
+    """(ow, ov, ou, oc, cb): the blocks of the constants array (layout above); cb is the
+    length of one constraint's block."""
     dim = 2 * n
     ow = _HDR + 3 * dim
     ov = ow + 2 * dim * dim
     ou = ov + 2 * dim * dim
-    og = ou + 2 * n
-    return ow, ov, ou, og, og + n
+    oc = ou + 2 * n
+    return ow, ov, ou, oc, _CB + n + n * n
+
+
+@nb.njit(cache=True, inline="always")
+def _slot(i, p):
+    """Where coordinate i (flow order, i != p) sits in a section point of the constraint
+    at position p: x_i at y[slot], v_i at y[n - 1 + slot]; y[0] is v_p."""
+    return i + 1 if i < p else i
 
 
 @nb.njit(cache=True, inline="always")
@@ -203,23 +226,33 @@ def _response(c, ou, n, i, sp, cp):
 
 
 @nb.njit(cache=True)
-def _start(c, y, cc, d, w):
-    """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from
-    section point y into cc; per mode, into d (12 floats): w_j d_j lambda_j^k for
-    k = 0..4 (re, im), then w_j |d_j| |lambda_j|^2 and w_j |d_j| |lambda_j|^5 (times
-    the growth factor of the header, 1 when every Re lambda <= 0).
-    Returns (tau, sum_j w_j |d_j|).  ``w`` is scratch (2N)."""
+def _start(c, y, k, cc, d, amp, w):
+    """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from the
+    point y of constraint k's section into cc; per guard g and mode j, into d (12 floats
+    at 12 (2N g + j)): w_j d_j lambda_j^k for k = 0..4 (re, im), then w_j |d_j|
+    |lambda_j|^2 and w_j |d_j| |lambda_j|^5 (times the growth factor of the header, 1 when
+    every Re lambda <= 0); sum_j w_j |d_j| per guard into amp.
+    Returns tau.  ``w`` is scratch (2N)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
-    ow, ov, ou, og, _ = _offsets(n)
+    ow, ov, ou, oc, cb = _offsets(n)
+    nc = int(c[_NC])
+    ob = oc + k * cb
+    p = int(c[ob + _P])
     tau = y[dim - 1]
     sp, cp = math.sin(tau), math.cos(tau)
-    # z0 = (b, y[1:n], y[0], y[n:2n-1]) in the stop-first order, minus zp(0)
+    # z0 = (x_p = gap, the others from y) in the flow's order, minus zp(0)
     for i in range(n):
         s0, s1 = _response(c, ou, n, i, sp, cp)
-        w[i] = (c[_GAP] if i == 0 else y[i]) - s0
-        w[n + i] = (y[0] if i == 0 else y[n + i - 1]) - om * s1
-    amp = 0.0
+        if i == p:
+            xi, vi = c[ob + _GAP], y[0]
+        else:
+            s = _slot(i, p)
+            xi, vi = y[s], y[n - 1 + s]
+        w[i] = xi - s0
+        w[n + i] = vi - om * s1
+    for g in range(nc):
+        amp[g] = 0.0
     for j in range(m):
         lr, li, wt = c[_HDR + 3 * j], c[_HDR + 3 * j + 1], c[_HDR + 3 * j + 2]
         ar, ai = 0.0, 0.0
@@ -229,66 +262,84 @@ def _start(c, y, cc, d, w):
             ai += c[o + 1] * w[i]
         ar, ai = wt * ar, wt * ai               # the weight is 1 or 2: exact
         cc[2 * j], cc[2 * j + 1] = ar, ai
-        gr, gi = 0.0, 0.0                       # guard . W[:n, j] (W[0, j] for the stop)
-        for i in range(n):
-            o = ow + 2 * (dim * j + i)
-            gr += c[og + i] * c[o]
-            gi += c[og + i] * c[o + 1]
-        dr = gr * ar - gi * ai
-        di = gr * ai + gi * ar
-        q = 12 * j
-        for k in range(5):
-            d[q + 2 * k], d[q + 2 * k + 1] = dr, di
-            dr, di = dr * lr - di * li, dr * li + di * lr
-        a = math.sqrt(d[q] * d[q] + d[q + 1] * d[q + 1])
-        amp += a
         l2 = lr * lr + li * li
-        d[q + 10] = a * l2 * c[_GROW]
-        d[q + 11] = a * l2 * l2 * math.sqrt(l2) * c[_GROW]
-    return tau, amp
+        for g in range(nc):
+            og = oc + g * cb + _CB
+            gr, gi = 0.0, 0.0                   # guard . W[:n, j] (W[0, j] for the stop)
+            for i in range(n):
+                o = ow + 2 * (dim * j + i)
+                gr += c[og + i] * c[o]
+                gi += c[og + i] * c[o + 1]
+            dr = gr * ar - gi * ai
+            di = gr * ai + gi * ar
+            q = 12 * (dim * g + j)
+            for kk in range(5):
+                d[q + 2 * kk], d[q + 2 * kk + 1] = dr, di
+                dr, di = dr * lr - di * li, dr * li + di * lr
+            a = math.sqrt(d[q] * d[q] + d[q + 1] * d[q + 1])
+            amp[g] += a
+            d[q + 10] = a * l2 * c[_GROW]
+            d[q + 11] = a * l2 * l2 * math.sqrt(l2) * c[_GROW]
+    return tau
 
 
 @nb.njit(cache=True, inline="always")
-def _eval(c, d, e, m, tau, t):
-    """h = guard . x - level (x_k - b), its first four derivatives, and the bounds M2(t), M5(t).
-
-    Leaves e^{lambda_j t} and (sin, cos) of the phase in ``e`` for :func:`_state`
-    (the finder's last evaluation is at the time it returns)."""
-    h = h1 = h2 = h3 = h4 = 0.0
-    M2 = M5 = 0.0
+def _modes_at(c, e, x, m, tau, t):
+    """The modes' factors at t: e^{lambda_j t} (re, im) into e[2j:2j+2], e^{Re lambda_j t}
+    into x[j] (1 for an undamped mode), (sin, cos) of the phase into e[2m:2m+2]; what
+    :func:`_guard_at` and :func:`_state` read."""
     for j in range(m):
         lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
-        q = 12 * j
         cs, sn = math.cos(li * t), math.sin(li * t)
         if lr == 0.0:                            # undamped mode: no decay
-            M2 += d[q + 10]
-            M5 += d[q + 11]
+            x[j] = 1.0
         else:
             ex = math.exp(lr * t)
             cs, sn = ex * cs, ex * sn
-            M2 += ex * d[q + 10]
-            M5 += ex * d[q + 11]
+            x[j] = ex
         e[2 * j], e[2 * j + 1] = cs, sn
+    ph = c[_OM] * t + tau
+    e[2 * m], e[2 * m + 1] = math.sin(ph), math.cos(ph)
+
+
+@nb.njit(cache=True, inline="always")
+def _guard_at(c, d, e, x, n, m, g):
+    """h = guard . x - level of guard g (x_k - b for the stop), its first four derivatives,
+    and the bounds M2(t), M5(t), at the time of the last :func:`_modes_at`."""
+    h = h1 = h2 = h3 = h4 = 0.0
+    M2 = M5 = 0.0
+    q0 = 12 * (2 * n * g)
+    for j in range(m):
+        q = q0 + 12 * j
+        cs, sn = e[2 * j], e[2 * j + 1]
+        M2 += x[j] * d[q + 10]
+        M5 += x[j] * d[q + 11]
         # Re(w_j d_j lambda_j^k e^{lambda_j t})
         h += d[q] * cs - d[q + 1] * sn
         h1 += d[q + 2] * cs - d[q + 3] * sn
         h2 += d[q + 4] * cs - d[q + 5] * sn
         h3 += d[q + 6] * cs - d[q + 7] * sn
         h4 += d[q + 8] * cs - d[q + 9] * sn
+    ob = _offsets(n)[3] + g * (_CB + n + n * n)
     om = c[_OM]
-    ph = om * t + tau
-    sp, cp = math.sin(ph), math.cos(ph)
-    e[2 * m], e[2 * m + 1] = sp, cp
-    s0 = c[_US] * sp + c[_VS] * cp
-    s1 = om * (c[_US] * cp - c[_VS] * sp)
+    sp, cp = e[2 * m], e[2 * m + 1]
+    s0 = c[ob + _US] * sp + c[ob + _VS] * cp
+    s1 = om * (c[ob + _US] * cp - c[ob + _VS] * sp)
     o2 = om * om
-    h += s0 - c[_LEVEL]
+    h += s0 - c[ob + _LEVEL]
     h1 += s1
     h2 -= o2 * s0
     h3 -= o2 * s1
     h4 += o2 * o2 * s0
-    X = c[_XS]
+    X = c[ob + _XS]
     return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
+
+
+@nb.njit(cache=True)
+def _eval(c, d, e, x, n, m, tau, t, g):
+    """Guard g's h and derivatives and bounds at t (:func:`_modes_at`, :func:`_guard_at`)."""
+    _modes_at(c, e, x, m, tau, t)
+    return _guard_at(c, d, e, x, n, m, g)
 
 
 @nb.njit(cache=True, inline="always")
@@ -303,17 +354,32 @@ def _root(h, h1, K):
     return -2.0 * h / den
 
 
+@nb.njit(cache=True, inline="always")
+def _safe_dt(h, h1, h2, h3, h4, M2, M5, S):
+    """A step along which guard h provably stays < 0, and the next horizon S (module
+    docstring: the reference step, then S -> fixed point of S = root(K(S)))."""
+    step = _root(h, h1, M2)           # the reference step (M2 decays with the motion)
+    g3 = max(h3, 0.0)
+    g4 = 0.5 * max(h4, 0.0)
+    for _ in range(3):
+        K = min(M2, h2 + S * (g3 + S * (g4 + S * M5 / 6.0)))
+        r = _root(h, h1, K)
+        step = max(step, min(S, r))
+        S = 4.0 * S if r == np.inf else math.sqrt(S * r)
+    return step, S
+
+
 @nb.njit(cache=True)
-def _near_max(c, d, e, m, tau, ta, ha, da, tb, hb, db, L):
-    """Location of the max of h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it may
-    come within 1e-3 L of the stop; else -1.  Safeguarded Newton on h'."""
+def _near_max(c, d, e, x, n, m, tau, g, ta, ha, da, tb, hb, db, L):
+    """Location of the max of guard g's h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it
+    may come within 1e-3 L of the stop; else -1.  Safeguarded Newton on h'."""
     s = tb - ta
     u = s * da / (da - db)            # linear h' between the ends
     if max(ha + 0.5 * da * u, hb - 0.5 * db * (s - u)) < -1e-3 * L:
         return -1.0
     t = ta + u
     for _ in range(60):
-        h, h1, h2, _, _, _, _ = _eval(c, d, e, m, tau, t)
+        h, h1, h2, _, _, _, _ = _eval(c, d, e, x, n, m, tau, t, g)
         if h1 > 0.0:
             ta = t
         else:
@@ -327,64 +393,91 @@ def _near_max(c, d, e, m, tau, ta, ha, da, tb, hb, db, L):
     return t
 
 
-@nb.njit(cache=True)
-def _first_impact(c, d, e, tau, amp, t_max):
-    """First t > 0 with h(t) = 0 (x_k(t) = b): the twin of :meth:`Motion.first_impact`.
+#: per guard, the finder's state in its scratch array (8 floats a guard)
+_SL, _SEPS, _SVG, _SS, _STP, _SHP, _SDP = range(7)
 
-    Returns (status, t, x_k'' at t, steps); x_k'' at a contact separates grazing
-    (< 0) from sticking (> 0).
+
+@nb.njit(cache=True)
+def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
+    """First t > 0 with h_g(t) = 0 for some guard g, from a point on guard k: the twin of
+    :meth:`Motion.first_impact`, over every constraint.
+
+    Every step is provably safe for every guard (module docstring), so no contact is
+    stepped over, grazing ones included.  Returns (status, t, h_g'' at t, steps, g);
+    h_g'' at a contact separates grazing (< 0) from sticking (> 0).  ``s`` is scratch
+    (8 a guard).
     """
-    m = int(c[_NM])
-    L = amp + c[_XS] + abs(c[_LEVEL])
-    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, 0.0)
-    eps_h = CONTACT_ULPS * _EPS * L
-    v_graze = GRAZING_SPEED_FACTOR * math.sqrt(2.0 * M2 * eps_h)
-    if not h1 < 0.0:
-        return GRAZING, 0.0, h2, 0
-    t = -h1 / M2                      # vertex of the global bound: h < 0 up to here
-    S = 0.5 / c[_LMAX]                # first horizon; adapted below
-    tp, hp, dp = 0.0, h, h1
-    for n in range(1, _MAX_STEPS + 1):
-        h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
-        if dp > 0.0 and h1 <= 0.0 and h < -eps_h:
-            # a local max of h was stepped over; the reference (smaller steps)
-            # lands within eps_h of a near-tangency and calls it grazing: so do we
-            tm = _near_max(c, d, e, m, tau, tp, hp, dp, t, h, h1, L)
-            if tm >= 0.0:
-                hm, _, hm2, _, _, _, _ = _eval(c, d, e, m, tau, tm)
-                if hm >= -eps_h:
-                    return GRAZING, tm, hm2, n
-        tp, hp, dp = t, h, h1
-        if h >= -eps_h:
-            if h1 <= v_graze:
-                return GRAZING, t, h2, n
-            for _ in range(3):        # Newton polish of a transversal root
-                dt = -h / h1
-                t += dt
-                h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
-                if abs(dt) <= CONTACT_TIME_ULPS * _EPS * t:
-                    break
-            return IMPACT, t, h2, n
-        if t > t_max or not math.isfinite(h):
-            return NO_IMPACT, t, h2, n
-        step = _root(h, h1, M2)       # the reference step (M2 decays with the motion)
-        g3 = max(h3, 0.0)
-        g4 = 0.5 * max(h4, 0.0)
-        for _ in range(3):            # S -> fixed point of S = root(K(S))
-            K = min(M2, h2 + S * (g3 + S * (g4 + S * M5 / 6.0)))
-            r = _root(h, h1, K)
-            step = max(step, min(S, r))
-            S = 4.0 * S if r == np.inf else math.sqrt(S * r)
+    n, m, nc = int(c[_NN]), int(c[_NM]), int(c[_NC])
+    _, _, _, oc, cb = _offsets(n)
+    _modes_at(c, e, x, m, tau, 0.0)
+    t = np.inf
+    for g in range(nc):
+        ob = oc + g * cb
+        h, h1, h2, h3, h4, M2, M5 = _guard_at(c, d, e, x, n, m, g)
+        q = 8 * g
+        L = amp[g] + c[ob + _XS] + abs(c[ob + _LEVEL])
+        eps_h = CONTACT_ULPS * _EPS * L
+        s[q + _SL], s[q + _SEPS] = L, eps_h
+        s[q + _SVG] = GRAZING_SPEED_FACTOR * math.sqrt(2.0 * M2 * eps_h)
+        s[q + _SS] = 0.5 / c[_LMAX]           # first horizon; adapted below
+        s[q + _STP], s[q + _SHP], s[q + _SDP] = 0.0, h, h1
+        if g == k:
+            if not h1 < 0.0:
+                return GRAZING, 0.0, h2, 0, g
+            tg = -h1 / M2                     # vertex of the global bound: h < 0 up to here
+        elif h >= -eps_h:
+            # the start touches another stop too (a corner): no safe way on
+            return GRAZING, 0.0, h2, 0, g
+        else:
+            tg, s[q + _SS] = _safe_dt(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
+        t = min(t, tg)
+    for it in range(1, _MAX_STEPS + 1):
+        _modes_at(c, e, x, m, tau, t)
+        step = np.inf
+        stale = False
+        for g in range(nc):
+            if stale:                         # _near_max moved the factors away from t
+                _modes_at(c, e, x, m, tau, t)
+                stale = False
+            h, h1, h2, h3, h4, M2, M5 = _guard_at(c, d, e, x, n, m, g)
+            q = 8 * g
+            eps_h = s[q + _SEPS]
+            if s[q + _SDP] > 0.0 and h1 <= 0.0 and h < -eps_h:
+                # a local max of h was stepped over; the reference (smaller steps)
+                # lands within eps_h of a near-tangency and calls it grazing: so do we
+                tm = _near_max(c, d, e, x, n, m, tau, g, s[q + _STP], s[q + _SHP],
+                               s[q + _SDP], t, h, h1, s[q + _SL])
+                if tm >= 0.0:
+                    hm, _, hm2, _, _, _, _ = _eval(c, d, e, x, n, m, tau, tm, g)
+                    if hm >= -eps_h:
+                        return GRAZING, tm, hm2, it, g
+                    stale = True
+            s[q + _STP], s[q + _SHP], s[q + _SDP] = t, h, h1
+            if h >= -eps_h:
+                if h1 <= s[q + _SVG]:
+                    return GRAZING, t, h2, it, g
+                for _ in range(3):            # Newton polish of a transversal root
+                    dt = -h / h1
+                    t += dt
+                    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, x, n, m, tau, t, g)
+                    if abs(dt) <= CONTACT_TIME_ULPS * _EPS * t:
+                        break
+                return IMPACT, t, h2, it, g
+            if t > t_max or not math.isfinite(h):
+                return NO_IMPACT, t, h2, it, g
+            sg, s[q + _SS] = _safe_dt(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
+            step = min(step, sg)
         t += step
-        S = max(S, 2.0 * step)
-    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, m, tau, t)
-    return NO_IMPACT, t, h2, _MAX_STEPS
+        for g in range(nc):
+            s[8 * g + _SS] = max(s[8 * g + _SS], 2.0 * step)
+    h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, x, n, m, tau, t, 0)
+    return NO_IMPACT, t, h2, _MAX_STEPS, 0
 
 
 @nb.njit(cache=True)
 def _state(c, cc, e, z):
-    """The full state z(t) (stop-first order) of the flight with coefficients cc,
-    at the time of the last :func:`_eval` (its factors ``e``)."""
+    """The full state z(t) (flow order) of the flight with coefficients cc, at the time
+    of the last :func:`_modes_at` (its factors ``e``)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
     ow, ov, ou, _, _ = _offsets(n)
@@ -404,89 +497,110 @@ def _state(c, cc, e, z):
         z[n + i] += om * s1
 
 
-@nb.njit(cache=True)
-def _step_into(c, y, cc, d, e, z):
-    """One application of P on y, in place: y <- P(y), eq. (31) generalised.
+@nb.njit(cache=True, inline="always")
+def _work(c):
+    """Scratch of one flight for the constants c: (cc, d, e, x, amp, s, z, w)."""
+    n, nc = int(c[_NN]), int(c[_NC])
+    return (np.empty(4 * n), np.empty(24 * n * nc), np.empty(4 * n + 2), np.empty(2 * n),
+            np.empty(nc), np.empty(8 * nc), np.empty(2 * n), np.empty(8 * n))
 
-    Returns (status, t_e, guard . v- at the contact (v_k-), h'' there (x_k''), finder steps).
-    """
+
+@nb.njit(cache=True)
+def _step_into(c, y, k, cc, d, e, x, amp, s, z):
+    """One application of P on y, a point of constraint k's section, in place: y <- P(y)
+    on the section of the constraint hit, eq. (31) generalised.
+
+    Returns (status, t_e, guard . v- at the contact (v_k-), h'' there (x_k''), finder
+    steps, the constraint hit)."""
     n = int(c[_NN])
-    tau, amp = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, e, tau, amp, c[_TMAX])
+    tau = _start(c, y, k, cc, d, amp, z)
+    st, t, acc, steps, g = _first_impact(c, d, e, x, amp, s, tau, c[_TMAX], k)
     _state(c, cc, e, z)
     tau_u = tau + c[_OM] * t
-    _, _, _, og, orr = _offsets(n)
+    _, _, _, oc, cb = _offsets(n)
+    og = oc + g * cb + _CB
+    orr = og + n
+    p = int(c[oc + g * cb + _P])
     vm = 0.0
     for i in range(n):
         vm += c[og + i] * z[n + i]
     for i in range(n):                            # v+ = R v-: the constraint's reset
-        s = 0.0                                   # (v_k+ = -r v_k-, eq. (2), for the stop)
+        sv = 0.0                                  # (v_k+ = -r v_k-, eq. (2), for the stop)
         for j in range(n):
-            s += c[orr + n * i + j] * z[n + j]
-        if i == 0:
-            y[0] = s
+            sv += c[orr + n * i + j] * z[n + j]
+        if i == p:
+            y[0] = sv
         else:
-            y[i] = z[i]
-            y[n + i - 1] = s
+            q = _slot(i, p)
+            y[q] = z[i]
+            y[n - 1 + q] = sv
     y[2 * n - 1] = tau_u - _TWO_PI * math.floor(tau_u / _TWO_PI)
-    return st, t, vm, acc, steps
+    return st, t, vm, acc, steps, g
 
 
 @nb.njit(cache=True)
-def _first_impact_from(c, y, t_max):
+def _first_impact_from(c, y, t_max, k):
     n = int(c[_NN])
-    cc = np.empty(4 * n)
-    d = np.empty(24 * n)
-    z = np.empty(2 * n)
-    e = np.empty(4 * n + 2)
-    tau, amp = _start(c, y, cc, d, z)
-    st, t, acc, steps = _first_impact(c, d, e, tau, amp, t_max)
+    cc, d, e, x, amp, s, z, _ = _work(c)
+    tau = _start(c, y, k, cc, d, amp, z)
+    st, t, acc, steps, g = _first_impact(c, d, e, x, amp, s, tau, t_max, k)
     _state(c, cc, e, z)
-    return st, t, z, acc, steps
+    return st, t, z, acc, steps, g
 
 
-def first_impact_from(c, y, t_max=None):
-    """The finder from section point y: (status, t, state z(t) stop-first, x_k'', steps)."""
+def first_impact_from(c, y, t_max=None, k=0):
+    """The finder from point y of constraint k's section: (status, t, state z(t) in the
+    flow's order, h'' of the guard met, steps, the constraint met)."""
     c = np.ascontiguousarray(c, dtype=np.float64)
     return _first_impact_from(c, np.ascontiguousarray(y, dtype=np.float64),
-                              c[_TMAX] if t_max is None else float(t_max))
+                              c[_TMAX] if t_max is None else float(t_max), np.int64(k))
 
 
 @nb.njit(cache=True)
-def _step(c, y):
-    n = int(c[_NN])
+def _step(c, y, k):
     y = y.copy()
-    st, t, vm, acc, steps = _step_into(c, y, np.empty(4 * n), np.empty(24 * n),
-                                       np.empty(4 * n + 2), np.empty(2 * n))
-    return st, t, y, vm, acc, steps
+    cc, d, e, x, amp, s, z, _ = _work(c)
+    st, t, vm, acc, steps, g = _step_into(c, y, k, cc, d, e, x, amp, s, z)
+    return st, t, y, vm, acc, steps, g
 
 
-def step(c, y):
-    """One application of P from y: (status, t_e, P(y) with tau in [0, 2 pi), v_k-,
-    x_k'' at the contact, finder steps)."""
+def step(c, y, k=0):
+    """One application of P from y on constraint k's section: (status, t_e, P(y) with tau
+    in [0, 2 pi) on the section of the constraint hit, its approach speed guard . v-,
+    h'' at the contact, finder steps, the constraint hit)."""
     return _step(np.ascontiguousarray(c, dtype=np.float64),
-                 np.ascontiguousarray(y, dtype=np.float64))
+                 np.ascontiguousarray(y, dtype=np.float64), np.int64(k))
 
 
 @nb.njit(cache=True)
-def _tangent(c, tau, v, cc, e, z, w):
-    """v <- DP v for the flight just done by :func:`_step_into` from phase ``tau``
-    (its coefficients ``cc``, factors ``e`` at t = t_e and state ``z`` there).
+def _tangent(c, tau, v, cc, e, z, w, k, g):
+    """v <- DP v for the flight just done by :func:`_step_into` from phase ``tau`` on
+    constraint k's section to constraint g's (its coefficients ``cc``, factors ``e`` at
+    t = t_e and state ``z`` there).
 
     Variation of z(t) = Phi(t) (z0 - zp(0; tau)) + zp(t; tau) at fixed t, then of
-    the impact time from h(t_e) = 0 (x_k = b), then of the reset (formulas in
+    the impact time from h_g(t_e) = 0 (x_k = b), then of the reset (formulas in
     :func:`step_tangent`).  O(dim^2): W^-1 then W per kept mode.  ``w`` is
     scratch (2 dim)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
-    ow, ov, ou, og, orr = _offsets(n)
+    ow, ov, ou, oc, cb = _offsets(n)
+    pk = int(c[oc + k * cb + _P])
+    og = oc + g * cb + _CB
+    orr = og + n
+    pg = int(c[oc + g * cb + _P])
     dtau = v[dim - 1]
     sp, cp = math.sin(tau), math.cos(tau)
     # u = dz0 - d_tau zp(0) dtau; d_tau zp = zp' / omega (zp depends on omega t + tau)
     for i in range(n):
         s0, s1 = _response(c, ou, n, i, sp, cp)
-        w[i] = (0.0 if i == 0 else v[i]) - s1 * dtau
-        w[n + i] = (v[0] if i == 0 else v[n + i - 1]) + om * s0 * dtau
+        if i == pk:
+            dx, dv = 0.0, v[0]
+        else:
+            q = _slot(i, pk)
+            dx, dv = v[q], v[n - 1 + q]
+        w[i] = dx - s1 * dtau
+        w[n + i] = dv + om * s0 * dtau
     # dz = Phi(t) u = Re sum_j W_j w_j (W^-1_j u) e^{lambda_j t}, into w[dim:]
     for i in range(dim):
         w[dim + i] = 0.0
@@ -534,78 +648,80 @@ def _tangent(c, tau, v, cc, e, z, w):
     for i in range(n):
         w[n + i] = w[dim + n + i] + w[i] * dte
     for i in range(n):                            # Dv+ = R Dv-
-        s = 0.0
+        sv = 0.0
         for j in range(n):
-            s += c[orr + n * i + j] * w[n + j]
-        if i == 0:
-            v[0] = s
+            sv += c[orr + n * i + j] * w[n + j]
+        if i == pg:
+            v[0] = sv
         else:
-            v[i] = w[dim + i] + z[n + i] * dte
-            v[n + i - 1] = s
+            q = _slot(i, pg)
+            v[q] = w[dim + i] + z[n + i] * dte
+            v[n - 1 + q] = sv
     v[dim - 1] = dtau + om * dte
 
 
 @nb.njit(cache=True)
-def _step_tangent_into(c, y, v, cc, d, e, z, w):
+def _step_tangent_into(c, y, k, v, cc, d, e, x, amp, s, z, w):
     """:func:`_step_into` and, on an impact, v <- DP(y) v at the old y, in place.
 
     Same return value as :func:`_step_into`; v is left unchanged when the
     status is not an impact.  ``w`` is scratch (2 dim)."""
     tau = y[2 * int(c[_NN]) - 1]
-    st, t, vm, acc, steps = _step_into(c, y, cc, d, e, z)
+    st, t, vm, acc, steps, g = _step_into(c, y, k, cc, d, e, x, amp, s, z)
     if st == IMPACT:
-        _tangent(c, tau, v, cc, e, z, w)
-    return st, t, vm, acc, steps
+        _tangent(c, tau, v, cc, e, z, w, k, g)
+    return st, t, vm, acc, steps, g
 
 
 @nb.njit(cache=True)
-def _step_tangent(c, y, v):
-    n = int(c[_NN])
+def _step_tangent(c, y, v, k):
     y, v = y.copy(), v.copy()
-    st, t, vm, acc, steps = _step_tangent_into(c, y, v, np.empty(4 * n), np.empty(24 * n),
-                                               np.empty(4 * n + 2), np.empty(2 * n),
-                                               np.empty(4 * n))
-    return st, t, y, v
+    cc, d, e, x, amp, s, z, w = _work(c)
+    st, t, vm, acc, steps, g = _step_tangent_into(c, y, k, v, cc, d, e, x, amp, s, z, w)
+    return st, t, y, v, g
 
 
-def step_tangent(c, y, v):
-    """One application of P and of its tangent map from y: (status, t_e, P(y), DP(y) v).
+def step_tangent(c, y, v, k=0):
+    """One application of P and of its tangent map from y on constraint k's section:
+    (status, t_e, P(y), DP(y) v, the constraint hit g).
 
     Variation of the flight z(t) = Phi(t) (z0 - zp(0; tau)) + zp(t; tau), with
-    z0 = (b, y[1:n], y[0], y[n:2n-1]) and d_tau zp = zp' / omega::
+    z0 = (x_p = gap, the rest from y) (p the position of constraint k's coordinate) and
+    d_tau zp = zp' / omega::
 
         dz(t_e) = Phi(t_e) (dz0 - d_tau zp(0) dtau) + d_tau zp(t_e) dtau,
         dt_e = -g . dx(t_e) / g . v-,  Dz = dz(t_e) + zdot(t_e) dt_e,   Dv+ = R Dv-,
-        DP v = (Dv+_k, Dx_i, Dv+_i (i != k), dtau + omega dt_e),
+        DP v = (Dv+_q, Dx_i, Dv+_i (i != q), dtau + omega dt_e),
 
-    g the constraint's guard and R its reset (-dx_k / v_k- and Dv_k+ = -r Dv_k- for
-    the stop on mass k),
-
-    with dz0 = (0, v[1:n], v[0], v[n:2n-1]), dtau = v[2n-1].  DP v is only
-    meaningful when the status is an impact (v is returned unchanged otherwise).
+    g the guard of the constraint hit (coordinate q) and R its reset (-dx_k / v_k- and
+    Dv_k+ = -r Dv_k- for the stop on mass k), with dz0 = (0 at p, the rest from v) and
+    dtau = v[2n-1].  DP v is only meaningful when the status is an impact (v is returned
+    unchanged otherwise).
     """
     c = np.ascontiguousarray(c, dtype=np.float64)
     return _step_tangent(c, np.ascontiguousarray(y, dtype=np.float64),
-                         np.ascontiguousarray(v, dtype=np.float64))
+                         np.ascontiguousarray(v, dtype=np.float64), np.int64(k))
 
 
-def jacobian_tangent(c, y):
+def jacobian_tangent(c, y, k=0):
     """DP(y) (2N x 2N) column by column from :func:`step_tangent` (for tests)."""
     c = np.ascontiguousarray(c, dtype=np.float64)
     y = np.ascontiguousarray(y, dtype=np.float64)
     dim = len(y)
     J = np.empty((dim, dim))
     for j in range(dim):
-        st, _, _, J[:, j] = step_tangent(c, y, np.eye(dim)[j])
+        st, _, _, J[:, j], _ = step_tangent(c, y, np.eye(dim)[j], k)
         if st != IMPACT:
             raise ValueError(f"no impact from y (status {STATUS_NAMES[st]}): DP undefined")
     return J
 
 
 @nb.njit(cache=True)
-def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
-    """The run loop: iterate P from y (in place), drop ``transient`` images, store the
-    next ``n_keep``: section points, cumulative times (transient included), v_k-.
+def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max):
+    """The run loop: iterate P from y (in place), a point of constraint k's section, drop
+    ``transient`` images, store the next ``n_keep``: section points, cumulative times
+    (transient included), approach speeds guard . v- (v_k-), and, when ``hits`` is not
+    empty, the constraint each impact hit (each section point lies on its section).
 
     Optional, chosen by the arguments (one body for every caller):
 
@@ -617,41 +733,42 @@ def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
 
     Stops as the module docstring says (no impact, grazing, sticking, chatter,
     non-finite); on a stop y is left at the last section point accepted.  Returns
-    (stop code, number stored, total finder steps, time at the start of the kept steps).
+    (stop code, number stored, total finder steps, time at the start of the kept steps,
+    the constraint of y's section at the end).
     """
     n = int(c[_NN])
     dim = 2 * n
     tangent = v.shape[0] > 0
-    cc, d, e, z = np.empty(4 * n), np.empty(24 * n), np.empty(4 * n + 2), np.empty(dim)
-    w = np.empty(2 * dim)
+    record = hits.shape[0] > 0
+    cc, d, e, x, amp, s, z, w = _work(c)
     y_prev = np.empty(dim)
     T = 0.0
     T0 = 0.0
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
     steps = 0
-    for k in range(transient + n_keep):
-        kept = k - transient
+    for it in range(transient + n_keep):
+        kept = it - transient
         if kept == 0:
             T0 = T
         for i in range(dim):
             y_prev[i] = y[i]
         tau = y[dim - 1]
-        st, te, vm, acc, ns = _step_into(c, y, cc, d, e, z)
+        st, te, vm, acc, ns, g = _step_into(c, y, k, cc, d, e, x, amp, s, z)
         steps += ns
         if st != IMPACT:
             for i in range(dim):
                 y[i] = y_prev[i]
             if st == NO_IMPACT:
-                return STOP_NO_IMPACT, max(kept, 0), steps, T0
-            # x_k'' > 0 at a contact with ~zero speed: the stop holds the mass
-            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0
+                return STOP_NO_IMPACT, max(kept, 0), steps, T0, k
+            # h'' > 0 at a contact with ~zero speed: the stop holds the mass
+            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0, k
         ok = True
         for i in range(dim):
             ok = ok and math.isfinite(y[i]) and abs(y[i]) <= y_max
         nv = 1.0
         if tangent:
-            _tangent(c, tau, v, cc, e, z, w)
+            _tangent(c, tau, v, cc, e, z, w, k, g)
             nv = 0.0
             for i in range(dim):
                 nv += v[i] * v[i]
@@ -660,7 +777,8 @@ def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
         if not ok:
             for i in range(dim):
                 y[i] = y_prev[i]
-            return STOP_NONFINITE, max(kept, 0), steps, T0
+            return STOP_NONFINITE, max(kept, 0), steps, T0, k
+        k = g
         if tangent:
             for i in range(dim):
                 v[i] /= nv
@@ -671,36 +789,45 @@ def _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog, y_max):
                 sec[kept, i] = y[i]
             times[kept] = T
             vimp[kept] = vm
+            if record:
+                hits[kept] = g
             if tangent:
                 glog[kept] = math.log(nv)
         if short >= CHATTER_COUNT:
-            return STOP_CHATTER, max(kept + 1, 0), steps, T0
-    return COMPLETED, n_keep, steps, T0
+            return STOP_CHATTER, max(kept + 1, 0), steps, T0, k
+    return COMPLETED, n_keep, steps, T0, k
 
 
 _NONE = np.empty(0)
+_NO_HITS = np.empty(0, dtype=np.int64)
 
 
-def run(c, y0, n_keep, transient=0):
-    """Python entry to the run loop: (code, section (n, 2N), t (n,), v_k- (n,), steps)."""
+def run(c, y0, n_keep, transient=0, k=0, hits=False):
+    """Python entry to the run loop from y0 on constraint k's section: (code, section
+    (n, 2N), t (n,), approach speeds (n,), steps), and with ``hits`` the constraint each
+    stored impact hit (n,) last."""
     c = np.ascontiguousarray(c, dtype=np.float64)
     dim = 2 * int(c[_NN])
     sec = np.empty((n_keep, dim))
     times = np.empty(n_keep)
     vimp = np.empty(n_keep)
+    which = np.empty(n_keep if hits else 0, dtype=np.int64)
     y = np.array(np.asarray(y0, dtype=np.float64)[:dim])
-    code, k, steps, _ = _run_into(c, y, n_keep, transient, sec, times, vimp, _NONE, _NONE,
-                                  np.inf)
-    return code, sec[:k], times[:k], vimp[:k], steps
+    code, kk, steps, _, _ = _run_into(c, y, np.int64(k), n_keep, transient, sec, times,
+                                      vimp, which, _NONE, _NONE, np.inf)
+    out = (code, sec[:kk], times[:kk], vimp[:kk], steps)
+    return out + (which[:kk],) if hits else out
 
 
 @nb.njit(cache=True, parallel=True)
 def _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps):
     none = np.empty(0)
+    no_hits = np.empty(0, dtype=np.int64)
     for i in nb.prange(C.shape[0]):
         y = Y0[i, :2 * int(C[i, _NN])].copy()
-        codes[i], counts[i], steps[i], _ = _run_into(C[i], y, n_keep, transient, sec[i],
-                                                     times[i], vimp[i], none, none, np.inf)
+        codes[i], counts[i], steps[i], _, _ = _run_into(
+            C[i], y, 0, n_keep, transient, sec[i], times[i], vimp[i], no_hits, none, none,
+            np.inf)
 
 
 def run_batch(C, Y0, n_keep, transient=0):

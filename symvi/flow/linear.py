@@ -95,7 +95,7 @@ class LinearFlow:
     def __init__(self, model, bk):
         self.model, self.bk = model, bk
         n = model.n
-        model.require_one_rigid_stop()             # what this flow takes (issue 25)
+        model.require_rigid_stops()                # what this flow takes (issue 25)
         con = model.constraints[0]
         self.perm = _frame(con, n)
         p = list(self.perm)
@@ -198,6 +198,27 @@ class LinearFlow:
                 self.bk.arr(np.asarray(self.model.mass))), order=list(self.perm), r=r)
             self._resets[r] = R
         return R
+
+    def constraint_rows(self):
+        """Every constraint of the model as the compiled kernels take it (float64, flow
+        order; :func:`symvi.flow.compiled.constants`): (p, gap, level, guard, R row-major),
+        p the position of its coordinate in the flow's order (its section is x_p = gap).
+        The first is this flow's own (:meth:`_constrain`, shared by its copies)."""
+        rows = [np.concatenate(([0.0], self.constraint64))]
+        order = list(self.perm)
+        Minv = None
+        for con in self.model.constraints[1:]:
+            k = con.coordinate
+            if k is None:
+                _frame(con, self.n)                 # refuses, naming the normal
+            if con.impulse is None and Minv is None:
+                Minv = np.linalg.inv(np.asarray(self.model.mass, dtype=float))
+            guard = con.sign * np.array(con.normal)[order]
+            R = np.asarray(con.reset_matrix(None if con.impulse else Minv, order=order),
+                           dtype=float)
+            rows.append(np.concatenate(([float(order.index(k)), con.gap, con.sign * con.gap],
+                                        guard, R.ravel())))
+        return rows
 
     def approach(self, z):
         """guard . v of a state z (flow order): > 0 moving towards the stop (v_k for the
@@ -335,7 +356,7 @@ _CONSTRAINED = {}
 def _flow_float(model):
     # models that differ only in the stop's gap or restitution (a curve in b or r) share
     # the modal data, which a new stop does not change: only b and r are replaced
-    con = model.require_one_rigid_stop().constraints[0]
+    con = model.require_rigid_stops().constraints[0]
     key = (con.normal, con.side, con.impulse) + tuple(np.asarray(a, dtype=float).tobytes() for a in
                                      (model.mass, model.stiffness, model.damping, model.forcing))
     if key not in _LINEAR:

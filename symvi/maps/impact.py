@@ -27,7 +27,9 @@ class MapStep:
 
 
 def step(flow, forcing, y, t_max=None):
-    """Apply P once from y (flow and forcing in one backend, at its precision)."""
+    """Apply P once from y (flow and forcing in one backend, at its precision): the map of
+    a model with one stop (several run in :mod:`symvi.flow.compiled`)."""
+    flow.model.require_one_rigid_stop()
     sec = Section(flow.n, flow.perm)
     bk = flow.bk
     z0, tau = sec.state(y, flow.b)
@@ -42,7 +44,7 @@ def poincare_map(model, omega, y, *, digits=None, t_max=None):
     """P(y; omega), eq. (31), of ``model`` (a Model, or the paper's Params: :meth:`Model.of`)
     on float64 or (``digits``) mpmath.  Raises nothing for a flight that grazes or never
     returns; inspect ``status``."""
-    model = Model.of(model)
+    model = Model.of(model).require_one_rigid_stop()
     LinearFlow.of(model)                      # validates the model
     y = Section.of(model).check(y)
     if digits is None:

@@ -75,4 +75,4 @@ class Section:
 @functools.lru_cache(maxsize=256)
 def _section_of(model):
     from ..flow.linear import _frame
-    return Section(model.n, _frame(model.require_one_rigid_stop().constraints[0], model.n))
+    return Section(model.n, _frame(model.require_rigid_stops().constraints[0], model.n))

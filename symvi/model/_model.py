@@ -294,6 +294,8 @@ def _tup(a):
 _PRESET = _preset.NAMES
 #: what the dynamics take today (:meth:`Model.require_one_rigid_stop`)
 _ONE_STOP = "one rigid stop on one mass (upper side)"
+#: what the flow and the compiled run take today (:meth:`Model.require_rigid_stops`)
+_RIGID_STOPS = "rigid stops, each on one mass"
 
 
 def _stop_list(stop, stops):
@@ -396,6 +398,20 @@ class Model:
             cs = self._arrays["constraints"] = tuple(s.constraint(self.n) for s in self._stops)
         return cs
 
+    def require_rigid_stops(self):
+        """``self``, or the one-line ParameterError saying what the flow and the compiled run
+        cannot handle yet: every stop rigid and on one mass (either side; several stops
+        allowed).  Called where a model enters the flow (:class:`LinearFlow`, the
+        section); the orbit analyses ask :meth:`require_one_rigid_stop` too."""
+        for k, s in enumerate(self._stops, start=1):
+            if s.stiffness is not None or s.between is not None:
+                what = "an elastic stop" if s.stiffness is not None else \
+                    "a stop between two masses"
+                name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
+                raise ParameterError(name, s, _RIGID_STOPS,
+                                     f"{what} is not supported by the dynamics yet: issue 25")
+        return self
+
     def require_one_rigid_stop(self):
         """``self``, or the one-line ParameterError saying what the dynamics cannot handle
         yet: they take one rigid stop on one mass (issue 25).  The one check, called where a
@@ -405,12 +421,13 @@ class Model:
             return self
         if len(stops) > 1:
             raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
-                                 "supported by the dynamics yet: issue 25")
+                                 "supported by the orbit analyses yet (simulate runs "
+                                 "them): issue 25")
         s = stops[0]
         what = ("an elastic stop" if s.stiffness is not None else
                 "a stop between two masses" if s.between is not None else "a lower stop")
         raise ParameterError("stop", s, _ONE_STOP,
-                             f"{what} is not supported by the dynamics yet: issue 25")
+                             f"{what} is not supported by the orbit analyses yet: issue 25")
 
     @property
     def n(self):

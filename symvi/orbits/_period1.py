@@ -17,6 +17,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..numerics.tolerances import EPS64
 from ._shooting import monodromy, shoot
 

@@ -17,6 +17,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..flow import compiled as _fc
 from ..flow.linear import OMEGA_RANGE, FirstImpact
 from ..maps.section import Section
@@ -320,5 +321,5 @@ class _CompiledMotion:
         self.c, self.y = c, np.array(y, dtype=float)
 
     def first_impact(self, t_max=None):
-        st, t, z, _, steps = _fc.first_impact_from(self.c, self.y, t_max)
+        st, t, z, _, steps, _ = _fc.first_impact_from(self.c, self.y, t_max)
         return FirstImpact(_fc.STATUS_NAMES[st], t, z, steps)

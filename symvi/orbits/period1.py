@@ -353,6 +353,7 @@ def no_orbit_reason(model, omega):
     """Why ``model`` has no period-1 one-impact orbit at omega: a sentence, or "" when
     the period-1 conditions have solutions (admissible or not).  SingularCaseError
     where the case is singular (as :func:`period1_orbits`)."""
+    model.require_one_rigid_stop()
     flow = LinearFlow.of(model)
     omega = flow.check_omega(omega, warn=False)
     flow, L = _line(model, omega, None)
@@ -412,6 +413,7 @@ def period1_orbits(model, omega, *, digits=None, multipliers=True):
     Inadmissible orbits come with ``admissible=False`` and the reason, never
     silently analysed.  ``digits`` selects mpmath at that precision.
     """
+    model.require_one_rigid_stop()
     flow = LinearFlow.of(model)
     omega_f = flow.check_omega(omega)
     if digits is None:
@@ -560,7 +562,7 @@ def multiplier_path(admissible, omegas, dim=None):
 
 def existence_ratio(model, omega):
     """rho of nu . (cos tau, sin tau) = rho: the orbit exists iff |rho| <= 1 (eq. 16 generalised)."""
-    flow = LinearFlow.of(model)
+    flow = LinearFlow.of(model.require_one_rigid_stop())
     L = _line(model, flow.check_omega(omega, warn=False), None)[1]
     return math.inf if isinstance(L, str) else float(L.ratio)
 

@@ -72,6 +72,7 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
+        model.require_one_rigid_stop()
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
         self.param = None if param is None else self.parameter.name

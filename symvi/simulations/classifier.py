@@ -92,6 +92,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING,
                              STOP_NO_IMPACT, STOP_STICKING, _run_into)
@@ -383,8 +384,8 @@ def _classify_one(c, y, n_keep, transient, sec, times, vimp, glog, v, pts, ang, 
     omega = c[_OM]
     for i in range(dim):
         v[i] = 1.0 / math.sqrt(dim)
-    stop, kept, _, T0 = _run_into(c, y, n_keep, transient, sec, times, vimp, v, glog,
-                                  ESCAPE_MAX)
+    stop, kept, _, T0, _ = _run_into(c, y, 0, n_keep, transient, sec, times, vimp,
+                                     np.empty(0, np.int64), v, glog, ESCAPE_MAX)
     nan = np.nan
     vmax = -1.0
     for j in range(kept):

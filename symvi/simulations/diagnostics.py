@@ -25,6 +25,7 @@ import numpy as np
 
 import numba as nb
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..flow import compiled as cf
 #: stored impacts below which a run is not classified: period detection compares
 #: points k apart (k <= n/2) and the chaos test needs 10 blocks of exponents
@@ -79,9 +80,24 @@ def _spectrum(logs, te):
     return Lyapunov(np.sort(logs.mean(axis=0))[::-1], len(logs), float(np.mean(te)), err)
 
 
+def classifiable(params):
+    """Whether :func:`classify` and :func:`lyapunov` take the model of ``params``: one
+    rigid upper stop (the tangent maps follow one stop's section; issue 25)."""
+    from ..errors import ParameterError
+    from ..model import Model
+    try:
+        Model.of(params).require_one_rigid_stop()
+    except ParameterError:
+        return False
+    return True
+
+
 def _logs(sim, n=None):
     """(log |R_k[i, i]| of the QR method over the last ``n`` points, their flight times);
-    column 0 is log |DP v| of one tangent vector, the classifier's input."""
+    column 0 is log |DP v| of one tangent vector, the classifier's input.  One stop only
+    for now: the tangent maps follow one constraint's section (issue 25)."""
+    from ..model import Model
+    Model.of(sim.params).require_one_rigid_stop()
     sec, t = np.asarray(sim.section), np.asarray(sim.t)
     if len(sec) < 3:
         raise ValueError("need at least 3 section points")

@@ -49,6 +49,8 @@ class Simulation:
     stop: str                 # "completed", "grazing", "chatter", "sticking", "no-impact"
     transient: int            # images dropped before the first stored one
     fixed_point: tuple = None     # the period-1 orbit y* at omega, when it exists
+    hits: np.ndarray = None   # (n,) the constraint (0-based index) each stored impact hit;
+                              # its section point lies on that constraint's section
 
     @property
     def n(self):
@@ -58,6 +60,20 @@ class Simulation:
     def flight_times(self):
         """t_e of eq. (26) from each stored point to the next impact (n - 1 values)."""
         return np.diff(self.t)
+
+    @property
+    def stops(self):
+        """Number of stops of the model run."""
+        return len(Model.of(self.params).constraints)
+
+    def impacts_per_stop(self):
+        """Stored impacts on each stop, in the model's order."""
+        return [int(v) for v in np.bincount(self.hits, minlength=self.stops)]
+
+    def on_stop(self, k):
+        """The stored section points of impacts on stop k (0-based): the points of one
+        section (with several stops, each point lies on the section of its stop)."""
+        return self.section[np.asarray(self.hits) == k]
 
 
 def _frozen(a):
@@ -111,15 +127,36 @@ def _check_system_start(params, y0, name="y0"):
 
 
 def _check_model_start(model, y0, name="y0"):
-    """A 2N section point (:mod:`symvi.maps.section`) that leaves the stop, tau mod 2 pi."""
+    """A 2N section point (:mod:`symvi.maps.section`) of the first constraint that leaves
+    it, outside every other constraint, tau mod 2 pi."""
     from ..maps import Section
     sec = Section.of(model)
     y = tuple(float(v) for v in sec.check(y0, name))
     names = sec.names
-    if not y[0] < 0:
-        raise ParameterError(name, y0, f"{names[0]} < 0: the mass must leave the stop")
+    first = model.constraints[0]
+    if not first.sign * y[0] < 0:
+        side = "< 0" if first.sign > 0 else "> 0"
+        raise ParameterError(name, y0, f"{names[0]} {side}: the mass must leave the stop")
     _check_size(y, y0, name)
+    if len(model.constraints) > 1:
+        z, _ = sec.state(np.array(y), first.gap)
+        x = np.empty(model.n)
+        x[list(sec.perm)] = z[:model.n]
+        for i, con in enumerate(model.constraints[1:], start=2):
+            if not con.guard(x) < 0:
+                raise ParameterError(name, y0, f"a start outside every other stop "
+                                     f"(stop {i}: s = {con.s(x):.10g} is at or past its gap "
+                                     f"{con.gap:g})")
     return y[:-1] + (y[-1] % (2 * math.pi),)
+
+
+def _one_stop(model):
+    """Whether the orbit analyses take ``model`` (:meth:`Model.require_one_rigid_stop`)."""
+    try:
+        model.require_one_rigid_stop()
+    except ParameterError:
+        return False
+    return True
 
 
 def _perturbation(params, perturbation):
@@ -163,14 +200,27 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
-    ys = fixed_point(params, omega)
+    model = Model.of(params)
+    if not _one_stop(model):
+        # several stops, or a lower one: no period-1 orbit to start from yet (issue 25)
+        if y0 is None:
+            from ..maps import Section
+            raise ParameterError("y0", None, f"a start on the first stop's section "
+                                 f"({', '.join(Section.of(model).names)}): no period-1 "
+                                 "orbit to start from with several stops or a lower one "
+                                 "(issue 25)")
+        ys = None
+    else:
+        ys = fixed_point(params, omega)
     if y0 is None:
         y0, ys = start_point(params, omega, perturbation)
     y0 = _check_system_start(params, y0)
     c = cf.constants(Model.of(params), omega)
-    code, sec, t, vimp, _ = cf.run(c, y0, n_impacts, transient)
+    code, sec, t, vimp, _, hits = cf.run(c, y0, n_impacts, transient, hits=True)
+    hits = np.ascontiguousarray(hits, dtype=np.int64)
+    hits.flags.writeable = False
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      STOP_NAMES[code], transient, ys)
+                      STOP_NAMES[code], transient, ys, hits)
 
 
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
@@ -179,7 +229,11 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     Uses :func:`symvi.maps.impact.step` on the mpmath flow, so it shares no code with the
     compiled kernels.  Values are rounded to float64 only on output.
     """
-    return _simulate_model_mp(Model.of(params), omega, y0, n_impacts, digits)
+    model = Model.of(params)
+    if len(model.constraints) > 1:
+        raise ParameterError("model", f"{len(model.constraints)} stops",
+                             "one stop: the mpmath reference map runs one constraint")
+    return _simulate_model_mp(model, omega, y0, n_impacts, digits)
 
 
 def _simulate_model_mp(model, omega, y0, n_impacts, digits):

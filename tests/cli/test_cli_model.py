@@ -131,11 +131,11 @@ restitution = 0.8
     ["hopf", "--omega-min", "0.9", "--omega-max", "1.1"],
     ["continue", "--param", "omega", "--from", "1.0", "--to", "1.2"],
     ["curve", "--omega-min", "0.9", "--omega-max", "1.1", "--params", "omega,gap"],
-    ["simulate", "--omega", "1.1", "--impacts", "10", "--transient", "10", "--out", "s.npz"],
 ])
 def test_several_stops_are_refused_in_one_line(tmp_path, args):
-    """A two-stop file reads (the model layer takes it) but the dynamics take one rigid stop
-    on one mass for now (issue 25): exit 2, one line, no traceback, nothing written."""
+    """A two-stop file reads (the model layer takes it) but the orbit analyses take one
+    rigid stop on one mass for now (issue 25): exit 2, one line, no traceback, nothing
+    written.  (simulate runs it: below.)"""
     f = tmp_path / "two.toml"
     f.write_text(TWO_STOPS)
     args = [str(tmp_path / a) if a.endswith(".npz") else a for a in args]
@@ -144,3 +144,29 @@ def test_several_stops_are_refused_in_one_line(tmp_path, args):
     assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
     assert "stops = 2" in r.stderr and "issue 25" in r.stderr
     assert not (tmp_path / "s.npz").exists()
+
+
+def test_simulate_runs_several_stops(tmp_path):
+    """simulate takes a two-stop file: a start is asked for (no period-1 orbit to start
+    from), --classify is refused before the run, and a run names the impacts on each stop
+    (JSON) and the stop of each impact (the .npz's "hits")."""
+    import numpy as np
+    f = tmp_path / "two.toml"
+    f.write_text(TWO_STOPS)
+    out = tmp_path / "s.npz"
+    base = ("simulate", "--model", str(f), "--omega", "1.1", "--impacts", "400",
+            "--out", str(out))
+    r = _run(*base)
+    assert r.returncode == 2 and "--y0" in r.stderr and "issue 25" in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
+    r = _run(*base, "--y0", "-0.3", "0.0", "0.0", "0.4", "--classify")
+    assert r.returncode == 2 and "--classify" in r.stderr and not out.exists()
+    r = _run(*base, "--y0", "-0.3", "0.0", "0.0", "0.4", "--plot", str(tmp_path / "s.png"))
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["stop"] == "completed" and d["n"] == 400
+    per = d["impacts_per_stop"]
+    assert len(per) == 2 and sum(per) == 400 and min(per) > 0
+    z = np.load(out)
+    assert np.array_equal(np.bincount(z["hits"], minlength=2), per)
+    assert (tmp_path / "s.png").stat().st_size > 0

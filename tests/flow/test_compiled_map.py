@@ -30,7 +30,7 @@ def test_step_equals_reference_map(model, omega):
     n_imp = 0
     for y in random_states(model, 60, rng):
         ref = poincare_map(model, omega, y)
-        st, t, y1, vm, acc, steps = cf.step(c, y)
+        st, t, y1, vm, acc, steps, _ = cf.step(c, y)
         assert cf.STATUS_NAMES[st] == ref.status
         if ref.status != "impact":
             continue
@@ -52,9 +52,9 @@ def test_conjugate_pairs_kept_once():
         c = cf.constants(model, 1.1)
         m = int(c[1])
         assert m == kept
-        w = c[11:11 + 3 * m].reshape(m, 3)[:, 2]
+        w = c[cf._HDR:cf._HDR + 3 * m].reshape(m, 3)[:, 2]
         assert w.sum() == 2 * model.n
-    w = cf.constants(TWO_OVERDAMPED, 1.1)[11:20].reshape(3, 3)
+    w = cf.constants(TWO_OVERDAMPED, 1.1)[cf._HDR:cf._HDR + 9].reshape(3, 3)
     assert sorted(w[:, 2]) == [1.0, 1.0, 2.0] and (w[w[:, 2] == 1.0, 1] == 0).all()
 
 

@@ -281,16 +281,34 @@ def test_preset_stop_parameters():
         m.parameter("stop[2].gap")
 
 
-# ---- the dynamics take one rigid stop on one mass -------------------------------------
+# ---- what the dynamics take: the flow rigid stops on masses, the orbits one stop ---------
 @pytest.mark.parametrize("stops,words", [
-    ([UP, LOW], "stops = 2 is invalid"),
     ([PAIR], "an elastic stop"),
     ([Stop(between=(1, 2), gap=0.3, restitution=0.5)], "a stop between two masses"),
-    ([LOW], "a lower stop"),
 ])
 def test_the_dynamics_refuse_what_they_do_not_handle_yet(stops, words):
     m = Model(**MATS, stops=stops)
-    for enter in (LinearFlow.of, Section.of, Model.require_one_rigid_stop):
+    for enter in (LinearFlow.of, Section.of, Model.require_rigid_stops,
+                  Model.require_one_rigid_stop):
+        with pytest.raises(ParameterError) as e:
+            enter(m)
+        msg = str(e.value)
+        assert words in msg and "issue 25" in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("stops,words", [
+    ([UP, LOW], "stops = 2 is invalid"),
+    ([LOW], "a lower stop"),
+])
+def test_the_orbit_analyses_take_one_upper_stop(stops, words):
+    """Several rigid stops on masses (or a lower one) enter the flow and the compiled run;
+    the orbit analyses (period-1 orbits, shooting, the Python map, the jets) refuse them
+    in one line."""
+    from symvi.orbits import period1_orbits
+    m = Model(**MATS, stops=stops)
+    assert LinearFlow.of(m).n == 3 and Section.of(m).dim == 6
+    assert m.require_rigid_stops() is m
+    for enter in (Model.require_one_rigid_stop, lambda m: period1_orbits(m, 1.1)):
         with pytest.raises(ParameterError) as e:
             enter(m)
         msg = str(e.value)

@@ -150,7 +150,7 @@ def test_compiled_matches_reference_finder():
     agree = 0
     for v1, x2, v2, tau in ys:
         ref = first_impact(motion_from(m, omega, (EX1.b, x2), (v1, v2), tau), EX1.b, t_max=T_MAX)
-        st, t, z, _, _ = cf.first_impact_from(c, (v1, x2, v2, tau), T_MAX)
+        st, t, z, _, _, _ = cf.first_impact_from(c, (v1, x2, v2, tau), T_MAX)
         x2n, v1m = z[1], z[2]                   # z = (x1, x2, x1dot, x2dot)
         # a tangency time is defined only to about sqrt(eps)
         tol = 1e-9 if st == cf.IMPACT else 1e-6
