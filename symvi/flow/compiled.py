@@ -144,7 +144,7 @@ def constants(model, omega, t_max=None):
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega
     c[_TMAX] = t_max
     c[_NC] = len(rows)
-    _, _, ou, oc, cb = _offsets(n)
+    _, _, ou, oc, cb = offsets(n)
     for k, row in enumerate(rows):
         c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
         c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
@@ -177,7 +177,7 @@ def set_constraint(c, flow):
     restitution shares the rest)."""
     n = flow.n
     k = flow.constraint64
-    oc = _offsets(n)[3]
+    oc = offsets(n)[3]
     c[oc + _GAP], c[oc + _LEVEL] = k[0], k[1]
     c[oc + _CB:oc + _CB + n + n * n] = k[2:]
 
@@ -186,15 +186,30 @@ def set_guard_forcing(c, flow, U, V):
     """Each guard's steady amplitudes guard . U, guard . V and |guard . X| (U[0], V[0],
     |X_k| for the stop on mass k)."""
     n = flow.n
-    _, _, _, oc, cb = _offsets(n)
+    _, _, _, oc, cb = offsets(n)
+    if flow._unit_guard and c[_NC] == 1.0:        # the one stop (every orbit analysis)
+        us, vs = U[0], V[0]
+        c[oc + _US], c[oc + _VS], c[oc + _XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
+        return
     for k in range(int(c[_NC])):
         o = oc + k * cb
         if k == 0 and flow._unit_guard:
-            us, vs = U[0], V[0]
+            us, vs = float(U[0]), float(V[0])
         else:
             g = c[o + _CB:o + _CB + n]
             us, vs = float(g @ U), float(g @ V)
         c[o + _US], c[o + _VS], c[o + _XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
+
+
+def offsets(n):
+    """:func:`_offsets` for Python callers (a dispatcher call costs microseconds)."""
+    o = _OFFSETS.get(n)
+    if o is None:
+        o = _OFFSETS[n] = _offsets.py_func(n)
+    return o
+
+
+_OFFSETS = {}
 
 
 # --------------------------------------------------------------------------- kernels
@@ -553,7 +568,7 @@ def first_impact_from(c, y, t_max=None, k=0):
     flow's order, h'' of the guard met, steps, the constraint met)."""
     c = np.ascontiguousarray(c, dtype=np.float64)
     return _first_impact_from(c, np.ascontiguousarray(y, dtype=np.float64),
-                              c[_TMAX] if t_max is None else float(t_max), np.int64(k))
+                              c[_TMAX] if t_max is None else float(t_max), k)
 
 
 @nb.njit(cache=True)

@@ -285,7 +285,7 @@ def finder_constants(flow, F):
     _fc.set_guard_forcing(c, flow, U, V)
     c[_fc._LMAX] = max(lmax, w)
     c[_fc._GROW] = math.exp(grow * 4 * t_max)
-    ou = _fc._offsets(n)[2]
+    ou = _fc.offsets(n)[2]
     c[ou:ou + n], c[ou + n:ou + 2 * n] = U, V
     return c
 

@@ -190,6 +190,11 @@ class _MpModel:
         self._model.require_one_rigid_stop()
         return self
 
+    def require_rigid_stops(self):
+        """The checked model's answer (:meth:`symvi.model.Model.require_rigid_stops`)."""
+        self._model.require_rigid_stops()
+        return self
+
     @property
     def constraints(self):
         """The stop as the flow reads it (:meth:`symvi.model.Stop.constraint`), mpf gap and r."""
