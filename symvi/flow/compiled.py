@@ -240,6 +240,24 @@ def _response(c, ou, n, i, sp, cp):
     return U * sp + V * cp, U * cp - V * sp
 
 
+@nb.njit(cache=True, inline="always")
+def _put_section(c, orr, n, p, x, xo, u, uo, y):
+    """y[:2N-1] <- the section point of the constraint at position p whose reset R sits at
+    ``orr``: v+ = R u (u = u[uo:uo+N], the velocities before the impact; v_k+ = -r v_k-,
+    eq. (2), for the stop), y[0] = v+_p, and the positions x[xo:xo+N] and the other v+ at
+    their slots (:func:`_slot`)."""
+    for i in range(n):
+        sv = 0.0
+        for j in range(n):
+            sv += c[orr + n * i + j] * u[uo + j]
+        if i == p:
+            y[0] = sv
+        else:
+            q = _slot(i, p)
+            y[q] = x[xo + i]
+            y[n - 1 + q] = sv
+
+
 @nb.njit(cache=True)
 def _start(c, y, k, cc, d, amp, w):
     """Weighted mode coefficients w_j c_j, c = W^-1 (z0 - zp(0)), of the flight from the
@@ -539,16 +557,7 @@ def _step_into(c, y, k, cc, d, e, x, amp, s, z):
     vm = 0.0
     for i in range(n):
         vm += c[og + i] * z[n + i]
-    for i in range(n):                            # v+ = R v-: the constraint's reset
-        sv = 0.0                                  # (v_k+ = -r v_k-, eq. (2), for the stop)
-        for j in range(n):
-            sv += c[orr + n * i + j] * z[n + j]
-        if i == p:
-            y[0] = sv
-        else:
-            q = _slot(i, p)
-            y[q] = z[i]
-            y[n - 1 + q] = sv
+    _put_section(c, orr, n, p, z, 0, z, n, y)
     y[2 * n - 1] = tau_u - _TWO_PI * math.floor(tau_u / _TWO_PI)
     return st, t, vm, acc, steps, g
 
@@ -662,16 +671,9 @@ def _tangent(c, tau, v, cc, e, z, w, k, g):
     # Dz = dz + zdot dte; zdot = (z velocities, accelerations w[0:n]); Dv- into w[n:dim]
     for i in range(n):
         w[n + i] = w[dim + n + i] + w[i] * dte
-    for i in range(n):                            # Dv+ = R Dv-
-        sv = 0.0
-        for j in range(n):
-            sv += c[orr + n * i + j] * w[n + j]
-        if i == pg:
-            v[0] = sv
-        else:
-            q = _slot(i, pg)
-            v[q] = w[dim + i] + z[n + i] * dte
-            v[n - 1 + q] = sv
+    for i in range(n):                            # Dx = dx + xdot dte
+        w[dim + i] = w[dim + i] + z[n + i] * dte
+    _put_section(c, orr, n, pg, w, dim, w, n, v)  # Dv+ = R Dv-
     v[dim - 1] = dtau + om * dte
 
 
