@@ -6,6 +6,7 @@ ways, duplicates dropped and, on request, the period-doubled branch of each flip
 to start from: every admissible period-1 orbit at the start (the closed form), or the
 n-p orbit a run of the map settles on there, or the one a given simulation settled on.
 """
+import dataclasses
 import math
 import os
 import warnings
@@ -22,6 +23,8 @@ NAMES = {"start": "start", "stop": "stop", "param": "param", "orbit": "orbit",
          "max_points": "max_points", "fixed": "fixed", "omega": "omega"}
 #: a run of the map that finds the n-p orbit to start from: impacts kept, transient dropped
 SETTLE_IMPACTS, SETTLE_TRANSIENT = 400, 4000
+#: values of [start, stop] tried for an admissible period-1 orbit where the start has none
+SEARCH_SAMPLES = 200
 
 
 def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=None,
@@ -73,6 +76,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     # the model with the fixed values: the ranges of start and stop are those of this model
     others = {k: v for k, v in fixed.items() if not pars[k].is_forcing_frequency}
     at = model.with_(**others) if others else model
+    base, moved = at, None
     if not par.is_forcing_frequency and "omega" not in fixed and simulation is None:
         raise ParameterError(N["omega"], None, f"a fixed forcing frequency: give "
                              f"{N['omega']}=VALUE when {N['param']} is not omega")
@@ -136,8 +140,18 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
             if not guesses:
                 from ..orbits.period1 import no_orbit_reason
                 why = no_orbit_reason(at, w) or "every period-1 orbit there is inadmissible"
-                raise ParameterError(N["start"], a, "a value where an admissible period-1 "
-                                     "orbit exists", f"none at {param} = {a}: {why}")
+                found = first_admissible(base, par, a, stop, fixed.get("omega"))
+                if found is None:
+                    raise ParameterError(N["start"], a, "a value where an admissible "
+                                         "period-1 orbit exists", f"none at {param} = {a} "
+                                         f"({why}), nor at {SEARCH_SAMPLES} values of "
+                                         f"[{lo:g}, {hi:g}]")
+                a, guesses = found
+                moved = (f"no admissible period-1 orbit at {param} = {start:.12g} ({why}); "
+                         f"the branch starts at {param} = {a:.12g}, the first of "
+                         f"{SEARCH_SAMPLES} values towards {stop:g} with one, refined to "
+                         f"the edge of existence by bisection (a window narrower than "
+                         f"{abs(stop - start) / SEARCH_SAMPLES:.3g} may be missed)")
     branches = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
@@ -147,6 +161,8 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
                     continue
                 br = continue_branch(model, param, a, s, guess=guess, n=n, p=p,
                                      max_points=max_points, through=through, **fixed)
+                if moved:
+                    br = dataclasses.replace(br, notes=br.notes + (moved,))
                 if not any(same_branch(br, other) for other in branches):
                     branches.append(br)
         if switch:
@@ -160,6 +176,43 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
                             warnings.warn(f"branch switching at the flip at {sp.value:.12g} "
                                           f"failed: {exc}", stacklevel=2)
     return branches
+
+
+def first_admissible(model, par, start, stop, omega=None, samples=SEARCH_SAMPLES):
+    """(value, section points) of the first parameter value from ``start`` towards
+    ``stop`` where ``model`` has an admissible period-1 orbit, or None: ``samples`` equal
+    steps, then bisection between the last value without one and the first with one
+    (to 1e-12 relative), the value returned being on the side with one.  ``par`` is the
+    parameter (a lens of :meth:`symvi.model.Model.parameter`), ``omega`` the fixed
+    forcing frequency when ``par`` is not omega.  A value where the model is invalid or
+    singular counts as one without."""
+    from ..orbits.period1 import admissible_orbits
+
+    def orbits(v):
+        try:
+            m = model if par.is_forcing_frequency else par.apply(model, v)
+            w = v if par.is_forcing_frequency else omega
+            return [o.y for o in admissible_orbits(m, w, multipliers=False)]
+        except SymviError:
+            return []
+    prev = start
+    for j in range(1, samples + 1):
+        v = start + (stop - start) * j / samples
+        ys = orbits(v)
+        if ys:
+            lo, hi, best = prev, v, (v, ys)
+            for _ in range(80):
+                if abs(hi - lo) <= 1e-12 * max(1.0, abs(hi)):
+                    break
+                mid = 0.5 * (lo + hi)
+                ys = orbits(mid)
+                if ys:
+                    hi, best = mid, (mid, ys)
+                else:
+                    lo = mid
+            return best
+        prev = v
+    return None
 
 
 # --------------------------------------------------------------------------- checks
