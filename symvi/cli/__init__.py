@@ -92,7 +92,9 @@ def add_params(parser, defaults=None, model=False):
     if model:
         parser.add_argument("--model", default=None, metavar="FILE",
                             help="model file (TOML: [model] mass, stiffness, damping, forcing; "
-                                 "[stop] mass, gap, restitution), instead of the preset flags")
+                                 "[stop] mass, gap, restitution, or one [[stop]] table per stop "
+                                 "with mass or between, gap, side, restitution or "
+                                 "stiffness and damping), instead of the preset flags")
 
 
 def add_engine(parser, workers_default):
