@@ -144,7 +144,7 @@ def constants(model, omega, t_max=None):
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega
     c[_TMAX] = t_max
     c[_NC] = len(rows)
-    _, _, ou, oc, cb = offsets(n)
+    ow, ov, ou, oc, cb = offsets(n)
     for k, row in enumerate(rows):
         c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
         c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
@@ -153,8 +153,6 @@ def constants(model, omega, t_max=None):
     # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
     # the bounds M2, M5 by its growth over a flight (> t_max only by a last step)
     c[_GROW] = math.exp(max(0.0, float(np.max(flow.lam.real))) * 4 * t_max)
-    ow = _HDR + 3 * dim
-    ov = ow + 2 * dim * dim
     for q, (j, w) in enumerate(keep):
         lj = complex(flow.lam[j])
         c[_HDR + 3 * q:_HDR + 3 * q + 3] = (lj.real, lj.imag, w)
@@ -187,17 +185,13 @@ def set_guard_forcing(c, flow, U, V):
     |X_k| for the stop on mass k)."""
     n = flow.n
     _, _, _, oc, cb = offsets(n)
-    if flow._unit_guard and c[_NC] == 1.0:        # the one stop (every orbit analysis)
-        us, vs = U[0], V[0]
-        c[oc + _US], c[oc + _VS], c[oc + _XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
-        return
     for k in range(int(c[_NC])):
         o = oc + k * cb
-        if k == 0 and flow._unit_guard:
-            us, vs = float(U[0]), float(V[0])
+        if k == 0 and flow._unit_guard:       # the stop on the flow's first mass, read off
+            us, vs = U[0], V[0]
         else:
             g = c[o + _CB:o + _CB + n]
-            us, vs = float(g @ U), float(g @ V)
+            us, vs = g @ U, g @ V
         c[o + _US], c[o + _VS], c[o + _XS] = us, vs, math.sqrt(us ** 2 + vs ** 2)
 
 

@@ -164,15 +164,17 @@ class LinearFlow:
     def _mass_key(self):
         return tuple(map(tuple, np.asarray(self.model.mass, dtype=float)))
 
-    def _reset_data(self, con):
+    def _reset_data(self, con, r=None):
         """(guard, reset, unit guard, coordinate law, guard and reset as float64 row-major)
-        of ``con`` at this flow's restitution and order; see :meth:`_constrain`."""
+        of ``con`` at restitution ``r`` (default this flow's) in this flow's order; see
+        :meth:`_constrain`."""
+        r = self.r if r is None else r
         p = list(self.perm)
         guard = self.bk.arr(con.sign * np.array(con.normal)[p])
         Minv = None
         if con.impulse is None:                    # rigid: along M^-1 c (mass order)
             Minv = self.bk.inv(self.bk.arr(np.asarray(self.model.mass)))
-        reset = con.reset_matrix(Minv, order=p, r=self.r)
+        reset = con.reset_matrix(Minv, order=p, r=r)
         if self.bk is not FLOAT64:
             reset = self.bk.arr(reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
@@ -180,7 +182,7 @@ class LinearFlow:
         # ... with v_0+ = -r v_0-, every other velocity kept (today's stop; the generated
         # jets take any guard and reset: symvi.codegen.layout.jet_constraint)
         law = np.eye(self.n, dtype=reset.dtype)
-        law[0, 0] = -self.r
+        law[0, 0] = -r
         coordinate_law = unit_guard and bool(np.all(reset == law))
         tail = None
         if self.bk is FLOAT64:
@@ -205,19 +207,13 @@ class LinearFlow:
         p the position of its coordinate in the flow's order (its section is x_p = gap).
         The first is this flow's own (:meth:`_constrain`, shared by its copies)."""
         rows = [np.concatenate(([0.0], self.constraint64))]
-        order = list(self.perm)
-        Minv = None
         for con in self.model.constraints[1:]:
             k = con.coordinate
             if k is None:
                 _frame(con, self.n)                 # refuses, naming the normal
-            if con.impulse is None and Minv is None:
-                Minv = np.linalg.inv(np.asarray(self.model.mass, dtype=float))
-            guard = con.sign * np.array(con.normal)[order]
-            R = np.asarray(con.reset_matrix(None if con.impulse else Minv, order=order),
-                           dtype=float)
-            rows.append(np.concatenate(([float(order.index(k)), con.gap, con.sign * con.gap],
-                                        guard, R.ravel())))
+            tail = self._reset_data(con, con.restitution)[4]
+            rows.append(np.concatenate(([float(self.perm.index(k)), con.gap,
+                                         con.sign * con.gap], tail)))
         return rows
 
     def approach(self, z):

@@ -412,13 +412,19 @@ class Model:
                                      f"{what} is not supported by the dynamics yet: issue 25")
         return self
 
+    @property
+    def one_rigid_stop(self):
+        """Whether the orbit analyses take this model: one rigid upper stop on one mass."""
+        return len(self._stops) == 1 and self._stops[0].plain
+
     def require_one_rigid_stop(self):
-        """``self``, or the one-line ParameterError saying what the dynamics cannot handle
-        yet: they take one rigid stop on one mass (issue 25).  The one check, called where a
-        model enters the dynamics (:class:`symvi.flow.linear.LinearFlow`, the section)."""
-        stops = self._stops
-        if len(stops) == 1 and stops[0].plain:
+        """``self``, or the one-line ParameterError saying what the orbit analyses cannot
+        handle yet: they take one rigid upper stop on one mass (issue 25).  Called where a
+        model enters them (period-1 orbits, shooting, the Python map, the jets, Lyapunov
+        spectra); the flow asks :meth:`require_rigid_stops`."""
+        if self.one_rigid_stop:
             return self
+        stops = self._stops
         if len(stops) > 1:
             raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
                                  "supported by the orbit analyses yet (simulate runs "

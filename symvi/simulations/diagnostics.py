@@ -83,13 +83,8 @@ def _spectrum(logs, te):
 def classifiable(params):
     """Whether :func:`classify` and :func:`lyapunov` take the model of ``params``: one
     rigid upper stop (the tangent maps follow one stop's section; issue 25)."""
-    from ..errors import ParameterError
     from ..model import Model
-    try:
-        Model.of(params).require_one_rigid_stop()
-    except ParameterError:
-        return False
-    return True
+    return Model.of(params).one_rigid_stop
 
 
 def _logs(sim, n=None):

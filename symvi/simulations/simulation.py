@@ -150,15 +150,6 @@ def _check_model_start(model, y0, name="y0"):
     return y[:-1] + (y[-1] % (2 * math.pi),)
 
 
-def _one_stop(model):
-    """Whether the orbit analyses take ``model`` (:meth:`Model.require_one_rigid_stop`)."""
-    try:
-        model.require_one_rigid_stop()
-    except ParameterError:
-        return False
-    return True
-
-
 def _perturbation(params, perturbation):
     """The start offset for params: 2N numbers (N = 2 for the paper's Params), the default
     1e-4 each."""
@@ -201,7 +192,7 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
     model = Model.of(params)
-    if not _one_stop(model):
+    if not model.one_rigid_stop:
         # several stops, or a lower one: no period-1 orbit to start from yet (issue 25)
         if y0 is None:
             from ..maps import Section
