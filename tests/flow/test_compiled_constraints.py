@@ -29,7 +29,7 @@ def _two_mass(gap1, gap2, r1, r2):
                         Stop(mass=2, gap=gap2, side="lower", restitution=r2)])
 
 
-def _state(model, c, y, k):
+def state(model, c, y, k):
     """The full state (mass order) of section point y of constraint k (compiled layout)."""
     n = model.n
     flow = LinearFlow.of(model)
@@ -49,12 +49,13 @@ def _state(model, c, y, k):
     return out
 
 
-def _reference(model, omega, z0, tau, n_impacts):
-    """Impacts (time, constraint, state just after, mass order) by DOP853 with one event
-    per guard, the rigid reset applied at each."""
+def first_contact(model, omega, tau, z0, t0, t1, leaving=None, tol=1e-13, first_step=1e-6):
+    """(time, constraint, state at contact) of the first contact after t0 (before t1) by
+    DOP853 with one terminal event per guard, from z0 (mass order) under the forcing
+    P sin(omega t + tau); a contact with ``leaving`` within 1e-9 of t0 is the one just
+    left.  None without one."""
     n = model.n
-    M = np.asarray(model.mass, dtype=float)
-    Minv = np.linalg.inv(M)
+    Minv = np.linalg.inv(np.asarray(model.mass, dtype=float))
     K, C, P = (np.asarray(a, dtype=float) for a in (model.stiffness, model.damping,
                                                      model.forcing))
     cons = model.constraints
@@ -69,17 +70,28 @@ def _reference(model, omega, z0, tau, n_impacts):
             return con.guard(z[:n])
         ev.terminal, ev.direction = True, 1.0
         events.append(ev)
+    sol = solve_ivp(rhs, (t0, t1), z0, method="DOP853", rtol=tol, atol=tol,
+                    events=events, first_step=first_step)
+    hit = [(sol.t_events[g][0], g) for g in range(len(cons))
+           if len(sol.t_events[g]) and not (g == leaving and sol.t_events[g][0] - t0 < 1e-9)]
+    if not hit:
+        return None
+    te, g = min(hit)
+    return te, g, sol.y_events[g][-1] if sol.t_events[g][-1] == te else sol.y_events[g][0]
+
+
+def _reference(model, omega, z0, tau, n_impacts):
+    """Impacts (time, constraint, state just after, mass order) by DOP853 with one event
+    per guard, the rigid reset applied at each."""
+    n = model.n
+    Minv = np.linalg.inv(np.asarray(model.mass, dtype=float))
     t0, z, out = 0.0, np.array(z0, dtype=float), []
     last = None
     while len(out) < n_impacts:
-        sol = solve_ivp(rhs, (t0, t0 + 200.0), z, method="DOP853", rtol=1e-13, atol=1e-13,
-                        events=events, first_step=1e-6)
-        hit = [(sol.t_events[g][0], g) for g in range(len(cons))
-               if len(sol.t_events[g]) and not (g == last and sol.t_events[g][0] - t0 < 1e-9)]
+        hit = first_contact(model, omega, tau, z, t0, t0 + 200.0, last)
         assert hit, "no impact within 200 time units"
-        te, g = min(hit)
-        ze = sol.y_events[g][-1] if sol.t_events[g][-1] == te else sol.y_events[g][0]
-        R = cons[g].reset_matrix(Minv)
+        te, g, ze = hit
+        R = model.constraints[g].reset_matrix(Minv)
         z = np.concatenate([ze[:n], R @ ze[n:]])
         out.append((te, g, z.copy()))
         t0, last = te, g
@@ -106,11 +118,11 @@ def test_run_matches_solve_ivp_over_every_constraint(case):
     code, sec, times, vimp, _, hits = cf.run(c, y0, 25, hits=True)
     assert code == cf.COMPLETED
     assert set(hits) == {0, 1}, "the run should visit both constraints"
-    ref = _reference(model, omega, _state(model, c, y0, 0), y0[-1], 25)
+    ref = _reference(model, omega, state(model, c, y0, 0), y0[-1], 25)
     for i, (te, g, z) in enumerate(ref):
         assert hits[i] == g
         assert abs(times[i] - te) < 1e-8 * (1 + te)
-        np.testing.assert_allclose(_state(model, c, sec[i], g)[:2 * n], z, atol=1e-8)
+        np.testing.assert_allclose(state(model, c, sec[i], g)[:2 * n], z, atol=1e-8)
         assert vimp[i] > 0                          # a rigid impact arrives moving in
 
 
@@ -181,11 +193,11 @@ def test_no_contact_is_stepped_over_between_close_stops():
     k = 0
     y = y0
     for i in range(len(hits)):
-        z0 = _state(model, c, y, k)
+        z0 = state(model, c, y, k)
         tau = y[-1]
         mo = flow.motion(F, z0, tau)
         t_prev = times[i - 1] if i else 0.0
         for s in np.linspace(0, times[i] - t_prev, 50)[1:-1]:
-            x = mo.state(s)[0] if hasattr(mo, "state") else flow.flight(F, z0, tau, s)[0][0]
+            x = mo.state(s)[0]
             assert -0.01 - 1e-12 <= x <= 0.01 + 1e-12
         y, k = sec[i], hits[i]

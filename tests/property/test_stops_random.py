@@ -14,11 +14,11 @@ import math
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from scipy.integrate import solve_ivp
 
 from symvi.flow import compiled as cf
 from symvi.flow.linear import LinearFlow
 from symvi.model import Model, Stop
+from tests.flow.test_compiled_constraints import first_contact, state
 
 
 def _f(lo, hi):
@@ -82,51 +82,6 @@ def _section_point(model, x, v, tau):
     return np.array([vs[0], *xs[1:], *vs[1:], tau])
 
 
-def _state(model, c, y, k):
-    """Mass-order (x, v) of section point y of constraint k."""
-    n = model.n
-    flow = LinearFlow.of(model)
-    _, _, _, oc, cb = cf.offsets(n)
-    p = int(c[oc + k * cb + cf._P])
-    z = np.empty(2 * n)
-    for i in range(n):
-        if i == p:
-            z[i], z[n + i] = c[oc + k * cb + cf._GAP], y[0]
-        else:
-            s = cf._slot(i, p)
-            z[i], z[n + i] = y[s], y[n - 1 + s]
-    perm = list(flow.perm)
-    out = np.empty(2 * n)
-    out[perm] = z[:n]
-    out[[n + j for j in perm]] = z[n:]
-    return out
-
-
-def _first_contact(model, omega, z0, tau, t_cap, leaving):
-    """(t, constraint, state) of the first contact by DOP853 from z0 at phase tau."""
-    n = model.n
-    Minv = np.linalg.inv(np.asarray(model.mass, float))
-    K, C, P = (np.asarray(a, float) for a in (model.stiffness, model.damping, model.forcing))
-
-    def rhs(t, z):
-        return np.concatenate([z[n:], Minv @ (P * math.sin(omega * t + tau) - K @ z[:n]
-                                              - C @ z[n:])])
-    events = []
-    for con in model.constraints:
-        def ev(t, z, con=con):
-            return con.guard(z[:n])
-        ev.terminal, ev.direction = True, 1.0
-        events.append(ev)
-    sol = solve_ivp(rhs, (0.0, t_cap), z0, method="DOP853", rtol=1e-12, atol=1e-12,
-                    events=events, first_step=1e-7)
-    hits = [(sol.t_events[g][0], g) for g in range(len(events)) if len(sol.t_events[g])
-            and not (g == leaving and sol.t_events[g][0] < 1e-9)]
-    if not hits:
-        return None
-    t, g = min(hits)
-    return t, g
-
-
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(chains())
 def test_compiled_run_meets_each_contact_of_the_reference(case):
@@ -138,9 +93,10 @@ def test_compiled_run_meets_each_contact_of_the_reference(case):
     y, k, t_prev = y0, 0, 0.0
     for i in range(len(sec)):
         te = times[i] - t_prev
-        ref = _first_contact(model, omega, _state(model, c, y, k), y[-1], 4 * te + 10.0, k)
+        ref = first_contact(model, omega, y[-1], state(model, c, y, k), 0.0, 4 * te + 10.0,
+                            k, tol=1e-12, first_step=1e-7)
         assert ref is not None, f"impact {i}: the reference meets no contact"
-        t_ref, g_ref = ref
+        t_ref, g_ref, _ = ref
         # never a contact stepped over: the reference meets none earlier
         assert t_ref >= te - 1e-7 * (1 + te), (i, t_ref, te)
         assert g_ref == hits[i] and abs(t_ref - te) <= 1e-7 * (1 + te), (i, ref, te, hits[i])
