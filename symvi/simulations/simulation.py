@@ -220,10 +220,8 @@ def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
     Uses :func:`symvi.maps.impact.step` on the mpmath flow, so it shares no code with the
     compiled kernels.  Values are rounded to float64 only on output.
     """
-    model = Model.of(params)
-    if len(model.constraints) > 1:
-        raise ParameterError("model", f"{len(model.constraints)} stops",
-                             "one stop: the mpmath reference map runs one constraint")
+    # the reference map (symvi.maps.impact) runs one stop: refused before any work
+    model = Model.of(params).require_one_rigid_stop()
     return _simulate_model_mp(model, omega, y0, n_impacts, digits)
 
 
