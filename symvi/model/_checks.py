@@ -55,10 +55,25 @@ def _finite(name, value, valid="a finite real number"):
     return v
 
 
-def _definite(field, a, semi):
+def _zero_level(w):
+    """Eigenvalues of a symmetric matrix (``w`` all of them) at most this in size are zero
+    to rounding: 64 N ulps of the largest."""
+    return 64 * len(w) * 2.0 ** -52 * max(abs(w).max(), 1e-300)
+
+
+def null_dim(a):
+    """Dimension of the null space of a symmetric positive semi-definite ``a`` (its
+    eigenvalues zero to rounding, :func:`_zero_level`): for the stiffness, the number of
+    modes on no spring (a free mass, a rigid-body mode)."""
+    w = np.linalg.eigvalsh(np.asarray(a, dtype=float))
+    return int(np.sum(np.abs(w) <= _zero_level(w)))
+
+
+def _definite(field, a, semi, singular=False):
     """Refuse a matrix that is not positive (semi-)definite, or whose condition number
     exceeds 1 / DEF_TOL: say which (an ill-conditioned positive definite matrix is not
-    "not positive definite")."""
+    "not positive definite").  ``singular`` (the stiffness): a matrix singular to rounding
+    is accepted too (a mass on no spring: a free mode), one nearly singular is not."""
     w = np.linalg.eigvalsh(a)
     top = max(abs(w).max(), 1e-300)
     if semi:
@@ -69,19 +84,31 @@ def _definite(field, a, semi):
         return
     if w.min() > DEF_TOL * top:
         return
+    if singular:
+        zero = _zero_level(w)
+        valid = (f"a positive semi-definite matrix: positive definite (condition number "
+                 f"<= {1 / DEF_TOL:.0e}) or singular (a free mass)")
+        if w.min() < -zero:
+            raise ParameterError(field, _shown(a.tolist()), valid,
+                                 f"indefinite: smallest eigenvalue {w.min():.3g} "
+                                 "(an unstable mode)")
+        pos = w[np.abs(w) > zero]
+        if pos.size == 0 or pos.min() > DEF_TOL * top:
+            return
+        raise ParameterError(field, _shown(a.tolist()), valid,
+                             f"nearly singular: eigenvalue {pos.min():.3g} of largest "
+                             f"{top:.3g} is neither zero (a free mass) nor well separated")
     valid = f"a positive definite matrix with condition number <= {1 / DEF_TOL:.0e}"
     if w.min() > 64 * a.shape[0] * 2.0 ** -52 * top:
         raise ParameterError(field, _shown(a.tolist()), valid,
                              f"positive definite but ill-conditioned: condition number "
                              f"{top / w.min():.3g}, limit {1 / DEF_TOL:.0e}")
-    what = ("; every free-flight mode must oscillate: a rigid-body or unstable mode is not "
-            "supported" if field == "stiffness" else "")
     if w.min() > 0:
         raise ParameterError(field, _shown(a.tolist()), valid,
                              f"singular to rounding: smallest eigenvalue {w.min():.3g} of "
-                             f"largest {top:.3g}{what}")
+                             f"largest {top:.3g}")
     raise ParameterError(field, _shown(a.tolist()), valid,
-                         f"not positive definite: smallest eigenvalue {w.min():.3g}{what}")
+                         f"not positive definite: smallest eigenvalue {w.min():.3g}")
 
 
 def _coordinate_name(idx):

@@ -13,8 +13,8 @@ A model may hold several stops, stops between two masses (s = x_j - x_i), lower 
 the dynamics take one rigid upper stop on one mass for now
 (:meth:`Model.require_one_rigid_stop`, called where a model enters them).
 
-M symmetric positive definite, K symmetric positive definite (every free-flight
-mode oscillates), C symmetric positive semi-definite (zero by default, as in
+M symmetric positive definite, K symmetric positive semi-definite (singular for a
+mass on no spring: a free mode, as in an impact damper), C symmetric positive semi-definite (zero by default, as in
 the paper), P the forcing amplitudes; one stop on mass k (1-based) with gap b
 and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
 :meth:`Model.luo_xie`.
@@ -335,7 +335,7 @@ class Model:
         K = _matrix("stiffness", stiffness, n)
         C = np.zeros((n, n)) if damping is None else _matrix("damping", damping, n)
         _definite("mass", M, semi=False)
-        _definite("stiffness", K, semi=False)
+        _definite("stiffness", K, semi=False, singular=True)
         _definite("damping", C, semi=True)
         P = _vector("forcing", forcing, n)
         if np.abs(P).max() > ABS_MAX:

@@ -225,7 +225,7 @@ class EntryParameter(Parameter):
             i0, j0 = sorted((i, j))
             raise ParameterError(kind, _shown(A.tolist()), f"entries with |a_ij| <= {ABS_MAX:g}",
                                  f"entry [{i0 + 1},{j0 + 1}] = {value!r}")
-        _definite(kind, A, semi=kind == "damping")
+        _definite(kind, A, semi=kind == "damping", singular=kind == "stiffness")
         rows = tuple(tuple(float(x) for x in row) for row in A)
         # a changed matrix is no longer the paper's preset (as Model.with_ always did)
         return _copy(model, preset=None, **{self._SLOT[kind]: rows})

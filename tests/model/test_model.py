@@ -26,7 +26,8 @@ def test_construct_diagonal_or_full_mass_and_freeze():
 @pytest.mark.parametrize("change,field", [
     ({"stiffness": [[1.0, -1.0, 0.0], [-1.1, 1.7, -0.7], [0.0, -0.7, 2.7]]}, "stiffness"),
     ({"mass": [1.0, -1.0, 0.8]}, "mass"),
-    ({"stiffness": [[1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}, "stiffness"),
+    # singular is a free mass (accepted); indefinite is refused
+    ({"stiffness": [[1.0, -1.2, 0.0], [-1.2, 1.0, 0.0], [0.0, 0.0, 1.0]]}, "stiffness"),
     ({"damping": [[-0.1, 0, 0], [0, 0, 0], [0, 0, 0]]}, "damping"),
     ({"forcing": [1.0, 0.0]}, "forcing"),
     ({"forcing": [1.0, float("nan"), 0.0]}, "forcing"),
