@@ -40,10 +40,12 @@ import mpmath
 import numpy as np
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError
+from ..model._checks import null_dim
 from ..numerics.backend import FLOAT64, backend
 # relative distance to a forcing resonance refused / warned about (as for the paper), and
 # at which scans and branches through a natural frequency are cut (symvi.numerics.tolerances)
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR, OMEGA_RANGE
+from ..numerics.tolerances import EPS64
 from ..numerics.tolerances import FORCING_RESONANCE_CUT as RESONANCE_CUT
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE as RESONANCE_REFUSE
 from ..numerics.tolerances import FORCING_RESONANCE_WARN as RESONANCE_WARN
@@ -109,6 +111,15 @@ class LinearFlow:
         self._constrain(con)
         Z, I = np.zeros((n, n)), np.eye(n)
         self.A = np.block([[bk.arr(Z), bk.arr(I)], [-(Minv @ K), -(Minv @ C)]])
+        self._forcing_cache = {}
+        self._resonance_cache = {}
+        # NIL: the nilpotent part of e^{At} = Re(W e^{Lambda t} W^-1) + t NIL (free modes)
+        self.free = False
+        self.NIL = bk.arr(np.zeros((2 * n, 2 * n)))
+        nz = null_dim(model.stiffness)             # modes on no spring (float64 decides)
+        if nz:
+            self._free_modal(nz)
+            return
         # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
         self.omegas, psi = bk.eigh_pair(K, M)
         if not model.damped:
@@ -121,16 +132,74 @@ class LinearFlow:
             Oi = (1 / Om)[:, None]
             self.Winv = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
         else:
-            self.lam, self.W = bk.eig(self.A)
-            cond = bk.cond(self.W)
-            if not cond < EIGVEC_COND_MAX:
-                raise SingularCaseError(
-                    "defective-flow", f"the eigenvectors of the state matrix are nearly "
-                    f"dependent (condition {cond:.3g}): a mode is (close to) critically damped "
-                    "and the modal form of the flow would lose all accuracy")
-            self.Winv = bk.inv(self.W)
-        self._forcing_cache = {}
-        self._resonance_cache = {}
+            self.lam, self.W, self.Winv = _eig_modal(bk, self.A)
+
+    def _free_modal(self, nz):
+        """The modal form when K has ``nz`` null directions (masses on no spring).
+
+        Rigid modes phi (K phi = 0 and C phi = 0, M-orthonormal, the columns of Pr) move as
+        x = Pr (q + p t): A has the Jordan block A (0, phi) = (phi, 0) for lambda = 0 on
+        span{(phi, 0), (0, phi)}, so e^{At} = Re(W e^{Lambda t} W^-1) + t NIL with
+        NIL = W N_J W^-1 = A P0 = [[0, Pr Pr^T M], [0, 0]] (P0 the spectral projector of
+        lambda = 0; NIL^2 = 0).  The M-orthogonal complement E (E^T M E = I) decouples:
+        s'' + E^T C E s' + E^T K E s = 0 (E^T M Pr = 0, C Pr = K Pr = 0), taken in modal
+        form as in :meth:`__init__` (closed form if C = 0, else eig); a null direction of K
+        that C damps is a simple lambda = 0 there, diagonalisable.  The rigid columns are
+        (phi, 0), (0, phi) with rows (phi^T M, 0), (0, phi^T M)."""
+        bk, n, M, K, C = self.bk, self.n, self.M, self.K, self.C
+        with np.errstate(invalid="ignore"):      # sqrt of a rounding-sized negative
+            om, psi = bk.eigh_pair(K, M)
+        self.omegas = np.concatenate([bk.arr(np.zeros(nz)), om[nz:]])
+        Q0 = psi[:, :nz]                           # an M-orthonormal basis of ker K
+        nr = nz
+        if self.model.damped:                      # rigid: ker K within ker C
+            C0 = Q0.T @ C @ Q0
+            mu = np.linalg.eigvalsh(np.asarray(C0, dtype=float))
+            top = np.abs(np.linalg.eigvalsh(np.asarray(psi.T @ C @ psi, dtype=float))).max()
+            nr = int(np.sum(mu <= 64 * n * EPS64 * top))
+            if nr < nz:                            # the damped ones: simple lambda = 0
+                with np.errstate(invalid="ignore"):
+                    _, S = bk.eigh_pair(C0, bk.arr(np.eye(nz)))   # ascending: rigid first
+                Q0 = Q0 @ S
+        if nr == 0:                                # no Jordan block: the damped path
+            zn = bk.arr(np.zeros((n, nz)))
+            self.lam, self.W, self.Winv = _eig_modal(bk, self.A, np.block([[Q0], [zn]]))
+            return
+        i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
+        Pr = Q0[:, :nr]
+        PrM = Pr.T @ M
+        Z = bk.arr(np.zeros((n, n)))
+        self.NIL = np.block([[Z, Pr @ PrM], [Z, Z]])
+        self.free = True
+        zr = bk.arr(np.zeros((n, nr)))
+        Wr = np.block([[Pr, zr], [zr, Pr]])                 # (phi, 0), (0, phi)
+        Wir = np.block([[PrM, zr.T], [zr.T, PrM]])
+        lam_r = 0 * i * bk.arr(np.zeros(2 * nr))
+        if not self.model.damped:                  # the closed form of the elastic modes
+            Om, pe = om[nz:], psi[:, nz:]
+            lam_e = np.concatenate([i * Om, -i * Om])
+            We = np.block([[pe, pe], [i * pe * Om, -i * pe * Om]])
+            PM = pe.T @ M
+            half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
+            Oi = (1 / Om)[:, None]
+            Wie = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
+        else:                                      # eig of the decoupled complement
+            E = np.concatenate([psi[:, nz:], Q0[:, nr:]], axis=1)
+            ne = n - nr
+            Ke, Ce = E.T @ K @ E, E.T @ C @ E
+            # K E_i = 0 for the damped null directions: exact zeros there (rounding-sized
+            # entries misguide eig's balancing: residuals of 1e-8 seen)
+            Ke[ne - nz + nr:, :] = Ke[:, ne - nz + nr:] = 0
+            Ae = np.block([[bk.arr(np.zeros((ne, ne))), bk.arr(np.eye(ne))], [-Ke, -Ce]])
+            # the damped null directions of K are the last nz - nr of E: (e_i, 0) there
+            lam_e, We, Wie = _eig_modal(bk, Ae, bk.arr(np.eye(2 * ne)[:, ne - nz + nr:ne]))
+            ze = bk.arr(np.zeros((n, ne)))
+            EM = E.T @ M
+            We = np.block([[E, ze], [ze, E]]) @ We
+            Wie = Wie @ np.block([[EM, ze.T], [ze.T, EM]])
+        self.lam = np.concatenate([lam_r, lam_e])
+        self.W = np.concatenate([Wr, We], axis=1)
+        self.Winv = np.concatenate([Wir, Wie], axis=0)
 
     def _constrain(self, con):
         """The constraint's data in the flow's order (:mod:`symvi.model._constraint`):
@@ -250,7 +319,14 @@ class LinearFlow:
     @functools.cached_property
     def modal64(self):
         """(lambda, W, W^-1, A) as contiguous complex128 / float64 arrays (float backend):
-        the modal data of the compiled kernels; shared by flows that differ in the stop."""
+        the modal data of the compiled kernels; shared by flows that differ in the stop.
+        Refused with free modes: Re(W e^{Lambda t} W^-1) alone is not e^{At} there
+        (:meth:`phis`, :func:`symvi.flow.compiled.phi_into` add t NIL)."""
+        if self.free:
+            raise SingularCaseError(
+                "free-mass", "the model has a mass on no spring (a free mode): its flow is "
+                "e^{At} = Re(W e^{Lambda t} W^-1) + t NIL, which this analysis does not take "
+                "yet (issue 25); simulate it instead")
         c = np.ascontiguousarray
         return (c(self.lam, dtype=complex), c(self.W, dtype=complex),
                 c(self.Winv, dtype=complex), c(self.A, dtype=float))
@@ -309,12 +385,19 @@ class LinearFlow:
         return self.phis(t, 0)[0]
 
     def phis(self, t, K):
-        """[Phi(t) A^k for k = 0..K], one exponential for all."""
+        """[Phi(t) A^k for k = 0..K], one exponential for all.
+
+        With free modes, e^{At} A^k = Re(W e^{Lambda t} Lambda^k W^-1) + [t NIL, NIL, 0, ...]_k
+        (:meth:`_free_modal`: on the zero block e^{At} A^k = (I + t N_J) N_J^k, N_J^2 = 0)."""
         e = self.bk.vexp(self.lam * t)
         out = []
         for _ in range(K + 1):
             out.append(self.bk.vreal((self.W * e) @ self.Winv))
             e = e * self.lam
+        if self.free:
+            out[0] = out[0] + t * self.NIL
+            if K >= 1:
+                out[1] = out[1] + self.NIL
         return out
 
     def flight(self, forcing, z0, tau, t):
@@ -332,7 +415,7 @@ class LinearFlow:
         """The free flight from state z0 (stop-first order) at phase tau."""
         z0 = np.asarray(z0) if self.bk is FLOAT64 else self.bk.arr(z0)
         w = z0 - forcing.zp(tau, self.bk)
-        return Motion(self, forcing, tau, self.Winv @ w)
+        return Motion(self, forcing, tau, self.Winv @ w, self.NIL @ w if self.free else None)
 
     def one_minus_exp(self, omega):
         """min_j |1 - e^{lambda_j 2 pi / omega}| and its mode index: 0 where the
@@ -381,6 +464,28 @@ def _flow_mp(model, digits):
     return _memo(_MP_CACHE, (model, digits), lambda: LinearFlow(model, backend(digits)), size=64)
 
 
+def _eig_modal(bk, A, null=None):
+    """(lambda, W, W^-1) of A by its eigenvectors, refused when they are nearly dependent.
+
+    ``null``: k known real eigenvectors of lambda = 0 (columns; a null direction of K that
+    C damps: a simple, semisimple eigenvalue), put in exactly for the k eigenvalues of
+    least modulus (eig's own are inexact there, and mpmath's may be dependent)."""
+    lam, W = bk.eig(A)
+    if null is not None and null.shape[1]:
+        idx = np.argsort([float(abs(x)) for x in lam])[:null.shape[1]]
+        lam, W = lam.copy(), W.copy()
+        for q, j in enumerate(idx):
+            lam[j] = 0 * lam[j]
+            W[:, j] = null[:, q]
+    cond = bk.cond(W)
+    if not cond < EIGVEC_COND_MAX:
+        raise SingularCaseError(
+            "defective-flow", f"the eigenvectors of the state matrix are nearly "
+            f"dependent (condition {cond:.3g}): a mode is (close to) critically damped "
+            "and the modal form of the flow would lose all accuracy")
+    return lam, W, bk.inv(W)
+
+
 def _memo(cache, key, compute, size=256):
     """cache[key], computed once; the cache is emptied past ``size`` entries."""
     hit = cache.get(key)
@@ -413,20 +518,24 @@ class FirstImpact:
 
 
 class Motion:
-    """z(t) = Re(W (c * e^{lambda t})) + zp(t) for one flight."""
+    """z(t) = Re(W (c * e^{lambda t})) + t NIL w + zp(t) for one flight (w = z0 - zp(0);
+    the drift t NIL w of the free modes moves positions only: NIL = [[0, G], [0, 0]])."""
 
-    def __init__(self, flow, forcing, tau, c):
-        self.flow, self.forcing, self.tau, self.c = flow, forcing, tau, c
+    def __init__(self, flow, forcing, tau, c, nw=None):
+        self.flow, self.forcing, self.tau, self.c, self.nw = flow, forcing, tau, c, nw
         bk = flow.bk
         n, g = flow.n, flow.guard
         # s(t) = guard . x(t) = Re sum d_j e^{lambda_j t} + guard . x_p (x_k for a stop on k)
         self.d = (g @ flow.W[:n]) * c
         self.dv = (g @ flow.W[n:]) * c            # s'(t), likewise
         self._U0, self._V0 = g @ forcing.U, g @ forcing.V
+        # s(t) gains delta t, s'(t) delta (free modes); s'' and the bound M2 do not change
+        self.delta = 0 if nw is None else g @ nw[:n]
         if flow.bk is FLOAT64:           # scalar Python is faster than numpy at this size
             self._terms = [(complex(l), complex(a), complex(b))
                            for l, a, b in zip(flow.lam, self.d, self.dv)]
             self._U0, self._V0 = float(self._U0), float(self._V0)
+            self.delta = float(self.delta)
         self.Xk = bk.sqrt(self._U0 ** 2 + self._V0 ** 2)
         ad = bk.vabs(self.d)
         al = bk.vabs(flow.lam)
@@ -437,6 +546,8 @@ class Motion:
         """z(t), a real 2N vector."""
         f, bk = self.flow, self.flow.bk
         hom = bk.vreal(f.W @ (self.c * bk.vexp(f.lam * t)))
+        if self.nw is not None:
+            hom = hom + t * self.nw
         return hom + self.forcing.zp(self.forcing.omega * t + self.tau, f.bk)
 
     def h(self, t):
@@ -451,11 +562,16 @@ class Motion:
                 e = cmath.exp(lam * t)
                 hh += a * e
                 hv += b * e
+            if self.nw is not None:
+                hh += self.delta * t
+                hv += self.delta
             return (hh.real + self._U0 * s + self._V0 * c - f.level,
                     hv.real + om * (self._U0 * c - self._V0 * s))
         e = f.bk.vexp(f.lam * t)
         h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.level
         hd = (self.dv @ e).real + om * (self._U0 * c - self._V0 * s)
+        if self.nw is not None:
+            h, hd = h + self.delta * t, hd + self.delta
         return h, hd
 
     def first_impact(self, t_max=None, max_steps=100000):
@@ -472,6 +588,8 @@ class Motion:
         _, hd = self.h(t0)
         if not hd < 0:
             return FirstImpact(GRAZING, t0, self.state(t0), 0)
+        if not M2 > 0:                  # h linear (a free mass, unforced): never back
+            return FirstImpact(NO_IMPACT, t_max, self.state(t_max), 0)
         t = -hd / M2                    # vertex of the bound: h(t) <= -hd^2 / (2 M2) < 0
         for n in range(1, max_steps + 1):
             h, hd = self.h(t)
