@@ -12,7 +12,13 @@ derivatives are needed::
     h^(m)(t) = sum_j w_j Re(d_j lambda_j^m e^{lambda_j t}) + d^m/dt^m g . x_p - level [m = 0],
     d_j = (g . W[:N, j]) c_j         (W[0, j] c_j for the stop: g = e_0 in the stop-first order);
 
-the full state is rebuilt only at the impact.
+the full state is rebuilt only at the impact.  With free modes (a mass on no spring:
+:meth:`symvi.flow.linear.LinearFlow._free_modal`) the flight gains the drift t NIL w,
+NIL = [[0, G], [0, 0]]: positions only, so h gains delta_g t (delta_g = g . G w_v),
+h' gains delta_g, and h'' and every higher derivative, hence the bounds below, are
+unchanged; a guard whose h is linear (M2 = 0: a free mass that nothing forces) and falling
+never meets its stop, and the finder ends past t_max.  Models without free modes carry no
+G block (the header's offset is 0) and run exactly as before.
 
 Finder.  :meth:`symvi.flow.linear.Motion.first_impact` with a tighter, still
 provably safe step.  For s >= 0,
@@ -72,8 +78,8 @@ _TWO_PI = 2.0 * math.pi
 _MAX_STEPS = 1_000_000
 
 # The constants array, typed against the constraint interface (symvi.model.Constraint).
-# Header: N, kept modes, omega, t_max, max(|lambda|, omega), the growth factor, and the
-# number of constraints. Then, for a model of N masses (capacity 2N modes), in the flow's
+# Header: N, kept modes, omega, t_max, max(|lambda|, omega), the growth factor, the
+# number of constraints, and the offset of the free modes' drift block G (0: none). Then, for a model of N masses (capacity 2N modes), in the flow's
 # order:
 #   modes   [_HDR, +6N)            (Re lambda_j, Im lambda_j, weight w_j)
 #   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
@@ -84,16 +90,19 @@ _MAX_STEPS = 1_000_000
 #       x_p = gap), the gap, the guard level (h = guard . x - level < 0 off it), the guard's
 #       steady amplitudes (guard . U, guard . V, |guard . X|), the signed guard normal (N),
 #       the reset R (N^2, R[i, j] at + N i + j: v+ = R v-, the impact law)
-_NN, _NM, _OM, _TMAX, _LMAX, _GROW, _NC = range(7)
-_HDR = 7
+#   G       [c[_FREE], +N^2)       only with free modes: NIL = [[0, G], [0, 0]], G[i, j] at
+#       + N i + j (:meth:`LinearFlow._free_modal`; the flight gains t G (v0 - v_p(0)) in x)
+_NN, _NM, _OM, _TMAX, _LMAX, _GROW, _NC, _FREE = range(8)
+_HDR = 8
 #: the fields at the head of a constraint's block
 _P, _GAP, _LEVEL, _US, _VS, _XS = range(6)
 _CB = 6
 
 
-def size(n, m=1):
-    """Length of the constants array of a model with n masses and m constraints."""
-    return _HDR + 6 * n + 16 * n * n + 2 * n + m * (_CB + n + n * n)
+def size(n, m=1, free=False):
+    """Length of the constants array of a model with n masses and m constraints (and a
+    drift block when it has ``free`` modes)."""
+    return _HDR + 6 * n + 16 * n * n + 2 * n + m * (_CB + n + n * n) + (n * n if free else 0)
 
 
 def _modes(lam):
@@ -139,7 +148,7 @@ def constants(model, omega, t_max=None):
     W = np.asarray(flow.W, dtype=complex)
     Winv = np.asarray(flow.Winv, dtype=complex)
     rows = flow.constraint_rows()
-    c = np.zeros(size(n, len(rows)))
+    c = np.zeros(size(n, len(rows), flow.free))
     U, V = np.asarray(fo.U, dtype=float), np.asarray(fo.V, dtype=float)
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega
     c[_TMAX] = t_max
@@ -161,6 +170,14 @@ def constants(model, omega, t_max=None):
         c[ov + 2 * dim * q:ov + 2 * dim * (q + 1)] = np.column_stack(
             [Winv[j].real, Winv[j].imag]).ravel()
     c[ou:ou + n], c[ou + n:ou + 2 * n] = U, V
+    if flow.free:
+        NIL = np.asarray(flow.NIL, dtype=float)
+        G = NIL[:n, n:]
+        # the finder's bounds take the drift in positions only (module docstring)
+        assert not NIL[:, :n].any() and not NIL[n:].any()
+        o = size(n, len(rows))
+        c[_FREE] = o
+        c[o:o + n * n] = G.ravel()
     return c
 
 
@@ -258,7 +275,8 @@ def _start(c, y, k, cc, d, amp, w):
     point y of constraint k's section into cc; per guard g and mode j, into d (12 floats
     at 12 (2N g + j)): w_j d_j lambda_j^k for k = 0..4 (re, im), then w_j |d_j|
     |lambda_j|^2 and w_j |d_j| |lambda_j|^5 (times the growth factor of the header, 1 when
-    every Re lambda <= 0); sum_j w_j |d_j| per guard into amp.
+    every Re lambda <= 0); sum_j w_j |d_j| per guard into amp.  With free modes, the drift
+    G (v0 - v_p(0)) into cc[4N:5N] and its rate along guard g into d[24 N nc + g].
     Returns tau.  ``w`` is scratch (2N)."""
     n, m, om = int(c[_NN]), int(c[_NM]), c[_OM]
     dim = 2 * n
@@ -280,6 +298,19 @@ def _start(c, y, k, cc, d, amp, w):
         w[n + i] = vi - om * s1
     for g in range(nc):
         amp[g] = 0.0
+    of = int(c[_FREE])
+    if of > 0:                                  # free modes: the drift G (v0 - v_p(0))
+        for i in range(n):
+            a = 0.0
+            for j in range(n):
+                a += c[of + n * i + j] * w[n + j]
+            cc[4 * n + i] = a
+        for g in range(nc):                     # its rate along each guard, delta_g
+            og = oc + g * cb + _CB
+            a = 0.0
+            for i in range(n):
+                a += c[og + i] * cc[4 * n + i]
+            d[24 * n * nc + g] = a
     for j in range(m):
         lr, li, wt = c[_HDR + 3 * j], c[_HDR + 3 * j + 1], c[_HDR + 3 * j + 2]
         ar, ai = 0.0, 0.0
@@ -313,7 +344,8 @@ def _start(c, y, k, cc, d, amp, w):
 @nb.njit(cache=True, inline="always")
 def _modes_at(c, e, x, m, tau, t):
     """The modes' factors at t: e^{lambda_j t} (re, im) into e[2j:2j+2], e^{Re lambda_j t}
-    into x[j] (1 for an undamped mode), (sin, cos) of the phase into e[2m:2m+2]; what
+    into x[j] (1 for an undamped mode), (sin, cos) of the phase into e[2m:2m+2], t into
+    e[2m+2]; what
     :func:`_guard_at` and :func:`_state` read."""
     for j in range(m):
         lr, li = c[_HDR + 3 * j], c[_HDR + 3 * j + 1]
@@ -327,6 +359,7 @@ def _modes_at(c, e, x, m, tau, t):
         e[2 * j], e[2 * j + 1] = cs, sn
     ph = c[_OM] * t + tau
     e[2 * m], e[2 * m + 1] = math.sin(ph), math.cos(ph)
+    e[2 * m + 2] = t
 
 
 @nb.njit(cache=True, inline="always")
@@ -358,6 +391,10 @@ def _guard_at(c, d, e, x, n, m, g):
     h2 -= o2 * s0
     h3 -= o2 * s1
     h4 += o2 * o2 * s0
+    if c[_FREE] > 0.0:                   # the free modes' drift: delta_g t (h'' and on: 0)
+        dl = d[24 * n * int(c[_NC]) + g]
+        h += dl * e[2 * m + 2]
+        h1 += dl
     X = c[ob + _XS]
     return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
 
@@ -451,7 +488,9 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
         if g == k:
             if not h1 < 0.0:
                 return GRAZING, 0.0, h2, 0, g
-            tg = -h1 / M2                     # vertex of the global bound: h < 0 up to here
+            # vertex of the global bound: h < 0 up to here (h linear if M2 = 0: a free
+            # mass, unforced, leaving: never back)
+            tg = -h1 / M2 if M2 > 0.0 else t_max + 1.0 / c[_LMAX]
         elif h >= -eps_h:
             # the start touches another stop too (a corner): no safe way on
             return GRAZING, 0.0, h2, 0, g
@@ -494,11 +533,28 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
                 return NO_IMPACT, t, h2, it, g
             sg, s[q + _SS] = _safe_dt(h, h1, h2, h3, h4, M2, M5, s[q + _SS])
             step = min(step, sg)
+        if step == np.inf:                    # every h linear and falling (M2 = 0): no
+            step = max(t_max - t, 0.0) + 1.0 / c[_LMAX]     # contact ever; end past t_max
         t += step
         for g in range(nc):
             s[8 * g + _SS] = max(s[8 * g + _SS], 2.0 * step)
     h, h1, h2, h3, h4, M2, M5 = _eval(c, d, e, x, n, m, tau, t, 0)
     return NO_IMPACT, t, h2, _MAX_STEPS, 0
+
+
+@nb.njit(cache=True)
+def phi_into(lam, W, Winv, NIL, t, out):
+    """out <- Phi(t) = e^{A t} = Re(W e^{Lambda t} W^-1) + t NIL, real 2N x 2N, from
+    :attr:`LinearFlow.modal_nil64` (NIL = 0 without free modes; with them the modal sum
+    alone misses the drift of the Jordan block at lambda = 0: :meth:`LinearFlow.phis`)."""
+    m = lam.shape[0]
+    e = np.exp(lam * t)
+    for i in range(m):
+        for k in range(m):
+            a = 0.0
+            for j in range(m):
+                a += (W[i, j] * e[j] * Winv[j, k]).real
+            out[i, k] = a + t * NIL[i, k]
 
 
 @nb.njit(cache=True)
@@ -522,13 +578,17 @@ def _state(c, cc, e, z):
         s0, s1 = _response(c, ou, n, i, sp, cp)
         z[i] += s0
         z[n + i] += om * s1
+    if c[_FREE] > 0.0:                            # + t NIL (z0 - zp(0)): positions only
+        t = e[2 * m + 2]
+        for i in range(n):
+            z[i] += t * cc[4 * n + i]
 
 
 @nb.njit(cache=True, inline="always")
 def _work(c):
     """Scratch of one flight for the constants c: (cc, d, e, x, amp, s, z, w)."""
     n, nc = int(c[_NN]), int(c[_NC])
-    return (np.empty(4 * n), np.empty(24 * n * nc), np.empty(4 * n + 2), np.empty(2 * n),
+    return (np.empty(5 * n), np.empty(24 * n * nc + nc), np.empty(4 * n + 3), np.empty(2 * n),
             np.empty(nc), np.empty(8 * nc), np.empty(2 * n), np.empty(8 * n))
 
 
@@ -635,6 +695,14 @@ def _tangent(c, tau, v, cc, e, z, w, k, g):
         for i in range(dim):
             o = ow + 2 * (dim * j + i)
             w[dim + i] += c[o] * gr - c[o + 1] * gi
+    of = int(c[_FREE])
+    if of > 0:                                    # + t NIL u = (t G u_v, 0)
+        t = e[2 * m + 2]
+        for i in range(n):
+            a = 0.0
+            for j in range(n):
+                a += c[of + n * i + j] * w[n + j]
+            w[dim + i] += t * a
     # accelerations into w[:n] (u is spent): Re sum_j W[n + i, j] lambda_j w_j c_j
     # e^{lambda_j t} (rows n.. of W are the velocities) plus zp''
     for i in range(n):

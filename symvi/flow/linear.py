@@ -327,9 +327,16 @@ class LinearFlow:
                 "free-mass", "the model has a mass on no spring (a free mode): its flow is "
                 "e^{At} = Re(W e^{Lambda t} W^-1) + t NIL, which this analysis does not take "
                 "yet (issue 25); simulate it instead")
+        return self.modal_nil64[:4]
+
+    @functools.cached_property
+    def modal_nil64(self):
+        """(lambda, W, W^-1, A, NIL) as contiguous complex128 / float64 arrays: the modal
+        data with the free modes' nilpotent part (zeros without), for kernels that form
+        Phi(t) themselves (:func:`symvi.flow.compiled.phi_into`)."""
         c = np.ascontiguousarray
         return (c(self.lam, dtype=complex), c(self.W, dtype=complex),
-                c(self.Winv, dtype=complex), c(self.A, dtype=float))
+                c(self.Winv, dtype=complex), c(self.A, dtype=float), c(self.NIL, dtype=float))
 
     # ---- forcing ---------------------------------------------------------------
     def check_omega(self, omega, name="omega", warn=True):
