@@ -536,7 +536,8 @@ class Motion:
         self.d = (g @ flow.W[:n]) * c
         self.dv = (g @ flow.W[n:]) * c            # s'(t), likewise
         self._U0, self._V0 = g @ forcing.U, g @ forcing.V
-        # s(t) gains delta t, s'(t) delta (free modes); s'' and the bound M2 do not change
+        # s(t) gains delta t (free modes); s'(t) = guard . v(t) (dv: W's velocity rows) is
+        # exact as it is (the drift moves positions only), and s'' and M2 do not change
         self.delta = 0 if nw is None else g @ nw[:n]
         if flow.bk is FLOAT64:           # scalar Python is faster than numpy at this size
             self._terms = [(complex(l), complex(a), complex(b))
@@ -569,16 +570,15 @@ class Motion:
                 e = cmath.exp(lam * t)
                 hh += a * e
                 hv += b * e
-            if self.nw is not None:
+            if self.nw is not None:         # h' = guard . v is exact already: v has no drift
                 hh += self.delta * t
-                hv += self.delta
             return (hh.real + self._U0 * s + self._V0 * c - f.level,
                     hv.real + om * (self._U0 * c - self._V0 * s))
         e = f.bk.vexp(f.lam * t)
         h = (self.d @ e).real + self._U0 * s + self._V0 * c - f.level
         hd = (self.dv @ e).real + om * (self._U0 * c - self._V0 * s)
         if self.nw is not None:
-            h, hd = h + self.delta * t, hd + self.delta
+            h = h + self.delta * t
         return h, hd
 
     def first_impact(self, t_max=None, max_steps=100000):
