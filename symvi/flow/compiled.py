@@ -23,7 +23,7 @@ G block (the header's offset is 0) and run exactly as before.
 Finder.  :meth:`symvi.flow.linear.Motion.first_impact` with a tighter, still
 provably safe step.  For s >= 0,
 |h''(t + s)| <= M2(t) = sum_j w_j |d_j| |lambda_j|^2 e^{Re lambda_j t} + |X_k| omega^2
-(Re lambda_j <= 0: M, K positive definite, C semi-definite), and likewise
+(Re lambda_j <= 0: M positive definite, K, C semi-definite), and likewise
 M5(t) >= |h'''''(t + s)|.  With a horizon S and s in [0, S]
 
     h''(t + s) <= K(S) = h2 + max(h3 S, 0) + max(h4, 0) S^2/2 + M5 S^3/6,

@@ -13,6 +13,11 @@ solved exactly as z(t) = Phi(t) (z0 - zp(0)) + zp(t), Phi(t) = e^{A t}, with
   Undamped models use the mass-normalised modes (lambda = +-i omega_j, an exact
   closed form for W^-1); damped ones the eigenvectors of A, refused when they
   are ill-conditioned (a defective, e.g. critically damped, mode).
+* With free modes (K singular: a mass on no spring, as in an impact damper), the
+  rigid ones (K phi = C phi = 0) form a Jordan block at lambda = 0 and
+  Phi(t) = Re(W e^{Lambda t} W^-1) + t NIL, NIL = [[0, G], [0, 0]] nilpotent
+  (:meth:`LinearFlow._free_modal`); NIL = 0 otherwise.  A null direction of K that
+  C damps is a simple lambda = 0 of the damped form.
 
 The stop is read through its constraint (:class:`symvi.model.Constraint`): the
 flow's order puts its coordinate first, its guard is h = guard . x - level
@@ -21,9 +26,10 @@ flow's order puts its coordinate first, its guard is h = guard . x - level
 The first-impact finder steps along h(t) = x_k(t) - b < 0 with a provably safe
 step, as :mod:`symvi.paper.modal_flow` does for the paper: with
 M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
-since Re lambda_j <= 0 for M, K positive definite and C semi-definite),
+since Re lambda_j <= 0 for M positive definite, K and C semi-definite; the
+drift of free modes adds delta t to h and nothing to h''),
 h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
-of that quadratic.  A crossing with h' below a grazing speed is reported as
+of that quadratic (none at all when M2 = 0 and h' < 0: h is linear).  A crossing with h' below a grazing speed is reported as
 grazing, never stepped over.  Damped motion is covered by the same bound.
 
 Both backends of :mod:`symvi.numerics.backend` (float64 through numpy, mpmath at the
