@@ -79,8 +79,8 @@ _MAX_STEPS = 1_000_000
 
 # The constants array, typed against the constraint interface (symvi.model.Constraint).
 # Header: N, kept modes, omega, t_max, max(|lambda|, omega), the growth factor, the
-# number of constraints, and the offset of the free modes' drift block G (0: none). Then, for a model of N masses (capacity 2N modes), in the flow's
-# order:
+# number of constraints, and the offset of the free modes' drift block G (0: none).
+# Then, for a model of N masses (capacity 2N modes), in the flow's order:
 #   modes   [_HDR, +6N)            (Re lambda_j, Im lambda_j, weight w_j)
 #   W cols  [ow, +8N^2)            W[i, j] at ow + 2 (2N j + i), (re, im)
 #   W^-1    [ov, +8N^2)            W^-1[j, i] at ov + 2 (2N j + i)

@@ -29,8 +29,8 @@ M2 = sum_j |d_j| |lambda_j|^2 + |X_k| omega^2 >= |h''| (valid for all t >= 0
 since Re lambda_j <= 0 for M positive definite, K and C semi-definite; the
 drift of free modes adds delta t to h and nothing to h''),
 h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
-of that quadratic (none at all when M2 = 0 and h' < 0: h is linear).  A crossing with h' below a grazing speed is reported as
-grazing, never stepped over.  Damped motion is covered by the same bound.
+of that quadratic (none at all when M2 = 0 and h' < 0: h is linear).  A crossing
+with h' below a grazing speed is reported as grazing, never stepped over.  Damped motion is covered by the same bound.
 
 Both backends of :mod:`symvi.numerics.backend` (float64 through numpy, mpmath at the
 flow's digits: ``LinearFlow.bk``) run this one implementation.

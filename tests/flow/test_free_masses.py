@@ -348,3 +348,30 @@ def test_the_finder_never_steps_over_a_contact(name):
         else:
             assert te >= T - dt or cf.STATUS_NAMES[st] == "grazing"
     assert checked > 50
+
+
+@pytest.mark.parametrize("name, omega", [("free-one", 1.3), ("damper", 2.0)])
+def test_a_periodic_orbit_of_the_simulation_is_one_of_solve_ivp(name, omega):
+    """The attractor of a long run (3000 impacts dropped) is periodic, with impacts on both
+    walls; from one of its points, DOP853 with events returns to that point (section state
+    and phase mod 2 pi) after the same impacts and the same time: the orbit of the exact
+    flow is an orbit of the differential equation."""
+    model = MODELS[name]
+    n = model.n
+    y0 = np.zeros(2 * n)
+    y0[0], y0[-1] = -0.3, 0.4
+    sim = simulate(model, omega, y0=y0, n_impacts=40, transient=3000)
+    assert sim.stop == "completed"
+    sec = sim.section
+    p = next(q for q in range(1, 21) if np.abs(sec[q:q + 10] - sec[:10]).max() < 1e-10)
+    assert {0, 1} <= set(sim.hits[:p])
+    c = cf.constants(model, omega)
+    # the orbit from sec[0] (on the section of the constraint it hit) for p impacts
+    y, g0 = sec[0], sim.hits[0]
+    ref = _reference(model, omega, state(model, c, y, g0), y[-1], p)
+    te, g, z = ref[-1]
+    assert [r[1] for r in ref] == list(sim.hits[1:p + 1])
+    assert te == pytest.approx(sim.t[p] - sim.t[0], rel=1e-9)
+    np.testing.assert_allclose(z, state(model, c, y, g0), atol=1e-8)
+    d = (omega * te) % (2 * np.pi)                 # a whole number of forcing periods
+    assert min(d, 2 * np.pi - d) < 1e-8
