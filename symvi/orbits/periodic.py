@@ -239,6 +239,9 @@ class Problem:
         :meth:`LinearFlow.constraint_rows`): the section point after the impact is E z
         (:meth:`_reset_rows`), the impact condition g . x - level = 0."""
         N, rows = self.N, _table(flow)
+        hit = self.__dict__.get("_ends_of")
+        if hit is not None and hit[0] is rows and hit[1] is flow.reset:
+            return hit[2]
         out = []
         for i in range(self.p):
             k = int(self.sig[(i + 1) % self.p])
@@ -246,6 +249,7 @@ class Problem:
             R = flow.reset if k == 0 else row[3 + N:].reshape(N, N)
             out.append((self._reset_rows(R, k=k), flow.guard if k == 0 else row[3:3 + N],
                         flow.level if k == 0 else row[2]))
+        self._ends_of = (rows, flow.reset, out)      # one flow's, kept for the next ask
         return out
 
     def approach_speeds(self, fl, flow):
