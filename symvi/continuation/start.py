@@ -25,6 +25,8 @@ NAMES = {"start": "start", "stop": "stop", "param": "param", "orbit": "orbit",
 SETTLE_IMPACTS, SETTLE_TRANSIENT = 400, 4000
 #: values of [start, stop] tried for an admissible period-1 orbit where the start has none
 SEARCH_SAMPLES = 200
+#: values of [start, stop] where a run of the map is tried when none settles at the start
+SEARCH_RUNS = 20
 #: the branch each kind of special point starts with ``switch``
 _SWITCHES = {"flip": switch_at_flip, "symmetry-breaking": switch_at_branch_point,
              "branch-point": switch_at_branch_point}
@@ -132,13 +134,29 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
-        if (n, p) != (1, 1) or not at.one_rigid_stop:
-            # no closed form to start from (an n-p orbit, several stops, a lower one): the
-            # periodic attractor a run of the map settles on at the start
+        if (n, p) == (1, 1) and not at.one_rigid_stop:
+            # no closed form to start from (several stops, a lower one): the periodic
+            # attractor a run of the map settles on at the start, or else at the first of
+            # SEARCH_RUNS values towards the stop where a run settles on one
+            a0 = a
+            a, sim, why = _attractor(base, par, a0, stop, fixed.get("omega"))
+            if sim is None:
+                raise ParameterError(N["start_omega"] if a0 != start else N["start"], a0,
+                                     "a value where a run of the map settles on a periodic "
+                                     f"orbit", f"none at {param} = {a0:g} ({why}), nor at "
+                                     f"{SEARCH_RUNS} values towards {stop:g}")
+            n, p = detect_period(sim)
+            guesses = [sim]
+            sig = ", ".join(f"stop{k + 1}" for k in sim.hits[-p:])
+            moved = (f"started on the {n}-{p} orbit (signature {sig}) a simulation at "
+                     f"{param} = {a:.12g} settled on ({SETTLE_TRANSIENT} impacts dropped from "
+                     "a default start on stop 1)")
+            if a != a0:
+                moved = (f"no periodic attractor at {param} = {a0:.12g} ({why}); " + moved
+                         + f", the first of {SEARCH_RUNS} values towards {stop:g} with one")
+        elif (n, p) != (1, 1):
             sim = _settle(at, w)
             found = detect_period(sim)
-            if (n, p) == (1, 1) and found is not None:
-                n, p = found
             if found != (n, p):
                 got = (f"none of at most 16 impacts (the run ended: {sim.stop})"
                        if found is None else f"a {found[0]}-{found[1]} orbit")
@@ -146,10 +164,6 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
                                      f"simulation at {param} = {a} settles on (give "
                                      f"{N['simulation']})", f"it settles on {got}")
             guesses = [sim]
-            sig = ", ".join(f"stop{k + 1}" for k in sim.hits[-p:])
-            moved = (f"started on the {n}-{p} orbit (signature {sig}) a simulation at "
-                     f"{param} = {a:.12g} settled on ({SETTLE_TRANSIENT} impacts dropped from "
-                     f"{'the perturbed period-1 orbit' if at.one_rigid_stop else 'a default start on stop 1'})")
         else:
             from ..orbits.period1 import admissible_orbits
             guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
@@ -330,6 +344,29 @@ def _settle(model, omega):
     from ..simulations.simulation import simulate
     y0 = None if model.one_rigid_stop else default_start(model, omega)
     return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
+
+
+def _attractor(model, par, start, stop, omega):
+    """(value, the run that settled on a periodic orbit there, why none at the start): the
+    start itself, else the first of SEARCH_RUNS values towards ``stop``; (start, None,
+    why) when no run settles."""
+    from ..orbits.periodic import detect_period
+    why = ""
+    for k in range(SEARCH_RUNS + 1):
+        v = start + (stop - start) * k / SEARCH_RUNS
+        at, w = (model, v) if par.is_forcing_frequency else (par.apply(model, v), omega)
+        try:
+            sim = _settle(at, w)
+        except SymviError as exc:             # a resonance, a start inside a stop
+            got = str(exc)
+        else:
+            if detect_period(sim) is not None:
+                return v, sim, why
+            got = f"the run ended: {sim.stop}" if sim.stop != "completed" else \
+                "the run settles on no periodic orbit of at most 16 impacts"
+        if k == 0:
+            why = got
+    return start, None, why
 
 
 def default_start(model, omega):
