@@ -369,6 +369,24 @@ def _attractor(model, par, start, stop, omega):
     return start, None, why
 
 
+def attractor_orbit(model, omega):
+    """The periodic orbit a run of the map settles on at ``omega`` from
+    :func:`default_start` (SETTLE_TRANSIENT impacts dropped), refined by Newton on its
+    signature: what ``symvi orbit`` gives for a model with no period-1 closed form (several
+    stops, a lower one).  SingularCaseError ("no-orbit") with the reason when the run
+    settles on none."""
+    from ..flow import check_omega
+    from ..orbits.periodic import detect_period, from_simulation
+    omega = check_omega(model.require_rigid_stops(), omega)
+    sim = _settle(model, omega)
+    if detect_period(sim) is None:
+        why = (f"the run ended: {sim.stop}" if sim.stop != "completed" else
+               "it settles on no periodic orbit of at most 16 impacts")
+        raise SingularCaseError("no-orbit", f"a run of the map from a default start on stop "
+                                f"1 at omega = {omega:g} settles on no periodic orbit ({why})")
+    return from_simulation(sim)
+
+
 def default_start(model, omega):
     """A start on the first stop's section: every other mass at rest at 0, the phase 0,
     and the stop's mass leaving it at speed omega max(|gap|, 0.1) (a flight of the size of

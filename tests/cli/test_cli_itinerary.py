@@ -64,3 +64,23 @@ def test_the_worked_examples_are_current():
             [(s["kind"], s["branch"]) for s in d["special"]]
         for a, b in zip(now["special"], d["special"]):
             assert abs(a["value"] - b["value"]) < 1e-9
+
+
+def test_orbit_of_a_two_stop_model():
+    """symvi orbit with no closed form: the attractor, its n-p and signature, in JSON."""
+    rc, out, err = cli("orbit", "--model", str(SYM), "--omega", "1.0", "--json")
+    assert rc == 0, err
+    o = json.loads(out)["orbits"][0]
+    assert (o["n"], o["p"]) == (1, 2) and sorted(o["signature"]) == ["stop1", "stop2"]
+    assert o["symmetric"] is True and o["admissible"] and o["residual"] < 1e-12
+    assert "attractor" in o["found"]
+    rc, out, err = cli("orbit", "--model", str(SYM), "--omega", "1.0")
+    assert rc == 0 and "1-2 orbit, signature" in out and "symmetric" in out
+
+
+def test_orbit_without_attractor_is_one_line(tmp_path):
+    f = tmp_path / "stuck.toml"
+    f.write_text(SYM.read_text().replace("damping = [[0.05]]", "damping = [[0.0]]"))
+    rc, out, err = cli("orbit", "--model", str(f), "--omega", "1.3")
+    assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert "settles on no periodic orbit" in err
