@@ -63,7 +63,7 @@ class CurveSystem:
     :class:`symvi.model.parameters.Parameter`, parsed here once: :attr:`params`); ``omega``
     is the forcing frequency when neither is omega."""
 
-    def __init__(self, model, n, p, names, kind, omega=None):
+    def __init__(self, model, n, p, names, kind, omega=None, signature=None):
         if kind not in KINDS:
             raise ParameterError("kind", kind, "ns, flip or fold")
         pa, pb = (model.parameter(nm) for nm in names)   # names the parameter or raises
@@ -75,6 +75,7 @@ class CurveSystem:
             raise ParameterError("omega", None, "a fixed forcing frequency when neither "
                                  "parameter is omega")
         self.model, self.n, self.p, self.kind = model, n, p, kind
+        self.signature = signature              # the constraint of each impact (None: stop 1)
         self.params, self.names = (pa, pb), (pa.name, pb.name)
         self.omega = None if on_omega else float(omega)
         self._pr = None
@@ -94,7 +95,7 @@ class CurveSystem:
         pa, pb = self.params
         model, omega = pb.set(self.model, self.omega, bval)
         pr = Problem(model, self.n, self.p, omega=None if pa.is_forcing_frequency else omega,
-                     param=pa)
+                     param=pa, signature=self.signature)
         self._pr = (bval, pr)
         return pr
 

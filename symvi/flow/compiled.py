@@ -154,9 +154,7 @@ def constants(model, omega, t_max=None):
     c[_TMAX] = t_max
     c[_NC] = len(rows)
     ow, ov, ou, oc, cb = offsets(n)
-    for k, row in enumerate(rows):
-        c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
-        c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
+    set_constraints(c, n, rows)
     set_guard_forcing(c, flow, U, V)
     c[_LMAX] = max(max(abs(flow.lam)), omega)
     # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
@@ -195,6 +193,26 @@ def set_constraint(c, flow):
     oc = offsets(n)[3]
     c[oc + _GAP], c[oc + _LEVEL] = k[0], k[1]
     c[oc + _CB:oc + _CB + n + n * n] = k[2:]
+
+
+def table(flow):
+    """The flow's constraint rows (:meth:`LinearFlow.constraint_rows`) as one C array, kept
+    on the flow for its model and constraint (a flow copied for a new gap makes its own)."""
+    c = flow.__dict__.get("_table")
+    if c is None or c[0] is not flow.model or c[1] is not flow.constraint64:
+        tab = np.ascontiguousarray(np.array(flow.constraint_rows(), dtype=float))
+        c = flow.__dict__["_table"] = (flow.model, flow.constraint64, tab)
+    return c[2]
+
+
+def set_constraints(c, n, rows):
+    """Write every constraint's row (:meth:`LinearFlow.constraint_rows`: position, gap,
+    level, guard, reset) into its block of the table; the steady amplitudes of the guards
+    are :func:`set_guard_forcing`'s."""
+    _, _, _, oc, cb = offsets(n)
+    for k, row in enumerate(rows):
+        c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
+        c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
 
 
 def set_guard_forcing(c, flow, U, V):
@@ -241,6 +259,18 @@ def _slot(i, p):
     """Where coordinate i (flow order, i != p) sits in a section point of the constraint
     at position p: x_i at y[slot], v_i at y[n - 1 + slot]; y[0] is v_p."""
     return i + 1 if i < p else i
+
+
+def section_index(n, p):
+    """The flow-order state index of each of y[:2N-1] on the section of the constraint at
+    position p (:func:`_slot`): y[0] is v_p, y[slot] is x_i, y[n - 1 + slot] is v_i."""
+    idx = np.empty(2 * n - 1, dtype=np.int64)
+    idx[0] = n + p
+    for i in range(n):
+        if i != p:
+            q = _slot.py_func(i, p)
+            idx[q], idx[n - 1 + q] = i, n + i
+    return idx
 
 
 @nb.njit(cache=True, inline="always")
