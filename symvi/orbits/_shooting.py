@@ -281,7 +281,8 @@ def finder_constants(flow, F):
     on the flow) with the omega-dependent entries set as ``constants`` sets them (a
     test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
-    if base is None:
+    if base is None or len(base[4]) != len(flow.model.constraints):
+        # (a flow copied for a model with other stops shares the modal data, not the table)
         base = flow.__dict__["_finder_base"] = _finder_base(flow) + (
             flow.constraint, flow.model.constraints)
     c, lmax, grow = base[0].copy(), base[1], base[2]

@@ -209,3 +209,19 @@ def test_grazing_with_an_untouched_constraint_is_located_and_simulated():
     beyond = orbit_of(Problem(FAR.with_(**{"stop[2].gap": g + 0.01}), 1, 1, omega=1.0),
                       o.u, None)
     assert not beyond.admissible and "stop 2" in beyond.reason
+
+
+def test_a_one_stop_model_with_the_same_matrices_first_does_not_leak_its_table():
+    """Flows share their modal data across models whose matrices and first stop agree;
+    the constraint table of the finder is the model's own (a one-stop model met first
+    once left its one-row table to the two-stop model)."""
+    from symvi.orbits import admissible_orbits
+    one = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                stop=Stop(mass=1, gap=0.5, restitution=0.9))
+    y = admissible_orbits(one, 1.0)[0].y
+    periodic_orbit(one, n=1, p=1, guess=y, omega=1.0)          # the finder's base, one row
+    o = _settled(SYM, 1.0, (-0.1, 0.0))
+    assert o.admissible and sorted(o.signature) == [0, 1]
+    beyond = orbit_of(Problem(FAR.with_(**{"stop[2].gap": -0.9}), 1, 1, omega=1.0),
+                      _settled(FAR, 1.0, (-0.1, 0.0)).u, None)
+    assert not beyond.admissible and "stop 2" in beyond.reason
