@@ -80,8 +80,9 @@ class Curve(Result):
                             if s.kind != "unlocated"]}
 
     def as_dict(self):
+        sig = self.points[0].orbit.signature_names if self.points else []
         return {"kind": self.kind, "params": list(self.names), "orbit": f"{self.n}-{self.p}",
-                "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
+                "signature": sig, "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
                 "normalisation": NORMALISATION,
                 "points": [pt.as_dict() for pt in self.points],
                 "special": [s.as_dict() for s in self.special],

@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from ..codegen.jets import evaluate as jet_values
+from ..codegen.jets import flight_jet
 from ..errors import ParameterError
 from ..orbits.periodic import Problem
 
@@ -185,8 +186,16 @@ class CurveSystem:
         tans = [None if par.is_forcing_frequency else par.tangent(model) for par in self.params]
         for i in range(self.p):
             y, te = tuple(Y[i]), float(T[i])
+            if pr.several:            # a flight between two constraints' sections
+                ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
+
+                def jet(tan, y=y, te=te, ends=ends):
+                    return flight_jet(flow, F, y, te, 2, *ends, tan)
+            else:
+                def jet(tan, y=y, te=te):
+                    return jet_values(flow, F, y, te, 2, tan)
             first = next((t for t in tans if t is not None), None)
-            vals = jet_values(flow, F, y, te, 2, first)
+            vals = jet(first)
             dJ = []
             for nm, tan in zip(names, tans):
                 if tan is None:
@@ -194,7 +203,7 @@ class CurveSystem:
                 elif tan is first:
                     dJ.append(vals["dpJ"])
                 else:
-                    dJ.append(jet_values(flow, F, y, te, 2, tan)["dpJ"])
+                    dJ.append(jet(tan)["dpJ"])
             jets.append((vals["J"], vals["d2"], dJ))
         d, p = self.d, self.p
         # prefix and suffix products: R_i = J_{i-1}..J_0, L_i = J_{p-1}..J_{i+1}

@@ -88,6 +88,7 @@ class Problem:
             raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
         self.signature = sig.check(model)
         self.sig = np.array(sig.hits, dtype=np.int64)
+        self._sig_ring = np.append(self.sig, self.sig[0])    # the kernel's: sig[p] = sig[0]
         self.omega = omega
         self._flow = None
         self._last = None
@@ -178,7 +179,8 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         _table(flow), self.frames, self.sig, self.n_periods,
+                                         _table(flow), self.frames, self._sig_ring,
+                                         self.n_periods,
                                          u, self.p, bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
