@@ -375,3 +375,36 @@ def test_a_periodic_orbit_of_the_simulation_is_one_of_solve_ivp(name, omega):
     np.testing.assert_allclose(z, state(model, c, y, g0), atol=1e-8)
     d = (omega * te) % (2 * np.pi)                 # a whole number of forcing periods
     assert min(d, 2 * np.pi - d) < 1e-8
+
+
+def test_the_mpmath_map_agrees_with_the_float_one():
+    """The Python map on the mpmath flow (30 digits: Motion with the drift, its finder) and
+    on float64 land on the same impact (what simulate_mp iterates)."""
+    from symvi.maps import impact
+    model = Model(mass=[1.0, 1.5], stiffness=[[2.0, -2.0], [-2.0, 2.0]], forcing=[1.0, 0.2],
+                  stop=Stop(mass=1, gap=0.5, restitution=0.8))
+    y = [-0.2, 0.3, 0.1, 0.4]
+    f64 = LinearFlow.of(model)
+    r64 = impact.step(f64, f64.forcing(1.1), np.array(y))
+    with mpmath.workdps(30):
+        fmp = LinearFlow.of(model, digits=30)
+        rmp = impact.step(fmp, fmp.forcing(mpmath.mpf("1.1")), fmp.bk.arr(y))
+    assert rmp.status == r64.status == "impact"
+    assert float(rmp.t) == pytest.approx(r64.t, rel=1e-12)
+    np.testing.assert_allclose(np.array(rmp.y, dtype=float), r64.y, atol=1e-11)
+
+
+def test_the_compiled_tangent_over_several_stops_is_the_derivative_of_the_map():
+    """DP of the compiled map (the drift's t G u in the variation) against central
+    differences, on the impact damper's walls and on the rigid pair's two stops."""
+    for model, omega, y in ((DAMPER, 0.9, [-0.3, 0.1, 0.2, 0.4]),
+                            (PAIR, 1.1, [-0.3, 0.2, 0.1, 0.4])):
+        c = cf.constants(model, omega)
+        y = np.array(y)
+        J = cf.jacobian_tangent(c, y)
+        h = 1e-7
+        for j in range(len(y)):
+            e = np.eye(len(y))[j] * h
+            a, b = cf.step(c, y + e), cf.step(c, y - e)
+            assert a[-1] == b[-1] == cf.step(c, y)[-1]          # the same stop hit
+            np.testing.assert_allclose(J[:, j], (a[2] - b[2]) / (2 * h), atol=1e-6)
