@@ -30,7 +30,8 @@ since Re lambda_j <= 0 for M positive definite, K and C semi-definite; the
 drift of free modes adds delta t to h and nothing to h''),
 h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root
 of that quadratic (none at all when M2 = 0 and h' < 0: h is linear).  A crossing
-with h' below a grazing speed is reported as grazing, never stepped over.  Damped motion is covered by the same bound.
+with h' below a grazing speed is reported as grazing, never stepped over.  Damped
+motion is covered by the same bound.
 
 Both backends of :mod:`symvi.numerics.backend` (float64 through numpy, mpmath at the
 flow's digits: ``LinearFlow.bk``) run this one implementation.
@@ -400,7 +401,8 @@ class LinearFlow:
     def phis(self, t, K):
         """[Phi(t) A^k for k = 0..K], one exponential for all.
 
-        With free modes, e^{At} A^k = Re(W e^{Lambda t} Lambda^k W^-1) + [t NIL, NIL, 0, ...]_k
+        With free modes, e^{At} A^k = Re(W e^{Lambda t} Lambda^k W^-1) + t NIL, NIL, 0, ...
+        for k = 0, 1, 2, ...
         (:meth:`_free_modal`: on the zero block e^{At} A^k = (I + t N_J) N_J^k, N_J^2 = 0)."""
         e = self.bk.vexp(self.lam * t)
         out = []
