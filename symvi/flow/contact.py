@@ -49,6 +49,7 @@ from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
 from ._steady import steady_state
+from .linear import EIGVEC_COND_MAX  # noqa: F401  (the flow's bound, for the phases too)
 
 #: event kinds: a rigid impact, the entry into and the exit from an elastic contact
 IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
@@ -56,8 +57,6 @@ IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
 #: (h'' > 0: the stop holds the mass), no event within t_max of a phase, or t_end reached
 GRAZING, STICKING, NO_EVENT, TIME = "grazing", "sticking", "no-event", "time"
 
-#: condition number of a phase's eigenvector matrix above which it is refused (as the flow)
-EIGVEC_COND_MAX = 1e10
 
 
 class Phase:
@@ -124,6 +123,8 @@ class Phase:
                     f"contact phase {list(self.active)} (relative distance "
                     f"{smin / (2 * w * w):.1e}): its steady-state response is infinite")
             U, V, _, _ = steady_state(self.K, self.M, self.C, self.P, w)
+            if len(self._forcing) > 256:       # bounded: a sweep in omega stays small
+                self._forcing.clear()
             hit = self._forcing[omega] = (U, V)
         return hit
 

@@ -6,7 +6,10 @@ points have the 2N components of :mod:`symvi.maps.section`.  A
 :class:`symvi.Params` (the paper's model) runs there as
 :meth:`symvi.model.Model.luo_xie` (:meth:`Model.of`), whose section layout is the
 paper's (x1dot+, x2, x2dot, tau) of eq. (9).  :func:`simulate_mp` runs the same map
-through :func:`symvi.maps.impact.step` on mpmath, as an independent reference.
+through :func:`symvi.maps.impact.step` on mpmath, as an independent reference.  A model
+with an elastic stop runs the exact walk of :mod:`symvi.flow.contact` through free flights,
+contact phases and rigid impacts instead, in Python (:func:`_simulate_contacts`: its
+records are rigid impacts and contact entries, with each contact's exit).
 
 A run ends early, with a stop reason, on
 
@@ -190,7 +193,10 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     (the paper starts from the "theoretical fixed point"; an exact fixed point
     would stay there).  The first ``transient`` images are dropped and the next
     ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
-    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).
+    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).  A
+    model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
+    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
+    runs the compiled loop of :mod:`symvi.flow.compiled`.
     """
     model = Model.of(params)
     if model.elastic:                 # contact phases: the walk of symvi.flow.contact
