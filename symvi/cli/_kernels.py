@@ -16,7 +16,7 @@ def _sig(*types):
 
 
 #: period-1 orbits with their multipliers (symvi.orbits.period1_orbits, compiled path);
-#: period1 compiles symvi.orbits._shooting.shoot and monodromy inside it, with the argument
+#: period1 compiles symvi.orbits._shooting.shoot1 (and shoot) and monodromy inside it, with the argument
 #: types the Hopf scan calls them with (int64 and boolean, not literals), so they have no
 #: rows of their own: a row would compile them a second time in another process
 ORBIT = [
@@ -36,9 +36,12 @@ HOPF = ORBIT + [
 ]
 #: compiled inside period1 with these argument types (tests/cli/test_startup.py checks them)
 INSIDE = [
-    ("symvi.orbits._shooting", "shoot",
+    ("symvi.orbits._shooting", "shoot1",
      _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F1, "int64", _F1, "int64",
-          "boolean", "boolean"), 2.5),
+          "boolean", "boolean"), 0.3),
+    ("symvi.orbits._shooting", "shoot",
+     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F2, "int64[:, ::1]", "int64[::1]",
+          "int64", _F1, "int64", "boolean", "boolean"), 2.5),
     ("symvi.orbits._shooting", "monodromy", _sig(_F2, "int64", "int64"), 0.3),
 ]
 

@@ -226,6 +226,18 @@ def _slot(i, p):
     return i + 1 if i < p else i
 
 
+def section_index(n, p):
+    """The flow-order state index of each of y[:2N-1] on the section of the constraint at
+    position p (:func:`_slot`): y[0] is v_p, y[slot] is x_i, y[n - 1 + slot] is v_i."""
+    idx = np.empty(2 * n - 1, dtype=np.int64)
+    idx[0] = n + p
+    for i in range(n):
+        if i != p:
+            q = _slot.py_func(i, p)
+            idx[q], idx[n - 1 + q] = i, n + i
+    return idx
+
+
 @nb.njit(cache=True, inline="always")
 def _response(c, ou, n, i, sp, cp):
     """(U_i sin + V_i cos, U_i cos - V_i sin) at the phase (sp, cp): the steady response

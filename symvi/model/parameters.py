@@ -109,7 +109,7 @@ class Parameter:
             db, dr = self._fill(dM, dK, dC, dP)
             for a in (dM, dK, dC, dP):
                 a.flags.writeable = False
-            t = Tangent(dM, dK, dC, dP, db, dr)
+            t = Tangent(dM, dK, dC, dP, db, dr, getattr(self, "i", 0) if (db or dr) else 0)
             object.__setattr__(self, "_tangent", t)
         return t
 
@@ -198,11 +198,12 @@ class StopParameter(Parameter):
         return _copy(model, _stops=tuple(stops), preset=preset, _arrays=arrays)
 
     def _fill(self, dM, dK, dC, dP):
-        # the Tangent holds the first stop's gap and restitution only (what the dynamics
-        # take today: Model.require_one_rigid_stop refuses the other models first)
-        if self.i != 0 or self.kind not in ("gap", "restitution"):
-            raise ParameterError("parameter", self.name, "gap or restitution of the first "
-                                 "stop", "its derivative is not supported yet (issue 25)")
+        # the Tangent holds a rigid stop's gap and restitution (Tangent.stop names it); an
+        # elastic stop's stiffness and damping enter no orbit analysis yet
+        if self.kind not in ("gap", "restitution"):
+            raise ParameterError("parameter", self.name, "a gap or a restitution",
+                                 "the derivative in an elastic stop's stiffness or damping is "
+                                 "not supported yet (issue 25)")
         return (1.0, 0.0) if self.kind == "gap" else (0.0, 1.0)
 
 
@@ -303,6 +304,8 @@ class Tangent:
     dP: np.ndarray
     db: float
     dr: float
+    #: the stop whose gap (db) or restitution (dr) moves (0-based; 0 when neither does)
+    stop: int = 0
 
     @property
     def zero(self):

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..numerics.tolerances import EPS64
-from ._shooting import monodromy, shoot
+from ._shooting import monodromy, shoot1
 
 #: status codes of :func:`period1`
 OK, NOT_ISOLATED, DEGENERATE, NO_PHASE, NO_ORBIT = range(5)
@@ -219,7 +219,7 @@ def period1(lam, W, Winv, A, U, V, w, con, R_ref, refuse, noise, want_mult):
             for k in range(n2):
                 u[k] = Y[i, k]
             u[n2] = T
-            Gu = shoot(lam, W, Winv, A, U, V, U, V, w, con, one, u, one, yes, no)[1]
+            Gu = shoot1(lam, W, Winv, A, U, V, U, V, w, con, one, u, one, yes, no)[1]
             _, Mi, oki = monodromy(Gu, one, np.int64(n2))
             for ra in range(n2):
                 for rc in range(n2):

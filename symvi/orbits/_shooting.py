@@ -13,6 +13,7 @@ flow as :func:`symvi.orbits.admissibility.check_flight`'s callers use it with th
 finder (:class:`CompiledFinder`).
 """
 import math
+from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
@@ -75,50 +76,49 @@ def _matvec(Mx, x, out):
 
 
 @nb.njit(cache=True)
-def shoot(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
+def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac, dom):
     """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
 
-    The constraint enters as the flow holds it, ``con`` = :attr:`LinearFlow.constraint64`:
-    b the section's level (x_0 = b), the guard's level, the signed guard normal g
-    (impact condition g . x - level = 0: x_k = b), the reset R (v+ = R v-: v_k+ = -r v_k-).
+    The constraints enter as the flow holds them, ``tab`` = the rows of
+    :meth:`LinearFlow.constraint_rows` (per constraint: the position of its coordinate in
+    the flow's order, its gap, the guard's level, the signed guard normal g (impact
+    condition g . x - level = 0), the reset R (v+ = R v-)), ``idx`` the flow-order index
+    of each section coordinate on each constraint's section
+    (:func:`symvi.flow.compiled.section_index`) and ``sig`` the constraint of each impact:
+    point i lies on the section of constraint sig[i], and its flight ends on sig[i + 1].
 
     Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
-    (the start state in the stop-first order, its phase, and at the end of the flight the
+    (the start state in the flow's order, its phase, and at the end of the flight the
     state and its derivatives; :data:`FLIGHT_SLICES`) and PHI[i] = dz/dz0 there.
     """
     d = lam.shape[0]
     N = d // 2
-    b, level = con[0], con[1]
-    g = con[2:2 + N]
-    R = con[2 + N:2 + N + N * N]
     m = p * (d + 1)
     G = np.empty(m)
     Gu = np.zeros((m, m)) if jac else np.zeros((0, 0))
     Gw = np.empty(m) if dom else np.empty(0)
     FL = np.empty((p, 4 * d + 1))
     PHI = np.empty((p, d, d))
-    idx = np.empty(d - 1, np.int64)                # y[:d-1] = z[idx]
-    idx[0] = N
-    for q in range(1, N):
-        idx[q] = q
-        idx[N - 1 + q] = N + q
     e = np.empty(d, np.complex128)
     a0 = np.empty(d)
     a1 = np.empty(d)
     a2 = np.empty(d)
     hom = np.empty(d)
-    vp = np.empty(N)                                # R applied to a velocity block
-    RP = np.empty((N, d + 2))                       # R (Phi[N:, :], dzt[N:], dzdt[N:])
+    zp = np.empty(d)                                # the state after the reset
+    RP = np.empty((d, d + 2))                       # (Phi, dzt, dzdt) with R on the v rows
     gP = np.empty(d + 2)                            # g . (Phi[:N, :], dzt[:N], dzdt[:N])
     for i in range(p):
         y = u[i * d:(i + 1) * d]
         t = u[p * d + i]
+        ka, kb = sig[i], sig[(i + 1) % p]
+        ia, ib = idx[ka], idx[kb]
+        level = tab[kb, 2]
+        g = tab[kb, 3:3 + N]
+        R = tab[kb, 3 + N:3 + N + N * N]
         z0 = FL[i, :d]
-        z0[0] = b                                   # Section.state
-        for q in range(1, N):
-            z0[q] = y[q]
-            z0[N + q] = y[N - 1 + q]
-        z0[N] = y[0]
+        z0[int(tab[ka, 0])] = tab[ka, 1]            # x_p = gap on the start's section
+        for q in range(d - 1):
+            z0[ia[q]] = y[q]
         tau = y[d - 1]
         FL[i, d] = tau
         # Phi(t) = Re((W e^{lambda t}) W^-1)
@@ -158,38 +158,36 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
         wrap = _TWO_PI * n_periods if j == 0 else 0.0
         r0 = i * d
         ct = p * d + i
-        _reset(R, z, N, vp)
-        _place(vp, z, N, G, r0)
+        _reset(R, z, N, zp)
+        for q in range(N):
+            zp[q] = z[q]
         for q in range(d - 1):
-            G[r0 + q] -= yj[q]
+            G[r0 + q] = zp[ib[q]] - yj[q]
         G[r0 + d - 1] = tau + w * t - (yj[d - 1] + wrap)
         G[ct] = _guard(g, z, N) - level
         if jac:
             # the reset and the guard applied once to the columns (Phi, dz/dtau, dz/dt)
-            for col in range(1, d + 2):     # column 0 (x_0 = b on the section) is not used
+            for col in range(d + 2):
                 for a in range(N):
+                    RP[a, col] = _col(Phi, dzt, dzdt, a, col, d)
                     s = 0.0
                     for k in range(N):
                         s += R[a * N + k] * _col(Phi, dzt, dzdt, N + k, col, d)
-                    RP[a, col] = s
+                    RP[N + a, col] = s
                 s = 0.0
                 for k in range(N):
                     s += g[k] * _col(Phi, dzt, dzdt, k, col, d)
                 gP[col] = s
-            for c in range(d):              # dz/dy: Phi[:, idx] then dz/dtau
-                col = d if c == d - 1 else idx[c]
-                Gu[r0, r0 + c] = RP[0, col]
-                for q in range(1, N):
-                    Gu[r0 + q, r0 + c] = _col(Phi, dzt, dzdt, q, col, d)
-                    Gu[r0 + N - 1 + q, r0 + c] = RP[q, col]
+            for c in range(d):              # dz/dy: Phi[:, ia] then dz/dtau
+                col = d if c == d - 1 else ia[c]
+                for q in range(d - 1):
+                    Gu[r0 + q, r0 + c] = RP[ib[q], col]
                 Gu[ct, r0 + c] = gP[col]
             Gu[r0 + d - 1, r0 + d - 1] = 1.0
             for q in range(d):
                 Gu[r0 + q, j * d + q] -= 1.0
-            Gu[r0, ct] = RP[0, d + 1]
-            for q in range(1, N):
-                Gu[r0 + q, ct] = dzdt[q]
-                Gu[r0 + N - 1 + q, ct] = RP[q, d + 1]
+            for q in range(d - 1):
+                Gu[r0 + q, ct] = RP[ib[q], d + 1]
             Gu[r0 + d - 1, ct] = w
             Gu[ct, ct] = gP[d + 1]
         if dom:
@@ -199,21 +197,42 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
             _zp_omega(U, V, dU, dV, w, ph, a0)
             for k in range(d):
                 a0[k] = (a0[k] + t * a1[k]) - a2[k]
-            _reset(R, a0, N, vp)
-            _place(vp, a0, N, Gw, r0)
+            _reset(R, a0, N, zp)
+            for q in range(N):
+                zp[q] = a0[q]
+            for q in range(d - 1):
+                Gw[r0 + q] = zp[ib[q]]
             Gw[r0 + d - 1] = t
             Gw[ct] = _guard(g, a0, N)
     return G, Gu, Gw, FL, PHI
 
 
+@nb.njit(cache=True)
+def shoot1(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
+    """:func:`shoot` for a model of one constraint, ``con`` = :attr:`LinearFlow.constraint64`
+    (b, level, guard, R), on the section x_0 = b (the first coordinate of the flow's order)."""
+    d = lam.shape[0]
+    N = d // 2
+    tab = np.empty((1, con.shape[0] + 1))
+    tab[0, 0] = 0.0
+    tab[0, 1:] = con
+    idx = np.empty((1, d - 1), np.int64)           # section_index(N, 0)
+    idx[0, 0] = N
+    for q in range(1, N):
+        idx[0, q] = q
+        idx[0, N - 1 + q] = N + q
+    return shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, np.zeros(p, np.int64),
+                 n_periods, u, p, jac, dom)
+
+
 @nb.njit(cache=True, inline="always")
 def _reset(R, z, N, out):
-    """out = R z[N:2N]: the constraint's reset (R row-major) of the velocities of z."""
+    """out[N:2N] = R z[N:2N]: the constraint's reset (R row-major) of the velocities of z."""
     for a in range(N):
         s = 0.0
         for k in range(N):
             s += R[a * N + k] * z[N + k]
-        out[a] = s
+        out[N + a] = s
 
 
 @nb.njit(cache=True, inline="always")
@@ -222,16 +241,6 @@ def _col(Phi, dzt, dzdt, a, col, d):
     if col < d:
         return Phi[a, col]
     return dzt[a] if col == d else dzdt[a]
-
-
-@nb.njit(cache=True, inline="always")
-def _place(vp, z, N, out, r0):
-    """out[r0:r0 + 2N - 1] = the section point (vp_0, x_1..x_{N-1}, vp_1..vp_{N-1}) of the
-    state z with reset velocities vp (:meth:`symvi.maps.Section.image`)."""
-    out[r0] = vp[0]
-    for q in range(1, N):
-        out[r0 + q] = z[q]
-        out[r0 + N - 1 + q] = vp[q]
 
 
 @nb.njit(cache=True, inline="always")
@@ -309,17 +318,24 @@ class CompiledFinder:
     def motion(self, F, z0, tau):
         return self.motion_from(F, Section.of(self.flow.model).point(z0, tau))
 
-    def motion_from(self, F, y):
-        """The flight from section point y."""
+    def motion_from(self, F, y, k=0):
+        """The flight from point y of constraint k's section."""
         if self._c is None:
             self._c = finder_constants(self.flow, F)
-        return _CompiledMotion(self._c, y)
+        return _CompiledMotion(self._c, y, k)
+
+
+@dataclass(frozen=True)
+class Contact(FirstImpact):
+    """A :class:`FirstImpact` with the constraint met (0-based index)."""
+
+    constraint: int = 0
 
 
 class _CompiledMotion:
-    def __init__(self, c, y):
-        self.c, self.y = c, np.array(y, dtype=float)
+    def __init__(self, c, y, k=0):
+        self.c, self.y, self.k = c, np.array(y, dtype=float), int(k)
 
     def first_impact(self, t_max=None):
-        st, t, z, _, steps, _ = _fc.first_impact_from(self.c, self.y, t_max)
-        return FirstImpact(_fc.STATUS_NAMES[st], t, z, steps)
+        st, t, z, _, steps, g = _fc.first_impact_from(self.c, self.y, t_max, self.k)
+        return Contact(_fc.STATUS_NAMES[st], t, z, steps, int(g))

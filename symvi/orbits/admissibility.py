@@ -23,7 +23,7 @@ from ..numerics.tolerances import END_TOL
 
 
 def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_TOL,
-                 require_return=False):
+                 require_return=False, stops=None):
     """(ok, reason) of one flight (see the module docstring).
 
     ``first_impact(t_max)`` returns the flow's first contact (status, t) after the
@@ -32,9 +32,16 @@ def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_
     flight's number in the orbit (None for a period-1 orbit).  ``require_return``
     also demands that the flow itself finds the impact at T (an orbit from closed
     form, not from a solver whose equations already impose it).
+
+    With several constraints, ``stops`` = (the constraint the flight starts from, the one
+    it must end on) by 0-based index; ``first_impact`` then also returns the constraint
+    met (its ``constraint``), and a flight that meets another one first, or at its end,
+    is not admissible.  The speeds are then approach speeds (guard . v, > 0 towards it).
     """
     k = mass
     where = "" if flight is None else f"flight {flight}: "
+    if stops is not None:
+        return _check_stops(first_impact, T, v_start, v_end, where, tol, *stops)
     if not T > 0:
         return False, f"{where}non-positive flight time t = {float(T):.6g}"
     if not v_end > 0:
@@ -59,4 +66,34 @@ def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_
                        f"{float(T):.9g}: the orbit would penetrate the stop")
     if require_return and hit.status != IMPACT:
         return False, f"{where}the flow found no return to the stop"
+    return True, ""
+
+
+def _check_stops(first_impact, T, v_start, v_end, where, tol, ka, kb):
+    """:func:`check_flight` of a flight from constraint ka to constraint kb."""
+    a, b = f"stop {ka + 1}", f"stop {kb + 1}"
+    if not T > 0:
+        return False, f"{where}non-positive flight time t = {float(T):.6g}"
+    if not v_end > 0:
+        return False, (f"{where}approach speed {float(v_end):.6g} <= 0 at {b}: the flight "
+                       "does not arrive moving towards it (grazing where it passes through 0)")
+    if not v_start < 0:
+        return False, (f"{where}approach speed {float(v_start):.6g} >= 0 at {a} just after "
+                       "its impact: the flight would not move away from it")
+    t_max = T * (1 + 1e-6)
+    hit = first_impact(t_max)
+    if hit.status == NO_IMPACT and not hit.t > t_max:
+        return False, (f"{where}admissibility undecided: the first-contact finder stopped at "
+                       f"t = {float(hit.t):.9g} < {float(T):.9g} after {hit.steps} steps "
+                       "without deciding whether the flight stays off every stop")
+    met = f"stop {hit.constraint + 1}"
+    early = hit.t < T * (1 - tol)
+    if hit.status == GRAZING and early:
+        return False, f"{where}grazing contact with {met} at t = {float(hit.t):.9g}"
+    if hit.status == IMPACT and early:
+        return False, (f"{where}the flight reaches {met} at t = {float(hit.t):.9g} < "
+                       f"{float(T):.9g}: the orbit would penetrate it")
+    if hit.status != NO_IMPACT and hit.constraint != kb:
+        return False, (f"{where}the flight meets {met} at its end (t = {float(hit.t):.9g}), "
+                       f"not {b}: the orbit would penetrate {met}")
     return True, ""

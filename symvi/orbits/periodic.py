@@ -31,6 +31,7 @@ import numpy as np
 from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.compiled import STATUS_NAMES
+from ..flow.compiled import section_index
 from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
@@ -72,17 +73,18 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
-        model.require_one_rigid_stop()
+        model.require_rigid_stops()
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
         self.param = None if param is None else self.parameter.name
         self.model, self.n_periods, self.p = model, int(n), int(p)
-        # which constraint each impact hits (today the one stop: (0,) * p)
+        # which constraint each impact hits: point i lies on the section of sig[i]
         sig = Signature.single(p) if signature is None else (
             signature if isinstance(signature, Signature) else Signature(signature))
         if sig.p != self.p:
             raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
         self.signature = sig.check(model)
+        self.sig = np.array(sig.hits, dtype=np.int64)
         self.omega = omega
         self._flow = None
         self._last = None
@@ -90,8 +92,14 @@ class Problem:
         self.sec = Section.of(model)
         N = model.n
         self.N, self.d = N, 2 * N
-        # y[:2N-1] = z0[idx] just after an impact (v_k+, x_j, v_j for j != k)
-        self.idx = np.array([N, *range(1, N), *range(N + 1, 2 * N)])
+        # per constraint: its position in the flow's order and the flow-order index of each
+        # section coordinate (y[:2N-1] = z0[idx], v_k+ first; Section.of for the first)
+        perm = self.sec.perm
+        self.positions = tuple(perm.index(c.coordinate) for c in model.constraints)
+        self.frames = np.array([section_index(N, q) for q in self.positions])
+        self.sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q))
+                              for q in self.positions)
+        self.idx = self.frames[0]
 
     @property
     def size(self):
@@ -146,8 +154,13 @@ class Problem:
         model, flow, F = self.at(lam, check)
         Y, T = self.split(u)
         out = []
+        rows = _table(flow)
         for i in range(self.p):
-            z0, tau = self.sec.state(Y[i], flow.b)
+            k = self.sig[i]
+            z0 = np.empty(self.d)
+            z0[self.positions[k]] = rows[k][1]
+            z0[self.frames[k]] = Y[i][:-1]
+            tau = Y[i][-1]
             out.append((z0, tau) + flow.flight(F, z0, tau, T[i]))
         self._last = (key, (out, (model, flow, F)))
 
@@ -156,8 +169,8 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         flow.constraint64, self.n_periods, u, self.p,
-                                         bool(jac), bool(dom))
+                                         _table(flow), self.frames, self.sig, self.n_periods,
+                                         u, self.p, bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
 
@@ -183,23 +196,24 @@ class Problem:
     def _evaluate_numpy(self, u, lam, jac=True, dparam=False, check=True):
         """The reference of :meth:`evaluate`: the same system through :meth:`flights` and numpy."""
         fl, (model, flow, F) = self.flights(u, lam, check)
-        d, p, idx, w = self.d, self.p, self.idx, F.omega
+        d, p, w = self.d, self.p, F.omega
         Y, T = self.split(u)
         m = self.size
         G = np.empty(m)
-        E, g = self._reset_rows(flow.reset), flow.guard
+        ends = self._ends(flow)
         Gu = np.zeros((m, m)) if jac else None
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
             j = (i + 1) % p
+            E, g, level = ends[i]
             target = Y[j].copy()
             if j == 0:
                 target[-1] += 2 * math.pi * self.n_periods
             G[i * d:i * d + d - 1] = E @ z - target[:-1]
             G[i * d + d - 1] = tau + w * T[i] - target[-1]
-            G[p * d + i] = g @ z[:self.N] - flow.level
+            G[p * d + i] = g @ z[:self.N] - level
             if jac:
                 dzdy = np.empty((d, d))
-                dzdy[:, :d - 1] = Phi[:, idx]
+                dzdy[:, :d - 1] = Phi[:, self.frames[self.sig[i]]]
                 dzdy[:, d - 1] = dzt
                 r0 = slice(i * d, i * d + d)
                 Gu[r0.start:r0.start + d - 1, i * d:i * d + d] = E @ dzdy
@@ -212,17 +226,30 @@ class Problem:
         Gl = self._dparam(fl, model, flow, F, T, self.parameter) if dparam else None
         return G, Gu, Gl
 
-    def _reset_rows(self, R, one=1.0):
-        """E ((2N - 1) x 2N): the section point (without tau) after the impact in state z is
-        E z, with the constraint's reset R (:attr:`LinearFlow.reset`, flow order) in the
-        velocity rows (v_k+ = -r v_k- for the stop) and ``one`` on the positions."""
+    def _ends(self, flow):
+        """Per flight i: (E, g, level) of the constraint it ends on, sig[i + 1] (the rows of
+        :meth:`LinearFlow.constraint_rows`): the section point after the impact is E z
+        (:meth:`_reset_rows`), the impact condition g . x - level = 0."""
+        N, rows = self.N, _table(flow)
+        out = []
+        for i in range(self.p):
+            k = int(self.sig[(i + 1) % self.p])
+            row = rows[k]
+            R = flow.reset if k == 0 else row[3 + N:].reshape(N, N)
+            out.append((self._reset_rows(R, k=k), flow.guard if k == 0 else row[3:3 + N],
+                        flow.level if k == 0 else row[2]))
+        return out
+
+    def _reset_rows(self, R, one=1.0, k=0):
+        """E ((2N - 1) x 2N): the section point (without tau) on constraint k's section
+        after the impact in state z is E z, with the constraint's reset R (flow order) in
+        the velocity rows (v_k+ = -r v_k- for the stop) and ``one`` on the positions."""
         N, d = self.N, self.d
-        E = np.zeros((d - 1, d))
-        E[0, N:] = R[0]
-        for q in range(1, N):
-            E[q, q] = one
-            E[N - 1 + q, N:] = R[q]
-        return E
+        B = np.zeros((d, d))
+        for q in range(N):
+            B[q, q] = one
+        B[N:, N:] = R
+        return B[self.frames[k]]
 
     def derivative(self, u, lam, name):
         """dG/d(name) at (u, lam), fixed u, for any named parameter or omega (not only
@@ -239,11 +266,12 @@ class Problem:
         """dG/dname at fixed u, exact (omega: dU, dV; any other: its tangent); ``name`` a
         :class:`symvi.model.parameters.Parameter` (or a name, parsed here)."""
         name = self.model.parameter(name)
-        d, p, idx, bk = self.d, self.p, self.idx, flow.bk
+        d, p, bk, N = self.d, self.p, flow.bk, self.N
         out = np.zeros(self.size)
-        E, g, N = self._reset_rows(flow.reset), flow.guard, self.N
+        ends = self._ends(flow)
         if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+                E, g, _ = ends[i]
                 ph = tau + F.omega * T[i]
                 dz = F.zp_omega(ph, bk) + T[i] * F.zp_phase(ph, bk) - Phi @ F.zp_omega(tau, bk)
                 out[i * d:i * d + d - 1] = E @ dz
@@ -251,24 +279,27 @@ class Problem:
                 out[p * d + i] = g @ dz[:N]
             return out
         tan = name.tangent(model)
+        ks = tan.stop                            # the stop whose gap or restitution moves
+        con = model.constraints[ks]
         # dR/dr = -Q: the restitution moves the reset along its projector
         dE = None
         if tan.dr:
-            Q = flow.constraint.projector(None if flow.constraint.impulse else
-                                          np.linalg.inv(model.mass))
+            Q = con.projector(None if con.impulse else np.linalg.inv(model.mass))
             p_ = list(flow.perm)
-            dE = self._reset_rows(-Q[np.ix_(p_, p_)], one=0.0)
+            dE = self._reset_rows(-Q[np.ix_(p_, p_)], one=0.0, k=ks)
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+            E, g, _ = ends[i]
+            start, end = self.sig[i] == ks, self.sig[(i + 1) % p] == ks
             pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
             dF = type(F)(F.omega, pU, pV, None, None)
             ph = tau + F.omega * T[i]
             dz0 = np.zeros(d)
-            dz0[0] = pb
+            dz0[self.positions[self.sig[i]]] = pb if start else 0.0
             dz = pE0 @ (z0 - F.zp(tau, bk)) + Phi @ (dz0 - dF.zp(tau, bk)) + dF.zp(ph, bk)
             out[i * d:i * d + d - 1] = E @ dz
-            if dE is not None:
+            if dE is not None and end:
                 out[i * d:i * d + d - 1] += pr * (dE @ z)
-            out[p * d + i] = g @ dz[:N] - flow.constraint.sign * pb
+            out[p * d + i] = g @ dz[:N] - (con.sign * pb if end else 0.0)
         return out
 
     def monodromy(self, u, Gu):
@@ -293,6 +324,16 @@ class Problem:
         for D in mats[1:]:
             M = D @ M
         return mats, M
+
+
+def _table(flow):
+    """The flow's constraint rows (:meth:`LinearFlow.constraint_rows`) as one C array, kept
+    on the flow for its model and constraint (a flow copied for a new gap makes its own)."""
+    c = flow.__dict__.get("_table")
+    if c is None or c[0] is not flow.model or c[1] is not flow.constraint64:
+        tab = np.ascontiguousarray(np.array(flow.constraint_rows(), dtype=float))
+        c = flow.__dict__["_table"] = (flow.model, flow.constraint64, tab)
+    return c[2]
 
 
 def _no_map_jacobian():
@@ -363,10 +404,20 @@ class PeriodicOrbit:
     reason: str
     residual: float
     u: np.ndarray = field(repr=False, default=None)
+    #: the constraint of each impact: point i lies on the section of signature[i]
+    signature: tuple = None
+    #: the names of each point's coordinates (its constraint's section)
+    point_names: tuple = None
 
     @property
     def y(self):
         return self.points[0]
+
+    @property
+    def signature_names(self):
+        """["stop1", "stop2", ...]: the constraint of each impact, 1-based."""
+        sig = self.signature if self.signature is not None else (0,) * self.p
+        return [f"stop{k + 1}" for k in sig]
 
     def jet(self, order=3):
         """(A, d2, ..., d_order) of P^p at points[0], the generated jets of each impact
@@ -391,13 +442,16 @@ class PeriodicOrbit:
 
     def as_dict(self):
         return {"n": self.n, "p": self.p, "omega": self.omega,
+                "signature": self.signature_names,
                 "y": [float(v) for v in self.y], "names": list(self.names),
                 "points": [[float(v) for v in y] for y in self.points],
                 "times": [float(t) for t in self.times],
                 "impact_velocities": [float(v) for v in self.impact_velocities],
                 "multipliers": [[z.real, z.imag] for z in self.multipliers],
                 "stable": bool(self.stable), "admissible": bool(self.admissible),
-                "reason": self.reason, "residual": self.residual}
+                "reason": self.reason, "residual": self.residual,
+                **({"point_names": [list(n) for n in self.point_names]}
+                   if self.point_names is not None and len(set(self.point_names)) > 1 else {})}
 
 
 def compose(jets):
@@ -472,23 +526,48 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     Y, T = problem.split(u)
     _, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
-    vimp = tuple(float(flow.approach(f[2])) for f in fl)
+    ends = problem._ends(flow)
+    N = problem.N
+    vimp = tuple(float(flow.approach(f[2]) if problem.sig[(i + 1) % problem.p] == 0 else
+                       ends[i][1] @ f[2][N:]) for i, f in enumerate(fl))
     finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
     ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
     two_pi = 2 * math.pi
     pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
+    names = tuple(problem.sections[k].names for k in problem.sig)
     return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
-                         tuple(float(t) for t in T), vimp, problem.sec.names, mult,
+                         tuple(float(t) for t in T), vimp, names[0], mult,
                          bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
-                         np.array(u, dtype=float))
+                         np.array(u, dtype=float), problem.signature.hits, names)
 
 
 def admissible(problem, fl, flow, F, T):
-    """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight."""
+    """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight; with
+    several constraints every guard is watched (the compiled finder) and each flight must
+    end on the constraint its signature names."""
+    if len(problem.model.constraints) > 1:
+        return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i], g(z0), g(z),
                                mass=k, flight=i + 1)
+        if not ok:
+            return ok, why
+    return True, ""
+
+
+def _admissible_stops(problem, fl, flow, F, T):
+    # the Python finder watches one guard: every guard is the compiled finder's
+    finder = _shooting.CompiledFinder(flow)
+    ends, N, p = problem._ends(flow), problem.N, problem.p
+    rows = _table(flow)
+    for i, (z0, tau, z, *_rest) in enumerate(fl):
+        ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
+        ga = rows[ka][3:3 + N]
+        y = np.append(z0[problem.frames[ka]], tau)
+        ok, why = check_flight(finder.motion_from(F, y, ka).first_impact, T[i],
+                               float(ga @ z0[N:]), float(ends[i][1] @ z[N:]), mass=None,
+                               flight=i + 1, stops=(ka, kb))
         if not ok:
             return ok, why
     return True, ""
@@ -506,13 +585,15 @@ def _fixed(model, fixed):
     return model, omega
 
 
-def periodic_orbit(model, *, n, p, guess, **fixed):
+def periodic_orbit(model, *, n, p, guess, signature=None, **fixed):
     """The n-p orbit of ``model`` (p impacts in n forcing periods) near ``guess``.
 
     ``fixed`` sets omega (required) and any other named parameter.  ``guess`` is
     a section point y (the other p - 1 impacts follow from the map), a
     sequence of p section points, a :class:`PeriodicOrbit`, or a simulation
-    result of :func:`symvi.simulate` (its last p impacts).  Newton on the
+    result of :func:`symvi.simulate` (its last p impacts).  ``signature`` names the
+    constraint of each impact (point i lies on its section; default: the stops the
+    simulation's last p impacts hit, else the first stop).  Newton on the
     shooting system of the module docstring; ConvergenceError (with the residual
     reached) when it does not converge, never an orbit that is not one.
     """
@@ -520,7 +601,12 @@ def periodic_orbit(model, *, n, p, guess, **fixed):
     if not isinstance(model, Model):
         raise ParameterError("model", model, "a symvi.Model")
     model, omega = _fixed(model, fixed)
-    problem = Problem(model, n, p, omega=omega)
+    if signature is None and getattr(guess, "hits", None) is not None and \
+            len(guess.hits) >= p:
+        signature = tuple(int(k) for k in guess.hits[-p:])
+    if signature is None and isinstance(guess, PeriodicOrbit):
+        signature = guess.signature
+    problem = Problem(model, n, p, omega=omega, signature=signature)
     u0 = initial_guess(problem, guess)
     u = newton(problem, u0, None)
     return orbit_of(problem, u, None)
@@ -532,10 +618,15 @@ def detect_period(sim, p_max=16, tol=1e-6):
     sec, t = np.asarray(sim.section, dtype=float), np.asarray(sim.t, dtype=float)
     if sec.ndim != 2 or len(sec) < 2:
         return None
+    hits = getattr(sim, "hits", None)
     two_pi = 2 * math.pi
     scale = 1 + np.max(np.abs(sec[-1, :-1]))
     for p in range(1, min(p_max, len(sec) - 1) + 1):
         a, b = sec[-1], sec[-1 - p]
+        if hits is not None and len(hits) == len(sec) and (
+                tuple(hits[-p:]) != tuple(hits[-2 * p:-p]) if 2 * p <= len(hits) else
+                hits[-1] != hits[-1 - p]):
+            continue                               # not the same itinerary twice
         dtau = abs((a[-1] - b[-1] + math.pi) % two_pi - math.pi)
         if np.max(np.abs(a[:-1] - b[:-1])) <= tol * scale and dtau <= tol:
             n = (t[-1] - t[-1 - p]) * sim.omega / two_pi
@@ -583,7 +674,8 @@ def initial_guess(problem, guess):
         if len(pts) not in (1, p):
             raise ParameterError("guess", f"{len(pts)} points", f"1 or p = {p} section points")
     # flight times (and the missing points) from the map itself (compiled: its twin)
-    c = _shooting.finder_constants(flow, F) if problem.compiled else None
+    several = len(model.constraints) > 1
+    c = _shooting.finder_constants(flow, F) if problem.compiled or several else None
     T, Y = [], [np.array(pts[0], dtype=float)]
     cur = Y[0]
     for i in range(p):
@@ -591,8 +683,12 @@ def initial_guess(problem, guess):
             s = step(flow, F, cur)
             status, t, nxt = s.status, s.t, np.array(s.y, dtype=float)
         else:
-            st, t, nxt = compiled_step(c, cur)[:3]
+            st, t, nxt, _, _, _, hit = compiled_step(c, cur, int(problem.sig[i]))
             status = STATUS_NAMES[st]
+            want = int(problem.sig[(i + 1) % p])
+            if status == IMPACT and hit != want:
+                raise ConvergenceError(f"the guess meets stop {hit + 1} at impact {i + 1}, "
+                                       f"not stop {want + 1} as the signature says", math.inf)
         if status != IMPACT:
             raise ConvergenceError(f"the guess does not lead to an impact ({status}) "
                                    f"at impact {i + 1}", math.inf)

@@ -128,7 +128,7 @@ def _qr_logs(lam, W, Winv, A, U, V, w, con, sec, te):
     for k in range(m):
         u[:d] = sec[k]
         u[d] = te[k]
-        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
+        Gu = _shooting.shoot1(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
         _, J, ok = _shooting.monodromy(Gu, 1, d)
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
