@@ -139,6 +139,33 @@ def test_the_contact_force_pushes_out_of_either_side():
     assert ph.K[0, 0] == 51.0 and ph.C[0, 0] == 0.35
 
 
+@pytest.mark.parametrize("model,active", [(CHAIN_MIX, ()), (CHAIN_MIX, (0,)), (CHAIN, (0,)),
+                                          (BETWEEN, (0,))])
+def test_phase_flow_is_the_matrix_exponential(model, active):
+    """Phi_S(t) of a phase (closed-form modes when undamped, eigenvectors of A_S when
+    damped) is expm(A_S t); A_S carries K + k_s c c^T and C + c_s c c^T."""
+    from scipy.linalg import expm
+    ph = ct.phase(model, active)
+    for t in (0.3, 2.7, 11.0):
+        np.testing.assert_allclose(ph.phi(t), expm(ph.A * t), rtol=0, atol=1e-12)
+    n, K = model.n, np.array(model.stiffness)
+    for i in active:
+        c = np.array(model.constraints[i].normal)
+        K = K + model.constraints[i].stiffness * np.outer(c, c)
+    np.testing.assert_allclose(-ph.A[n:, :n], np.linalg.solve(np.array(model.mass), K))
+
+
+def test_a_contact_phase_at_its_own_resonance_is_refused():
+    """omega at the natural frequency sqrt((k + k_s) / m) of an undamped contact phase:
+    its steady response is infinite; the free flight at that omega is fine."""
+    from symvi.errors import SingularCaseError
+    model = Model(mass=[1.0], stiffness=[[1.0]], forcing=[1.0],
+                  stop=Stop(mass=1, gap=0.5, stiffness=3.0))
+    ct.phase(model, ()).forcing(2.0)
+    with pytest.raises(SingularCaseError, match="contact phase \\[0\\]"):
+        ct.phase(model, (0,)).forcing(2.0)
+
+
 def test_a_phase_refuses_a_rigid_constraint():
     with pytest.raises(ParameterError, match="elastic constraints"):
         ct.Phase(BETWEEN, (1,))

@@ -117,3 +117,9 @@ def test_refusals_of_the_model():
     # a start inside the other stop (x2 = -0.7 is past the lower stop's gap -0.5)
     with pytest.raises(ParameterError, match=r"stop 2: s = -0.7 is at or past its gap -0.5"):
         simulate(CHAIN_MIX, 1.2, y0=(0.5, -0.7, 0.0, 0.3), n_impacts=5)
+
+
+def test_the_free_flight_resonance_is_refused():
+    from symvi.errors import SingularCaseError
+    with pytest.raises(SingularCaseError, match="natural frequency omega_1"):
+        simulate(ONE.with_(**{"damping[1,1]": 0.0}), 1.0, y0=(0.8, 0.2), n_impacts=5)
