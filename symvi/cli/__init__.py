@@ -136,11 +136,20 @@ def describe(params):
     """A one-line description of the preset parameters or of a model (titles, headers)."""
     from ..model import Model
     if isinstance(params, Model):
-        s = params.stop
-        return (f"N={params.n} stop on mass {s.mass} gap={s.gap:g} r={s.restitution:g}"
+        stops = "; ".join(_stop_text(s) for s in params.stops)
+        return (f"N={params.n} {'stop' if len(params.stops) == 1 else 'stops'} {stops}"
                 + (" damped" if params.damped else ""))
     return (f"mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} b={params.b:g} "
             f"r={params.r:g}")
+
+
+def _stop_text(s):
+    """One stop as ``describe`` shows it: today's text for an upper rigid stop on a mass."""
+    where = f"on mass {s.mass}" if s.mass is not None else f"between masses {s.between[0]} " \
+        f"and {s.between[1]}"
+    side = "" if s.side == "upper" else " lower"
+    law = f"r={s.restitution:g}" if s.restitution is not None else f"k_s={s.stiffness:g}"
+    return f"{where}{side} gap={s.gap:g} {law}"
 
 
 def section_view(params):

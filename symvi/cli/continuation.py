@@ -103,7 +103,12 @@ def run(args):
         return 0
     print(f"model: {describe(model)}   {args.param} from {args.start:g} to {args.stop:g}")
     for k, br in enumerate(branches):
-        print(f"\nbranch {k + 1}: {br.n}-{br.p} orbits, {len(br)} points, {args.param} in "
+        o = br.points[0].orbit
+        sig = "" if o.signature is None or len(model.constraints) == 1 else \
+            " (signature " + ", ".join(o.signature_names) + (
+                "" if o.symmetric is None else
+                ", symmetric" if br.points[len(br) // 2].orbit.symmetric else ", asymmetric") + ")"
+        print(f"\nbranch {k + 1}: {br.n}-{br.p} orbits{sig}, {len(br)} points, {args.param} in "
               f"[{br.values.min():.10g}, {br.values.max():.10g}]; end: {br.end}")
         for note in br.notes:
             print(f"  note: {note}")
@@ -127,7 +132,9 @@ def _as_json(param, branches, plot):
             d["branch"] = k
             special.append(d)
     out = {"param": param, "points": points, "special": special,
-           "branches": [{"orbit": f"{br.n}-{br.p}", "points": len(br), "end": br.end,
+           "branches": [{"orbit": f"{br.n}-{br.p}",
+                         "signature": br.points[0].orbit.signature_names,
+                         "points": len(br), "end": br.end,
                          "notes": list(br.notes)} for br in branches]}
     if plot:
         out["plot"] = plot

@@ -17,6 +17,8 @@ def run(args):
     model = Model.of(system)
     paper = system is not model                 # the preset flags: the paper's view
     omega = args.omega                          # a float: the value the library checked
+    if not model.one_rigid_stop:
+        return _attractor(model, omega, args.json)
     # error estimates; mpmath recomputation where float64 gives < 8 digits
     autos = auto_orbits(system, omega)
     orbits = [a.orbit for a in autos]
@@ -63,6 +65,33 @@ def run(args):
             print(f"       reason: {o.reason}")
         print(f"       precision: {_text(a.estimate.y)}; {_text(a.estimate.multipliers)}"
               + (f"  [{a.note}]" if a.digits_used else ""))
+    return 0
+
+
+def _attractor(model, omega, as_json):
+    """A model with no period-1 closed form (several stops, a lower one): the periodic
+    orbit a run of the map settles on, with its n-p and signature."""
+    from ..continuation import attractor_orbit
+    from . import describe
+    o = attractor_orbit(model, omega)
+    found = ("the periodic attractor a run of the map from a default start on stop 1 "
+             "settles on, refined by Newton (no period-1 closed form for this model; "
+             "precision not estimated)")
+    if as_json:
+        print_json({"model": model.as_dict(), "omega": omega,
+                    "orbits": [{**o.as_dict(), "found": found}]})
+        return 0
+    print(f"model: {describe(model)}   omega={omega:.10g}")
+    print(f"{o.n}-{o.p} orbit, signature {', '.join(o.signature_names)}"
+          + ("" if o.symmetric is None else (", symmetric" if o.symmetric else ", asymmetric"))
+          + f": {found}")
+    for i, (y, names) in enumerate(zip(o.points, o.point_names)):
+        print(f"  impact {i + 1} ({o.signature_names[i]}): "
+              + "  ".join(f"{n} = {v:.10g}" for n, v in zip(names, y))
+              + f"   flight {o.times[i]:.10g}")
+    print("  multipliers: " + ", ".join(_number(z) for z in o.multipliers))
+    status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
+    print(f"  {status}; residual {o.residual:.3g}" + (f"; reason: {o.reason}" if o.reason else ""))
     return 0
 
 

@@ -33,7 +33,8 @@ ISOLATION_CUT = 1e-5
 
 # --------------------------------------------------------------------------- entry point
 def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p=1,
-                    h=None, h_max=None, max_points=5000, locate=True, through=False, **fixed):
+                    h=None, h_max=None, max_points=5000, locate=True, through=False,
+                    signature=None, **fixed):
     """Continue an n-p orbit of ``model`` in the named parameter ``param`` from ``start``
     towards ``stop`` (the interval between them bounds the branch).
 
@@ -75,7 +76,8 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     Y2 = Y.copy()
     Y2[:, -1] += 2 * math.pi * pr.n_periods
     u2 = np.concatenate([Y.ravel(), Y2.ravel(), T, T])
-    pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.parameter)
+    pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.parameter,
+                  signature=pr.signature.hits * 2)
     G, Gu, Gl = pr2.evaluate(u2, lam, dparam=True)
     phi = np.linalg.svd(Gu)[2][-1]
     # the primary branch's tangent, doubled, and phi made orthogonal to it
@@ -84,23 +86,63 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     tY, tT = pr.split(t1[:-1])
     t2 = np.concatenate([tY.ravel(), tY.ravel(), tT, tT, [t1[-1]]])
     t2 /= np.linalg.norm(t2)
+    return _switch(pr2, u2, lam, phi, t2, branch, "period-doubled orbit", "flip", h,
+                   h_max, max_points, locate, through)
+
+
+def switch_at_branch_point(branch, special, *, h=None, h_max=None, max_points=5000,
+                           locate=True, through=False):
+    """The other branch through a located branch point of ``branch`` (kind
+    "symmetry-breaking" or "branch-point"), continued within the branch's parameter
+    bounds: at a symmetry-breaking pitchfork, one of the two mirror-image asymmetric
+    branches (the other is its mirror image, :meth:`symvi.orbits.periodic.Problem.half`).
+
+    There G_u has a one-dimensional kernel phi (the multiplier +1 of the monodromy) and
+    [G_u G_lam] a two-dimensional one, spanned by the branch's tangent and (phi, 0): the
+    other branch leaves along (phi, 0) taken orthogonal to the branch's tangent, as at a
+    flip (:func:`switch_at_flip`), on the same n-p system.
+    """
+    if not isinstance(special, SpecialPoint) or special.kind not in ("symmetry-breaking",
+                                                                     "branch-point"):
+        raise ParameterError("special", getattr(special, "kind", special), "a branch point "
+                             "of the branch (kind 'symmetry-breaking' or 'branch-point')")
+    pr, lam = branch.problem, special.value
+    u = special.orbit.u
+    _, Gu, Gl = pr.evaluate(u, lam, dparam=True)
+    phi = np.linalg.svd(Gu)[2][-1]
+    # the kernel of [G_u G_lam] is two-dimensional here: the branch's tangent is the part
+    # of it orthogonal to (phi, 0) (at a pitchfork the symmetric and the antisymmetric
+    # directions are orthogonal: S permutes and negates coordinates)
+    V = np.linalg.svd(np.column_stack([Gu, Gl]))[2][-2:]
     e = np.append(phi, 0.0)
-    e -= np.dot(e, t2) * t2
+    t1 = max((v - np.dot(v, e) * e for v in V), key=np.linalg.norm)
+    t1 /= np.linalg.norm(t1)
+    return _switch(pr, u, lam, phi, t1, branch, "branch", special.kind, h, h_max,
+                   max_points, locate, through)
+
+
+def _switch(pr, u, lam, phi, t_old, branch, what, where, h, h_max, max_points, locate,
+            through):
+    """The branch of ``pr`` leaving (u, lam) along (phi, 0) made orthogonal to the unit
+    tangent ``t_old`` of the branch met there: its first point corrected on the hyperplane
+    e . (X - X*) = step, the step doubled until the point's parameter has left lam."""
+    e = np.append(phi, 0.0)
+    e -= np.dot(e, t_old) * t_old
     e /= np.linalg.norm(e)
-    X0 = np.append(u2, lam)
+    X0 = np.append(u, lam)
     lo, hi = branch.bounds
-    step = h if h is not None else 1e-3 * (1 + np.max(np.abs(u2)))
+    step = h if h is not None else 1e-3 * (1 + np.max(np.abs(u)))
     for _ in range(12):
-        res = correct(pr2, X0 + step * e, e, np.dot(e, X0) + step)
+        res = correct(pr, X0 + step * e, e, np.dot(e, X0) + step)
         if res is not None and abs(res[0][-1] - lam) > 1e-14 * (1 + abs(lam)):
             break
         step *= 2
     else:
-        raise ConvergenceError("no period-doubled orbit found next to the flip point at "
+        raise ConvergenceError(f"no {what} found next to the {where} point at "
                                f"{pr.param} = {lam:.12g}", math.inf)
     h, h_max = _steps(lo, hi, None, h_max)
-    return _run(pr2, res[0], e, lo, hi, h, h_max, max_points, None,
-                Codim1Tracker(pr2) if locate else None, through)
+    return _run(pr, res[0], e, lo, hi, h, h_max, max_points, None,
+                Codim1Tracker(pr) if locate else None, through)
 
 
 def _steps(lo, hi, h, h_max):
@@ -110,7 +152,7 @@ def _steps(lo, hi, h, h_max):
     return (float(h) if h is not None else min(h_max, (hi - lo) / 100)), h_max
 
 
-def _start(model, param, start, stop, orbit, guess, n, p, fixed):
+def _start(model, param, start, stop, orbit, guess, n, p, fixed, signature=None):
     from ..model import Model
     from ..orbits.period1 import Orbit
     if not isinstance(model, Model):
@@ -147,7 +189,10 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
         model = par.apply(model, float(start))
     if isinstance(orbit, PeriodicOrbit):
         n, p = orbit.n, orbit.p
-    problem = Problem(model, n, p, omega=omega, param=par)
+        signature = signature if signature is not None else orbit.signature
+    if signature is None and getattr(guess, "hits", None) is not None and len(guess.hits) >= p:
+        signature = tuple(int(k) for k in guess.hits[-p:])
+    problem = Problem(model, n, p, omega=omega, param=par, signature=signature)
     lam0 = float(start)
     problem.at(lam0)                                # validates the start
     if isinstance(orbit, Orbit):
@@ -165,7 +210,8 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed):
             raise SingularCaseError("no-orbit", f"no admissible period-1 orbit at "
                                     f"{param} = {lam0!r}")
         guess = orbs[0].y
-    fix = Problem(problem.model, n, p, omega=lam0 if par.is_forcing_frequency else omega)
+    fix = Problem(problem.model, n, p, omega=lam0 if par.is_forcing_frequency else omega,
+                  signature=problem.signature)
     u0 = newton(fix, initial_guess(fix, guess), None)
     return problem, np.append(u0, lam0)
 

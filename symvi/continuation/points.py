@@ -38,9 +38,16 @@ class BranchPoint:
         return self.orbit.admissible
 
     def as_dict(self):
-        return {"value": self.value, "y": [float(v) for v in self.orbit.y],
+        return {"value": self.value, "signature": self.orbit.signature_names,
+                "y": [float(v) for v in self.orbit.y],
                 "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
-                "stable": bool(self.orbit.stable), "admissible": bool(self.orbit.admissible)}
+                "stable": bool(self.orbit.stable), "admissible": bool(self.orbit.admissible),
+                **_symmetry(self.orbit)}
+
+
+def _symmetry(orbit):
+    """{"symmetric": ...} where the model and the n-p have the mirror symmetry, else {}."""
+    return {} if orbit.symmetric is None else {"symmetric": bool(orbit.symmetric)}
 
 
 @dataclass(frozen=True)
@@ -58,6 +65,7 @@ class SpecialPoint(Located):
 
     def as_dict(self):
         return {"kind": self.kind, "value": self.value,
+                "signature": self.orbit.signature_names, **_symmetry(self.orbit),
                 "admissible": bool(self.orbit.admissible),
                 "y": [float(v) for v in self.orbit.y],
                 "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
@@ -102,6 +110,7 @@ class Branch(Result):
 
     def as_dict(self):
         return {"param": self.param, "orbit": f"{self.n}-{self.p}",
+                "signature": self.points[0].orbit.signature_names if self.points else [],
                 "points": [pt.as_dict() for pt in self.points],
                 "special": [s.as_dict() for s in self.special],
                 "end": self.end, "notes": list(self.notes)}

@@ -16,6 +16,8 @@ EVENT_KINDS = {
     "flip": "a multiplier through -1 (period doubling)",
     "ns": "a complex pair through |lambda| = 1 (Neimark-Sacker)",
     "branch-point": "a multiplier through +1 where the branch does not turn (branches cross)",
+    "symmetry-breaking": "a symmetric orbit's half map has a multiplier through -1: a pair "
+                         "of mirror-image asymmetric orbits branches off (pitchfork)",
     "grazing": "an impact with zero velocity, or a flight touching the stop",
     "admissibility": "the orbit's admissibility changes (not located further)",
     "unlocated": "a test function changed sign, but locating the event failed",

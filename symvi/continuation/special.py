@@ -42,6 +42,10 @@ from .points import SpecialPoint
 STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
+#: what a special point of an orbit with several constraints says of its coefficient
+NO_JETS = ("the normal-form coefficient a is not computed: the generated jets take one "
+           "constraint's section, and the jets of maps between the sections of several "
+           "constraints are the next step of issue 25 (the point itself is exact)")
 
 
 @functools.lru_cache(maxsize=None)
@@ -75,6 +79,9 @@ class Codim1Tracker(engine.Tracker):
             # lambda^3 = 1, lambda^4 = 1 are met at isolated points (codim 1 here)
             for m in (3, 4):
                 out[f"R{m}"] = _unit_circle_resonance(mu, m)
+        if orbit.half_multipliers is not None:
+            # symmetric orbit: H^2 = M, and -1 of H is the +1 of a symmetry-breaking pitchfork
+            out["sb"] = float(np.prod(np.array(orbit.half_multipliers) + 1).real)
         for i, v in enumerate(orbit.impact_velocities):
             out[f"v{i}"] = v
         return out
@@ -94,8 +101,12 @@ class Codim1Tracker(engine.Tracker):
         for kind in ("fold",) if graze else ("fold", "flip", "ns", "R3", "R4"):
             if sign_change(pa.get(kind), pb.get(kind)):
                 out.append((kind, {}))
-        # a multiplier through +1 where the branch does not turn: two branches cross
-        if not graze and sign_change(pa.get("bp"), pb.get("bp")) and \
+        # a multiplier through +1 where the branch does not turn: two branches cross; on
+        # a symmetric branch, -1 of the half map says which: symmetry breaking
+        sb = not graze and sign_change(pa.get("sb"), pb.get("sb"))
+        if sb:
+            out.append(("symmetry-breaking", {}))
+        if not graze and not sb and sign_change(pa.get("bp"), pb.get("bp")) and \
                 not sign_change(pa["fold"], pb["fold"]):
             out.append(("branch-point", {}))
         if pta.admissible != pt.admissible and not graze:
@@ -134,6 +145,12 @@ class Codim1Tracker(engine.Tracker):
         if kind == "fold":
             X, t, Gu = self._root(lambda X, t, Gu: t[-1], Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
+            if pr.several:
+                e = real_critical(self._mono(X, Gu), 1.0)
+                return SpecialPoint("fold", float(X[m]), orbit,
+                                    {"multiplier": e.mu, "gap": e.gap},
+                                    "a multiplier through +1: the branch turns (saddle-node); "
+                                    + NO_JETS, index)
             A, d2, _ = orbit.jet(2)
             a, e = fold_coefficient(A, d2)
             note = (f"; +1 is a double multiplier (gap {e.gap:.1e}): the one-dimensional "
@@ -156,9 +173,34 @@ class Codim1Tracker(engine.Tracker):
                                 "not isolated; e.g. a symmetry-breaking pitchfork, or the "
                                 "period-doubled branch met on an orbit traversed twice); symvi "
                                 "reports it and continues on the same branch", index)
+        if kind == "symmetry-breaking":
+            # the extended system is singular at a branch point: the corrector cannot sit
+            # on it, so the root is interpolated between corrected points either side
+            X, spread = interpolated_root(self.problem, lambda X, Gu: self._half_prod(X, Gu),
+                                          Xa, ta, Xb)
+            orbit = self._orbit(X, None)
+            Gu = pr.evaluate(X[:m], X[m])[1]
+            H = pr.half(X[:m], pr.monodromy(X[:m], Gu)[0])
+            if H is None:
+                return None
+            e = real_critical(H, -1.0)
+            return SpecialPoint("symmetry-breaking", float(X[m]), orbit,
+                                {"half_multiplier": e.mu, "gap": e.gap,
+                                 "spread": float(spread)},
+                                "a multiplier of the half map H (H^2 = M) through -1: the "
+                                "symmetric orbit's monodromy has +1 and the branch does not "
+                                "turn; a pair of mirror-image asymmetric orbits branches off "
+                                "here (a pitchfork; --switch follows one, the other is its "
+                                "mirror image)", index)
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
+            if pr.several:
+                e = real_critical(self._mono(X, Gu), -1.0)
+                return SpecialPoint("flip", float(X[m]), orbit,
+                                    {"multiplier": e.mu, "gap": e.gap},
+                                    f"a multiplier through -1: period doubling to a "
+                                    f"{2 * pr.n_periods}-{2 * pr.p} orbit; " + NO_JETS, index)
             A, d2, d3 = orbit.jet(3)
             c, e = flip_coefficient(A, d2, d3)
             crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
@@ -182,6 +224,11 @@ class Codim1Tracker(engine.Tracker):
             if not self.coefficients:
                 return SpecialPoint("ns", float(X[m]), orbit, {}, "a complex pair through "
                                     "|lambda| = 1 (normal form left to the caller)", index)
+            if pr.several:
+                return SpecialPoint("ns", float(X[m]), orbit,
+                                    {"theta": float(abs(np.angle(crit)))},
+                                    "a complex pair through |lambda| = 1: Neimark-Sacker; "
+                                    + NO_JETS.replace("a is", "l1 is"), index)
             return self._ns(X, orbit, index, Xa, Xb)
         if kind in ("R3", "R4"):
             m_ = int(kind[1])
@@ -205,26 +252,33 @@ class Codim1Tracker(engine.Tracker):
             i = int(kind[1:])
             X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i), Xa, ta, Xb)
             orbit = self._orbit(X, Gu, admissibility=False)
-            return SpecialPoint("grazing", float(X[m]), orbit,
-                                {"impact": i + 1, "impact_velocity": self._vimp(X, i)},
+            coef = {"impact": i + 1, "impact_velocity": self._vimp(X, i)}
+            if pr.several:
+                coef["stop"] = int(pr.sig[(i + 1) % pr.p]) + 1
+            return SpecialPoint("grazing", float(X[m]), orbit, coef,
                                 f"impact {i + 1} of the orbit arrives with zero velocity "
                                 "(grazing impact): the impact velocity changes sign and the "
                                 "orbit is not admissible beyond", index)
         # admissibility lost inside a flight: locate the interior tangency
-        i, val, tm = self._worst_flight(bad)
+        i, val, tm, k = self._worst_flight(bad)
         if val is None or val < -1e-9:
             lam = 0.5 * (Xa[-1] + Xb[-1])
             return SpecialPoint("admissibility", float(lam), self._orbit(bad, None),
                                 {}, f"the orbit's admissibility changes between "
                                 f"{Xa[-1]:.12g} and {Xb[-1]:.12g}: {why}", index)
-        X, t, Gu = self._root(lambda X, t, Gu: self._interior(X, i)[0], Xa, ta, Xb)
-        h, tm = self._interior(X, i)
+        X, t, Gu = self._root(lambda X, t, Gu: self._interior(X, i, k)[0], Xa, ta, Xb)
+        h, tm = self._interior(X, i, k)
         orbit = self._orbit(X, Gu, admissibility=False)
-        return SpecialPoint("grazing", float(X[m]), orbit,
-                            {"flight": i + 1, "t": tm, "duration": orbit.times[i]},
-                            f"flight {i + 1} touches the stop with zero velocity at t = "
+        coef = {"flight": i + 1, "t": tm, "duration": orbit.times[i]}
+        stop = "the stop"
+        if k is not None:
+            coef["stop"] = k + 1
+            stop = f"stop {k + 1}" + ("" if k in orbit.signature else
+                                      " (one the orbit does not touch yet: a new impact is born)")
+        return SpecialPoint("grazing", float(X[m]), orbit, coef,
+                            f"flight {i + 1} touches {stop} with zero velocity at t = "
                             f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
-                            "orbit penetrates the stop beyond", index)
+                            f"orbit penetrates {'the stop' if k is None else 'it'} beyond", index)
 
     def _ns(self, X, orbit, index, Xa, Xb):
         m = self.problem.size
@@ -264,6 +318,13 @@ class Codim1Tracker(engine.Tracker):
     def _mu_prod(self, X, Gu, sign):
         return float(np.linalg.det(self._mono(X, Gu) + sign * np.eye(self.problem.d)))
 
+    def _half_prod(self, X, Gu):
+        pr = self.problem
+        H = pr.half(X[:-1], pr.monodromy(X[:-1], Gu)[0])
+        if H is None:                  # left the symmetric orbits: no value (never a root)
+            return math.nan
+        return float(np.linalg.det(H + np.eye(pr.d)))
+
     def _bialt(self, X, Gu):
         mu = np.linalg.eigvals(self._mono(X, Gu))
         iu = _pairs(len(mu))
@@ -276,25 +337,32 @@ class Codim1Tracker(engine.Tracker):
         return float(abs(min(cands, key=lambda z: abs(abs(z) - 1))))
 
     def _vimp(self, X, i):
-        fl, _ = self.problem.flights(X[:-1], X[-1])
-        return float(fl[i][2][self.problem.N])
+        fl, (_, flow, _) = self.problem.flights(X[:-1], X[-1])
+        return self.problem.approach_speeds(fl, flow)[i]
 
-    def _interior(self, X, i):
-        """(max over the interior of flight i of x_k(t) - b, where): its local maxima only."""
+    def _interior(self, X, i, k=None):
+        """(max over the interior of flight i of the guard h of constraint k (x_k(t) - b for
+        the stop), where): its local maxima only.  ``k`` None: the flow's own guard (one
+        stop); with several constraints :meth:`_worst_flight` asks each."""
         pr = self.problem
         fl, (model, flow, F) = pr.flights(X[:-1], X[-1])
         z0, tau = fl[i][0], fl[i][1]
         T = float(pr.split(X[:-1])[1][i])
         mo = flow.motion(F, z0, tau)
+        if k is None:
+            h = lambda t: mo.h(t)[0]              # noqa: E731
+        else:
+            row = _table_row(flow, k, pr.N)
+            h = lambda t: row[0] @ mo.state(t)[:pr.N] - row[1]   # noqa: E731
         fast = max(float(np.max(np.abs(flow.lam))), float(F.omega))
-        k = int(min(20000, max(400, 20 * T * fast / (2 * math.pi))))
-        ts = np.linspace(0.0, T, k + 1)
-        hs = np.array([mo.h(t)[0] for t in ts])
+        n = int(min(20000, max(400, 20 * T * fast / (2 * math.pi))))
+        ts = np.linspace(0.0, T, n + 1)
+        hs = np.array([h(t) for t in ts])
         best, where = None, None
-        for j in range(1, k):
+        for j in range(1, n):
             if hs[j] >= hs[j - 1] and hs[j] >= hs[j + 1]:
                 from scipy.optimize import minimize_scalar   # ~0.1 s to import
-                r = minimize_scalar(lambda t: -mo.h(t)[0], bounds=(ts[j - 1], ts[j + 1]),
+                r = minimize_scalar(lambda t: -h(t), bounds=(ts[j - 1], ts[j + 1]),
                                     method="bounded", options={"xatol": 1e-13 * T})
                 v = -float(r.fun)
                 if best is None or v > best:
@@ -302,12 +370,23 @@ class Codim1Tracker(engine.Tracker):
         return (best if best is not None else -math.inf), where
 
     def _worst_flight(self, X):
-        best = (None, None, None)
+        """(flight, largest interior maximum of a guard, where, constraint): the flight
+        that comes closest to (or goes through) a stop inside it."""
+        best = (None, None, None, None)
+        several = self.problem.several
         for i in range(self.problem.p):
-            v, t = self._interior(X, i)
-            if math.isfinite(v) and (best[1] is None or v > best[1]):
-                best = (i, v, t)
+            for k in (range(len(self.problem.model.constraints)) if several else (None,)):
+                v, t = self._interior(X, i, k)
+                if math.isfinite(v) and (best[1] is None or v > best[1]):
+                    best = (i, v, t, k)
         return best
+
+
+def _table_row(flow, k, N):
+    """(signed guard normal, level) of constraint k in the flow's order."""
+    from ..orbits.periodic import _table
+    row = _table(flow)[k]
+    return row[3:3 + N], row[2]
 
 
 def _unit_circle_resonance(mu, m):

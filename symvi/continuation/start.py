@@ -14,7 +14,7 @@ from numbers import Integral
 
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
 from ..flow import check_value
-from .branch import continue_branch, same_branch, switch_at_flip
+from .branch import continue_branch, same_branch, switch_at_branch_point, switch_at_flip
 
 #: what each argument is called in error messages, by default its own name; a front end
 #: passes its own spelling (the command line its flags: ``symvi.cli.continuation``)
@@ -25,6 +25,11 @@ NAMES = {"start": "start", "stop": "stop", "param": "param", "orbit": "orbit",
 SETTLE_IMPACTS, SETTLE_TRANSIENT = 400, 4000
 #: values of [start, stop] tried for an admissible period-1 orbit where the start has none
 SEARCH_SAMPLES = 200
+#: values of [start, stop] where a run of the map is tried when none settles at the start
+SEARCH_RUNS = 20
+#: the branch each kind of special point starts with ``switch``
+_SWITCHES = {"flip": switch_at_flip, "symmetry-breaking": switch_at_branch_point,
+             "branch-point": switch_at_branch_point}
 
 
 def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=None,
@@ -49,7 +54,9 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     continues both ways.  ``fixed`` sets the other parameters: ``omega`` (required when
     ``param`` is not omega, unless a simulation gives it) and any named parameter of
     the model (``gap=0.4``, ``**{"stiffness[1,2]": -1.0}``).  ``switch`` adds the
-    period-doubled branch born at each flip point (a failed switch is a warning),
+    period-doubled branch born at each flip point and the other branch through each branch
+    point (at a symmetry-breaking pitchfork, an asymmetric one; a failed switch is a
+    warning),
     ``through`` follows branches on where their orbits are inadmissible,
     ``max_points`` bounds each branch.  Errors are :class:`ParameterError` naming the
     argument, as ``names`` spells it (:data:`NAMES`; the command line passes its flags).
@@ -121,19 +128,42 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
             raise ParameterError(N["orbit"], _shown_orbit(orbit), f"the simulated orbit's "
                                  f"{found[0]}-{found[1]}")
         n, p = found
-        guesses = [sim.section[-p:]]
+        guesses = [sim]
     else:
         # the model and omega at the start, with the fixed values
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
-        if (n, p) != (1, 1):
+        if (n, p) == (1, 1) and not at.one_rigid_stop:
+            # no closed form to start from (several stops, a lower one): the periodic
+            # attractor a run of the map settles on at the start, or else at the first of
+            # SEARCH_RUNS values towards the stop where a run settles on one
+            a0 = a
+            a, sim, why = _attractor(base, par, a0, stop, fixed.get("omega"))
+            if sim is None:
+                raise ParameterError(N["start_omega"] if a0 != start else N["start"], a0,
+                                     "a value where a run of the map settles on a periodic "
+                                     f"orbit", f"none at {param} = {a0:g} ({why}), nor at "
+                                     f"{SEARCH_RUNS} values towards {stop:g}")
+            n, p = detect_period(sim)
+            guesses = [sim]
+            sig = ", ".join(f"stop{k + 1}" for k in sim.hits[-p:])
+            moved = (f"started on the {n}-{p} orbit (signature {sig}) a simulation at "
+                     f"{param} = {a:.12g} settled on ({SETTLE_TRANSIENT} impacts dropped from "
+                     "a default start on stop 1)")
+            if a != a0:
+                moved = (f"no periodic attractor at {param} = {a0:.12g} ({why}); " + moved
+                         + f", the first of {SEARCH_RUNS} values towards {stop:g} with one")
+        elif (n, p) != (1, 1):
             sim = _settle(at, w)
-            if detect_period(sim) != (n, p):
+            found = detect_period(sim)
+            if found != (n, p):
+                got = (f"none of at most 16 impacts (the run ended: {sim.stop})"
+                       if found is None else f"a {found[0]}-{found[1]} orbit")
                 raise ParameterError(N["orbit"], _shown_orbit(orbit), f"an orbit the "
                                      f"simulation at {param} = {a} settles on (give "
-                                     f"{N['simulation']})")
-            guesses = [sim.section[-p:]]
+                                     f"{N['simulation']})", f"it settles on {got}")
+            guesses = [sim]
         else:
             from ..orbits.period1 import admissible_orbits
             guesses = [o.y for o in admissible_orbits(at, w, multipliers=False)]
@@ -168,13 +198,16 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if switch:
             for br in list(branches):
                 for sp in br.special:
-                    if sp.kind == "flip":
+                    switch = _SWITCHES.get(sp.kind)
+                    if switch is not None:
                         try:
-                            branches.append(switch_at_flip(br, sp, max_points=max_points,
-                                                           through=through))
+                            new = switch(br, sp, max_points=max_points, through=through)
                         except Exception as exc:  # noqa: BLE001 - reported, not hidden
-                            warnings.warn(f"branch switching at the flip at {sp.value:.12g} "
-                                          f"failed: {exc}", stacklevel=2)
+                            warnings.warn(f"branch switching at the {sp.kind} at "
+                                          f"{sp.value:.12g} failed: {exc}", stacklevel=2)
+                            continue
+                        if not any(same_branch(new, other) for other in branches):
+                            branches.append(new)
     return branches
 
 
@@ -220,8 +253,8 @@ def first_admissible(model, par, start, stop, omega=None, samples=SEARCH_SAMPLES
 class _Run:
     """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation."""
 
-    def __init__(self, section, t, omega):
-        self.section, self.t, self.omega = section, t, omega
+    def __init__(self, section, t, omega, hits=None):
+        self.section, self.t, self.omega, self.hits = section, t, omega, hits
 
 
 def _names(names):
@@ -287,13 +320,16 @@ def _simulation(simulation, N):
         try:
             with np.load(shown) as f:
                 section, t, omega = f["section"], f["t"], float(f["omega"])
+                hits = f["hits"] if "hits" in f.files else None
         except (OSError, KeyError, ValueError, TypeError) as exc:
             raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
                                  "--out (arrays section, t, omega)", str(exc)) from None
-        return _Run(section, t, omega), shown
+        return _Run(section, t, omega, hits), shown
     try:
+        hits = getattr(simulation, "hits", None)
         sim = _Run(np.asarray(simulation.section, dtype=float),
-                   np.asarray(simulation.t, dtype=float), float(simulation.omega))
+                   np.asarray(simulation.t, dtype=float), float(simulation.omega),
+                   None if hits is None else np.asarray(hits, dtype=np.int64))
     except (AttributeError, TypeError, ValueError):
         raise ParameterError(N["simulation"], type(simulation).__name__, "a Simulation "
                              "(symvi.simulate) or the path of an .npz of one") from None
@@ -302,7 +338,60 @@ def _simulation(simulation, N):
 
 def _settle(model, omega):
     """A run of the map at ``omega`` from symvi.simulate's default start (the admissible
-    period-1 orbit plus 1e-4 in each component): SETTLE_TRANSIENT impacts dropped,
+    period-1 orbit plus 1e-4 in each component) or, with no period-1 closed form (several
+    stops, a lower one), from :func:`default_start`: SETTLE_TRANSIENT impacts dropped,
     SETTLE_IMPACTS kept."""
     from ..simulations.simulation import simulate
-    return simulate(model, omega, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
+    y0 = None if model.one_rigid_stop else default_start(model, omega)
+    return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
+
+
+def _attractor(model, par, start, stop, omega):
+    """(value, the run that settled on a periodic orbit there, why none at the start): the
+    start itself, else the first of SEARCH_RUNS values towards ``stop``; (start, None,
+    why) when no run settles."""
+    from ..orbits.periodic import detect_period
+    why = ""
+    for k in range(SEARCH_RUNS + 1):
+        v = start + (stop - start) * k / SEARCH_RUNS
+        at, w = (model, v) if par.is_forcing_frequency else (par.apply(model, v), omega)
+        try:
+            sim = _settle(at, w)
+        except SymviError as exc:             # a resonance, a start inside a stop
+            got = str(exc)
+        else:
+            if detect_period(sim) is not None:
+                return v, sim, why
+            got = f"the run ended: {sim.stop}" if sim.stop != "completed" else \
+                "the run settles on no periodic orbit of at most 16 impacts"
+        if k == 0:
+            why = got
+    return start, None, why
+
+
+def attractor_orbit(model, omega):
+    """The periodic orbit a run of the map settles on at ``omega`` from
+    :func:`default_start` (SETTLE_TRANSIENT impacts dropped), refined by Newton on its
+    signature: what ``symvi orbit`` gives for a model with no period-1 closed form (several
+    stops, a lower one).  SingularCaseError ("no-orbit") with the reason when the run
+    settles on none."""
+    from ..flow import check_omega
+    from ..orbits.periodic import detect_period, from_simulation
+    omega = check_omega(model.require_rigid_stops(), omega)
+    sim = _settle(model, omega)
+    if detect_period(sim) is None:
+        why = (f"the run ended: {sim.stop}" if sim.stop != "completed" else
+               "it settles on no periodic orbit of at most 16 impacts")
+        raise SingularCaseError("no-orbit", f"a run of the map from a default start on stop "
+                                f"1 at omega = {omega:g} settles on no periodic orbit ({why})")
+    return from_simulation(sim)
+
+
+def default_start(model, omega):
+    """A start on the first stop's section: every other mass at rest at 0, the phase 0,
+    and the stop's mass leaving it at speed omega max(|gap|, 0.1) (a flight of the size of
+    the clearance, not a chatter at the stop)."""
+    con = model.constraints[0]
+    y = [0.0] * (2 * model.n)
+    y[0] = -con.sign * float(omega) * max(abs(con.gap), 0.1)
+    return tuple(y)

@@ -145,9 +145,7 @@ def constants(model, omega, t_max=None):
     c[_TMAX] = t_max
     c[_NC] = len(rows)
     ow, ov, ou, oc, cb = offsets(n)
-    for k, row in enumerate(rows):
-        c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
-        c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
+    set_constraints(c, n, rows)
     set_guard_forcing(c, flow, U, V)
     c[_LMAX] = max(max(abs(flow.lam)), omega)
     # Re lambda <= 0 holds up to rounding; a rounding-sized Re lambda > 0 inflates
@@ -178,6 +176,16 @@ def set_constraint(c, flow):
     oc = offsets(n)[3]
     c[oc + _GAP], c[oc + _LEVEL] = k[0], k[1]
     c[oc + _CB:oc + _CB + n + n * n] = k[2:]
+
+
+def set_constraints(c, n, rows):
+    """Write every constraint's row (:meth:`LinearFlow.constraint_rows`: position, gap,
+    level, guard, reset) into its block of the table; the steady amplitudes of the guards
+    are :func:`set_guard_forcing`'s."""
+    _, _, _, oc, cb = offsets(n)
+    for k, row in enumerate(rows):
+        c[oc + k * cb + _P:oc + k * cb + _P + 3] = row[:3]
+        c[oc + k * cb + _CB:oc + (k + 1) * cb] = row[3:]
 
 
 def set_guard_forcing(c, flow, U, V):

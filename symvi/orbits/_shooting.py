@@ -282,9 +282,13 @@ def finder_constants(flow, F):
     test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
     if base is None:
-        base = flow.__dict__["_finder_base"] = _finder_base(flow) + (flow.constraint,)
+        base = flow.__dict__["_finder_base"] = _finder_base(flow) + (
+            flow.constraint, flow.model.constraints)
     c, lmax, grow = base[0].copy(), base[1], base[2]
-    if flow.constraint is not base[3]:
+    if flow.model.constraints[1:] != base[4][1:]:
+        # a copied flow (a new gap or r of another stop) shares the base: every row anew
+        _fc.set_constraints(c, flow.n, flow.constraint_rows())
+    elif flow.constraint is not base[3]:
         _fc.set_constraint(c, flow)                # a copied flow (new stop) shares the base
     w = float(F.omega)
     n = flow.n

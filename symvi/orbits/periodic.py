@@ -43,6 +43,8 @@ from .admissibility import check_flight
 
 #: Newton: iteration limit
 NEWTON_MAXIT = 30
+#: relative distance of y_{i+p/2} from S y_i below which an orbit is called symmetric
+SYMMETRY_TOL = 1e-7
 
 
 class ConvergenceError(SymviError):
@@ -100,6 +102,12 @@ class Problem:
         self.sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q))
                               for q in self.positions)
         self.idx = self.frames[0]
+        #: several constraints: the flights watch every guard (the compiled finder)
+        self.several = len(model.constraints) > 1
+        #: the mirror of each constraint under x -> -x, t -> t + n pi / omega, when the
+        #: model has that symmetry and an n-p orbit can have it (p even, n odd)
+        self.mirror = (_mirror(model) if self.p % 2 == 0 and self.n_periods % 2 == 1
+                       else None)
 
     @property
     def size(self):
@@ -231,6 +239,9 @@ class Problem:
         :meth:`LinearFlow.constraint_rows`): the section point after the impact is E z
         (:meth:`_reset_rows`), the impact condition g . x - level = 0."""
         N, rows = self.N, _table(flow)
+        hit = self.__dict__.get("_ends_of")
+        if hit is not None and hit[0] is rows and hit[1] is flow.reset:
+            return hit[2]
         out = []
         for i in range(self.p):
             k = int(self.sig[(i + 1) % self.p])
@@ -238,7 +249,44 @@ class Problem:
             R = flow.reset if k == 0 else row[3 + N:].reshape(N, N)
             out.append((self._reset_rows(R, k=k), flow.guard if k == 0 else row[3:3 + N],
                         flow.level if k == 0 else row[2]))
+        self._ends_of = (rows, flow.reset, out)      # one flow's, kept for the next ask
         return out
+
+    def approach_speeds(self, fl, flow):
+        """The approach speed guard . v- at the end of each flight (``fl``: the flights of
+        :meth:`flights`) towards the constraint it ends on (v_k- for a stop on mass k):
+        > 0 on the physical branch, -> 0 at a grazing impact."""
+        if not self.several:
+            return tuple(float(flow.approach(f[2])) for f in fl)
+        ends, N = self._ends(flow), self.N
+        return tuple(float(ends[i][1] @ f[2][N:]) for i, f in enumerate(fl))
+
+    def half(self, u, mats):
+        """H = S DP_{p/2-1} ... DP_0 of a symmetric orbit (``mats`` the DP_i of
+        :meth:`monodromy`), else None.  S is the mirror x -> -x on the section (every
+        coordinate but tau changes sign; a constraint and its mirror share the section's
+        frame) and the orbit is symmetric when y_{i+p/2} = S y_i with tau advanced by n pi
+        and the impact i + p/2 on the mirror of impact i's stop.  Then DP_{i+p/2} =
+        S DP_i S, so the monodromy is H^2: a multiplier -1 of H is the +1 of a
+        symmetry-breaking pitchfork, +1 of H a fold of symmetric orbits."""
+        if self.mirror is None:
+            return None
+        h, d = self.p // 2, self.d
+        Y = self.split(u)[0]
+        for i in range(h):
+            if self.sig[i + h] != self.mirror[self.sig[i]]:
+                return None
+            a, b = Y[i], Y[i + h]
+            scale = 1.0 + float(np.max(np.abs(a)))
+            if (np.max(np.abs(a[:-1] + b[:-1])) > SYMMETRY_TOL * scale or
+                    abs(b[-1] - a[-1] - math.pi * self.n_periods) > SYMMETRY_TOL * scale):
+                return None
+        H = mats[0]
+        for D in mats[1:h]:
+            H = D @ H
+        S = -np.ones(d)
+        S[-1] = 1.0
+        return S[:, None] * H
 
     def _reset_rows(self, R, one=1.0, k=0):
         """E ((2N - 1) x 2N): the section point (without tau) on constraint k's section
@@ -326,6 +374,24 @@ class Problem:
         return mats, M
 
 
+def _mirror(model):
+    """σ with constraint σ[k] the mirror of constraint k under x -> -x (the same normal and
+    law, the other side, the gap negated), or None when some constraint has none: then
+    the model has no symmetry x -> -x, t -> t + pi / omega (M, C, K are linear and a
+    harmonic forcing changes sign over half a period: the stops decide)."""
+    cs = model.constraints
+    out = []
+    for c in cs:
+        match = [j for j, o in enumerate(cs) if o.normal == c.normal and o.side != c.side
+                 and o.restitution == c.restitution and o.impulse == c.impulse
+                 and o.stiffness == c.stiffness and o.damping == c.damping
+                 and o.gap == -c.gap]
+        if not match:
+            return None
+        out.append(match[0])
+    return tuple(out)
+
+
 def _table(flow):
     """The flow's constraint rows (:meth:`LinearFlow.constraint_rows`) as one C array, kept
     on the flow for its model and constraint (a flow copied for a new gap makes its own)."""
@@ -408,6 +474,11 @@ class PeriodicOrbit:
     signature: tuple = None
     #: the names of each point's coordinates (its constraint's section)
     point_names: tuple = None
+    #: True / False: the orbit is / is not mirror-symmetric (:meth:`Problem.half`); None:
+    #: the model or the orbit's n-p has no such symmetry
+    symmetric: bool = None
+    #: the multipliers of the half map H (H^2 is the monodromy) of a symmetric orbit
+    half_multipliers: tuple = None
 
     @property
     def y(self):
@@ -450,6 +521,7 @@ class PeriodicOrbit:
                 "multipliers": [[z.real, z.imag] for z in self.multipliers],
                 "stable": bool(self.stable), "admissible": bool(self.admissible),
                 "reason": self.reason, "residual": self.residual,
+                **({"symmetric": self.symmetric} if self.symmetric is not None else {}),
                 **({"point_names": [list(n) for n in self.point_names]}
                    if self.point_names is not None and len(set(self.point_names)) > 1 else {})}
 
@@ -524,12 +596,11 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
         G = problem.evaluate(u, lam, jac=False, check=False)[0]
     fl, (model, flow, F) = problem.flights(u, lam, check=False)
     Y, T = problem.split(u)
-    _, M = problem.monodromy(u, Gu)
+    mats, M = problem.monodromy(u, Gu)
     mult = eigenvalues(M)
-    ends = problem._ends(flow)
-    N = problem.N
-    vimp = tuple(float(flow.approach(f[2]) if problem.sig[(i + 1) % problem.p] == 0 else
-                       ends[i][1] @ f[2][N:]) for i, f in enumerate(fl))
+    H = problem.half(u, mats)
+    sym = None if problem.mirror is None else H is not None
+    vimp = problem.approach_speeds(fl, flow)
     finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
     ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
     two_pi = 2 * math.pi
@@ -538,7 +609,8 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
                          tuple(float(t) for t in T), vimp, names[0], mult,
                          bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
-                         np.array(u, dtype=float), problem.signature.hits, names)
+                         np.array(u, dtype=float), problem.signature.hits, names, sym,
+                         None if H is None else eigenvalues(H))
 
 
 def admissible(problem, fl, flow, F, T):

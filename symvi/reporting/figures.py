@@ -184,7 +184,8 @@ def _axis_label(name):
 #: marker and colour of each special-point kind on a branch plot
 _SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o", "tab:green"),
                   "grazing": ("v", "tab:purple"), "admissibility": ("x", "tab:gray"),
-                  "branch-point": ("P", "tab:orange"), "unlocated": ("x", "k")}
+                  "branch-point": ("P", "tab:orange"), "unlocated": ("x", "k"),
+                  "symmetry-breaking": ("P", "tab:brown")}
 
 
 def branches(curves, param, ylabel=None, title="", ax=None):
@@ -207,7 +208,7 @@ def branches(curves, param, ylabel=None, title="", ax=None):
             for y in ys:
                 ax.plot(value, y, mk, color=col, ms=6, mfc="none")
             ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G",
-                         "branch-point": "BP"}.get(kind, kind),
+                         "branch-point": "BP", "symmetry-breaking": "SB"}.get(kind, kind),
                         (value, ys[0]), textcoords="offset points", xytext=(4, 4), fontsize=7,
                         color=col)
     ax.set_xlabel(_axis_label(param))

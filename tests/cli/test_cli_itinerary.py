@@ -1,0 +1,86 @@
+"""``symvi continue`` on models with several stops (issue 25, items 3 and 5): started from
+the attractor a simulation settles on, its signature and symmetry named in text and JSON,
+the asymmetric branches followed with --switch, the worked examples' files read."""
+import json
+import pathlib
+
+from ..fuzz._cli import cli
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "contacts"
+SYM = EXAMPLES / "oscillator_two_stops.toml"
+
+
+def test_continue_a_symmetric_orbit_json(tmp_path):
+    rc, out, err = cli("continue", "--model", str(SYM), "--param", "omega", "--from", "1.0",
+                       "--to", "1.6", "--switch", "--json")
+    assert rc == 0, err
+    d = json.loads(out)
+    main = d["branches"][0]
+    assert main["orbit"] == "1-2" and sorted(main["signature"]) == ["stop1", "stop2"]
+    assert "signature" in main["notes"][0] and "simulation" in main["notes"][0]
+    pts = [p for p in d["points"] if p["branch"] == 0]
+    assert all(p["symmetric"] for p in pts) and all(len(p["signature"]) == 2 for p in pts)
+    sb = [s for s in d["special"] if s["kind"] == "symmetry-breaking"]
+    assert len(sb) == 2 and all(abs(s["coefficients"]["half_multiplier"] + 1) < 1e-9
+                                for s in sb)
+    # the switched branches: asymmetric orbits
+    others = [p for p in d["points"] if p["branch"] > 0]
+    assert others and not any(p["symmetric"] for p in others[len(others) // 2:][:5])
+
+
+def test_continue_text_names_signature_and_symmetry():
+    rc, out, err = cli("continue", "--model", str(SYM), "--param", "omega", "--from", "1.0",
+                       "--to", "1.2")
+    assert rc == 0, err
+    assert "1-2 orbits (signature stop" in out and "symmetric)" in out
+    assert "symmetry-breaking omega = 1.0082738" in out
+
+
+def test_no_attractor_anywhere_is_one_line(tmp_path):
+    """A start where the run never settles and no value towards the stop where it does:
+    exit 2, one line naming --from."""
+    f = tmp_path / "stuck.toml"
+    # undamped: the run never settles on an attractor
+    f.write_text(SYM.read_text().replace("damping = [[0.05]]", "damping = [[0.0]]"))
+    rc, out, err = cli("continue", "--model", str(f), "--param", "omega", "--from", "1.3",
+                       "--to", "1.31")
+    assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert "--from" in err and "Traceback" not in err
+
+
+def test_the_worked_examples_are_current():
+    """Each worked example's JSON is what its model file gives today (the command in
+    examples/contacts/README.md): the same branches, signatures and special points."""
+    for name in ("oscillator_two_stops", "chain3_two_stops"):
+        d = json.loads((EXAMPLES / f"{name}.json").read_text())
+        args = [str(EXAMPLES / pathlib.Path(a).name) if a.endswith(".toml") else a
+                for a in d["command"]]
+        rc, out, err = cli(*args)
+        assert rc == 0, err
+        now = json.loads(out)
+        assert [b["signature"] for b in now["branches"]] == \
+            [b["signature"] for b in d["branches"]]
+        assert [(s["kind"], s["branch"]) for s in now["special"]] == \
+            [(s["kind"], s["branch"]) for s in d["special"]]
+        for a, b in zip(now["special"], d["special"]):
+            assert abs(a["value"] - b["value"]) < 1e-9
+
+
+def test_orbit_of_a_two_stop_model():
+    """symvi orbit with no closed form: the attractor, its n-p and signature, in JSON."""
+    rc, out, err = cli("orbit", "--model", str(SYM), "--omega", "1.0", "--json")
+    assert rc == 0, err
+    o = json.loads(out)["orbits"][0]
+    assert (o["n"], o["p"]) == (1, 2) and sorted(o["signature"]) == ["stop1", "stop2"]
+    assert o["symmetric"] is True and o["admissible"] and o["residual"] < 1e-12
+    assert "attractor" in o["found"]
+    rc, out, err = cli("orbit", "--model", str(SYM), "--omega", "1.0")
+    assert rc == 0 and "1-2 orbit, signature" in out and "symmetric" in out
+
+
+def test_orbit_without_attractor_is_one_line(tmp_path):
+    f = tmp_path / "stuck.toml"
+    f.write_text(SYM.read_text().replace("damping = [[0.05]]", "damping = [[0.0]]"))
+    rc, out, err = cli("orbit", "--model", str(f), "--omega", "1.3")
+    assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert "settles on no periodic orbit" in err
