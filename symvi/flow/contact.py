@@ -32,10 +32,24 @@ h(t + s) <= h + h' s + M2 s^2 / 2, so no crossing occurs before the first root o
 quadratic; the grazing thresholds (eps_h, v_graze) are the reference's.  A rigid impact
 applies its reset v+ = R v- (:meth:`symvi.model.Constraint.reset_matrix`) and keeps S.
 
+Determinants (the elastic counterpart of det DP = prod r_i^2 exp(-tr(M^-1 C) T) for rigid
+contacts).  No jump: the state's monodromy over [0, T] is the product of the phases' flow
+matrices Phi_S and the saltation matrices of the switches (:func:`saltation`), each of
+determinant 1, so det Phi_total = exp(int tr A dt) with
+
+    int_0^T tr A dt = -tr(M^-1 C) T - sum_contacts c_s c^T M^-1 c (time in contact).
+
+The map from one entry section (s = g dropped, tau kept) to the p-th next carries the flux
+through the sections: det DP^p = exp(int tr A dt) h'(start) / h'(end), h' = sign c^T v.  On
+a periodic orbit the speeds cancel; a contact of one mass (zeta = c_s / (2 sqrt(k_s m)),
+time pi / omega_d as k_s grows) contributes exp(-2 zeta pi / sqrt(1 - zeta^2)) = r_eff^2,
+r_eff = exp(-zeta pi / sqrt(1 - zeta^2)) its effective restitution: the rigid r^2.
+(tests/flow/test_contact_flow.py checks both against finite differences.)
+
 float64 and numpy only (the compiled run, :mod:`symvi.flow.compiled`, takes rigid stops).
 
-References: [di Bernardo, Budd, Champneys & Kowalczyk, Piecewise-smooth Dynamical Systems,
-Springer 2008, sec. 2.5 (saltation matrices)].
+References: [di Bernardo, Budd, Champneys & Kowalczyk, Piecewise-smooth Dynamical Systems:
+Theory and Applications, Springer 2008] (saltation matrices).
 """
 import functools
 import math
@@ -49,7 +63,7 @@ from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
 from ._steady import steady_state
-from .linear import EIGVEC_COND_MAX  # noqa: F401  (the flow's bound, for the phases too)
+from .linear import EIGVEC_COND_MAX   # the flow's bound, for the phases too
 
 #: event kinds: a rigid impact, the entry into and the exit from an elastic contact
 IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
@@ -351,7 +365,7 @@ def saltation(model, event, omega):
         S = I + (F+ - F-) grad(h)^T / (grad(h) . F-),
 
     F-, F+ the vector fields of the phases before and after, at the switching state and
-    time [di Bernardo et al., eq. (2.50)].  The guard h_i = sign (c^T x - g) depends on x
+    time [di Bernardo et al.].  The guard h_i = sign (c^T x - g) depends on x
     alone and both fields have x' = v, so grad(h) . (F+ - F-) = 0 and det S = 1, with or
     without a jump of the damping force (the spring force vanishes at c^T x = g)."""
     if event.kind not in (ENTRY, EXIT):
