@@ -41,6 +41,28 @@ def evaluate(flow, forcing, y, te, order, tangent=None):
     return {name: flat[idx] for name, idx in layout.items()}
 
 
+def flight_jet(flow, forcing, y, te, order, start, end, tangent=None):
+    """The jet of the flight from point y of constraint ``start``'s section (its layout,
+    :func:`symvi.flow.compiled.section_index`) that ends on constraint ``end``, as a dict
+    like :func:`evaluate`'s (float64): the generated variant ``impact_n<N>_s<s>``
+    (:func:`symvi.codegen.layout.assemble_flight`) with its input axes put back in the
+    start section's layout; the output is in the end section's layout (issue 25)."""
+    from .layout import assemble_flight
+    inp, s, pi = assemble_flight(flow, forcing, y, te, order, start, end, tangent)
+    mod, layout = module(flow.n, order, s)
+    vals = mod.f64(inp)
+    flat = np.fromiter(vals, float, len(vals))
+    back = np.argsort(pi)              # d/dy_a[c] = d/dy_var[back[c]] (y_var = y_a[pi])
+    out = {}
+    for name, idx in layout.items():
+        a = flat[idx]
+        if name in ("J", "dwJ", "dpJ", "theta1") or name.startswith("d") and name[1:].isdigit():
+            for ax in range(1 if name != "theta1" else 0, a.ndim):
+                a = np.take(a, back, axis=ax)
+        out[name] = a
+    return out
+
+
 def eigenvalues(J):
     """Eigenvalues of a Jacobian sorted by modulus descending, then imaginary part
     descending (float or mpmath).  J is real, so complex eigenvalues come in conjugate

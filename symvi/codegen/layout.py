@@ -20,6 +20,7 @@ single rigid constraint the flow's section supports (a stop on any mass, either
 side, an impulse along M^-1 c for a non-diagonal M).
 """
 import importlib
+from dataclasses import replace
 
 import mpmath
 import numpy as np
@@ -39,12 +40,22 @@ def _user_dir():
     return cache_dir()
 
 
-def module(n, order):
+def module(n, order, start=None):
     """The generated module of structure n, order K: shipped in ``symvi._generated``
     (orders 1-3 of N = 1..4, orders 4-5 of N = 1, 2), else generated on first use
-    into the per-user cache."""
-    key = (n, order)
+    into the per-user cache.  ``start`` s: the variant whose flight starts on the section
+    of coordinate s (another constraint's), shipped for N = 1..4, orders 1-3."""
+    key = (n, order, start)
     if key not in _LOADED:
+        if start is not None:
+            try:
+                mod = importlib.import_module(f"symvi._generated.impact_n{n}_s{start}_order{order}")
+            except ModuleNotFoundError:
+                raise ParameterError("model", f"N = {n}", "N <= 4 masses for the jets of an "
+                                     "orbit with several constraints (orders 1-3 are shipped "
+                                     "for N <= 4; larger N on first use is the next step)") from None
+            _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
+            return _LOADED[key]
         name = f"impact_n{n}_order{order}"
         try:
             mod = importlib.import_module(f"symvi._generated.{name}")
@@ -150,14 +161,16 @@ def _constraint_of(flow):
     return c[2], flow.level, c[3]
 
 
-def reset_tangent(flow, tangent):
-    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order).
+def reset_tangent(flow, tangent, con=None, order=None):
+    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order), of the
+    flow's constraint or of ``con`` in the order ``order`` (its coordinate first).
 
     level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
     Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
     dq = -M^-1 dM q, dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
-    con, bk = flow.constraint, flow.bk
-    p = list(flow.perm)
+    bk = flow.bk
+    con = flow.constraint if con is None else con
+    p = list(flow.perm) if order is None else [flow.perm[i] for i in order]
     Minv = None
     if con.impulse is None:
         Minv = bk.inv(bk.arr(np.asarray(flow.model.mass)))
@@ -170,7 +183,7 @@ def reset_tangent(flow, tangent):
     if con.impulse is None and np.any(dM != 0):
         dq = -(Minv @ bk.arr(dM) @ q)
         dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
-        dR = dR - (1 + flow.r) * dQ
+        dR = dR - (1 + (flow.r if con is flow.constraint else bk.num(con.restitution))) * dQ
     return con.sign * bk.num(tangent.db), dR[np.ix_(p, p)][:, 0]
 
 
@@ -207,3 +220,66 @@ def assemble(flow, forcing, y, te, order, tangent=None):
     if bk is FLOAT64:
         return tuple(head.tolist()) + tuple(float(v) for v in tail)
     return tuple(head) + tuple(tail)
+
+
+def flight_frame(flow, rows, ka, kb):
+    """(I, s, pi) of a flight from constraint ka's section to constraint kb's
+    (``rows``: :meth:`LinearFlow.constraint_rows`): I the state order of kb's frame
+    (its coordinate first, then the flow's order), s the position of ka's coordinate in
+    it, and pi with y_var = y[pi]: the start point in the layout of the generated
+    variant ``impact_n<N>_s<s>`` (v_s, x_j and v_j for j != s in kb's frame, tau) from
+    the layout of ka's section (:func:`symvi.flow.compiled.section_index`)."""
+    from ..flow.compiled import section_index
+    n = flow.n
+    pa, pb = int(rows[ka][0]), int(rows[kb][0])
+    Qb = [pb] + [j for j in range(n) if j != pb]
+    s = Qb.index(pa)
+    ia = list(section_index(n, pa))
+    others = [Qb[j] for j in range(n) if j != s]
+    want = [n + pa] + others + [n + j for j in others]
+    pi = np.array([ia.index(k) for k in want] + [2 * n - 1])
+    return np.array(Qb + [n + j for j in Qb]), s, pi
+
+
+def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
+    """The input tuple of ``impact_n<N>_s<s>_order<K>`` for the flight from point y of
+    constraint ka's section (its layout) that ends on constraint kb: the flow's matrices
+    and the forcing in kb's frame, kb's guard and reset, ka's level b0, and y in the
+    variant's layout (float64).  Returns (inputs, s, pi) (:func:`flight_frame`)."""
+    from ..flow.compiled import table
+    rows = table(flow)
+    n = flow.n
+    I, s, pi = flight_frame(flow, rows, ka, kb)
+    Qb = I[:n]
+    ix = np.ix_(I, I)
+    parts = [E[ix].ravel() for E in flow.phis(te, order)]
+    parts += [np.asarray(forcing.U)[Qb], np.asarray(forcing.V)[Qb]]
+    con_a, con_b = flow.model.constraints[ka], flow.model.constraints[kb]
+    rb = rows[kb]
+    g0, level = rb[3 + int(rb[0])], rb[2]
+    R = rb[3 + n:].reshape(n, n)[np.ix_(Qb, Qb)]
+    if not all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(1, n)):
+        raise ParameterError("constraint.impulse", con_b.impulse,
+                             "a reset along the guard's normal (R = I - (1 + r) q c^T / c^T q)")
+    scal = [float(forcing.omega), g0, level] + list(R[:, 0]) + [con_a.gap]
+    if order in PARAMETER_ORDERS:
+        parts += [np.asarray(forcing.dU)[Qb], np.asarray(forcing.dV)[Qb]]
+        d2 = (2 * n) ** 2
+        if tangent is None or tangent.zero:
+            parts += [np.zeros(d2), np.zeros(d2), np.zeros(n), np.zeros(n)]
+            scal += [0.0] * (n + 2)
+        else:
+            pE0, pE1, pU, pV, _, db = tangent_data(flow, forcing, te, tangent)
+            parts += [pE0[ix].ravel(), pE1[ix].ravel(), np.asarray(pU)[Qb], np.asarray(pV)[Qb]]
+            # the gap and restitution of the tangent's stop move kb's guard and reset only
+            # if it is kb (a mass tangent moves every rigid reset, q = M^-1 c)
+            tb = tangent if tangent.stop == kb else replace(tangent, db=0.0, dr=0.0)
+            plevel, pR = reset_tangent(flow, tb, con_b, list(Qb))
+            scal += [plevel] + list(np.asarray(pR, dtype=float))
+            scal += [db if tangent.stop == ka else 0.0]
+    elif tangent is not None and not tangent.zero:
+        raise ParameterError("order", order, "2 or 3 with a parameter tangent")
+    yv = np.asarray(y, dtype=float)[pi]
+    head = np.concatenate(parts)
+    return tuple(head.tolist()) + tuple(float(v) for v in scal) + tuple(yv.tolist()) + (
+        float(te),), s, pi

@@ -25,14 +25,17 @@ class Job:
     orders: tuple
     ns: tuple = None
     user: bool = False
+    #: also the structures' variants from each coordinate's section (issue 25)
+    starts: bool = False
 
     def _derivation(self):
         from .._derivations import impact_jets, poincare_jets
         return poincare_jets if self.name == "paper" else impact_jets
 
     def _kw(self):
-        return {"orders": self.orders} if self.ns is None else {"ns": self.ns,
-                                                                 "orders": self.orders}
+        if self.ns is None:
+            return {"orders": self.orders}
+        return {"ns": self.ns, "orders": self.orders, **({"starts": True} if self.starts else {})}
 
     def stale(self):
         """Why the folder's modules are not what the derivation writes ([] when fresh)."""
@@ -89,7 +92,7 @@ def jobs(*, order=None, model=None, out=None):
         return [Job("impact", o, tuple(ks), (n,), user=o == _user_dir() and not out)
                 for o, ks in groups.items()]
     o = Path(out) if out else shipped_dir()
-    todo = [Job("paper", o, low), Job("impact", o, low, ij.NS_SHIPPED)]
+    todo = [Job("paper", o, low), Job("impact", o, low, ij.NS_SHIPPED, starts=True)]
     if high:
         todo.append(Job("impact", o, high, ij.NS_HIGH))
     return todo

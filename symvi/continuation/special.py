@@ -43,9 +43,9 @@ STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
 #: what a special point of an orbit with several constraints says of its coefficient
-NO_JETS = ("the normal-form coefficient a is not computed: the generated jets take one "
-           "constraint's section, and the jets of maps between the sections of several "
-           "constraints are the next step of issue 25 (the point itself is exact)")
+NO_JETS = ("the normal-form coefficient a is not computed: the jets of flights between "
+           "two constraints' sections are shipped for N <= 4 masses (the point itself is "
+           "exact)")
 
 
 @functools.lru_cache(maxsize=None)
@@ -61,6 +61,8 @@ class Codim1Tracker(engine.Tracker):
         super().__init__(problem)
         self.problem = problem
         self.coefficients = coefficients      # False: NS points located, no normal form
+        # the jets of an orbit with several constraints: the shipped variants (N <= 4)
+        self._jets = not (problem.several and problem.N > 4)
 
     # ---- test functions -----------------------------------------------------------
     def _conservative(self, X):
@@ -145,7 +147,7 @@ class Codim1Tracker(engine.Tracker):
         if kind == "fold":
             X, t, Gu = self._root(lambda X, t, Gu: t[-1], Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if pr.several:
+            if not self._jets:
                 e = real_critical(self._mono(X, Gu), 1.0)
                 return SpecialPoint("fold", float(X[m]), orbit,
                                     {"multiplier": e.mu, "gap": e.gap},
@@ -195,7 +197,7 @@ class Codim1Tracker(engine.Tracker):
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if pr.several:
+            if not self._jets:
                 e = real_critical(self._mono(X, Gu), -1.0)
                 return SpecialPoint("flip", float(X[m]), orbit,
                                     {"multiplier": e.mu, "gap": e.gap},
@@ -224,7 +226,7 @@ class Codim1Tracker(engine.Tracker):
             if not self.coefficients:
                 return SpecialPoint("ns", float(X[m]), orbit, {}, "a complex pair through "
                                     "|lambda| = 1 (normal form left to the caller)", index)
-            if pr.several:
+            if not self._jets:
                 return SpecialPoint("ns", float(X[m]), orbit,
                                     {"theta": float(abs(np.angle(crit)))},
                                     "a complex pair through |lambda| = 1: Neimark-Sacker; "
@@ -384,8 +386,8 @@ class Codim1Tracker(engine.Tracker):
 
 def _table_row(flow, k, N):
     """(signed guard normal, level) of constraint k in the flow's order."""
-    from ..orbits.periodic import _table
-    row = _table(flow)[k]
+    from ..flow.compiled import table
+    row = table(flow)[k]
     return row[3:3 + N], row[2]
 
 

@@ -80,8 +80,9 @@ class Curve(Result):
                             if s.kind != "unlocated"]}
 
     def as_dict(self):
+        sig = self.points[0].orbit.signature_names if self.points else []
         return {"kind": self.kind, "params": list(self.names), "orbit": f"{self.n}-{self.p}",
-                "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
+                "signature": sig, "fixed": dict(self.fixed), "bounds": {k: list(v) for k, v in self.bounds.items()},
                 "normalisation": NORMALISATION,
                 "points": [pt.as_dict() for pt in self.points],
                 "special": [s.as_dict() for s in self.special],
@@ -124,7 +125,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
     box = _bounds(names, start, bounds)
     system = CurveSystem(model, orbit.n, orbit.p, pars, kind,
-                         omega=None if on_omega else omega)
+                         omega=None if on_omega else omega, signature=orbit.signature)
     X0 = _first(system, orbit, start)
     first = _point(system, X0, None)
     if not first.admissible and not through:

@@ -169,7 +169,7 @@ class Codim2Tracker(engine.Tracker):
         from ..continuation.special import Codim1Tracker as BranchTracker
         pr = self.system.problem(bad[-1])
         bt = BranchTracker(pr)
-        i, val, tm = bt._worst_flight(bad[:-1])
+        i, val, tm, k = bt._worst_flight(bad[:-1])
         if val is None or val < -1e-9:
             orbit = self._orbit(bad)
             return Codim2Point("admissibility", self._params(bad), orbit, {},
@@ -177,15 +177,19 @@ class Codim2Tracker(engine.Tracker):
                                f"and {self._fmt(Xb)}: {orbit.reason}", index)
 
         def excess(X, t, DF):
-            return BranchTracker(self.system.problem(X[-1]))._interior(X[:-1], i)[0]
+            return BranchTracker(self.system.problem(X[-1]))._interior(X[:-1], i, k)[0]
         X, t, DF = self.root(excess, Xa, ta, Xb)
         orbit = self._orbit(X, admissibility=False)
-        tm = BranchTracker(self.system.problem(X[-1]))._interior(X[:-1], i)[1]
-        return Codim2Point("grazing", self._params(X), orbit,
-                           {"flight": i + 1, "t": tm, "duration": orbit.times[i]},
-                           f"flight {i + 1} touches the stop with zero velocity at t = {tm:.9g} "
+        tm = BranchTracker(self.system.problem(X[-1]))._interior(X[:-1], i, k)[1]
+        coef = {"flight": i + 1, "t": tm, "duration": orbit.times[i]}
+        stop = "the stop"
+        if k is not None:
+            coef["stop"] = k + 1
+            stop = f"stop {k + 1}"
+        return Codim2Point("grazing", self._params(X), orbit, coef,
+                           f"flight {i + 1} touches {stop} with zero velocity at t = {tm:.9g} "
                            f"of {orbit.times[i]:.9g} (grazing inside a flight): the orbit "
-                           "penetrates the stop beyond", index)
+                           f"penetrates {stop} beyond", index)
 
     # ---- scalar functions of a point ----------------------------------------------
     def _mono(self, X):
@@ -217,8 +221,8 @@ class Codim2Tracker(engine.Tracker):
     def _vmin(self, X):
         m = self.system.m
         pr = self.system.problem(X[-1])
-        fl, _ = pr.flights(X[:m], X[m], check=False)
-        return float(min(f[2][pr.N] for f in fl))
+        fl, (_, flow, _) = pr.flights(X[:m], X[m], check=False)
+        return float(min(pr.approach_speeds(fl, flow)))
 
 
 # --------------------------------------------------------------------------- coefficients

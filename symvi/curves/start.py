@@ -42,7 +42,7 @@ def curve_params(model, text, flag="--params"):
     if not any(par.is_forcing_frequency for par in pars):
         ta, tb = (par.tangent(model) for par in pars)
         if all(np.array_equal(getattr(ta, f), getattr(tb, f))
-               for f in ("dM", "dK", "dC", "dP", "db", "dr")):
+               for f in ("dM", "dK", "dC", "dP", "db", "dr", "stop")):
             raise ParameterError(flag, text, "two different parameters (these two "
                                  "names are one parameter)")
     return names
@@ -53,12 +53,11 @@ def start_points(model, omega_min, omega_max, kind, *, branches=None):
     the primary (fewest-impact) orbits first, then by omega: [(SpecialPoint, Branch)].
     ``branches``: those of :func:`symvi.continuation.period1_branches` over the interval,
     when already computed."""
-    from ..continuation import period1_branches
     if kind not in _BRANCH_KIND:
         raise ParameterError("kind", kind, "ns, flip or fold")
     out = []
     if branches is None:
-        branches = period1_branches(model, omega_min, omega_max)
+        branches = omega_branches(model, omega_min, omega_max)
     for br in branches:
         for sp in br.special:
             if sp.kind == kind and sp.orbit.admissible:
@@ -66,6 +65,21 @@ def start_points(model, omega_min, omega_max, kind, *, branches=None):
                            for o, _ in out):
                     out.append((sp, br))
     return sorted(out, key=lambda x: (x[0].orbit.p, x[0].value))
+
+
+def omega_branches(model, omega_min, omega_max):
+    """The branches in omega over the interval where curves start: the period-1 branches
+    and their period-doubled ones (:func:`symvi.continuation.period1_branches`) where the
+    closed form exists (one rigid stop), else the branch of the attractor a run settles on
+    at the middle of the interval, both ways, with the branches switched to at its flips
+    and branch points (:func:`symvi.continuation.continue_orbits`)."""
+    from ..continuation import continue_orbits, period1_branches
+    from ..model import Model
+    model = Model.of(model)
+    if model.one_rigid_stop:
+        return period1_branches(model, omega_min, omega_max)
+    return continue_orbits(model, "omega", omega_min, omega_max,
+                           start_omega=0.5 * (omega_min + omega_max), switch=True)
 
 
 def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=1, **kw):
@@ -108,7 +122,6 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     """
     import numpy as np
 
-    from ..continuation import period1_branches
     from ..errors import SymviError
     from ..model import Model
     model = Model.of(model)
@@ -124,7 +137,7 @@ def curves_in_box(model, names, box, *, kinds=("ns", "flip", "fold"), rows=3, om
     for v in np.linspace(plo, phi, rows + 2)[1:-1]:
         m = other_par.apply(model, float(v))
         try:
-            branches = period1_branches(m, wlo, whi)      # once per row, for every kind
+            branches = omega_branches(m, wlo, whi)        # once per row, for every kind
         except SymviError as exc:
             notes.append(f"{other} = {v:.6g}: {exc}")
             continue

@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from ..codegen.jets import evaluate as jet_values
+from ..codegen.jets import flight_jet
 from ..errors import ParameterError
 from ..orbits.periodic import Problem
 
@@ -63,7 +64,7 @@ class CurveSystem:
     :class:`symvi.model.parameters.Parameter`, parsed here once: :attr:`params`); ``omega``
     is the forcing frequency when neither is omega."""
 
-    def __init__(self, model, n, p, names, kind, omega=None):
+    def __init__(self, model, n, p, names, kind, omega=None, signature=None):
         if kind not in KINDS:
             raise ParameterError("kind", kind, "ns, flip or fold")
         pa, pb = (model.parameter(nm) for nm in names)   # names the parameter or raises
@@ -75,6 +76,7 @@ class CurveSystem:
             raise ParameterError("omega", None, "a fixed forcing frequency when neither "
                                  "parameter is omega")
         self.model, self.n, self.p, self.kind = model, n, p, kind
+        self.signature = signature              # the constraint of each impact (None: stop 1)
         self.params, self.names = (pa, pb), (pa.name, pb.name)
         self.omega = None if on_omega else float(omega)
         self._pr = None
@@ -94,7 +96,7 @@ class CurveSystem:
         pa, pb = self.params
         model, omega = pb.set(self.model, self.omega, bval)
         pr = Problem(model, self.n, self.p, omega=None if pa.is_forcing_frequency else omega,
-                     param=pa)
+                     param=pa, signature=self.signature)
         self._pr = (bval, pr)
         return pr
 
@@ -184,8 +186,16 @@ class CurveSystem:
         tans = [None if par.is_forcing_frequency else par.tangent(model) for par in self.params]
         for i in range(self.p):
             y, te = tuple(Y[i]), float(T[i])
+            if pr.several:            # a flight between two constraints' sections
+                ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
+
+                def jet(tan, y=y, te=te, ends=ends):
+                    return flight_jet(flow, F, y, te, 2, *ends, tan)
+            else:
+                def jet(tan, y=y, te=te):
+                    return jet_values(flow, F, y, te, 2, tan)
             first = next((t for t in tans if t is not None), None)
-            vals = jet_values(flow, F, y, te, 2, first)
+            vals = jet(first)
             dJ = []
             for nm, tan in zip(names, tans):
                 if tan is None:
@@ -193,7 +203,7 @@ class CurveSystem:
                 elif tan is first:
                     dJ.append(vals["dpJ"])
                 else:
-                    dJ.append(jet_values(flow, F, y, te, 2, tan)["dpJ"])
+                    dJ.append(jet(tan)["dpJ"])
             jets.append((vals["J"], vals["d2"], dJ))
         d, p = self.d, self.p
         # prefix and suffix products: R_i = J_{i-1}..J_0, L_i = J_{p-1}..J_{i+1}

@@ -178,6 +178,16 @@ def set_constraint(c, flow):
     c[oc + _CB:oc + _CB + n + n * n] = k[2:]
 
 
+def table(flow):
+    """The flow's constraint rows (:meth:`LinearFlow.constraint_rows`) as one C array, kept
+    on the flow for its model and constraint (a flow copied for a new gap makes its own)."""
+    c = flow.__dict__.get("_table")
+    if c is None or c[0] is not flow.model or c[1] is not flow.constraint64:
+        tab = np.ascontiguousarray(np.array(flow.constraint_rows(), dtype=float))
+        c = flow.__dict__["_table"] = (flow.model, flow.constraint64, tab)
+    return c[2]
+
+
 def set_constraints(c, n, rows):
     """Write every constraint's row (:meth:`LinearFlow.constraint_rows`: position, gap,
     level, guard, reset) into its block of the table; the steady amplitudes of the guards

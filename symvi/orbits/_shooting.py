@@ -84,8 +84,10 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac,
     the flow's order, its gap, the guard's level, the signed guard normal g (impact
     condition g . x - level = 0), the reset R (v+ = R v-)), ``idx`` the flow-order index
     of each section coordinate on each constraint's section
-    (:func:`symvi.flow.compiled.section_index`) and ``sig`` the constraint of each impact:
-    point i lies on the section of constraint sig[i], and its flight ends on sig[i + 1].
+    (:func:`symvi.flow.compiled.section_index`) and ``sig`` (p + 1 entries) the constraint
+    of each impact: point i lies on the section of constraint sig[i], and its flight ends
+    on sig[i + 1] (sig[p] = sig[0] for an orbit; a single flight, p = 1, may end on
+    another constraint than it starts from: the tangent map of a run).
 
     Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
     (the start state in the flow's order, its phase, and at the end of the flight the
@@ -110,7 +112,7 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac,
     for i in range(p):
         y = u[i * d:(i + 1) * d]
         t = u[p * d + i]
-        ka, kb = sig[i], sig[(i + 1) % p]
+        ka, kb = sig[i], sig[i + 1]
         ia, ib = idx[ka], idx[kb]
         level = tab[kb, 2]
         g = tab[kb, 3:3 + N]
@@ -221,7 +223,7 @@ def shoot1(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
     for q in range(1, N):
         idx[0, q] = q
         idx[0, N - 1 + q] = N + q
-    return shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, np.zeros(p, np.int64),
+    return shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, np.zeros(p + 1, np.int64),
                  n_periods, u, p, jac, dom)
 
 
@@ -281,7 +283,8 @@ def finder_constants(flow, F):
     on the flow) with the omega-dependent entries set as ``constants`` sets them (a
     test asserts equality), ~2 us instead of ~70 us."""
     base = flow.__dict__.get("_finder_base")
-    if base is None:
+    if base is None or len(base[4]) != len(flow.model.constraints):
+        # (a flow copied for a model with other stops shares the modal data, not the table)
         base = flow.__dict__["_finder_base"] = _finder_base(flow) + (
             flow.constraint, flow.model.constraints)
     c, lmax, grow = base[0].copy(), base[1], base[2]

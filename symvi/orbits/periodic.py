@@ -32,6 +32,7 @@ from ..codegen.layout import tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import section_index
+from ..flow.compiled import table as _table
 from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
@@ -87,6 +88,7 @@ class Problem:
             raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
         self.signature = sig.check(model)
         self.sig = np.array(sig.hits, dtype=np.int64)
+        self._sig_ring = np.append(self.sig, self.sig[0])    # the kernel's: sig[p] = sig[0]
         self.omega = omega
         self._flow = None
         self._last = None
@@ -177,7 +179,8 @@ class Problem:
         model, flow, F = ctx = self.at(lam, check)
         lam_, W, Winv, A = flow.modal64
         G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
-                                         _table(flow), self.frames, self.sig, self.n_periods,
+                                         _table(flow), self.frames, self._sig_ring,
+                                         self.n_periods,
                                          u, self.p, bool(jac), bool(dom))
         self._last = ((u.tobytes(), lam), (tuple(fl), ctx, G))
         return G, Gu, Gw, ctx
@@ -392,16 +395,6 @@ def _mirror(model):
     return tuple(out)
 
 
-def _table(flow):
-    """The flow's constraint rows (:meth:`LinearFlow.constraint_rows`) as one C array, kept
-    on the flow for its model and constraint (a flow copied for a new gap makes its own)."""
-    c = flow.__dict__.get("_table")
-    if c is None or c[0] is not flow.model or c[1] is not flow.constraint64:
-        tab = np.ascontiguousarray(np.array(flow.constraint_rows(), dtype=float))
-        c = flow.__dict__["_table"] = (flow.model, flow.constraint64, tab)
-    return c[2]
-
-
 def _no_map_jacobian():
     return SingularCaseError("grazing", "the impact velocity is zero: the impact map's "
                              "Jacobian (eq. (30)) does not exist")
@@ -499,8 +492,20 @@ class PeriodicOrbit:
         F = flow.forcing(self.omega)
         Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
         jets = []
+        several = len(self.model.constraints) > 1
+        if several and order > 3:
+            raise ParameterError("order", order, "1, 2 or 3 for an orbit with several "
+                                 "constraints (orders 4, 5 need the variants from each "
+                                 "section, not generated yet)")
         for i in range(self.p):
-            if order <= 3:
+            if several:
+                from ..codegen.jets import flight_jet
+                sig = self.signature
+                v = flight_jet(flow, F, tuple(Y[i]), float(self.times[i]), order,
+                               sig[i], sig[(i + 1) % self.p])
+                jets.append((v["J"], v["d2"] if order >= 2 else None,
+                             v.get("d3") if order >= 3 else None))
+            elif order <= 3:
                 from ..codegen.jets import evaluate
                 v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
                 jets.append((v["J"], v["d2"], v.get("d3") if order >= 3 else None))

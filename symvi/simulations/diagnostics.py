@@ -89,16 +89,20 @@ def classifiable(params):
 
 def _logs(sim, n=None):
     """(log |R_k[i, i]| of the QR method over the last ``n`` points, their flight times);
-    column 0 is log |DP v| of one tangent vector, the classifier's input.  One stop only
-    for now: the tangent maps follow one constraint's section (issue 25)."""
+    column 0 is log |DP v| of one tangent vector, the classifier's input.  With several
+    stops each DP maps the section of the stop a point lies on to the next one's
+    (``sim.hits``): the product over the run is chart-free, so are the exponents."""
     from ..model import Model
-    Model.of(sim.params).require_one_rigid_stop()
+    model = Model.of(sim.params).require_rigid_stops()
     sec, t = np.asarray(sim.section), np.asarray(sim.t)
     if len(sec) < 3:
         raise ValueError("need at least 3 section points")
     k0 = 0 if n is None else max(0, len(sec) - 1 - int(n))
     te = np.diff(t)
-    logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
+    if model.one_rigid_stop:
+        logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
+    else:
+        logs = _qr_logs_stops(model, sim.omega, sec[k0:], te[k0:], np.asarray(sim.hits)[k0:])
     if not np.isfinite(logs).all():
         from ..errors import SingularCaseError
         raise SingularCaseError("grazing", "an impact of the stored section has zero "
@@ -116,6 +120,52 @@ def _qr_logs_model(params, omega, sec, te):
     return _qr_logs(lam, W, Winv, A, F.U, F.V, F.omega, flow.constraint64,
                     np.ascontiguousarray(sec, dtype=float),
                     np.ascontiguousarray(te, dtype=float))
+
+
+def _qr_logs_stops(model, omega, sec, te, hits):
+    """:func:`_qr_logs_model` over several stops: flight k from sec[k] on stop hits[k] to
+    the section of stop hits[k + 1] (``sec`` and ``hits`` one longer than ``te``)."""
+    from ..flow.compiled import section_index, table
+    from ..flow.linear import LinearFlow
+    flow = LinearFlow.of(model)
+    F = flow.forcing(float(omega))
+    lam, W, Winv, A = flow.modal64
+    tab = table(flow)
+    idx = np.array([section_index(flow.n, int(row[0])) for row in tab])
+    return _qr_logs_hits(lam, W, Winv, A, F.U, F.V, F.omega, tab, idx,
+                         np.ascontiguousarray(sec, dtype=float),
+                         np.ascontiguousarray(te, dtype=float),
+                         np.ascontiguousarray(hits, dtype=np.int64))
+
+
+@nb.njit(cache=True)
+def _qr_logs_hits(lam, W, Winv, A, U, V, w, tab, idx, sec, te, hits):
+    """:func:`_qr_logs` with the stop of each point (``hits``): DP of flight k from the
+    section of stop hits[k] to that of hits[k + 1], eq. (30)."""
+    m = te.shape[0]
+    d = sec.shape[1]
+    logs = np.empty((m, d))
+    Q = np.eye(d)
+    u = np.empty(d + 1)
+    sig = np.empty(2, np.int64)
+    for k in range(m):
+        u[:d] = sec[k]
+        u[d] = te[k]
+        sig[0], sig[1] = hits[k], hits[k + 1]
+        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, tab, idx, sig, 1, u, 1, True,
+                             False)[1]
+        _, J, ok = _shooting.monodromy(Gu, 1, d)
+        if not ok:
+            logs[k, :] = np.nan
+            continue
+        Q, R = np.linalg.qr(J @ Q)
+        Q = np.ascontiguousarray(Q)
+        for i in range(d):
+            dg = R[i, i]
+            logs[k, i] = math.log(abs(dg))
+            if dg < 0.0:
+                Q[:, i] = -Q[:, i]
+    return logs
 
 
 @nb.njit(cache=True)

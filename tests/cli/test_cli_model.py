@@ -128,12 +128,11 @@ restitution = 0.8
 
 @pytest.mark.parametrize("args", [
     ["hopf", "--omega-min", "0.9", "--omega-max", "1.1"],
-    ["curve", "--omega-min", "0.9", "--omega-max", "1.1", "--params", "omega,gap"],
 ])
 def test_several_stops_are_refused_in_one_line(tmp_path, args):
     """A two-stop file reads (the model layer takes it) but the orbit analyses take one
     rigid stop on one mass for now (issue 25): exit 2, one line, no traceback, nothing
-    written.  (simulate, orbit and continue run it: below and tests/cli/test_cli_itinerary.py.)"""
+    written.  (simulate, orbit, continue and curve run it: below and tests/cli/test_cli_itinerary.py.)"""
     f = tmp_path / "two.toml"
     f.write_text(TWO_STOPS)
     args = [str(tmp_path / a) if a.endswith(".npz") else a for a in args]

@@ -209,3 +209,34 @@ def test_grazing_with_an_untouched_constraint_is_located_and_simulated():
     beyond = orbit_of(Problem(FAR.with_(**{"stop[2].gap": g + 0.01}), 1, 1, omega=1.0),
                       o.u, None)
     assert not beyond.admissible and "stop 2" in beyond.reason
+
+
+def test_a_one_stop_model_with_the_same_matrices_first_does_not_leak_its_table():
+    """Flows share their modal data across models whose matrices and first stop agree;
+    the constraint table of the finder is the model's own (a one-stop model met first
+    once left its one-row table to the two-stop model)."""
+    from symvi.orbits import admissible_orbits
+    one = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                stop=Stop(mass=1, gap=0.5, restitution=0.9))
+    y = admissible_orbits(one, 1.0)[0].y
+    periodic_orbit(one, n=1, p=1, guess=y, omega=1.0)          # the finder's base, one row
+    o = _settled(SYM, 1.0, (-0.1, 0.0))
+    assert o.admissible and sorted(o.signature) == [0, 1]
+    beyond = orbit_of(Problem(FAR.with_(**{"stop[2].gap": -0.9}), 1, 1, omega=1.0),
+                      _settled(FAR, 1.0, (-0.1, 0.0)).u, None)
+    assert not beyond.admissible and "stop 2" in beyond.reason
+
+
+@pytest.mark.parametrize("which", ["sym", "frames"])
+def test_lyapunov_exponents_over_several_stops(which, sym_orbit, frames_orbit):
+    """The QR method with each flight's DP from one stop's section to the next: on a
+    periodic orbit the exponents are log|mu_i| / p, their sum log|det M| / p exactly."""
+    from symvi.simulations.diagnostics import lyapunov
+    model, o = (SYM, sym_orbit) if which == "sym" else (TWO_FRAMES, frames_orbit)
+    sim = simulate(model, o.omega, y0=o.points[0], n_impacts=40 * o.p + 1, transient=0)
+    assert tuple(sim.hits[:o.p]) == o.signature[1:] + o.signature[:1]   # P(y0) first
+    L = lyapunov(sim)
+    mu = np.array(o.multipliers)
+    assert abs(sum(L.exponents) - math.log(abs(np.prod(mu))) / o.p) < 1e-10
+    want = np.sort(np.log(np.abs(mu)) / o.p)[::-1]
+    assert np.max(np.abs(np.asarray(L.exponents) - want)) < 0.02
