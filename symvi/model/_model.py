@@ -296,6 +296,8 @@ _PRESET = _preset.NAMES
 _ONE_STOP = "one rigid stop on one mass (upper side)"
 #: what the flow and the compiled run take today (:meth:`Model.require_rigid_stops`)
 _RIGID_STOPS = "rigid stops, each on one mass"
+#: what simulate takes with an elastic stop (:meth:`Model.require_stops_on_masses`)
+_ON_MASSES = "stops each on one mass (rigid or elastic)"
 
 
 def _stop_list(stop, stops):
@@ -411,6 +413,23 @@ class Model:
                 raise ParameterError(name, s, _RIGID_STOPS,
                                      f"{what} is not supported by the dynamics yet: issue 25")
         return self
+
+    def require_stops_on_masses(self):
+        """``self``, or the one-line ParameterError saying what the walk through contact
+        phases (:mod:`symvi.flow.contact`, ``simulate`` with an elastic stop) cannot handle
+        yet: every stop on one mass (rigid or elastic, either side; a section point names
+        the stop's mass)."""
+        for k, s in enumerate(self._stops, start=1):
+            if s.between is not None:
+                name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
+                raise ParameterError(name, s, _ON_MASSES, "a stop between two masses is not "
+                                     "supported with elastic stops yet: issue 25")
+        return self
+
+    @property
+    def elastic(self):
+        """Whether a stop is elastic (a contact phase: :mod:`symvi.flow.contact`)."""
+        return any(s.stiffness is not None for s in self._stops)
 
     @property
     def one_rigid_stop(self):

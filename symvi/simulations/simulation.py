@@ -6,7 +6,10 @@ points have the 2N components of :mod:`symvi.maps.section`.  A
 :class:`symvi.Params` (the paper's model) runs there as
 :meth:`symvi.model.Model.luo_xie` (:meth:`Model.of`), whose section layout is the
 paper's (x1dot+, x2, x2dot, tau) of eq. (9).  :func:`simulate_mp` runs the same map
-through :func:`symvi.maps.impact.step` on mpmath, as an independent reference.
+through :func:`symvi.maps.impact.step` on mpmath, as an independent reference.  A model
+with an elastic stop runs the exact walk of :mod:`symvi.flow.contact` through free flights,
+contact phases and rigid impacts instead, in Python (:func:`_simulate_contacts`: its
+records are rigid impacts and contact entries, with each contact's exit).
 
 A run ends early, with a stop reason, on
 
@@ -51,6 +54,11 @@ class Simulation:
     fixed_point: tuple = None     # the period-1 orbit y* at omega, when it exists
     hits: np.ndarray = None   # (n,) the constraint (0-based index) each stored impact hit;
                               # its section point lies on that constraint's section
+    #: with an elastic stop (:func:`_simulate_contacts`): the time each stored contact ends
+    #: and its approach speed then (guard . v < 0, leaving); NaN for a rigid impact, and
+    #: for a contact still open when the run stopped.  None for a rigid-only model.
+    exit_t: np.ndarray = None
+    exit_velocity: np.ndarray = None
 
     @property
     def n(self):
@@ -185,13 +193,18 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     (the paper starts from the "theoretical fixed point"; an exact fixed point
     would stay there).  The first ``transient`` images are dropped and the next
     ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
-    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).
+    :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).  A
+    model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
+    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
+    runs the compiled loop of :mod:`symvi.flow.compiled`.
     """
+    model = Model.of(params)
+    if model.elastic:                 # contact phases: the walk of symvi.flow.contact
+        return _simulate_contacts(model, omega, y0, n_impacts, transient)
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
-    model = Model.of(params)
     if not model.one_rigid_stop:
         # several stops, or a lower one: no period-1 orbit to start from yet (issue 25)
         if y0 is None:
@@ -212,6 +225,135 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     hits.flags.writeable = False
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
                       STOP_NAMES[code], transient, ys, hits)
+
+
+def _free_flight_twin(model):
+    """The model's free flight with one rigid stop in place of its stops: the flow whose
+    forcing-frequency checks (range, resonance, warning) are the free flight's."""
+    from ..model import Stop
+    return Model(mass=model.mass, stiffness=model.stiffness, damping=model.damping,
+                 forcing=model.forcing, stop=Stop(mass=1, gap=0.0, restitution=1.0))
+
+
+def _simulate_contacts(model, omega, y0, n_impacts, transient):
+    """:func:`simulate` for a model with an elastic stop (and any rigid ones, each stop on
+    one mass): the exact walk of :mod:`symvi.flow.contact` through free flights, contact
+    phases and rigid impacts, in Python (float64; about 1 ms an event).
+
+    A record is a rigid impact, as the compiled run stores it, or the *entry* into an
+    elastic contact: its section point lies on s = g (the layout of
+    :mod:`symvi.maps.section` for the stop's mass) with the velocities at the entry (no
+    jump: y[0] = v_k there, moving into the stop), ``t`` the entry time,
+    ``impact_velocity`` the approach speed guard . v > 0 at the entry, and ``exit_t``,
+    ``exit_velocity`` the end of that contact.  ``y0`` is such a point of the first stop:
+    leaving it for a rigid stop, entering it for an elastic one.  The stop reasons are the
+    compiled run's; a contact that does not end within 1000 forcing periods is
+    ``sticking``, and chatter counts records closer than CHATTER_FLIGHT periods."""
+    from ..flow import contact as ct
+    model.require_stops_on_masses()
+    omega = check_omega(_free_flight_twin(model), omega)
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    sec = _walk_section(model)
+    if y0 is None:
+        raise ParameterError("y0", None, f"a start on the first stop's section "
+                             f"({', '.join(sec.names)}): no period-1 orbit to start from "
+                             "with an elastic stop (issue 25)")
+    y0, z0 = _check_walk_start(model, sec, y0)
+    n, first = model.n, model.constraints[0]
+    rows, t, vin, hits, t_out, v_out = [], [], [], [], [], []
+    total = transient + n_impacts
+    count, short, last, stop = 0, 0, 0.0, "completed"
+    t_chat = cf.CHATTER_FLIGHT * 2 * math.pi / omega
+    open_ = {}                        # elastic constraint in contact -> its record (-1: dropped)
+    active = (0,) if first.kind == "elastic" else ()
+    for ev in ct.walk(model, omega, z0, y0[-1], active=active, start=0):
+        done = count >= total
+        if ev.kind == ct.EXIT:
+            j = open_.pop(ev.constraint, -1)
+            if j >= 0:
+                con = model.constraints[ev.constraint]
+                t_out[j], v_out[j] = ev.t, con.approach(ev.before[n:])
+        elif ev.kind in (ct.IMPACT, ct.ENTRY):
+            if done:
+                continue
+            if not np.all(np.isfinite(ev.after)):
+                stop = "non-finite"
+                break
+            kept = count - transient
+            count += 1
+            short = short + 1 if ev.t - last < t_chat else 0
+            last = ev.t
+            g = ev.constraint
+            if ev.kind == ct.ENTRY:
+                open_[g] = kept
+            if kept >= 0:
+                con = model.constraints[g]
+                rows.append(_walk_point(sec, con, ev.after, ev.tau))
+                t.append(ev.t)
+                vin.append(con.approach(ev.before[n:]))
+                hits.append(g)
+                t_out.append(math.nan)
+                v_out.append(math.nan)
+            if short >= cf.CHATTER_COUNT:
+                stop = "chatter"
+                break
+        else:                          # the walk ended
+            if not done:
+                stop = {ct.GRAZING: "grazing", ct.STICKING: "sticking",
+                        ct.NO_EVENT: "no-impact"}[ev.kind]
+            break
+        if count >= total and not any(j >= 0 for j in open_.values()):
+            break
+    hits = np.array(hits, dtype=np.int64)
+    hits.flags.writeable = False
+    return Simulation(model, omega, y0, _frozen(np.array(rows).reshape(-1, model.dim)),
+                      _frozen(t), _frozen(vin), stop, transient, None, hits,
+                      _frozen(t_out), _frozen(v_out))
+
+
+def _walk_section(model):
+    """The section layout of the first stop (:class:`symvi.maps.Section`), for any kind."""
+    from ..flow.linear import _frame
+    from ..maps import Section
+    return Section(model.n, _frame(model.constraints[0], model.n))
+
+
+def _walk_point(sec, con, z, tau):
+    """The section point of constraint ``con`` (on mass k) at the state z (mass order), in
+    the compiled run's layout (:func:`symvi.flow.compiled._put_section`): v_k, then the
+    other masses' x and v in the order of the first stop's section."""
+    k = con.coordinate
+    n = sec.n
+    rest = [j for j in sec.perm if j != k]
+    return (z[n + k], *z[rest], *z[[n + j for j in rest]], tau)
+
+
+def _check_walk_start(model, sec, y0, name="y0"):
+    """(y0 as a tuple with tau mod 2 pi, the state z0 in mass order): a point of the first
+    stop's section, leaving a rigid stop or entering an elastic one, outside every other."""
+    y = tuple(float(v) for v in sec.check(y0, name))
+    first = model.constraints[0]
+    names = sec.names
+    if first.kind == "elastic" and not first.sign * y[0] > 0:
+        side = "> 0" if first.sign > 0 else "< 0"
+        raise ParameterError(name, y0, f"{names[0]} {side}: the section of an elastic stop "
+                             "is the entry into contact")
+    if first.kind == "rigid" and not first.sign * y[0] < 0:
+        side = "< 0" if first.sign > 0 else "> 0"
+        raise ParameterError(name, y0, f"{names[0]} {side}: the mass must leave the stop")
+    _check_size(y, y0, name)
+    zf, _ = sec.state(np.array(y), first.gap)
+    n = model.n
+    z = np.empty(2 * n)
+    z[list(sec.perm)] = zf[:n]
+    z[[n + j for j in sec.perm]] = zf[n:]
+    for i, con in enumerate(model.constraints[1:], start=2):
+        if not con.guard(z[:n]) < 0:
+            raise ParameterError(name, y0, f"a start outside every other stop "
+                                 f"(stop {i}: s = {con.s(z[:n]):.10g} is at or past its gap "
+                                 f"{con.gap:g})")
+    return y[:-1] + (y[-1] % (2 * math.pi),), z
 
 
 def simulate_mp(params, omega, y0, n_impacts, *, digits=40):
