@@ -16,7 +16,7 @@ solved exactly as z(t) = Phi(t) (z0 - zp(0)) + zp(t), Phi(t) = e^{A t}, with
 * With free modes (K singular: a mass on no spring, as in an impact damper), the
   rigid ones (K phi = C phi = 0) form a Jordan block at lambda = 0 and
   Phi(t) = Re(W e^{Lambda t} W^-1) + t NIL, NIL = [[0, G], [0, 0]] nilpotent
-  (:meth:`LinearFlow._free_modal`); NIL = 0 otherwise.  A null direction of K that
+  (:func:`_free_modal`); NIL = 0 otherwise.  A null direction of K that
   C damps is a simple lambda = 0 of the damped form.
 
 The stop is read through its constraint (:class:`symvi.model.Constraint`): the
@@ -120,93 +120,11 @@ class LinearFlow:
         self.A = np.block([[bk.arr(Z), bk.arr(I)], [-(Minv @ K), -(Minv @ C)]])
         self._forcing_cache = {}
         self._resonance_cache = {}
-        # NIL: the nilpotent part of e^{At} = Re(W e^{Lambda t} W^-1) + t NIL (free modes)
-        self.free = False
-        self.NIL = bk.arr(np.zeros((2 * n, 2 * n)))
-        nz = null_dim(model.stiffness)             # modes on no spring (float64 decides)
-        if nz:
-            self._free_modal(nz)
-            return
-        # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
-        self.omegas, psi = bk.eigh_pair(K, M)
-        if not model.damped:
-            Om = self.omegas
-            i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
-            self.lam = np.concatenate([i * Om, -i * Om])
-            self.W = np.block([[psi, psi], [i * psi * Om, -i * psi * Om]])
-            PM = psi.T @ M
-            half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
-            Oi = (1 / Om)[:, None]
-            self.Winv = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
-        else:
-            self.lam, self.W, self.Winv = _eig_modal(bk, self.A)
-
-    def _free_modal(self, nz):
-        """The modal form when K has ``nz`` null directions (masses on no spring).
-
-        Rigid modes phi (K phi = 0 and C phi = 0, M-orthonormal, the columns of Pr) move as
-        x = Pr (q + p t): A has the Jordan block A (0, phi) = (phi, 0) for lambda = 0 on
-        span{(phi, 0), (0, phi)}, so e^{At} = Re(W e^{Lambda t} W^-1) + t NIL with
-        NIL = W N_J W^-1 = A P0 = [[0, Pr Pr^T M], [0, 0]] (P0 the spectral projector of
-        lambda = 0; NIL^2 = 0).  The M-orthogonal complement E (E^T M E = I) decouples:
-        s'' + E^T C E s' + E^T K E s = 0 (E^T M Pr = 0, C Pr = K Pr = 0), taken in modal
-        form as in :meth:`__init__` (closed form if C = 0, else eig); a null direction of K
-        that C damps is a simple lambda = 0 there, diagonalisable.  The rigid columns are
-        (phi, 0), (0, phi) with rows (phi^T M, 0), (0, phi^T M)."""
-        bk, n, M, K, C = self.bk, self.n, self.M, self.K, self.C
-        with np.errstate(invalid="ignore"):      # sqrt of a rounding-sized negative
-            om, psi = bk.eigh_pair(K, M)
-        self.omegas = np.concatenate([bk.arr(np.zeros(nz)), om[nz:]])
-        Q0 = psi[:, :nz]                           # an M-orthonormal basis of ker K
-        nr = nz
-        if self.model.damped:                      # rigid: ker K within ker C
-            C0 = Q0.T @ C @ Q0
-            mu = np.linalg.eigvalsh(np.asarray(C0, dtype=float))
-            top = np.abs(np.linalg.eigvalsh(np.asarray(psi.T @ C @ psi, dtype=float))).max()
-            nr = int(np.sum(mu <= 64 * n * EPS64 * top))
-            if nr < nz:                            # the damped ones: simple lambda = 0
-                with np.errstate(invalid="ignore"):
-                    _, S = bk.eigh_pair(C0, bk.arr(np.eye(nz)))   # ascending: rigid first
-                Q0 = Q0 @ S
-        if nr == 0:                                # no Jordan block: the damped path
-            zn = bk.arr(np.zeros((n, nz)))
-            self.lam, self.W, self.Winv = _eig_modal(bk, self.A, np.block([[Q0], [zn]]))
-            return
-        i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
-        Pr = Q0[:, :nr]
-        PrM = Pr.T @ M
-        Z = bk.arr(np.zeros((n, n)))
-        self.NIL = np.block([[Z, Pr @ PrM], [Z, Z]])
-        self.free = True
-        zr = bk.arr(np.zeros((n, nr)))
-        Wr = np.block([[Pr, zr], [zr, Pr]])                 # (phi, 0), (0, phi)
-        Wir = np.block([[PrM, zr.T], [zr.T, PrM]])
-        lam_r = 0 * i * bk.arr(np.zeros(2 * nr))
-        if not self.model.damped:                  # the closed form of the elastic modes
-            Om, pe = om[nz:], psi[:, nz:]
-            lam_e = np.concatenate([i * Om, -i * Om])
-            We = np.block([[pe, pe], [i * pe * Om, -i * pe * Om]])
-            PM = pe.T @ M
-            half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
-            Oi = (1 / Om)[:, None]
-            Wie = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
-        else:                                      # eig of the decoupled complement
-            E = np.concatenate([psi[:, nz:], Q0[:, nr:]], axis=1)
-            ne = n - nr
-            Ke, Ce = E.T @ K @ E, E.T @ C @ E
-            # K E_i = 0 for the damped null directions: exact zeros there (rounding-sized
-            # entries misguide eig's balancing: residuals of 1e-8 seen)
-            Ke[ne - nz + nr:, :] = Ke[:, ne - nz + nr:] = 0
-            Ae = np.block([[bk.arr(np.zeros((ne, ne))), bk.arr(np.eye(ne))], [-Ke, -Ce]])
-            # the damped null directions of K are the last nz - nr of E: (e_i, 0) there
-            lam_e, We, Wie = _eig_modal(bk, Ae, bk.arr(np.eye(2 * ne)[:, ne - nz + nr:ne]))
-            ze = bk.arr(np.zeros((n, ne)))
-            EM = E.T @ M
-            We = np.block([[E, ze], [ze, E]]) @ We
-            Wie = Wie @ np.block([[EM, ze.T], [ze.T, EM]])
-        self.lam = np.concatenate([lam_r, lam_e])
-        self.W = np.concatenate([Wr, We], axis=1)
-        self.Winv = np.concatenate([Wir, Wie], axis=0)
+        # the modal form; NIL: the nilpotent part of e^{At} with free modes (zeros without)
+        self.omegas, self.lam, self.W, self.Winv, nil = modal_form(bk, M, K, C, self.A,
+                                                                   model.damped)
+        self.free = nil is not None
+        self.NIL = nil if self.free else bk.arr(np.zeros((2 * n, 2 * n)))
 
     def _constrain(self, con):
         """The constraint's data in the flow's order (:mod:`symvi.model._constraint`):
@@ -477,6 +395,95 @@ _MP_CACHE = {}
 
 def _flow_mp(model, digits):
     return _memo(_MP_CACHE, (model, digits), lambda: LinearFlow(model, backend(digits)), size=64)
+
+
+def modal_form(bk, M, K, C, A, damped):
+    """(omega_j, lambda, W, W^-1, NIL) of z' = A z, A = [[0, I], [-M^-1 K, -M^-1 C]] (the
+    module docstring): Phi(t) = Re(W e^{Lambda t} W^-1) + t NIL; NIL is None without free
+    modes (K positive definite, or its null directions all damped by C).  The one
+    construction of the modal form, for any (M, K, C) in backend ``bk``."""
+    nz = null_dim(np.asarray(K, dtype=float))     # modes on no spring (float64 decides)
+    if nz:
+        return _free_modal(bk, M, K, C, A, damped, nz)
+    # undamped modes: natural frequencies (resonance, 1 - cos) and, if C = 0, the basis
+    omegas, psi = bk.eigh_pair(K, M)
+    if not damped:
+        Om = omegas
+        i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
+        lam = np.concatenate([i * Om, -i * Om])
+        W = np.block([[psi, psi], [i * psi * Om, -i * psi * Om]])
+        PM = psi.T @ M
+        half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
+        Oi = (1 / Om)[:, None]
+        Winv = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
+    else:
+        lam, W, Winv = _eig_modal(bk, A)
+    return omegas, lam, W, Winv, None
+
+
+def _free_modal(bk, M, K, C, A, damped, nz):
+    """The modal form when K has ``nz`` null directions (masses on no spring).
+
+    Rigid modes phi (K phi = 0 and C phi = 0, M-orthonormal, the columns of Pr) move as
+    x = Pr (q + p t): A has the Jordan block A (0, phi) = (phi, 0) for lambda = 0 on
+    span{(phi, 0), (0, phi)}, so e^{At} = Re(W e^{Lambda t} W^-1) + t NIL with
+    NIL = W N_J W^-1 = A P0 = [[0, Pr Pr^T M], [0, 0]] (P0 the spectral projector of
+    lambda = 0; NIL^2 = 0).  The M-orthogonal complement E (E^T M E = I) decouples:
+    s'' + E^T C E s' + E^T K E s = 0 (E^T M Pr = 0, C Pr = K Pr = 0), taken in modal
+    form as in :func:`modal_form` (closed form if C = 0, else eig); a null direction of K
+    that C damps is a simple lambda = 0 there, diagonalisable.  The rigid columns are
+    (phi, 0), (0, phi) with rows (phi^T M, 0), (0, phi^T M)."""
+    n = M.shape[0]
+    with np.errstate(invalid="ignore"):      # sqrt of a rounding-sized negative
+        om, psi = bk.eigh_pair(K, M)
+    omegas = np.concatenate([bk.arr(np.zeros(nz)), om[nz:]])
+    Q0 = psi[:, :nz]                           # an M-orthonormal basis of ker K
+    nr = nz
+    if damped:                                 # rigid: ker K within ker C
+        C0 = Q0.T @ C @ Q0
+        mu = np.linalg.eigvalsh(np.asarray(C0, dtype=float))
+        top = np.abs(np.linalg.eigvalsh(np.asarray(psi.T @ C @ psi, dtype=float))).max()
+        nr = int(np.sum(mu <= 64 * n * EPS64 * top))
+        if nr < nz:                            # the damped ones: simple lambda = 0
+            with np.errstate(invalid="ignore"):
+                _, S = bk.eigh_pair(C0, bk.arr(np.eye(nz)))   # ascending: rigid first
+            Q0 = Q0 @ S
+    if nr == 0:                                # no Jordan block: the damped path
+        zn = bk.arr(np.zeros((n, nz)))
+        return (omegas,) + _eig_modal(bk, A, np.block([[Q0], [zn]])) + (None,)
+    i = 1j if bk is FLOAT64 else mpmath.mpc(0, 1)
+    Pr = Q0[:, :nr]
+    PrM = Pr.T @ M
+    Z = bk.arr(np.zeros((n, n)))
+    NIL = np.block([[Z, Pr @ PrM], [Z, Z]])
+    zr = bk.arr(np.zeros((n, nr)))
+    Wr = np.block([[Pr, zr], [zr, Pr]])                 # (phi, 0), (0, phi)
+    Wir = np.block([[PrM, zr.T], [zr.T, PrM]])
+    lam_r = 0 * i * bk.arr(np.zeros(2 * nr))
+    if not damped:                             # the closed form of the elastic modes
+        Om, pe = om[nz:], psi[:, nz:]
+        lam_e = np.concatenate([i * Om, -i * Om])
+        We = np.block([[pe, pe], [i * pe * Om, -i * pe * Om]])
+        PM = pe.T @ M
+        half = 0.5 if bk is FLOAT64 else mpmath.mpf(1) / 2
+        Oi = (1 / Om)[:, None]
+        Wie = half * np.block([[PM, -i * Oi * PM], [PM, i * Oi * PM]])
+    else:                                      # eig of the decoupled complement
+        E = np.concatenate([psi[:, nz:], Q0[:, nr:]], axis=1)
+        ne = n - nr
+        Ke, Ce = E.T @ K @ E, E.T @ C @ E
+        # K E_i = 0 for the damped null directions: exact zeros there (rounding-sized
+        # entries misguide eig's balancing: residuals of 1e-8 seen)
+        Ke[ne - nz + nr:, :] = Ke[:, ne - nz + nr:] = 0
+        Ae = np.block([[bk.arr(np.zeros((ne, ne))), bk.arr(np.eye(ne))], [-Ke, -Ce]])
+        # the damped null directions of K are the last nz - nr of E: (e_i, 0) there
+        lam_e, We, Wie = _eig_modal(bk, Ae, bk.arr(np.eye(2 * ne)[:, ne - nz + nr:ne]))
+        ze = bk.arr(np.zeros((n, ne)))
+        EM = E.T @ M
+        We = np.block([[E, ze], [ze, E]]) @ We
+        Wie = Wie @ np.block([[EM, ze.T], [ze.T, EM]])
+    return (omegas, np.concatenate([lam_r, lam_e]), np.concatenate([Wr, We], axis=1),
+            np.concatenate([Wir, Wie], axis=0), NIL)
 
 
 def _eig_modal(bk, A, null=None):

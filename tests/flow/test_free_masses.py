@@ -408,3 +408,24 @@ def test_the_compiled_tangent_over_several_stops_is_the_derivative_of_the_map():
             a, b = cf.step(c, y + e), cf.step(c, y - e)
             assert a[-1] == b[-1] == cf.step(c, y)[-1]          # the same stop hit
             np.testing.assert_allclose(J[:, j], (a[2] - b[2]) / (2 * h), atol=1e-6)
+
+
+def test_modal_form_is_the_flow_of_any_matrices():
+    """:func:`symvi.flow.linear.modal_form` (the one construction, for the flow and for
+    any (M, K, C), e.g. a contact phase's K_S) gives e^{At} with and without free modes."""
+    from scipy.linalg import expm
+
+    from symvi.flow.linear import modal_form
+    from symvi.numerics.backend import FLOAT64
+    M = np.diag([1.0, 1.5, 0.7])
+    for K, C, jordan in (([[2, -2, 0], [-2, 2, 0], [0, 0, 0]], np.zeros((3, 3)), True),
+                         ([[2, -2, 0], [-2, 2, 0], [0, 0, 0]], np.diag([0, 0, 0.3]), True),
+                         ([[3, -1, 0], [-1, 2, -1], [0, -1, 1]], 0.02 * np.eye(3), False)):
+        K, C = np.array(K, dtype=float), np.asarray(C, dtype=float)
+        Mi = np.linalg.inv(M)
+        A = np.block([[np.zeros((3, 3)), np.eye(3)], [-Mi @ K, -Mi @ C]])
+        om, lam, W, Winv, NIL = modal_form(FLOAT64, M, K, C, A, bool(C.any()))
+        for t in (0.5, 6.0):
+            P = np.real((W * np.exp(lam * t)) @ Winv) + (0 if NIL is None else t * NIL)
+            np.testing.assert_allclose(P, expm(A * t), atol=1e-12 * (1 + t))
+        assert (NIL is not None) == jordan
