@@ -437,17 +437,19 @@ class Model:
         return len(self._stops) == 1 and self._stops[0].plain
 
     def require_one_rigid_stop(self):
-        """``self``, or the one-line ParameterError saying what the orbit analyses cannot
-        handle yet: they take one rigid upper stop on one mass (issue 25).  Called where a
-        model enters them (period-1 orbits, shooting, the Python map, the jets, Lyapunov
-        spectra); the flow asks :meth:`require_rigid_stops`."""
+        """``self``, or the one-line ParameterError saying what the analyses built on the
+        period-1 closed form cannot handle yet: they take one rigid upper stop on one mass
+        (issue 25).  Called where a model enters them (period-1 orbits and the certified
+        Hopf scan, the Python map, the single-section jets, the classifier, the mpmath
+        simulation); the flow asks :meth:`require_rigid_stops`, and the n-p orbits,
+        continuation, curves and Lyapunov exponents take several rigid stops on masses."""
         if self.one_rigid_stop:
             return self
         stops = self._stops
         if len(stops) > 1:
             raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
-                                 "supported by the orbit analyses yet (simulate runs "
-                                 "them): issue 25")
+                                 "supported by this analysis yet (orbit, continue, curve "
+                                 "and simulate take them): issue 25")
         s = stops[0]
         what = ("an elastic stop" if s.stiffness is not None else
                 "a stop between two masses" if s.between is not None else "a lower stop")
