@@ -15,8 +15,8 @@ the dynamics take one rigid upper stop on one mass for now
 
 M symmetric positive definite, K symmetric positive semi-definite (singular for a
 mass on no spring: a free mode, as in an impact damper), C symmetric positive
-semi-definite (zero by default, as in the paper), P the forcing amplitudes; one stop on mass k (1-based) with gap b
-and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
+semi-definite (zero by default, as in the paper), P the forcing amplitudes; one stop
+on mass k (1-based) with gap b and restitution 0 < r <= 1.  Luo & Xie's model, eq. (4), is
 :meth:`Model.luo_xie`.
 
 Named parameters
