@@ -40,8 +40,8 @@ INSIDE = [
      _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F1, "int64", _F1, "int64",
           "boolean", "boolean"), 0.3),
     ("symvi.orbits._shooting", "shoot",
-     _sig(_C1, _C2, _C2, _F2, _F1, _F1, _F1, _F1, _F, _F2, "int64[:, ::1]", "int64[::1]",
-          "int64", _F1, "int64", "boolean", "boolean"), 2.5),
+     _sig(_C1, _C2, _C2, _F2, _F2, _F1, _F1, _F1, _F1, _F, _F2, "int64[:, ::1]",
+          "int64[::1]", "int64", _F1, "int64", "boolean", "boolean"), 2.5),
     ("symvi.orbits._shooting", "monodromy", _sig(_F2, "int64", "int64"), 0.3),
 ]
 

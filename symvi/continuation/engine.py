@@ -294,6 +294,7 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
     if tracker:
         tracker.start(X, t, first)
     end, lu = "", None
+    X0, t0 = X, t
     while len(points) < max_points:
         Xp = X + h * t
         if any(v < a or v > b for v, (a, b) in zip(Xp[m:].tolist(), box)):
@@ -341,6 +342,7 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
             break
         if tracker:
             tracker.step(X, t, Xn, tn, pt, len(points))
+        tp = t
         X, t, DF, Fb, lu = Xn, tn, DFn, Fbn, None
         renewed = client.accepted(X, len(points))
         if renewed is not None:
@@ -350,7 +352,7 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
         # the step may grow with the orbit's size (towards a resonance it diverges)
         cap = h_max * (1 + np.max(np.abs(X[:m]))) / scale0 if grow_with_orbit else h_max
         h = min(cap, h * (1.5 if its <= nominal else 1.0 if its <= nominal + 2 else 0.6))
-        end = client.stop(X, pt)
+        end = client.stop(X, pt) or _closed(X0, t0, states[-2], X, tp, t, len(points), client)
         if end:
             break
         if not through and points[-2].admissible and not pt.admissible:
@@ -368,6 +370,28 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
     else:
         end = f"max_points = {max_points} reached"
     return points, states, client.finish(end, X)
+
+
+def _closed(X0, t0, Xa, Xb, ta, tb, count, client):
+    """Why the run ends where its last step passes through its first point again in the
+    same direction (a closed curve: an isola of orbits, a loop of a curve), else ''.  The
+    step from Xa (tangent ta) to Xb (tb) passes X0 when X0 projects inside its chord and
+    lies within the arc's sagitta of it, L phi / 8 for a turn phi, plus a hundredth of L
+    (the same solution curve retraced)."""
+    if count < 4 or float(np.dot(tb, t0)) < 0.5:
+        return ""
+    d = Xb - Xa
+    L2 = float(np.dot(d, d))
+    if L2 == 0.0:
+        return ""
+    s = float(np.dot(X0 - Xa, d)) / L2
+    if not 0.0 <= s <= 1.0:
+        return ""
+    phi = math.acos(min(1.0, max(-1.0, float(np.dot(ta, tb)))))
+    if np.linalg.norm(Xa + s * d - X0) > math.sqrt(L2) * (phi / 4 + 1e-2):
+        return ""
+    return (f"the curve closes on itself at {client.where(Xb)}: it passes through its first "
+            "point again in the same direction (a closed loop, followed once)")
 
 
 def _to_bound(system, client, X, t, h, lo, hi):

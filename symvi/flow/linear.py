@@ -106,14 +106,21 @@ class LinearFlow:
         n = model.n
         model.require_rigid_stops()                # what this flow takes (issue 25)
         con = model.constraints[0]
-        self.perm = _frame(con, n)
+        self.perm, self.T, self.labels = frame_of(model)
         p = list(self.perm)
         self.n = n
-        M = bk.arr(np.asarray(model.mass)[np.ix_(p, p)])
-        K = bk.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
-        C = bk.arr(np.asarray(model.damping)[np.ix_(p, p)])
+        if self.T is None:
+            M = bk.arr(np.asarray(model.mass)[np.ix_(p, p)])
+            K = bk.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
+            C = bk.arr(np.asarray(model.damping)[np.ix_(p, p)])
+            self.P = bk.arr(np.asarray(model.forcing)[p])
+        else:
+            # q = T x: M' = T^-T M T^-1 (and K', C'), P' = T^-T P; each normal a row of T
+            Ti = self.Tinv = np.linalg.inv(self.T)
+            M, K, C = (bk.arr(_sym(Ti.T @ np.asarray(a) @ Ti)) for a in
+                       (model.mass, model.stiffness, model.damping))
+            self.P = bk.arr(Ti.T @ np.asarray(model.forcing))
         self.M, self.K, self.C = M, K, C
-        self.P = bk.arr(np.asarray(model.forcing)[p])
         Minv = self.Minv = bk.inv(M)
         self._constrain(con)
         Z, I = np.zeros((n, n)), np.eye(n)
@@ -139,7 +146,8 @@ class LinearFlow:
             # a curve in the gap or r builds a flow per corrector step: what does not
             # depend on the gap is computed once per (normal, side, impulse, r, order, M)
             key = (con.normal, con.side, con.impulse, con.restitution, self.perm,
-                   None if con.impulse is not None else self._mass_key)
+                   None if con.impulse is not None else self._mass_key,
+                   None if self.T is None else self.T.tobytes())
             hit = _CONSTRAINED.get(key)
             if hit is None:
                 hit = _CONSTRAINED[key] = self._reset_data(con)
@@ -164,15 +172,20 @@ class LinearFlow:
         :meth:`_constrain`."""
         r = self.r if r is None else r
         p = list(self.perm)
-        guard = self.bk.arr(con.sign * np.array(con.normal)[p])
         Minv = None
         if con.impulse is None:                    # rigid: along M^-1 c (mass order)
             Minv = self.bk.inv(self.bk.arr(np.asarray(self.model.mass)))
-        reset = con.reset_matrix(Minv, order=p, r=r)
+        if self.T is None:
+            guard = self.bk.arr(con.sign * np.array(con.normal)[p])
+            reset = con.reset_matrix(Minv, order=p, r=r)
+        else:                                      # v' = T v: R' = T R T^-1, c' = T^-T c
+            guard = self.bk.arr(con.sign * (self.Tinv.T @ np.array(con.normal)))
+            reset = self._framed_reset(con, Minv, r)
         if self.bk is not FLOAT64:
             reset = self.bk.arr(reset)
         # the stop on one mass, upper side: guard e_0 (approach speeds read directly)
-        unit_guard = con.sign == 1.0 and con.coordinate is not None
+        unit_guard = con.sign == 1.0 and (con.coordinate is not None if self.T is None else
+                                          bool(np.all(guard == np.eye(self.n)[0])))
         # ... with v_0+ = -r v_0-, every other velocity kept (today's stop; the generated
         # jets take any guard and reset: symvi.codegen.layout.jet_constraint)
         law = np.eye(self.n, dtype=reset.dtype)
@@ -185,13 +198,24 @@ class LinearFlow:
                 a.setflags(write=False)
         return guard, reset, unit_guard, coordinate_law, tail
 
+    def _framed_reset(self, con, Minv, r):
+        """R' = T R T^-1 written in the frame (c' = e_k, q' = T q): (I - Q') - r Q' with
+        Q' = q' e_k^T / q'_k, so that R' is the identity off its column k exactly (as the
+        jets require, :func:`symvi.codegen.layout.jet_constraint`)."""
+        k = self.position(con)
+        q = self.T @ con.direction(Minv)
+        Q = np.zeros((self.n, self.n), dtype=q.dtype)
+        Q[:, k] = q / q[k]
+        return (np.eye(self.n) - Q) - r * Q
+
     def reset_at(self, r):
         """The constraint's reset R (flow order) at restitution r (cached per flow)."""
         R = self._resets.get(r)
         if R is None:
             con = self.constraint
-            R = con.reset_matrix(None if con.impulse else self.bk.inv(
-                self.bk.arr(np.asarray(self.model.mass))), order=list(self.perm), r=r)
+            Minv = None if con.impulse else self.bk.inv(self.bk.arr(np.asarray(self.model.mass)))
+            R = (con.reset_matrix(Minv, order=list(self.perm), r=r) if self.T is None else
+                 self._framed_reset(con, Minv, r))
             self._resets[r] = R
         return R
 
@@ -202,13 +226,17 @@ class LinearFlow:
         The first is this flow's own (:meth:`_constrain`, shared by its copies)."""
         rows = [np.concatenate(([0.0], self.constraint64))]
         for con in self.model.constraints[1:]:
-            k = con.coordinate
-            if k is None:
-                _frame(con, self.n)                 # refuses, naming the normal
             tail = self._reset_data(con, con.restitution)[4]
-            rows.append(np.concatenate(([float(self.perm.index(k)), con.gap,
+            rows.append(np.concatenate(([float(self.position(con)), con.gap,
                                          con.sign * con.gap], tail)))
         return rows
+
+    def position(self, con):
+        """The position of ``con``'s coordinate in the flow's order (its section is x_p =
+        gap there): its mass's place, or the row of T equal to its normal."""
+        if self.T is None:
+            return self.perm.index(con.coordinate)
+        return next(i for i, row in enumerate(self.T) if tuple(row) == con.normal)
 
     def approach(self, z):
         """guard . v of a state z (flow order): > 0 moving towards the stop (v_k for the
@@ -369,8 +397,12 @@ def _flow_float(model):
     # models that differ only in the stop's gap or restitution (a curve in b or r) share
     # the modal data, which a new stop does not change: only b and r are replaced
     con = model.require_rigid_stops().constraints[0]
-    key = (con.normal, con.side, con.impulse) + tuple(np.asarray(a, dtype=float).tobytes() for a in
-                                     (model.mass, model.stiffness, model.damping, model.forcing))
+    # a frame with other normals than coordinate vectors depends on every normal
+    framed = any(c.coordinate is None for c in model.constraints)
+    key = (con.normal, con.side, con.impulse,
+           tuple(c.normal for c in model.constraints) if framed else None) + tuple(
+        np.asarray(a, dtype=float).tobytes() for a in
+        (model.mass, model.stiffness, model.damping, model.forcing))
     if key not in _LINEAR:
         return _memo(_LINEAR, key, lambda: LinearFlow(model, FLOAT64), size=64)
     flow = copy.copy(_LINEAR[key])
@@ -386,8 +418,54 @@ def _frame(con, n):
     if k is None:
         raise ParameterError("constraint.normal", con.normal,
                              "a unit coordinate vector e_k (a stop on one mass); other "
-                             "normals need a section frame (issue 25)")
+                             "normals need a section frame (:func:`frame_of`)")
     return (k,) + tuple(j for j in range(n) if j != k)
+
+
+def frame_of(model):
+    """(perm, T, labels): the flow's coordinates, in which every constraint acts on one.
+
+    Stops on masses only: a permutation, the first stop's mass first (:func:`_frame`;
+    T and labels None).  A stop between masses (s = x_j - x_i, issue 25): q = T x with the
+    distinct normals as the first rows of T (the first constraint's first), completed by
+    unit vectors in mass order; perm is then (0, ..., N-1) over q, and labels[i] the
+    (position, velocity) names of q_i ("x2-x1", "v2-v1").  Normals that are linearly
+    dependent but not equal (the same masses named in the other order) are refused."""
+    cons = model.constraints
+    n = model.n
+    if all(c.coordinate is not None for c in cons):
+        return _frame(cons[0], n), None, None
+    rows = []
+    for k, c in enumerate(cons, start=1):
+        if c.normal in rows:
+            continue
+        if np.linalg.matrix_rank(np.array(rows + [c.normal])) <= len(rows):
+            raise ParameterError(f"stop[{k}]" if len(cons) > 1 else "stop", model.stops[k - 1],
+                                 "stops on independent coordinates (two stops between the "
+                                 "same masses name them in the same order, [i, j])")
+        rows.append(c.normal)
+    for j in range(n):
+        e = tuple(1.0 if i == j else 0.0 for i in range(n))
+        if len(rows) < n and np.linalg.matrix_rank(np.array(rows + [e])) > len(rows):
+            rows.append(e)
+    return tuple(range(n)), np.array(rows, dtype=float), tuple(_label(r) for r in rows)
+
+
+def _label(c):
+    """The (position, velocity) names of the coordinate s = c . x: x3, x2-x1, or c's sum."""
+    nz = [(i, v) for i, v in enumerate(c) if v != 0.0]
+    if len(nz) == 1 and nz[0][1] == 1.0:
+        return f"x{nz[0][0] + 1}", f"v{nz[0][0] + 1}"
+    if len(nz) == 2 and sorted(v for _, v in nz) == [-1.0, 1.0]:
+        (i, _), (j, _) = sorted(nz, key=lambda t: t[1])
+        return f"x{j + 1}-x{i + 1}", f"v{j + 1}-v{i + 1}"
+    terms = "+".join(f"{v:g}*x{i + 1}" for i, v in nz).replace("+-", "-")
+    return f"({terms})", f"({terms})'"
+
+
+def _sym(A):
+    """A symmetrised (a congruence T^-T A T^-1 of a symmetric A, to rounding)."""
+    return 0.5 * (A + A.T)
 
 
 _MP_CACHE = {}

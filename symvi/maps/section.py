@@ -21,6 +21,9 @@ class Section:
 
     n: int
     perm: tuple          # stop-first order: perm[0] is the stop's mass (0-based)
+    #: with a frame of the flow (a stop between masses, :func:`symvi.flow.linear.frame_of`):
+    #: the (position, velocity) names of each flow coordinate, which perm then indexes
+    labels: tuple = None
 
     @classmethod
     def of(cls, model):
@@ -30,11 +33,15 @@ class Section:
     def dim(self):
         return 2 * self.n
 
+    def _names_of(self, k):
+        return self.labels[k] if self.labels is not None else (f"x{k + 1}", f"v{k + 1}")
+
     @functools.cached_property
     def names(self):
-        """Stable names of the components of y, with 1-based mass numbers."""
-        k, rest = self.perm[0] + 1, [j + 1 for j in self.perm[1:]]
-        return (f"v{k}+", *(f"x{j}" for j in rest), *(f"v{j}" for j in rest), "tau")
+        """Stable names of the components of y, with 1-based mass numbers (or the names of
+        the frame's coordinates: x2-x1, v2-v1)."""
+        first, rest = self._names_of(self.perm[0]), [self._names_of(j) for j in self.perm[1:]]
+        return (f"{first[1]}+", *(x for x, _ in rest), *(v for _, v in rest), "tau")
 
     def check(self, y, name="y"):
         """y as a tuple (values kept, e.g. mpf), or ParameterError naming ``name``."""
@@ -74,5 +81,6 @@ class Section:
 
 @functools.lru_cache(maxsize=256)
 def _section_of(model):
-    from ..flow.linear import _frame
-    return Section(model.n, _frame(model.require_rigid_stops().constraints[0], model.n))
+    from ..flow.linear import frame_of
+    perm, _, labels = frame_of(model.require_rigid_stops())
+    return Section(model.n, perm, labels)

@@ -295,7 +295,7 @@ _PRESET = _preset.NAMES
 #: what the dynamics take today (:meth:`Model.require_one_rigid_stop`)
 _ONE_STOP = "one rigid stop on one mass (upper side)"
 #: what the flow and the compiled run take today (:meth:`Model.require_rigid_stops`)
-_RIGID_STOPS = "rigid stops, each on one mass"
+_RIGID_STOPS = "rigid stops, each on one mass or between two"
 #: what simulate takes with an elastic stop (:meth:`Model.require_stops_on_masses`)
 _ON_MASSES = "stops each on one mass (rigid or elastic)"
 
@@ -402,16 +402,17 @@ class Model:
 
     def require_rigid_stops(self):
         """``self``, or the one-line ParameterError saying what the flow and the compiled run
-        cannot handle yet: every stop rigid and on one mass (either side; several stops
-        allowed).  Called where a model enters the flow (:class:`LinearFlow`, the
-        section); the orbit analyses ask :meth:`require_one_rigid_stop` too."""
+        cannot handle yet: every stop rigid (on one mass or between two, either side;
+        several stops allowed; a stop between masses is a coordinate of the flow's frame,
+        :func:`symvi.flow.linear.frame_of`).  Called where a model enters the flow
+        (:class:`LinearFlow`, the section); the analyses on the period-1 closed form ask
+        :meth:`require_one_rigid_stop` too.  Elastic stops run in ``simulate`` through
+        :mod:`symvi.flow.contact`."""
         for k, s in enumerate(self._stops, start=1):
-            if s.stiffness is not None or s.between is not None:
-                what = "an elastic stop" if s.stiffness is not None else \
-                    "a stop between two masses"
+            if s.stiffness is not None:
                 name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
-                raise ParameterError(name, s, _RIGID_STOPS,
-                                     f"{what} is not supported by the dynamics yet: issue 25")
+                raise ParameterError(name, s, _RIGID_STOPS, "an elastic stop is not supported "
+                                     "by this analysis yet (simulate runs it): issue 25")
         return self
 
     def require_stops_on_masses(self):

@@ -76,7 +76,7 @@ def _matvec(Mx, x, out):
 
 
 @nb.njit(cache=True)
-def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac, dom):
+def shoot(lam, W, Winv, A, NIL, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac, dom):
     """Flights, G, G_u (if ``jac``) and dG/domega (if ``dom``) at u; see the module docstring.
 
     The constraints enter as the flow holds them, ``tab`` = the rows of
@@ -88,6 +88,9 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac,
     of each impact: point i lies on the section of constraint sig[i], and its flight ends
     on sig[i + 1] (sig[p] = sig[0] for an orbit; a single flight, p = 1, may end on
     another constraint than it starts from: the tangent map of a run).
+
+    ``NIL`` is the free modes' nilpotent part of e^{At} (:attr:`LinearFlow.modal_nil64`;
+    an empty (0, 0) array without free modes): Phi(t) = Re(W e^{Lambda t} W^-1) + t NIL.
 
     Returns (G, Gu, Gw, FL, PHI): per impact i, FL[i] holds (z0, tau, z, dz/dtau, dz/dt)
     (the start state in the flow's order, its phase, and at the end of the flight the
@@ -133,6 +136,10 @@ def shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, sig, n_periods, u, p, jac,
                 for k in range(d):
                     s += (W[a, k] * e[k]) * Winv[k, c]
                 Phi[a, c] = s.real
+        if NIL.shape[0] > 0:                        # the free modes' drift (a Jordan block)
+            for a in range(d):
+                for c in range(d):
+                    Phi[a, c] += t * NIL[a, c]
         ph = tau + w * t
         # hom = Phi (z0 - zp(tau)); z = hom + zp(ph)
         _zp(U, V, w, tau, a0)
@@ -223,8 +230,8 @@ def shoot1(lam, W, Winv, A, U, V, dU, dV, w, con, n_periods, u, p, jac, dom):
     for q in range(1, N):
         idx[0, q] = q
         idx[0, N - 1 + q] = N + q
-    return shoot(lam, W, Winv, A, U, V, dU, dV, w, tab, idx, np.zeros(p + 1, np.int64),
-                 n_periods, u, p, jac, dom)
+    return shoot(lam, W, Winv, A, np.empty((0, 0)), U, V, dU, dV, w, tab, idx,
+                 np.zeros(p + 1, np.int64), n_periods, u, p, jac, dom)
 
 
 @nb.njit(cache=True, inline="always")

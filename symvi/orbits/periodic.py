@@ -44,6 +44,8 @@ from .admissibility import check_flight
 
 #: Newton: iteration limit
 NEWTON_MAXIT = 30
+#: no free modes: the shooting kernel's empty NIL
+_NO_NIL = np.empty((0, 0))
 #: relative distance of y_{i+p/2} from S y_i below which an orbit is called symmetric
 SYMMETRY_TOL = 1e-7
 
@@ -99,10 +101,11 @@ class Problem:
         # per constraint: its position in the flow's order and the flow-order index of each
         # section coordinate (y[:2N-1] = z0[idx], v_k+ first; Section.of for the first)
         perm = self.sec.perm
-        self.positions = tuple(perm.index(c.coordinate) for c in model.constraints)
+        flow = LinearFlow.of(model)
+        self.positions = tuple(flow.position(c) for c in model.constraints)
         self.frames = np.array([section_index(N, q) for q in self.positions])
-        self.sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q))
-                              for q in self.positions)
+        self.sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
+                                      self.sec.labels) for q in self.positions)
         self.idx = self.frames[0]
         #: several constraints: the flights watch every guard (the compiled finder)
         self.several = len(model.constraints) > 1
@@ -177,8 +180,9 @@ class Problem:
     def _shoot(self, u, lam, check, jac, dom):
         """The compiled kernel at (u, lam): (G, Gu, dG/domega, context); the flights cached."""
         model, flow, F = ctx = self.at(lam, check)
-        lam_, W, Winv, A = flow.modal64
-        G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, F.U, F.V, F.dU, F.dV, F.omega,
+        lam_, W, Winv, A, NIL = flow.modal_nil64
+        G, Gu, Gw, *fl = _shooting.shoot(lam_, W, Winv, A, NIL if flow.free else _NO_NIL,
+                                         F.U, F.V, F.dU, F.dV, F.omega,
                                          _table(flow), self.frames, self._sig_ring,
                                          self.n_periods,
                                          u, self.p, bool(jac), bool(dom))

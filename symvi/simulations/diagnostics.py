@@ -129,17 +129,18 @@ def _qr_logs_stops(model, omega, sec, te, hits):
     from ..flow.linear import LinearFlow
     flow = LinearFlow.of(model)
     F = flow.forcing(float(omega))
-    lam, W, Winv, A = flow.modal64
+    lam, W, Winv, A, NIL = flow.modal_nil64
+    NIL = NIL if flow.free else np.empty((0, 0))
     tab = table(flow)
     idx = np.array([section_index(flow.n, int(row[0])) for row in tab])
-    return _qr_logs_hits(lam, W, Winv, A, F.U, F.V, F.omega, tab, idx,
+    return _qr_logs_hits(lam, W, Winv, A, NIL, F.U, F.V, F.omega, tab, idx,
                          np.ascontiguousarray(sec, dtype=float),
                          np.ascontiguousarray(te, dtype=float),
                          np.ascontiguousarray(hits, dtype=np.int64))
 
 
 @nb.njit(cache=True)
-def _qr_logs_hits(lam, W, Winv, A, U, V, w, tab, idx, sec, te, hits):
+def _qr_logs_hits(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
     """:func:`_qr_logs` with the stop of each point (``hits``): DP of flight k from the
     section of stop hits[k] to that of hits[k + 1], eq. (30)."""
     m = te.shape[0]
@@ -152,8 +153,8 @@ def _qr_logs_hits(lam, W, Winv, A, U, V, w, tab, idx, sec, te, hits):
         u[:d] = sec[k]
         u[d] = te[k]
         sig[0], sig[1] = hits[k], hits[k + 1]
-        Gu = _shooting.shoot(lam, W, Winv, A, U, V, U, V, w, tab, idx, sig, 1, u, 1, True,
-                             False)[1]
+        Gu = _shooting.shoot(lam, W, Winv, A, NIL, U, V, U, V, w, tab, idx, sig, 1, u, 1,
+                             True, False)[1]
         _, J, ok = _shooting.monodromy(Gu, 1, d)
         if not ok:
             logs[k, :] = np.nan

@@ -149,7 +149,11 @@ def _check_model_start(model, y0, name="y0"):
     if len(model.constraints) > 1:
         z, _ = sec.state(np.array(y), first.gap)
         x = np.empty(model.n)
-        x[list(sec.perm)] = z[:model.n]
+        if sec.labels is None:
+            x[list(sec.perm)] = z[:model.n]
+        else:                                  # the flow's frame q = T x (a stop between masses)
+            from ..flow.linear import LinearFlow
+            x = LinearFlow.of(model).Tinv @ z[:model.n]
         for i, con in enumerate(model.constraints[1:], start=2):
             if not con.guard(x) < 0:
                 raise ParameterError(name, y0, f"a start outside every other stop "
