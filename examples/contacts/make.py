@@ -15,6 +15,8 @@ EXAMPLES = {
     "oscillator_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.5", "--switch"],
     "chain3_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.0",
                          "--start-omega", "1.5", "--switch"],
+    "impact_damper": ["--param", "omega", "--from", "0.8", "--to", "1.2",
+                      "--start-omega", "1.0", "--switch"],
 }
 
 

@@ -51,7 +51,7 @@ def test_no_attractor_anywhere_is_one_line(tmp_path):
 def test_the_worked_examples_are_current():
     """Each worked example's JSON is what its model file gives today (the command in
     examples/contacts/README.md): the same branches, signatures and special points."""
-    for name in ("oscillator_two_stops", "chain3_two_stops"):
+    for name in ("oscillator_two_stops", "chain3_two_stops", "impact_damper"):
         d = json.loads((EXAMPLES / f"{name}.json").read_text())
         args = [str(EXAMPLES / pathlib.Path(a).name) if a.endswith(".toml") else a
                 for a in d["command"]]

@@ -240,3 +240,67 @@ def test_lyapunov_exponents_over_several_stops(which, sym_orbit, frames_orbit):
     assert abs(sum(L.exponents) - math.log(abs(np.prod(mu))) / o.p) < 1e-10
     want = np.sort(np.log(np.abs(mu)) / o.p)[::-1]
     assert np.max(np.abs(np.asarray(L.exponents) - want)) < 0.02
+
+
+#: the worked example's impact damper: a free mass in a cavity of the forced primary mass
+DAMPER = Model(mass=[1.0, 0.1], stiffness=[[1.0, 0.0], [0.0, 0.0]],
+               damping=[[0.05, 0.0], [0.0, 0.0]], forcing=[0.1, 0.0],
+               stops=[Stop(between=(1, 2), gap=1.0, restitution=0.6),
+                      Stop(between=(1, 2), gap=-1.0, side="lower", restitution=0.6)])
+
+
+def test_impacts_between_masses_against_solve_ivp():
+    """Stops between two grounded masses (s = x2 - x1): simulate's impacts, in the flow's
+    frame (v2-v1+, x1, v1, tau), are those of DOP853 with events in mass coordinates and
+    the momentum-conserving law v+ = v - (1 + r) q c.v / c.q, q = M^-1 c."""
+    from scipy.integrate import solve_ivp
+    g, w, r = 0.3, 1.5, 0.7
+    m = Model(mass=[1.0, 0.5], stiffness=[[1.0, 0.0], [0.0, 2.0]],
+              damping=[[0.1, 0.0], [0.0, 0.1]], forcing=[1.0, 0.0],
+              stops=[Stop(between=(1, 2), gap=g, restitution=r),
+                     Stop(between=(1, 2), gap=-g, side="lower", restitution=r)])
+    sim = simulate(m, w, y0=(-0.2, 0.0, 0.0, 0.0), n_impacts=12, transient=0)
+    M, K, C, P = (np.asarray(a) for a in (m.mass, m.stiffness, m.damping, m.forcing))
+    Minv = np.linalg.inv(M)
+    c = np.array([-1.0, 1.0])
+    q = Minv @ c
+
+    def rhs(t, z):
+        return np.concatenate([z[2:], Minv @ (P * math.sin(w * t) - K @ z[:2] - C @ z[2:])])
+
+    def up(t, z):
+        return c @ z[:2] - g
+
+    def lo(t, z):
+        return -(c @ z[:2] + g)
+    for e in (up, lo):
+        e.terminal, e.direction = True, 1
+    z, t = np.array([0.0, g, 0.0, -0.2]), 0.0
+    for k in range(12):
+        sol = solve_ivp(rhs, (t, t + 100), z, method="DOP853", rtol=1e-12, atol=1e-12,
+                        events=(up, lo))
+        hit = 0 if sol.t_events[0].size else 1
+        t, z = sol.t[-1], sol.y[:, -1].copy()
+        p_before = np.sum(M @ z[2:])                 # the pair's momentum
+        z[2:] = z[2:] - (1 + r) * q * (c @ z[2:]) / (c @ q)
+        assert abs(np.sum(M @ z[2:]) - p_before) < 1e-14
+        assert sim.hits[k] == hit and abs(sim.t[k] - t) < 1e-8
+        y = np.array([c @ z[2:], z[0], z[2], (w * t) % (2 * math.pi)])
+        assert np.max(np.abs(sim.section[k] - y)) < 1e-7
+
+
+def test_impact_damper_orbit_with_a_free_mass():
+    """The impact damper's symmetric 1-2 orbit (one impact on each wall of the cavity per
+    period): a fixed point of the compiled map, the determinant identity, and its jets
+    (the free mode's Jordan block in Phi) equal to the shooting monodromy."""
+    o = _settled(DAMPER, 1.0, (-0.5, 0.0, 0.0, 0.0))
+    assert (o.n, o.p) == (1, 2) and o.symmetric and o.admissible
+    assert o.point_names[0] == ("v2-v1+", "x1", "v1", "tau")
+    assert _map_around(DAMPER, o) < 1e-10
+    tr = np.trace(np.linalg.solve(DAMPER.mass, DAMPER.damping))
+    want = 0.6 ** 4 * math.exp(-tr * 2 * math.pi / o.omega)
+    assert abs(np.prod(np.array(o.multipliers)).real - want) < 1e-12 * want
+    A = o.jet(1)[0]
+    pr = Problem(DAMPER, o.n, o.p, omega=o.omega, signature=o.signature)
+    _, Gu, _ = pr.evaluate(o.u, None)
+    assert np.max(np.abs(A - pr.monodromy(o.u, Gu)[1])) < 1e-12
