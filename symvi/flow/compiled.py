@@ -341,6 +341,9 @@ def _start(c, y, k, cc, d, amp, w):
             for i in range(n):
                 a += c[og + i] * cc[4 * n + i]
             d[24 * n * nc + g] = a
+    else:                                       # none: a zero rate, added without a branch
+        for g in range(nc):
+            d[24 * n * nc + g] = 0.0
     for j in range(m):
         lr, li, wt = c[_HDR + 3 * j], c[_HDR + 3 * j + 1], c[_HDR + 3 * j + 2]
         ar, ai = 0.0, 0.0
@@ -421,10 +424,10 @@ def _guard_at(c, d, e, x, n, m, g):
     h2 -= o2 * s0
     h3 -= o2 * s1
     h4 += o2 * o2 * s0
-    if c[_FREE] > 0.0:                   # the free modes' drift: delta_g t (h'' and on: 0)
-        dl = d[24 * n * int(c[_NC]) + g]
-        h += dl * e[2 * m + 2]
-        h1 += dl
+    # the free modes' drift delta_g t (h'' and on: 0); delta_g = 0 without free modes
+    dl = d[24 * n * int(c[_NC]) + g]
+    h += dl * e[2 * m + 2]
+    h1 += dl
     X = c[ob + _XS]
     return h, h1, h2, h3, h4, M2 + X * o2, M5 + X * o2 * o2 * om
 
