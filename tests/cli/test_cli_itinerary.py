@@ -84,3 +84,17 @@ def test_orbit_without_attractor_is_one_line(tmp_path):
     rc, out, err = cli("orbit", "--model", str(f), "--omega", "1.3")
     assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
     assert "settles on no periodic orbit" in err
+
+
+def test_simulate_an_elastic_stop_from_the_command_line(tmp_path):
+    """symvi simulate runs a model with an elastic stop beside a rigid one (the walk
+    through contact phases): the impacts and contact entries on each stop."""
+    f = tmp_path / "el.toml"
+    f.write_text(SYM.read_text().replace("gap = 0.5\nrestitution = 0.9",
+                                         "gap = 0.5\nstiffness = 50.0\ndamping = 0.5"))
+    rc, out, err = cli("simulate", "--model", str(f), "--omega", "1.2", "--y0", "0.5", "0",
+                       "--impacts", "100", "--out", str(tmp_path / "el.npz"))
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["stop"] == "completed" and sum(d["impacts_per_stop"]) == 100
+    assert min(d["impacts_per_stop"]) > 0

@@ -285,11 +285,11 @@ def test_preset_stop_parameters():
 
 # ---- what the dynamics take: the flow rigid stops on masses, the orbits one stop ---------
 def test_the_flow_refuses_an_elastic_stop():
-    """An elastic stop runs in simulate's walk through contact phases (flow/contact.py);
-    the flow, the section and the orbit analyses refuse it in one line."""
+    """An elastic stop runs in simulate's walk through contact phases (flow/contact.py),
+    on the section of its mass; the flow and the orbit analyses refuse it in one line."""
+    assert Section.of(Model(**MATS, stops=[Stop(mass=2, gap=0.3, stiffness=50.0)])).dim == 6
     m = Model(**MATS, stops=[PAIR])
-    for enter in (LinearFlow.of, Section.of, Model.require_rigid_stops,
-                  Model.require_one_rigid_stop):
+    for enter in (LinearFlow.of, Model.require_rigid_stops, Model.require_one_rigid_stop):
         with pytest.raises(ParameterError) as e:
             enter(m)
         msg = str(e.value)
