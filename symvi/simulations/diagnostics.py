@@ -99,10 +99,8 @@ def _logs(sim, n=None):
         raise ValueError("need at least 3 section points")
     k0 = 0 if n is None else max(0, len(sec) - 1 - int(n))
     te = np.diff(t)
-    if model.one_rigid_stop:
-        logs = _qr_logs_model(sim.params, sim.omega, sec[k0:-1], te[k0:])
-    else:
-        logs = _qr_logs_stops(model, sim.omega, sec[k0:], te[k0:], np.asarray(sim.hits)[k0:])
+    hits = None if model.one_rigid_stop else np.asarray(sim.hits)[k0:]
+    logs = _qr_logs_model(model, sim.omega, sec[k0:-1], te[k0:], hits)
     if not np.isfinite(logs).all():
         from ..errors import SingularCaseError
         raise SingularCaseError("grazing", "an impact of the stored section has zero "
@@ -110,39 +108,31 @@ def _logs(sim, n=None):
     return logs, te[k0:]
 
 
-def _qr_logs_model(params, omega, sec, te):
-    """log |R_k[i, i]| of the QR method (compiled, ~1 µs a point for N = 2)."""
+def _qr_logs_model(params, omega, sec, te, hits=None):
+    """log |R_k[i, i]| of the QR method (compiled, ~1 us a point for N = 2): flight k from
+    sec[k] on stop hits[k] to the section of stop hits[k + 1] (``hits``, one longer than
+    ``te``; None: the one stop's section throughout)."""
+    from ..flow.compiled import section_index, table
     from ..flow.linear import LinearFlow
     from ..model import Model
     flow = LinearFlow.of(Model.of(params))
-    F = flow.forcing(float(omega))
-    lam, W, Winv, A = flow.modal64
-    return _qr_logs(lam, W, Winv, A, F.U, F.V, F.omega, flow.constraint64,
-                    np.ascontiguousarray(sec, dtype=float),
-                    np.ascontiguousarray(te, dtype=float))
-
-
-def _qr_logs_stops(model, omega, sec, te, hits):
-    """:func:`_qr_logs_model` over several stops: flight k from sec[k] on stop hits[k] to
-    the section of stop hits[k + 1] (``sec`` and ``hits`` one longer than ``te``)."""
-    from ..flow.compiled import section_index, table
-    from ..flow.linear import LinearFlow
-    flow = LinearFlow.of(model)
     F = flow.forcing(float(omega))
     lam, W, Winv, A, NIL = flow.modal_nil64
     NIL = NIL if flow.free else np.empty((0, 0))
     tab = table(flow)
     idx = np.array([section_index(flow.n, int(row[0])) for row in tab])
-    return _qr_logs_hits(lam, W, Winv, A, NIL, F.U, F.V, F.omega, tab, idx,
-                         np.ascontiguousarray(sec, dtype=float),
-                         np.ascontiguousarray(te, dtype=float),
-                         np.ascontiguousarray(hits, dtype=np.int64))
+    if hits is None:
+        hits = np.zeros(len(te) + 1, dtype=np.int64)
+    return _qr_logs(lam, W, Winv, A, NIL, F.U, F.V, F.omega, tab, idx,
+                    np.ascontiguousarray(sec, dtype=float), np.ascontiguousarray(te, dtype=float),
+                    np.ascontiguousarray(hits, dtype=np.int64))
 
 
 @nb.njit(cache=True)
-def _qr_logs_hits(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
-    """:func:`_qr_logs` with the stop of each point (``hits``): DP of flight k from the
-    section of stop hits[k] to that of hits[k + 1], eq. (30)."""
+def _qr_logs(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
+    """Q_{k+1} R_k = DP(y_k) Q_k along the section, DP of flight k from the section of stop
+    hits[k] to that of hits[k + 1] by eq. (30) (with several stops the product over the
+    run is chart-free, so are the exponents)."""
     m = te.shape[0]
     d = sec.shape[1]
     logs = np.empty((m, d))
@@ -155,31 +145,6 @@ def _qr_logs_hits(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
         sig[0], sig[1] = hits[k], hits[k + 1]
         Gu = _shooting.shoot(lam, W, Winv, A, NIL, U, V, U, V, w, tab, idx, sig, 1, u, 1,
                              True, False)[1]
-        _, J, ok = _shooting.monodromy(Gu, 1, d)
-        if not ok:
-            logs[k, :] = np.nan
-            continue
-        Q, R = np.linalg.qr(J @ Q)
-        Q = np.ascontiguousarray(Q)
-        for i in range(d):
-            dg = R[i, i]
-            logs[k, i] = math.log(abs(dg))
-            if dg < 0.0:
-                Q[:, i] = -Q[:, i]
-    return logs
-
-
-@nb.njit(cache=True)
-def _qr_logs(lam, W, Winv, A, U, V, w, con, sec, te):
-    """Q_{k+1} R_k = DP(y_k) Q_k along the section, DP of one flight by eq. (30)."""
-    m, d = sec.shape
-    logs = np.empty((m, d))
-    Q = np.eye(d)
-    u = np.empty(d + 1)
-    for k in range(m):
-        u[:d] = sec[k]
-        u[d] = te[k]
-        Gu = _shooting.shoot1(lam, W, Winv, A, U, V, U, V, w, con, 1, u, 1, True, False)[1]
         _, J, ok = _shooting.monodromy(Gu, 1, d)
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
