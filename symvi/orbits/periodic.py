@@ -95,17 +95,11 @@ class Problem:
         self._flow = None
         self._last = None
         self._checked = None                 # the last omega check_omega accepted
-        self.sec = Section.of(model)
         N = model.n
         self.N, self.d = N, 2 * N
         # per constraint: its position in the flow's order and the flow-order index of each
         # section coordinate (y[:2N-1] = z0[idx], v_k+ first; Section.of for the first)
-        perm = self.sec.perm
-        flow = LinearFlow.of(model)
-        self.positions = tuple(flow.position(c) for c in model.constraints)
-        self.frames = np.array([section_index(N, q) for q in self.positions])
-        self.sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
-                                      self.sec.labels) for q in self.positions)
+        self.sec, self.positions, self.frames, self.sections = _layout(model)
         self.idx = self.frames[0]
         #: several constraints: the flights watch every guard (the compiled finder)
         self.several = len(model.constraints) > 1
@@ -379,6 +373,30 @@ class Problem:
         for D in mats[1:]:
             M = D @ M
         return mats, M
+
+
+def _layout(model):
+    """(section, positions, frames, sections) of a model's constraints (see
+    :class:`Problem`): they depend on the normals alone, so a curve that builds a problem
+    per corrector step in a gap or a matrix entry computes them once."""
+    key = (model.n, tuple(c.normal for c in model.constraints))
+    hit = _LAYOUTS.get(key)
+    if hit is None:
+        N = model.n
+        sec = Section.of(model)
+        perm = sec.perm
+        flow = LinearFlow.of(model)
+        positions = tuple(flow.position(c) for c in model.constraints)
+        frames = np.array([section_index(N, q) for q in positions])
+        sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
+                                 sec.labels) for q in positions)
+        if len(_LAYOUTS) > 256:
+            _LAYOUTS.clear()
+        hit = _LAYOUTS[key] = (sec, positions, frames, sections)
+    return hit
+
+
+_LAYOUTS = {}
 
 
 def _mirror(model):
