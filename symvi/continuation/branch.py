@@ -289,9 +289,16 @@ def _not_isolated(problem, X):
 
 
 def same_branch(a, b):
-    """Whether branch a retraces b (e.g. the two period-1 orbits at A joined by a fold)."""
+    """Whether branch a retraces b (e.g. the two period-1 orbits at A joined by a fold; an
+    isola switched to from both of its pitchforks: two closed loops over one range)."""
     if (a.n, a.p) != (b.n, b.p):
         return False
+    closed = "closes on itself"
+    if closed in a.end and closed in b.end:
+        va, vb = a.values, b.values
+        tol = 1e-6 * (1 + float(np.max(np.abs(va))))
+        if abs(va.min() - vb.min()) <= tol and abs(va.max() - vb.max()) <= tol:
+            return True
     end = a.points[-1]
     return any(abs(pt.value - end.value) <= 1e-9 * (1 + abs(end.value))
                and np.allclose(pt.y, end.y, atol=1e-7) for pt in b.points)

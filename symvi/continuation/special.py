@@ -124,11 +124,19 @@ class Codim1Tracker(engine.Tracker):
 
     def unlocated(self, kind, Xa, Xb, index, exc):
         lam = 0.5 * (Xa[-1] + Xb[-1])
-        orbit = orbit_of(self.problem, Xb[:-1], Xb[-1])
+        pr = self.problem
+        orbit = orbit_of(pr, Xb[:-1], Xb[-1])
+        why = ""
+        if pr.mirror is not None and not orbit.symmetric and any(
+                pr.half(X[:-1], pr.monodromy(X[:-1], pr.evaluate(X[:-1], X[-1])[1])[0],
+                        tol=1e-3) is not None for X in (Xa, Xb)):
+            why = ("; this asymmetric branch is within 1e-3 of a symmetric orbit here: the "
+                   "pitchfork where it meets the symmetric branch (located on that branch as "
+                   "symmetry-breaking), at which this branch's corrector is singular")
         return SpecialPoint("unlocated", float(lam), orbit, {},
                             f"a {kind} test function changes sign between "
-                            f"{Xa[-1]:.12g} and {Xb[-1]:.12g}, but locating it failed: {exc}",
-                            index)
+                            f"{Xa[-1]:.12g} and {Xb[-1]:.12g}, but locating it failed: {exc}"
+                            + why, index)
 
     def locate(self, kind, Xa, ta, Xb, index=0):
         """The special point of ``kind`` (fold, flip, ns, branch-point, R3, R4) on the arc

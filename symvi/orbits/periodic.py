@@ -262,7 +262,7 @@ class Problem:
         ends, N = self._ends(flow), self.N
         return tuple(float(ends[i][1] @ f[2][N:]) for i, f in enumerate(fl))
 
-    def half(self, u, mats):
+    def half(self, u, mats, tol=None):
         """H = S DP_{p/2-1} ... DP_0 of a symmetric orbit (``mats`` the DP_i of
         :meth:`monodromy`), else None.  S is the mirror x -> -x on the section (every
         coordinate but tau changes sign; a constraint and its mirror share the section's
@@ -278,9 +278,9 @@ class Problem:
             if self.sig[i + h] != self.mirror[self.sig[i]]:
                 return None
             a, b = Y[i], Y[i + h]
-            scale = 1.0 + float(np.max(np.abs(a)))
-            if (np.max(np.abs(a[:-1] + b[:-1])) > SYMMETRY_TOL * scale or
-                    abs(b[-1] - a[-1] - math.pi * self.n_periods) > SYMMETRY_TOL * scale):
+            scale = (SYMMETRY_TOL if tol is None else tol) * (1.0 + float(np.max(np.abs(a))))
+            if (np.max(np.abs(a[:-1] + b[:-1])) > scale or
+                    abs(b[-1] - a[-1] - math.pi * self.n_periods) > scale):
                 return None
         H = mats[0]
         for D in mats[1:h]:
