@@ -43,7 +43,7 @@ def run(args):
         from ..simulations.diagnostics import classifiable
         if not classifiable(params):
             raise ParameterError("--classify", "on", "a model with one rigid upper stop",
-                                 "the Lyapunov spectrum follows one stop's section "
+                                 "the classifier judges the points of one stop's section "
                                  "(issue 25)")
     labels, projections, names = section_view(params)
     if args.y0 is not None and len(args.y0) != len(names):

@@ -341,7 +341,7 @@ def _settle(model, omega):
     period-1 orbit plus 1e-4 in each component) or, with no period-1 closed form (several
     stops, a lower one), from :func:`default_start`: SETTLE_TRANSIENT impacts dropped,
     SETTLE_IMPACTS kept."""
-    from ..simulations.simulation import simulate
+    from ..simulations.simulation import default_start, simulate
     y0 = None if model.one_rigid_stop else default_start(model, omega)
     return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
 
@@ -387,11 +387,3 @@ def attractor_orbit(model, omega):
     return from_simulation(sim)
 
 
-def default_start(model, omega):
-    """A start on the first stop's section: every other mass at rest at 0, the phase 0,
-    and the stop's mass leaving it at speed omega max(|gap|, 0.1) (a flight of the size of
-    the clearance, not a chatter at the stop)."""
-    con = model.constraints[0]
-    y = [0.0] * (2 * model.n)
-    y[0] = -con.sign * float(omega) * max(abs(con.gap), 0.1)
-    return tuple(y)

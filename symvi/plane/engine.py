@@ -365,7 +365,7 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     # the limits of one sweep call over all omegas (chunks would allow more)
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // m))
     if classify:
-        _check_classifiable(n_impacts)
+        _check_classifiable(n_impacts, params=params)
     starts = sweep_starts(params, omegas)
     chunk = chunk or max(1, math.ceil(m / 32))
     parts = {}

@@ -81,8 +81,8 @@ def _spectrum(logs, te):
 
 
 def classifiable(params):
-    """Whether :func:`classify` and :func:`lyapunov` take the model of ``params``: one
-    rigid upper stop (the tangent maps follow one stop's section; issue 25)."""
+    """Whether :func:`classify` takes the model of ``params``: one rigid upper stop (its
+    judge reads the points of one section; issue 25).  :func:`lyapunov` takes several."""
     from ..model import Model
     return Model.of(params).one_rigid_stop
 

@@ -458,12 +458,26 @@ def omega_grid(params, omega_min, omega_max, steps, *, names=None):
     return omegas
 
 
+def default_start(model, omega):
+    """A start on the first stop's section: every other mass at rest at 0, the phase 0,
+    and the stop's mass leaving it at speed omega max(|gap|, 0.1) (a flight of the size of
+    the clearance, not a chatter at the stop)."""
+    con = model.constraints[0]
+    y = [0.0] * (2 * model.n)
+    y[0] = -con.sign * float(omega) * max(abs(con.gap), 0.1)
+    return tuple(y)
+
+
 def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     """Start points for a sweep: y* + perturbation at each omega.
 
     Where no admissible orbit exists the nearest omega's start is reused; if
-    none exists anywhere, raise.
+    none exists anywhere, raise.  A model with no period-1 closed form (several stops, a
+    lower one) starts each omega from :func:`default_start`.
     """
+    model = Model.of(params)
+    if not model.one_rigid_stop:
+        return np.array([default_start(model.require_rigid_stops(), w) for w in omegas])
     perturbation = _perturbation(params, perturbation)
     ys = [fixed_point(params, w) for w in omegas]
     have = [i for i, y in enumerate(ys) if y is not None]
@@ -491,7 +505,7 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
     if classify:
-        _check_classifiable(n_impacts)
+        _check_classifiable(n_impacts, params=params)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
@@ -520,10 +534,14 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     return dataclasses.replace(res, classes=classify_sweep(res)) if classify else res
 
 
-def _check_classifiable(n_impacts, name="n_impacts"):
+def _check_classifiable(n_impacts, name="n_impacts", params=None):
+    """Refuse a classification the classifier does not take: too few kept impacts, or a
+    model with several stops (its judge reads the points of one section: issue 25)."""
     from .classifier import MIN_KEPT
     if n_impacts < MIN_KEPT:
         raise ParameterError(name, n_impacts, f"an integer >= {MIN_KEPT} to classify")
+    if params is not None:
+        Model.of(params).require_one_rigid_stop()
 
 
 def classify_sweep(res):

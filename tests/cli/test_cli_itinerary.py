@@ -98,3 +98,17 @@ def test_simulate_an_elastic_stop_from_the_command_line(tmp_path):
     d = json.loads(out)
     assert d["stop"] == "completed" and sum(d["impacts_per_stop"]) == 100
     assert min(d["impacts_per_stop"]) > 0
+
+
+def test_sweep_of_a_two_stop_model(tmp_path):
+    """symvi sweep starts each omega of a several-stop model from the default start on
+    stop 1; --classify is refused before any run (the judge reads one section)."""
+    out = tmp_path / "sw.npz"
+    rc, text, err = cli("sweep", "--model", str(SYM), "--omega-min", "1.0", "--omega-max",
+                        "2.0", "--steps", "6", "--out", str(out))
+    assert rc == 0, err
+    assert json.loads(text)["stops"] == {"completed": 6} and out.exists()
+    rc, text, err = cli("sweep", "--model", str(SYM), "--omega-min", "1.0", "--omega-max",
+                        "2.0", "--steps", "6", "--out", str(tmp_path / "c.npz"), "--classify")
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and "stops = 2" in err
+    assert not (tmp_path / "c.npz").exists()
