@@ -110,13 +110,14 @@ def tangent_data(flow, forcing, te, tangent):
     the generated jets take the constraint's part through :func:`reset_tangent`."""
     bk, n = flow.bk, flow.n
     p = list(flow.perm)
-    if flow.free:
+    moves_A = any(np.any(np.asarray(a)) for a in (tangent.dM, tangent.dK, tangent.dC))
+    if flow.free and moves_A:
         from ..errors import SingularCaseError
         raise SingularCaseError(
-            "free-mass", "a derivative in a model parameter (not omega) of a model with a "
-            "mass on no spring: the Frechet derivative of e^{At} at its Jordan block is not "
-            "written yet (issue 25); continue in omega, or in a parameter of a model "
-            "without a free mode")
+            "free-mass", "a derivative in a mass, stiffness or damping entry of a model with "
+            "a mass on no spring: the Frechet derivative of e^{At} at its Jordan block is "
+            "not written yet (issue 25); continue in omega, a gap, a restitution or a "
+            "forcing amplitude")
 
     def perm(a):
         if flow.T is not None:                 # the frame q = T x: T^-T a T^-1, T^-T a
@@ -128,7 +129,8 @@ def tangent_data(flow, forcing, te, tangent):
     dMinv = -(Minv @ dM @ Minv)
     Z = bk.arr(np.zeros((n, n)))
     dA = np.block([[Z, Z], [-(dMinv @ flow.K + Minv @ dK), -(dMinv @ flow.C + Minv @ dC)]])
-    dPhi = frechet_exp(flow, te, dA)
+    # a gap, a restitution or a forcing amplitude leaves A (and e^{At}) alone
+    dPhi = frechet_exp(flow, te, dA) if moves_A else bk.arr(np.zeros((2 * n, 2 * n)))
     Phi = flow.phi(te)
     pE0 = dPhi
     pE1 = dPhi @ flow.A + Phi @ dA

@@ -329,16 +329,13 @@ class Problem:
             return out
         tan = name.tangent(model)
         ks = tan.stop                            # the stop whose gap or restitution moves
-        con = model.constraints[ks]
-        # dR/dr = -Q: the restitution moves the reset along its projector
-        dE = None
-        if tan.dr:
-            Q = con.projector(None if con.impulse else np.linalg.inv(model.mass))
-            p_ = list(flow.perm)
-            dE = self._reset_rows(-Q[np.ix_(p_, p_)], one=0.0, k=ks)
+        # the reset of each stop moves with its restitution (dR = -dr Q) and, for a rigid
+        # impulse along M^-1 c, with the masses (dQ from dq = -M^-1 dM q): dE_k z
+        dE = [self._dreset_rows(flow, model, k, tan) for k in range(len(model.constraints))]
         for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
             E, g, _ = ends[i]
-            start, end = self.sig[i] == ks, self.sig[(i + 1) % p] == ks
+            kb = self.sig[(i + 1) % p]
+            start, end = self.sig[i] == ks, kb == ks
             pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
             dF = type(F)(F.omega, pU, pV, None, None)
             ph = tau + F.omega * T[i]
@@ -346,10 +343,37 @@ class Problem:
             dz0[self.positions[self.sig[i]]] = pb if start else 0.0
             dz = pE0 @ (z0 - F.zp(tau, bk)) + Phi @ (dz0 - dF.zp(tau, bk)) + dF.zp(ph, bk)
             out[i * d:i * d + d - 1] = E @ dz
-            if dE is not None and end:
-                out[i * d:i * d + d - 1] += pr * (dE @ z)
-            out[p * d + i] = g @ dz[:N] - (con.sign * pb if end else 0.0)
+            if dE[kb] is not None:
+                out[i * d:i * d + d - 1] += dE[kb] @ z
+            out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
+
+    def _dreset_rows(self, flow, model, k, tan):
+        """The rows of :meth:`_reset_rows` for dR_k/dparam of constraint k (flow order), or
+        None where it is zero: -dr Q for its restitution, -(1 + r) dQ for a mass tangent
+        of a rigid impulse along M^-1 c (:func:`symvi.codegen.layout.reset_tangent`'s law)."""
+        con = model.constraints[k]
+        dr = tan.dr if tan.stop == k else 0.0
+        dM = np.asarray(tan.dM, dtype=float)
+        moves_q = con.impulse is None and np.any(dM != 0)
+        if not dr and not moves_q:
+            return None
+        Minv = None if con.impulse else np.linalg.inv(np.asarray(model.mass))
+        c = np.asarray(con.normal, dtype=float)
+        q = con.direction(Minv)
+        cq = c @ q
+        Q = np.outer(q, c) / cq
+        dR = -dr * Q
+        if moves_q:
+            dq = -(Minv @ dM @ q)
+            dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
+            dR = dR - (1 + con.restitution) * dQ
+        if flow.T is None:
+            p_ = list(flow.perm)
+            dR = dR[np.ix_(p_, p_)]
+        else:                                    # the frame q = T x: T dR T^-1
+            dR = flow.T @ dR @ flow.Tinv
+        return self._reset_rows(dR, one=0.0, k=k)
 
     def monodromy(self, u, Gu):
         """The map Jacobians DP_i (eq. (30): the time eliminated) and their product."""

@@ -304,3 +304,66 @@ def test_impact_damper_orbit_with_a_free_mass():
     pr = Problem(DAMPER, o.n, o.p, omega=o.omega, signature=o.signature)
     _, Gu, _ = pr.evaluate(o.u, None)
     assert np.max(np.abs(A - pr.monodromy(o.u, Gu)[1])) < 1e-12
+
+
+@pytest.mark.parametrize("param", ["stop[2].gap", "stop[1].restitution", "forcing[1]", "omega"])
+def test_impact_damper_parameter_derivatives(param):
+    """With a free mode, derivatives in a gap, a restitution or a forcing amplitude need no
+    Frechet derivative of e^{At} (A does not move): dG/dparam against central differences;
+    a mass, stiffness or damping entry is refused by name."""
+    from symvi.errors import SingularCaseError
+    o = _settled(DAMPER, 1.0, (-0.5, 0.0, 0.0, 0.0))
+    omega = None if param == "omega" else o.omega
+    pr = Problem(DAMPER, o.n, o.p, omega=omega, param=param, signature=o.signature)
+    lam = o.omega if param == "omega" else float(pr.parameter.get(DAMPER, o.omega))
+    Gl = pr.evaluate(o.u, lam, dparam=True)[2]
+    h = 1e-6
+    fd = (pr.evaluate(o.u, lam + h, jac=False)[0] - pr.evaluate(o.u, lam - h, jac=False)[0]) / (2 * h)
+    assert np.max(np.abs(fd - Gl)) < 1e-6 * (1 + np.max(np.abs(Gl)))
+    bad = Problem(DAMPER, o.n, o.p, omega=o.omega, param="stiffness[1,1]",
+                  signature=o.signature)
+    with pytest.raises(SingularCaseError, match="Jordan block"):
+        bad.evaluate(o.u, 1.0, dparam=True)
+
+
+#: two grounded masses impacting each other (stops between them, no free mode)
+BETWEEN = Model(mass=[1.0, 0.5], stiffness=[[1.0, -0.2], [-0.2, 2.0]],
+                damping=[[0.1, 0.0], [0.0, 0.1]], forcing=[1.0, 0.3],
+                stops=[Stop(between=(1, 2), gap=0.3, restitution=0.7),
+                       Stop(between=(1, 2), gap=-0.3, side="lower", restitution=0.8)])
+
+
+@pytest.mark.parametrize("param", ["mass[2]", "stiffness[1,2]", "damping[2,2]", "stop[2].gap",
+                                   "stop[1].restitution", "forcing[2]", "omega"])
+def test_derivatives_in_the_frame_of_stops_between_masses(param):
+    """dG/dparam of a model whose flow works in q = T x (the tangents carried into the
+    frame: T^-T dM T^-1, T Q T^-1) against central differences, compiled and reference."""
+    omega = 1.5
+    sig = (0, 1)
+    pr = Problem(BETWEEN, 1, 2, omega=None if param == "omega" else omega, param=param,
+                 signature=sig)
+    lam = omega if param == "omega" else float(pr.parameter.get(BETWEEN, omega))
+    u = np.array([-0.6, 0.1, 0.2, 1.0, 0.5, -0.1, 0.3, 4.0, 2.0, 2.2])
+    Gl = pr.evaluate(u, lam, dparam=True)[2]
+    h = 1e-6
+    fd = (pr.evaluate(u, lam + h, jac=False)[0] - pr.evaluate(u, lam - h, jac=False)[0]) / (2 * h)
+    assert np.max(np.abs(fd - Gl)) < 1e-6 * (1 + np.max(np.abs(Gl)))
+    pr.compiled = False
+    pr._last = None
+    assert np.max(np.abs(pr.evaluate(u, lam, dparam=True)[2] - Gl)) < 1e-11 * (
+        1 + np.max(np.abs(Gl)))
+
+
+def test_mass_derivative_of_a_one_stop_model_with_a_non_diagonal_mass_matrix():
+    """The rigid impulse along M^-1 c moves with the masses: dG/dmass[1,2] includes dR/dM
+    (it was missing before this session for a non-diagonal M), against central
+    differences."""
+    m = Model(mass=[[1.0, 0.2], [0.2, 0.8]], stiffness=[[2.0, -1.0], [-1.0, 1.5]],
+              damping=[[0.05, 0.0], [0.0, 0.05]], forcing=[1.0, 0.0],
+              stop=Stop(mass=1, gap=0.4, restitution=0.8))
+    pr = Problem(m, 1, 1, omega=1.3, param="mass[1,2]")
+    u = np.array([-0.7, 0.2, 0.1, 1.0, 4.5])
+    Gl = pr.evaluate(u, 0.2, dparam=True)[2]
+    h = 1e-6
+    fd = (pr.evaluate(u, 0.2 + h, jac=False)[0] - pr.evaluate(u, 0.2 - h, jac=False)[0]) / (2 * h)
+    assert np.max(np.abs(fd - Gl)) < 1e-6 * (1 + np.max(np.abs(Gl)))
