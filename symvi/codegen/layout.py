@@ -109,7 +109,6 @@ def tangent_data(flow, forcing, te, tangent):
     """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
     the generated jets take the constraint's part through :func:`reset_tangent`."""
     bk, n = flow.bk, flow.n
-    p = list(flow.perm)
     moves_A = any(np.any(np.asarray(a)) for a in (tangent.dM, tangent.dK, tangent.dC))
     if flow.free and moves_A:
         from ..errors import SingularCaseError
@@ -118,13 +117,8 @@ def tangent_data(flow, forcing, te, tangent):
             "a mass on no spring: the Frechet derivative of e^{At} at its Jordan block is "
             "not written yet (issue 25); continue in omega, a gap, a restitution or a "
             "forcing amplitude")
-
-    def perm(a):
-        if flow.T is not None:                 # the frame q = T x: T^-T a T^-1, T^-T a
-            Ti = flow.Tinv
-            return bk.arr(Ti.T @ np.asarray(a) @ Ti if np.ndim(a) == 2 else Ti.T @ np.asarray(a))
-        return bk.arr(np.asarray(a)[np.ix_(p, p)] if np.ndim(a) == 2 else np.asarray(a)[p])
-    dM, dK, dC, dP = perm(tangent.dM), perm(tangent.dK), perm(tangent.dC), perm(tangent.dP)
+    dM, dK, dC, dP = (bk.arr(flow.framed(a)) for a in
+                      (tangent.dM, tangent.dK, tangent.dC, tangent.dP))
     Minv = flow.Minv
     dMinv = -(Minv @ dM @ Minv)
     Z = bk.arr(np.zeros((n, n)))
@@ -173,16 +167,15 @@ def _constraint_of(flow):
     return c[2], flow.level, c[3]
 
 
-def reset_tangent(flow, tangent, con=None, order=None):
-    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order), of the
-    flow's constraint or of ``con`` in the order ``order`` (its coordinate first).
+def reset_derivative(flow, con, dr, dM):
+    """dR/dp of ``con``'s reset in the flow's order, for a restitution rate ``dr`` and a mass
+    tangent ``dM`` (mass order): the one owner of the law's derivative (:func:`reset_tangent`
+    takes its column 0, the shooting system all of it).
 
-    level = sign b, so d level = sign db.  R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ;
-    Q = q c^T / (c^T q) moves only with a rigid impulse q = M^-1 c along a mass tangent:
-    dq = -M^-1 dM q, dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
-    bk, n = flow.bk, flow.n
-    con = flow.constraint if con is None else con
-    p = list(flow.perm) if order is None else [flow.perm[i] for i in order]
+    R = (I - Q) - r Q gives dR = -dr Q - (1 + r) dQ; Q = q c^T / (c^T q) moves only with a
+    rigid impulse q = M^-1 c along a mass tangent: dq = -M^-1 dM q,
+    dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
+    bk = flow.bk
     Minv = None
     if con.impulse is None:
         Minv = bk.inv(bk.arr(np.asarray(flow.model.mass)))
@@ -190,17 +183,24 @@ def reset_tangent(flow, tangent, con=None, order=None):
     q = con.direction(Minv)
     cq = c @ q
     Q = np.outer(q, c) / cq
-    dR = -bk.num(tangent.dr) * Q
-    dM = np.asarray(tangent.dM, dtype=float)
+    dR = -bk.num(dr) * Q
+    dM = np.asarray(dM, dtype=float)
     if con.impulse is None and np.any(dM != 0):
         dq = -(Minv @ bk.arr(dM) @ q)
         dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
         dR = dR - (1 + (flow.r if con is flow.constraint else bk.num(con.restitution))) * dQ
-    if flow.T is not None:                     # v' = T v: dR' = T dR T^-1, then reordered
-        dR = flow.T @ dR @ flow.Tinv
-        q = list(range(n)) if order is None else list(order)
-        return con.sign * bk.num(tangent.db), dR[np.ix_(q, q)][:, 0]
-    return con.sign * bk.num(tangent.db), dR[np.ix_(p, p)][:, 0]
+    return flow.framed_velocity(dR)
+
+
+def reset_tangent(flow, tangent, con=None, order=None):
+    """(d level/dp, dR[:, 0]/dp) along a :class:`symvi.model.Tangent` (flow order), of the
+    flow's constraint or of ``con`` in the order ``order`` (positions of the flow's order,
+    its coordinate first): level = sign b, so d level = sign db; dR by
+    :func:`reset_derivative`."""
+    con = flow.constraint if con is None else con
+    dR = reset_derivative(flow, con, tangent.dr, tangent.dM)
+    q = list(range(flow.n)) if order is None else list(order)
+    return con.sign * flow.bk.num(tangent.db), dR[np.ix_(q, q)][:, 0]
 
 
 def assemble(flow, forcing, y, te, order, tangent=None):

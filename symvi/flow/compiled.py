@@ -147,7 +147,7 @@ def constants(model, omega, t_max=None):
     keep = _modes(np.asarray(flow.lam, dtype=complex))
     W = np.asarray(flow.W, dtype=complex)
     Winv = np.asarray(flow.Winv, dtype=complex)
-    rows = flow.constraint_rows()
+    rows = table(flow)
     c = np.zeros(size(n, len(rows), flow.free))
     U, V = np.asarray(fo.U, dtype=float), np.asarray(fo.V, dtype=float)
     c[_NN], c[_NM], c[_OM] = n, len(keep), omega

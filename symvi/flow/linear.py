@@ -107,19 +107,13 @@ class LinearFlow:
         model.require_rigid_stops()                # what this flow takes (issue 25)
         con = model.constraints[0]
         self.perm, self.T, self.labels = frame_of(model)
-        p = list(self.perm)
         self.n = n
-        if self.T is None:
-            M = bk.arr(np.asarray(model.mass)[np.ix_(p, p)])
-            K = bk.arr(np.asarray(model.stiffness)[np.ix_(p, p)])
-            C = bk.arr(np.asarray(model.damping)[np.ix_(p, p)])
-            self.P = bk.arr(np.asarray(model.forcing)[p])
-        else:
-            # q = T x: M' = T^-T M T^-1 (and K', C'), P' = T^-T P; each normal a row of T
-            Ti = self.Tinv = np.linalg.inv(self.T)
-            M, K, C = (bk.arr(_sym(Ti.T @ np.asarray(a) @ Ti)) for a in
-                       (model.mass, model.stiffness, model.damping))
-            self.P = bk.arr(Ti.T @ np.asarray(model.forcing))
+        if self.T is not None:
+            self.Tinv = np.linalg.inv(self.T)
+        # q = T x: M' = T^-T M T^-1 (and K', C'), P' = T^-T P (:meth:`framed`)
+        M, K, C = (bk.arr(self.framed(a)) for a in (model.mass, model.stiffness,
+                                                   model.damping))
+        self.P = bk.arr(self.framed(model.forcing))
         self.M, self.K, self.C = M, K, C
         Minv = self.Minv = bk.inv(M)
         self._constrain(con)
@@ -132,6 +126,26 @@ class LinearFlow:
                                                                    model.damped)
         self.free = nil is not None
         self.NIL = nil if self.free else bk.arr(np.zeros((2 * n, 2 * n)))
+
+    def framed(self, a):
+        """A matrix of forces over positions (M, K, C and their tangents) or a force
+        vector (P) of mass order in the flow's coordinates q = T x: T^-T a T^-1 (made
+        symmetric again: a congruence of a symmetric matrix), T^-T a; a permutation
+        (:func:`frame_of`) just reorders them."""
+        a = np.asarray(a)
+        if self.T is None:
+            p = list(self.perm)
+            return a[np.ix_(p, p)] if a.ndim == 2 else a[p]
+        Ti = self.Tinv
+        return _sym(Ti.T @ a @ Ti) if a.ndim == 2 else Ti.T @ a
+
+    def framed_velocity(self, R):
+        """A map of velocities (a reset, its derivative) of mass order in the flow's
+        coordinates: T R T^-1 (v' = T v), a reordering for a permutation."""
+        if self.T is None:
+            p = list(self.perm)
+            return R[np.ix_(p, p)]
+        return self.T @ R @ self.Tinv
 
     def _constrain(self, con):
         """The constraint's data in the flow's order (:mod:`symvi.model._constraint`):

@@ -297,7 +297,7 @@ def finder_constants(flow, F):
     c, lmax, grow = base[0].copy(), base[1], base[2]
     if flow.model.constraints[1:] != base[4][1:]:
         # a copied flow (a new gap or r of another stop) shares the base: every row anew
-        _fc.set_constraints(c, flow.n, flow.constraint_rows())
+        _fc.set_constraints(c, flow.n, _fc.table(flow))
     elif flow.constraint is not base[3]:
         _fc.set_constraint(c, flow)                # a copied flow (new stop) shares the base
     w = float(F.omega)

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..codegen.layout import tangent_data
+from ..codegen.layout import reset_derivative, tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import section_index
@@ -350,30 +350,13 @@ class Problem:
 
     def _dreset_rows(self, flow, model, k, tan):
         """The rows of :meth:`_reset_rows` for dR_k/dparam of constraint k (flow order), or
-        None where it is zero: -dr Q for its restitution, -(1 + r) dQ for a mass tangent
-        of a rigid impulse along M^-1 c (:func:`symvi.codegen.layout.reset_tangent`'s law)."""
+        None where it is zero: its restitution moves it if the tangent's stop is k, the
+        masses if its impulse is along M^-1 c (:func:`symvi.codegen.layout.reset_derivative`)."""
         con = model.constraints[k]
         dr = tan.dr if tan.stop == k else 0.0
-        dM = np.asarray(tan.dM, dtype=float)
-        moves_q = con.impulse is None and np.any(dM != 0)
-        if not dr and not moves_q:
+        if not dr and not (con.impulse is None and np.any(np.asarray(tan.dM) != 0)):
             return None
-        Minv = None if con.impulse else np.linalg.inv(np.asarray(model.mass))
-        c = np.asarray(con.normal, dtype=float)
-        q = con.direction(Minv)
-        cq = c @ q
-        Q = np.outer(q, c) / cq
-        dR = -dr * Q
-        if moves_q:
-            dq = -(Minv @ dM @ q)
-            dQ = np.outer(dq, c) / cq - Q * ((c @ dq) / cq)
-            dR = dR - (1 + con.restitution) * dQ
-        if flow.T is None:
-            p_ = list(flow.perm)
-            dR = dR[np.ix_(p_, p_)]
-        else:                                    # the frame q = T x: T dR T^-1
-            dR = flow.T @ dR @ flow.Tinv
-        return self._reset_rows(dR, one=0.0, k=k)
+        return self._reset_rows(reset_derivative(flow, con, dr, tan.dM), one=0.0, k=k)
 
     def monodromy(self, u, Gu):
         """The map Jacobians DP_i (eq. (30): the time eliminated) and their product."""
