@@ -171,10 +171,8 @@ class Codim1Tracker(engine.Tracker):
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
                                 "<p,q> = 1)" + note, index)
         if kind == "branch-point":
-            X, spread = interpolated_root(self.problem, lambda X, Gu: self._mu_prod(X, Gu, -1),
-                                          Xa, ta, Xb)
-            orbit = self._orbit(X, None)
-            Gu = pr.evaluate(X[:m], X[m])[1]
+            X, spread, orbit, Gu = self._branch_root(lambda X, Gu: self._mu_prod(X, Gu, -1),
+                                                     Xa, ta, Xb)
             e = real_critical(self._mono(X, Gu), 1.0)
             return SpecialPoint("branch-point", float(X[m]), orbit,
                                 {"multiplier": e.mu, "gap": e.gap, "spread": float(spread)},
@@ -184,12 +182,7 @@ class Codim1Tracker(engine.Tracker):
                                 "period-doubled branch met on an orbit traversed twice); symvi "
                                 "reports it and continues on the same branch", index)
         if kind == "symmetry-breaking":
-            # the extended system is singular at a branch point: the corrector cannot sit
-            # on it, so the root is interpolated between corrected points either side
-            X, spread = interpolated_root(self.problem, lambda X, Gu: self._half_prod(X, Gu),
-                                          Xa, ta, Xb)
-            orbit = self._orbit(X, None)
-            Gu = pr.evaluate(X[:m], X[m])[1]
+            X, spread, orbit, Gu = self._branch_root(self._half_prod, Xa, ta, Xb)
             H = pr.half(X[:m], pr.monodromy(X[:m], Gu)[0])
             if H is None:
                 return None
@@ -289,6 +282,14 @@ class Codim1Tracker(engine.Tracker):
                             f"flight {i + 1} touches {stop} with zero velocity at t = "
                             f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
                             f"orbit penetrates {'the stop' if k is None else 'it'} beyond", index)
+
+    def _branch_root(self, f, Xa, ta, Xb):
+        """(X, spread, orbit, G_u) at the zero of f(X, G_u) on the arc: the extended system
+        is singular at a branch point, so the corrector cannot sit on it and the root is
+        interpolated between corrected points either side (:func:`interpolated_root`)."""
+        m = self.problem.size
+        X, spread = interpolated_root(self.problem, f, Xa, ta, Xb)
+        return X, spread, self._orbit(X, None), self.problem.evaluate(X[:m], X[m])[1]
 
     def _ns(self, X, orbit, index, Xa, Xb):
         m = self.problem.size

@@ -362,8 +362,7 @@ def _attractor(model, par, start, stop, omega):
         else:
             if detect_period(sim) is not None:
                 return v, sim, why
-            got = f"the run ended: {sim.stop}" if sim.stop != "completed" else \
-                "the run settles on no periodic orbit of at most 16 impacts"
+            got = _unsettled(sim)
         if k == 0:
             why = got
     return start, None, why
@@ -380,10 +379,15 @@ def attractor_orbit(model, omega):
     omega = check_omega(model.require_rigid_stops(), omega)
     sim = _settle(model, omega)
     if detect_period(sim) is None:
-        why = (f"the run ended: {sim.stop}" if sim.stop != "completed" else
-               "it settles on no periodic orbit of at most 16 impacts")
         raise SingularCaseError("no-orbit", f"a run of the map from a default start on stop "
-                                f"1 at omega = {omega:g} settles on no periodic orbit ({why})")
+                                f"1 at omega = {omega:g} settles on no periodic orbit "
+                                f"({_unsettled(sim)})")
     return from_simulation(sim)
+
+
+def _unsettled(sim):
+    """Why a run settled on no periodic orbit, in a phrase."""
+    return (f"the run ended: {sim.stop}" if sim.stop != "completed" else
+            "it settles on no periodic orbit of at most 16 impacts")
 
 
