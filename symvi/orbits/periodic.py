@@ -582,6 +582,12 @@ class PeriodicOrbit:
         return self.points[0]
 
     @property
+    def itinerary(self):
+        """The orbit's :class:`symvi.model.Signature`: its events and what is in contact."""
+        return Signature(self.signature if self.signature is not None else (0,) * self.p,
+                         self.contact)
+
+    @property
     def signature_names(self):
         """["stop1", "stop2", ...]: the constraint of each impact, 1-based."""
         sig = self.signature if self.signature is not None else (0,) * self.p
