@@ -136,6 +136,29 @@ def tangent_data(flow, forcing, te, tangent):
     return pE0, pE1, bk.vreal(dX), bk.vreal(-i * dX), tangent.dr, tangent.db
 
 
+def phase_tangent(flow, tangent):
+    """(the tangent of a contact phase's matrices, d zs) along a :class:`Tangent`, for the
+    flow of a contact phase (:meth:`symvi.flow.linear.LinearFlow.contact`): dK_S = dK +
+    dk c c^T and dC_S = dC + dc c c^T for the constraint in contact whose stiffness (dk)
+    or damping (dc) moves, and, from zs = (K_S^-1 f_S, 0) with f_S = sum k_i g_i c_i,
+    d xs = K_S^-1 (df_S - dK_S xs) (flow order)."""
+    n = flow.n
+    dK, dC = np.array(tangent.dK, dtype=float), np.array(tangent.dC, dtype=float)
+    df = np.zeros(n)
+    for i in flow.active:
+        if i != tangent.stop:
+            continue
+        con = flow.model.constraints[i]
+        c = np.array(con.normal, dtype=float)
+        dK = dK + tangent.dk * np.outer(c, c)
+        dC = dC + tangent.dc * np.outer(c, c)
+        df = df + (tangent.dk * con.gap + con.stiffness * tangent.db) * c
+    xs = np.asarray(flow.offset[:n], dtype=float)
+    dxs = np.linalg.solve(np.asarray(flow.K, dtype=float),
+                          flow.framed(df) - flow.framed(dK) @ xs)
+    return replace(tangent, dK=dK, dC=dC), np.concatenate([dxs, np.zeros(n)])
+
+
 def jet_constraint(flow):
     """(g0, level, R[:, 0]) of the flow's constraint as the generated structures take them
     (:meth:`symvi.flow.linear.LinearFlow._constrain`, flow order): the guard
@@ -176,6 +199,8 @@ def reset_derivative(flow, con, dr, dM):
     rigid impulse q = M^-1 c along a mass tangent: dq = -M^-1 dM q,
     dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
     bk = flow.bk
+    if con.kind == "elastic":              # an entry or an exit: no jump, nothing moves
+        return bk.arr(np.zeros((flow.n, flow.n)))
     Minv = None
     if con.impulse is None:
         Minv = bk.inv(bk.arr(np.asarray(flow.model.mass)))
@@ -296,14 +321,18 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
             parts += [np.zeros(d2), np.zeros(d2), np.zeros(n), np.zeros(n)]
             scal += [0.0] * (n + 2)
         else:
-            pE0, pE1, pU, pV, _, db = tangent_data(flow, forcing, te, tangent)
+            tan, dzs = (tangent, None) if flow.offset is None else phase_tangent(flow, tangent)
+            pE0, pE1, pU, pV, _, db = tangent_data(flow, forcing, te, tan)
             parts += [pE0[ix].ravel(), pE1[ix].ravel(), np.asarray(pU)[Qb], np.asarray(pV)[Qb]]
             # the gap and restitution of the tangent's stop move kb's guard and reset only
             # if it is kb (a mass tangent moves every rigid reset, q = M^-1 c)
             tb = tangent if tangent.stop == kb else replace(tangent, db=0.0, dr=0.0)
             plevel, pR = reset_tangent(flow, tb, con_b, list(Qb))
+            pb0 = db if tangent.stop == ka else 0.0
+            if dzs is not None:                  # the shifted levels move with zs
+                plevel, pb0 = plevel - g0 * dzs[int(rb[0])], pb0 - dzs[int(rows[ka][0])]
             scal += [plevel] + list(np.asarray(pR, dtype=float))
-            scal += [db if tangent.stop == ka else 0.0]
+            scal += [pb0]
     elif tangent is not None and not tangent.zero:
         raise ParameterError("order", order, "2 or 3 with a parameter tangent")
     yv = yv[pi]

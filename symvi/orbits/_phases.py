@@ -126,10 +126,10 @@ def flights(problem, flow, F, pts):
         if i + 1 < p:
             if len(pts) == p:
                 nxt = np.array(pts[i + 1], dtype=float)
-            else:
+                nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * ev.t)
+            else:                                  # the walk's point, tau unwrapped
                 za = _to_flow(flow, ev.after)
-                nxt = np.append(za[problem.frames[kb]], 0.0)
-            nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * ev.t)
+                nxt = np.append(za[problem.frames[kb]], cur[-1] + F.omega * ev.t)
             Y.append(nxt)
             cur = nxt
     return Y, T

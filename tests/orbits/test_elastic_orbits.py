@@ -218,3 +218,47 @@ def test_symmetric_elastic_orbit_breaks_symmetry(sym_branches):
         run = event_run(SYM, s.omega, z0, tau, events=8 * s.p, transient=40 * s.p,
                         active=s.itinerary.phases(SYM)[0], start=s.signature[0])
         assert detect_period(run) == (s.n, s.p)
+
+
+def _next_event(model, orbit, i, y):
+    """(time, point) from point y of event i's section to the next event, by the walk (the
+    orbit's signature rotated to start at event i)."""
+    from symvi.orbits._phases import flights
+    from symvi.orbits.periodic import flow_of
+    hits = orbit.signature[i:] + orbit.signature[:i]
+    sig = Signature(hits, orbit.itinerary.phases(model)[i])
+    pr = Problem(model, orbit.n, orbit.p, omega=orbit.omega, signature=sig)
+    flow = flow_of(model)
+    Y, T = flights(pr, flow, flow.forcing(orbit.omega), [np.array(y)])
+    return T[0], Y[1]
+
+
+@pytest.mark.parametrize("param", ["stop[1].stiffness", "stop[1].gap", "stop[1].damping",
+                                   "mass[1]", "damping[1,1]"])
+def test_parameter_jets_through_contact_phases(param):
+    """dJ/dp and dP/dp of each flight's map (the generated parameter slots fed the phase's
+    tangent, K_S, C_S and the offset's motion, corrected for the moving translation)
+    against central differences of J and of the walk's end point at p +- h."""
+    from symvi.codegen.jets import flight_jet
+    model, omega = CASES["chain-1-3"]
+    orbit = _orbit(model, omega)
+    par = model.parameter(param)
+    v, tan = par.get(model), par.tangent(model)
+    phases = orbit.itinerary.phases(model)
+    Y = orbit.u[:orbit.p * 2 * model.n].reshape(orbit.p, -1)
+    h = 1e-6 * max(1.0, abs(v))
+    for i in range(orbit.p):
+        ka, kb = orbit.signature[i], orbit.signature[(i + 1) % orbit.p]
+        fi = LinearFlow.contact(model, phases[i])
+        val = flight_jet(fi, fi.forcing(omega), tuple(Y[i]), orbit.times[i], 2, ka, kb, tan)
+        J, P = [], []
+        for s in (1.0, -1.0):
+            mp = par.apply(model, v + s * h)
+            te, nxt = _next_event(mp, orbit, i, Y[i])
+            fp = LinearFlow.contact(mp, phases[i])
+            J.append(flight_jet(fp, fp.forcing(omega), tuple(Y[i]), te, 1, ka, kb)["J"])
+            P.append(nxt)
+        fd = (J[0] - J[1]) / (2 * h)
+        assert np.max(np.abs(val["dpJ"] - fd)) <= 2e-6 * max(1.0, np.max(np.abs(fd))), i
+        fdP = (P[0] - P[1]) / (2 * h)
+        assert np.max(np.abs(val["dpP"] - fdP)) <= 2e-6 * max(1.0, np.max(np.abs(fdP))), i
