@@ -262,3 +262,18 @@ def test_parameter_jets_through_contact_phases(param):
         assert np.max(np.abs(val["dpJ"] - fd)) <= 2e-6 * max(1.0, np.max(np.abs(fd))), i
         fdP = (P[0] - P[1]) / (2 * h)
         assert np.max(np.abs(val["dpP"] - fdP)) <= 2e-6 * max(1.0, np.max(np.abs(fdP))), i
+
+
+def test_a_contact_that_shrinks_to_a_touch_is_located():
+    """Along omega the one-stop elastic orbit's contact shrinks until the mass only touches
+    the stop: located as grazing of stop 1 (interpolated, the shooting system is singular
+    there) with the entry speed and the contact time both 0, once (not again as the exit's
+    speed, nor as a fold of the virtual branch beyond)."""
+    br = continue_orbits(ONE, "omega", 1.2, 2.5)[0]
+    touch = [sp for sp in br.special if sp.kind == "grazing"]
+    assert len(touch) == 1 and not [sp for sp in br.special if sp.kind == "unlocated"]
+    c = touch[0].coefficients
+    assert c["stop"] == 1 and abs(c["impact_velocity"]) < 1e-8 and abs(c["contact_time"]) < 1e-8
+    # the last admissible point before it has a short contact, entered slowly
+    last = [pt.orbit for pt in br.points if pt.orbit.admissible][-1]
+    assert 0 < min(last.times) < 0.05 and 0 < min(last.impact_velocities) < 0.2
