@@ -44,33 +44,25 @@ def module(n, order, start=None):
     """The generated module of structure n, order K: shipped in ``symvi._generated``
     (orders 1-3 of N = 1..4, orders 4-5 of N = 1, 2), else generated on first use
     into the per-user cache.  ``start`` s: the variant whose flight starts on the section
-    of coordinate s (another constraint's), shipped for N = 1..4, orders 1-3."""
+    of coordinate s (another constraint's), shipped for the same N and orders."""
     key = (n, order, start)
     if key not in _LOADED:
-        if start is not None:
-            try:
-                mod = importlib.import_module(f"symvi._generated.impact_n{n}_s{start}_order{order}")
-            except ModuleNotFoundError:
-                raise ParameterError("model", f"N = {n}", "N <= 4 masses for the jets of an "
-                                     "orbit with several constraints (orders 1-3 are shipped "
-                                     "for N <= 4; larger N on first use is the next step)") from None
-            _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
-            return _LOADED[key]
-        name = f"impact_n{n}_order{order}"
+        name = f"impact_n{n}_order{order}" if start is None else \
+            f"impact_n{n}_s{start}_order{order}"
         try:
             mod = importlib.import_module(f"symvi._generated.{name}")
         except ModuleNotFoundError as exc:
             if exc.name != f"symvi._generated.{name}":
                 raise
-            mod = _user_module(n, order, name)
+            mod = _user_module(n, order, name, start)
         _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
     return _LOADED[key]
 
 
-def _user_module(n, order, name):
+def _user_module(n, order, name, start=None):
     # generated on first use, run only after the checks of symvi.codegen._usercache
     from ._usercache import load
-    return load(n, order)
+    return load(n, order, start)
 
 
 def frechet_kernel(lt, ex, t):

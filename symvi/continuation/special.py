@@ -42,12 +42,6 @@ from .points import SpecialPoint
 STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
-#: what a special point of an orbit with several constraints says of its coefficient
-NO_JETS = ("the normal-form coefficient a is not computed: the jets of flights between "
-           "two constraints' sections are shipped for N <= 4 masses (the point itself is "
-           "exact)")
-
-
 @functools.lru_cache(maxsize=None)
 def _pairs(n):
     """Index pairs i < j of n multipliers (the bialternate product)."""
@@ -61,8 +55,6 @@ class Codim1Tracker(engine.Tracker):
         super().__init__(problem)
         self.problem = problem
         self.coefficients = coefficients      # False: NS points located, no normal form
-        # the jets of an orbit with several constraints: the shipped variants (N <= 4)
-        self._jets = not (problem.several and problem.N > 4)
 
     # ---- test functions -----------------------------------------------------------
     def _conservative(self, X):
@@ -175,12 +167,6 @@ class Codim1Tracker(engine.Tracker):
         if kind == "fold":
             X, t, Gu = self._root(lambda X, t, Gu: t[-1], Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if not self._jets:
-                e = real_critical(self._mono(X, Gu), 1.0)
-                return SpecialPoint("fold", float(X[m]), orbit,
-                                    {"multiplier": e.mu, "gap": e.gap},
-                                    "a multiplier through +1: the branch turns (saddle-node); "
-                                    + NO_JETS, index)
             A, d2, _ = orbit.jet(2)
             a, e = fold_coefficient(A, d2)
             note = (f"; +1 is a double multiplier (gap {e.gap:.1e}): the one-dimensional "
@@ -218,12 +204,6 @@ class Codim1Tracker(engine.Tracker):
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if not self._jets:
-                e = real_critical(self._mono(X, Gu), -1.0)
-                return SpecialPoint("flip", float(X[m]), orbit,
-                                    {"multiplier": e.mu, "gap": e.gap},
-                                    f"a multiplier through -1: period doubling to a "
-                                    f"{2 * pr.n_periods}-{2 * pr.p} orbit; " + NO_JETS, index)
             A, d2, d3 = orbit.jet(3)
             c, e = flip_coefficient(A, d2, d3)
             crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
@@ -247,11 +227,6 @@ class Codim1Tracker(engine.Tracker):
             if not self.coefficients:
                 return SpecialPoint("ns", float(X[m]), orbit, {}, "a complex pair through "
                                     "|lambda| = 1 (normal form left to the caller)", index)
-            if not self._jets:
-                return SpecialPoint("ns", float(X[m]), orbit,
-                                    {"theta": float(abs(np.angle(crit)))},
-                                    "a complex pair through |lambda| = 1: Neimark-Sacker; "
-                                    + NO_JETS.replace("a is", "l1 is"), index)
             return self._ns(X, orbit, index, Xa, Xb)
         if kind in ("R3", "R4"):
             m_ = int(kind[1])

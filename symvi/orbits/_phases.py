@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
 from ..flow import contact as ct
 
 #: the events of a run that settles on an attractor: dropped, then kept

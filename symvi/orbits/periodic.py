@@ -587,10 +587,6 @@ class PeriodicOrbit:
         # each flight in its phase's flow (the free flow without elastic stops)
         phases = (Signature(self.signature, self.contact).phases(self.model)
                   if self.model.elastic else None)
-        if several and order > 3:
-            raise ParameterError("order", order, "1, 2 or 3 for an orbit with several "
-                                 "constraints (orders 4, 5 need the variants from each "
-                                 "section, not generated yet)")
         for i in range(self.p):
             if several:
                 from ..codegen.jets import flight_jet
@@ -599,7 +595,8 @@ class PeriodicOrbit:
                 v = flight_jet(fi, fi.forcing(self.omega), tuple(Y[i]), float(self.times[i]),
                                order, sig[i], sig[(i + 1) % self.p])
                 jets.append((v["J"], v["d2"] if order >= 2 else None,
-                             v.get("d3") if order >= 3 else None))
+                             v.get("d3") if order >= 3 else None)
+                            + tuple(v[f"d{k}"] for k in range(4, order + 1)))
             elif order <= 3:
                 from ..codegen.jets import evaluate
                 v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
