@@ -81,8 +81,13 @@ def frechet_kernel(lt, ex, t):
 
 def frechet_exp(flow, t, dA):
     """d/de e^{(A + e dA) t} at e = 0, by the eigen-decomposition of A:
-    W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t)."""
+    W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t).
+    With a mass on no spring A has a Jordan block and no eigenbasis: then the upper right
+    block of exp([[A, dA], [0, A]] t) [Van Loan, IEEE Trans. Autom. Control 23 (1978)
+    395-404; Higham, Functions of Matrices, SIAM 2008, eq. (3.16)]."""
     bk = flow.bk
+    if flow.free:
+        return _frechet_block(flow, t, dA)
     lt = flow.lam * t
     ex = bk.vexp(lt)
     m = len(lt)
@@ -97,18 +102,25 @@ def frechet_exp(flow, t, dA):
     return bk.vreal(flow.W @ (G * (flow.Winv @ dA @ flow.W)) @ flow.Winv)
 
 
+def _frechet_block(flow, t, dA):
+    """The Frechet derivative of e^{At} in the direction dA as the upper right block of
+    e^{[[A, dA], [0, A]] t} (:func:`frechet_exp`): scipy's expm in float64, mpmath's at
+    the flow's precision."""
+    bk, d = flow.bk, 2 * flow.n
+    Z = np.zeros((d, d), dtype=object if bk is not FLOAT64 else float)
+    B = np.block([[np.asarray(flow.A), np.asarray(dA)], [Z, np.asarray(flow.A)]])
+    if bk is FLOAT64:
+        from scipy.linalg import expm
+        return expm(B * float(t))[:d, d:]
+    E = mpmath.expm(mpmath.matrix(B.tolist()) * t)
+    return np.array([[E[i, d + j] for j in range(d)] for i in range(d)], dtype=object)
+
+
 def tangent_data(flow, forcing, te, tangent):
     """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
     the generated jets take the constraint's part through :func:`reset_tangent`."""
     bk, n = flow.bk, flow.n
     moves_A = any(np.any(np.asarray(a)) for a in (tangent.dM, tangent.dK, tangent.dC))
-    if flow.free and moves_A:
-        from ..errors import SingularCaseError
-        raise SingularCaseError(
-            "free-mass", "a derivative in a mass, stiffness or damping entry of a model with "
-            "a mass on no spring: the Frechet derivative of e^{At} at its Jordan block is "
-            "not written yet (issue 25); continue in omega, a gap, a restitution or a "
-            "forcing amplitude")
     dM, dK, dC, dP = (bk.arr(flow.framed(a)) for a in
                       (tangent.dM, tangent.dK, tangent.dC, tangent.dP))
     Minv = flow.Minv

@@ -78,9 +78,7 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
-        if model.elastic:                    # contact phases: the walk's stops on masses
-            model.require_stops_on_masses()
-        else:
+        if not model.elastic:                # contact phases: LinearFlow.contact
             model.require_rigid_stops()
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
@@ -733,15 +731,12 @@ def _admissible_phases(problem, fl, flow, F, T):
     exits and rigid impacts) with its provably safe step."""
     from ..flow import contact
     model, N, p = problem.model, problem.N, problem.p
-    perm = list(flow.perm)
     ends = problem._ends(flow)
     rows = _table(flow)
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
         S = problem.phases[i]
-        zm = np.empty(2 * N)
-        zm[perm], zm[[N + j for j in perm]] = z0[:N], z0[N:]
-        mo = contact.phase(model, S).motion(F.omega, zm, tau)
+        mo = contact.phase(model, S).motion(F.omega, flow.to_mass(z0), tau)
         G, lv = contact.guards(model, S)
         sa = -1.0 if ka in S else 1.0              # the walk's guards: -h in contact
         sb = -1.0 if kb in S else 1.0

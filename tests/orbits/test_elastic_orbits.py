@@ -277,3 +277,50 @@ def test_a_contact_that_shrinks_to_a_touch_is_located():
     # the last admissible point before it has a short contact, entered slowly
     last = [pt.orbit for pt in br.points if pt.orbit.admissible][-1]
     assert 0 < min(last.times) < 0.05 and 0 < min(last.impact_velocities) < 0.2
+
+
+#: an impact damper with rubber-coated walls: a free mass (on no spring) in a cavity of
+#: clearance +-1, elastic contacts between the masses
+DAMPER = Model(mass=[1.0, 0.1], stiffness=[[1.0, 0.0], [0.0, 0.0]],
+               damping=[[0.05, 0.0], [0.0, 0.0]], forcing=[0.1, 0.0],
+               stops=[Stop(between=(1, 2), gap=1.0, stiffness=200.0, damping=0.5),
+                      Stop(between=(1, 2), gap=-1.0, side="lower", stiffness=200.0,
+                           damping=0.5)])
+
+
+@pytest.mark.parametrize("param", ["omega", "stop[1].stiffness", "stop[2].gap",
+                                   "stop[1].damping", "forcing[1]"])
+def test_elastic_impact_damper_with_a_free_mass(param):
+    """Contacts between masses and a mass on no spring: the free phase has the drift of a
+    Jordan block, each contact phase none (the contact acts on the free mode).  The
+    symmetric orbit is a periodic walk with the elastic determinant identity, and its
+    shooting derivatives agree with central differences."""
+    orbit = _orbit(DAMPER, 1.0)
+    assert orbit.symmetric and orbit.p == 4
+    flow = LinearFlow.contact(DAMPER)
+    assert flow.free and not LinearFlow.contact(DAMPER, (0,)).free
+    # the walk from point 0 meets the four events at the orbit's times and closes
+    pr = Problem(DAMPER, orbit.n, orbit.p, omega=1.0, param=param, signature=orbit.itinerary)
+    k0 = orbit.signature[0]
+    zf = np.empty(4)
+    zf[pr.positions[k0]] = DAMPER.constraints[k0].gap
+    zf[pr.frames[k0]] = orbit.points[0][:-1]
+    z0 = flow.to_mass(zf)
+    walk = ct.walk(DAMPER, 1.0, z0, orbit.points[0][-1], active=pr.phases[0], start=k0)
+    t = 0.0
+    for i in range(orbit.p):
+        ev = next(walk)
+        assert ev.constraint == orbit.signature[(i + 1) % orbit.p]
+        assert ev.t - t == pytest.approx(orbit.times[i], rel=1e-9)
+        t = ev.t
+    assert np.allclose(ev.after, z0, atol=1e-9)
+    # det: the contact damping acts on s = x2 - x1 with c^T M^-1 c = 1 + 10
+    expo = -0.05 * 2 * math.pi - sum(0.5 * 11.0 * T for S, T in zip(pr.phases, orbit.times)
+                                     if S)
+    assert abs(np.prod(orbit.multipliers)) == pytest.approx(math.exp(expo), rel=1e-9)
+    lam = 1.0 if param == "omega" else pr.parameter.get(DAMPER)
+    G, Gu, Gl = pr.evaluate(orbit.u, lam, dparam=True)
+    h = 1e-6 * max(1.0, abs(lam))
+    fd = (pr.evaluate(orbit.u, lam + h, jac=False)[0]
+          - pr.evaluate(orbit.u, lam - h, jac=False)[0]) / (2 * h)
+    assert np.max(np.abs(Gl - fd)) <= 1e-7 * max(1.0, np.max(np.abs(fd)))
