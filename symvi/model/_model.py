@@ -296,8 +296,6 @@ _PRESET = _preset.NAMES
 _ONE_STOP = "one rigid stop on one mass (upper side)"
 #: what the flow and the compiled run take today (:meth:`Model.require_rigid_stops`)
 _RIGID_STOPS = "rigid stops, each on one mass or between two"
-#: what simulate takes with an elastic stop (:meth:`Model.require_stops_on_masses`)
-_ON_MASSES = "stops each on one mass (rigid or elastic)"
 
 
 def _stop_list(stop, stops):
@@ -407,24 +405,14 @@ class Model:
         :func:`symvi.flow.linear.frame_of`).  Called where a model enters the flow
         (:class:`LinearFlow`, the section); the analyses on the period-1 closed form ask
         :meth:`require_one_rigid_stop` too.  Elastic stops run in ``simulate`` through
-        :mod:`symvi.flow.contact`."""
+        :mod:`symvi.flow.contact` and in the orbit analyses through
+        :meth:`LinearFlow.contact`."""
         for k, s in enumerate(self._stops, start=1):
             if s.stiffness is not None:
                 name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
                 raise ParameterError(name, s, _RIGID_STOPS, "an elastic stop is not supported "
-                                     "by this analysis yet (simulate runs it): issue 25")
-        return self
-
-    def require_stops_on_masses(self):
-        """``self``, or the one-line ParameterError saying what the walk through contact
-        phases (:mod:`symvi.flow.contact`, ``simulate`` with an elastic stop) cannot handle
-        yet: every stop on one mass (rigid or elastic, either side; a section point names
-        the stop's mass)."""
-        for k, s in enumerate(self._stops, start=1):
-            if s.between is not None:
-                name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
-                raise ParameterError(name, s, _ON_MASSES, "a stop between two masses is not "
-                                     "supported with elastic stops yet: issue 25")
+                                     "by this analysis yet (simulate, orbit, continue and "
+                                     "curve run it): issue 25")
         return self
 
     @property

@@ -231,14 +231,6 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
                       STOP_NAMES[code], transient, ys, hits)
 
 
-def _free_flight_twin(model):
-    """The model's free flight with one rigid stop in place of its stops: the flow whose
-    forcing-frequency checks (range, resonance, warning) are the free flight's."""
-    from ..model import Stop
-    return Model(mass=model.mass, stiffness=model.stiffness, damping=model.damping,
-                 forcing=model.forcing, stop=Stop(mass=1, gap=0.0, restitution=1.0))
-
-
 def _simulate_contacts(model, omega, y0, n_impacts, transient):
     """:func:`simulate` for a model with an elastic stop (and any rigid ones, each stop on
     one mass): the exact walk of :mod:`symvi.flow.contact` through free flights, contact
@@ -254,16 +246,20 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
     compiled run's; a contact that does not end within 1000 forcing periods is
     ``sticking``, and chatter counts records closer than CHATTER_FLIGHT periods."""
     from ..flow import contact as ct
-    model.require_stops_on_masses()
-    omega = check_omega(_free_flight_twin(model), omega)
+    from ..flow.linear import LinearFlow
+    from ..maps import Section
+    flow = LinearFlow.contact(model)              # the frame: q = T x (stops between masses)
+    positions = [flow.position(c) for c in model.constraints]
+    frames = [cf.section_index(model.n, q) for q in positions]
+    omega = check_omega(model, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
-    sec = _walk_section(model)
+    sec = Section.of(model)
     if y0 is None:
         raise ParameterError("y0", None, f"a start on the first stop's section "
                              f"({', '.join(sec.names)}): no period-1 orbit to start from "
                              "with an elastic stop (issue 25)")
-    y0, z0 = _check_walk_start(model, sec, y0)
+    y0, z0 = _check_walk_start(model, sec, y0, flow)
     n, first = model.n, model.constraints[0]
     rows, t, vin, hits, t_out, v_out = [], [], [], [], [], []
     total = transient + n_impacts
@@ -293,7 +289,9 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
                 open_[g] = kept
             if kept >= 0:
                 con = model.constraints[g]
-                rows.append(_walk_point(sec, con, ev.after, ev.tau))
+                zf = flow.to_flow(ev.after)
+                zf[positions[g]] = con.gap            # on the section exactly
+                rows.append(tuple(zf[frames[g]]) + (ev.tau,))
                 t.append(ev.t)
                 vin.append(con.approach(ev.before[n:]))
                 hits.append(g)
@@ -316,24 +314,7 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
                       _frozen(t_out), _frozen(v_out))
 
 
-def _walk_section(model):
-    """The section layout of the first stop (:class:`symvi.maps.Section`), for any kind."""
-    from ..flow.linear import _frame
-    from ..maps import Section
-    return Section(model.n, _frame(model.constraints[0], model.n))
-
-
-def _walk_point(sec, con, z, tau):
-    """The section point of constraint ``con`` (on mass k) at the state z (mass order), in
-    the compiled run's layout (:func:`symvi.flow.compiled._put_section`): v_k, then the
-    other masses' x and v in the order of the first stop's section."""
-    k = con.coordinate
-    n = sec.n
-    rest = [j for j in sec.perm if j != k]
-    return (z[n + k], *z[rest], *z[[n + j for j in rest]], tau)
-
-
-def _check_walk_start(model, sec, y0, name="y0"):
+def _check_walk_start(model, sec, y0, flow, name="y0"):
     """(y0 as a tuple with tau mod 2 pi, the state z0 in mass order): a point of the first
     stop's section, leaving a rigid stop or entering an elastic one, outside every other."""
     y = tuple(float(v) for v in sec.check(y0, name))
@@ -349,9 +330,7 @@ def _check_walk_start(model, sec, y0, name="y0"):
     _check_size(y, y0, name)
     zf, _ = sec.state(np.array(y), first.gap)
     n = model.n
-    z = np.empty(2 * n)
-    z[list(sec.perm)] = zf[:n]
-    z[[n + j for j in sec.perm]] = zf[n:]
+    z = flow.to_mass(zf)
     for i, con in enumerate(model.constraints[1:], start=2):
         if not con.guard(z[:n]) < 0:
             raise ParameterError(name, y0, f"a start outside every other stop "

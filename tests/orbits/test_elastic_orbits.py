@@ -324,3 +324,20 @@ def test_elastic_impact_damper_with_a_free_mass(param):
     fd = (pr.evaluate(orbit.u, lam + h, jac=False)[0]
           - pr.evaluate(orbit.u, lam - h, jac=False)[0]) / (2 * h)
     assert np.max(np.abs(Gl - fd)) <= 1e-7 * max(1.0, np.max(np.abs(fd)))
+
+
+def test_simulate_the_rubber_walled_damper():
+    """simulate runs elastic contacts between masses (the flow's frame q = T x): from the
+    symmetric orbit's entry into stop 1 it records the orbit's entries, on each stop's
+    section, period after period (the start itself is not a record)."""
+    from symvi import simulate
+    orbit = _orbit(DAMPER, 1.0)
+    names = orbit.signature_names
+    i = names.index("stop1:entry")
+    sim = simulate(DAMPER, 1.0, y0=orbit.points[i], n_impacts=20)
+    assert sim.stop == "completed" and list(sim.hits[:4]) == [1, 0, 1, 0]
+    j = names.index("stop2:entry")
+    for k, row in enumerate(sim.section):
+        want = np.array(orbit.points[j if k % 2 == 0 else i])
+        assert np.allclose(row[:-1], want[:-1], atol=1e-8)
+        assert abs((row[-1] - want[-1] + math.pi) % (2 * math.pi) - math.pi) < 1e-8
