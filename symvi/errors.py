@@ -53,6 +53,14 @@ class ParameterError(SymviError, ValueError):
         return ParameterError(names[self.name], self.value, sub(self.valid), sub(self.detail))
 
 
+class ConvergenceError(SymviError):
+    """Newton did not converge; ``residual`` is the smallest residual reached."""
+
+    def __init__(self, message, residual):
+        self.residual = residual
+        super().__init__(message)
+
+
 class SingularCaseError(SymviError):
     """The problem is singular at this point (resonance, grazing, λ^m = 1, ...).
 

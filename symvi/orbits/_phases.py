@@ -14,7 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ConvergenceError
 from ..flow import contact as ct
+from ..flow.compiled import section_index
+from ..flow.linear import LinearFlow
 
 #: the events of a run that settles on an attractor: dropped, then kept
 SETTLE_TRANSIENT, SETTLE_EVENTS = 600, 200
@@ -54,10 +57,9 @@ def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
     """An :class:`EventRun` of ``model`` at ``omega`` from state z0 (mass order; default
     :func:`default_state`) at phase tau, with ``active`` in contact and on the guard of
     ``start`` (leaving it): ``transient`` events dropped, ``events`` kept."""
-    from .periodic import _layout, flow_of
-    flow = flow_of(model)
-    frames = _layout(model)[2]
-    positions = _layout(model)[1]
+    flow = LinearFlow.contact(model)
+    positions = [flow.position(c) for c in model.constraints]
+    frames = [section_index(model.n, q) for q in positions]
     if z0 is None:
         z0 = default_state(model, omega)
     rows, ts, hits, acts = [], [], [], []
@@ -88,7 +90,6 @@ def flights(problem, flow, F, pts):
     """(points, flight times) of a guess through contact phases: from each point the walk
     in its flight's phase to the first event, which must meet the constraint the signature
     names; the next point is the given one (``pts`` has p points) or the walk's."""
-    from .periodic import ConvergenceError
     model, p, N = problem.model, problem.p, problem.N
     rows = flow.constraint_rows()
     Y, T = [np.array(pts[0], dtype=float)], []

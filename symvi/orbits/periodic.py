@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..codegen.layout import phase_tangent, reset_derivative, tangent_data
-from ..errors import ParameterError, SingularCaseError, SymviError
+from ..errors import ConvergenceError, ParameterError, SingularCaseError
 from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import section_index
 from ..flow.compiled import table as _table
@@ -48,14 +48,6 @@ NEWTON_MAXIT = 30
 _NO_NIL = np.empty((0, 0))
 #: relative distance of y_{i+p/2} from S y_i below which an orbit is called symmetric
 SYMMETRY_TOL = 1e-7
-
-
-class ConvergenceError(SymviError):
-    """Newton did not converge; ``residual`` is the smallest residual reached."""
-
-    def __init__(self, message, residual):
-        self.residual = residual
-        super().__init__(message)
 
 
 # --------------------------------------------------------------------------- the system
