@@ -78,7 +78,21 @@ one reused (n_keep, 2N) buffer, then:
   grazing -> "grazing".  Their period, impacts are 0 and lyapunov, rotation,
   impacts_per_period NaN.
 * ``y_end``: the last section point accepted (for a stopped run the one before the
-  failed step: finite), from which a caller may continue.
+  failed step: finite), from which a caller may continue; ``k_end`` the stop whose
+  section it lies on.
+* several rigid stops (issue 25): each kept point lies on the section of the stop it hit
+  (``hits``, in that stop's own layout).  Periodic: the joint sequence (hit, point) has
+  period q: the window test above also needs hits_j = hits_{j-q} throughout, points are
+  compared only on one stop, and in the whole-record decay test a pair on two stops
+  counts as the scale s (first quarter: still far) or fails (last quarter).  The
+  signature is the stops of the orbit's last q impacts, read from the rotation smallest
+  in lexicographic order (:func:`signature`; the symmetric orbit of two stops is
+  (stop1, stop2)).  Otherwise the points of the stop hit most often are judged (a
+  section of the attractor by that stop, its first-return map: a closed curve stays one
+  curve, a cloud a cloud) with the logs of every impact; their radial trend b is per
+  judged point, b n_judged / n per impact in the chaos test, and the rotation is per
+  return to that stop (likewise for a periodic orbit with >= 3 impacts on it).  With
+  one stop none of this runs: the same bits as before.
 
 ``follow=True``: in each consecutive group of ``row_len`` points (a row; the whole
 batch when None) a point after the first starts from the last section point of the
