@@ -104,7 +104,7 @@ def run(args):
     print(f"model: {describe(model)}   {args.param} from {args.start:g} to {args.stop:g}")
     for k, br in enumerate(branches):
         o = br.points[0].orbit
-        sig = "" if o.signature is None or len(model.constraints) == 1 else \
+        sig = "" if o.signature is None or not (len(model.constraints) > 1 or model.elastic) else \
             " (signature " + ", ".join(o.signature_names) + (
                 "" if o.symmetric is None else
                 ", symmetric" if br.points[len(br) // 2].orbit.symmetric else ", asymmetric") + ")"

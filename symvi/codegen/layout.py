@@ -277,7 +277,18 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
     if not all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(1, n)):
         raise ParameterError("constraint.impulse", con_b.impulse,
                              "a reset along the guard's normal (R = I - (1 + r) q c^T / c^T q)")
-    scal = [float(forcing.omega), g0, level] + list(R[:, 0]) + [con_a.gap]
+    b0 = con_a.gap
+    yv = np.asarray(y, dtype=float)
+    if flow.offset is not None:
+        # a contact phase: in z - zs its flow has no constant force, and a translation
+        # leaves every derivative of the map as it is (LinearFlow.contact)
+        from ..flow.compiled import section_index
+        zs = np.asarray(flow.offset, dtype=float)
+        pa = int(rows[ka][0])
+        level, b0 = level - g0 * zs[int(rb[0])], b0 - zs[pa]
+        yv = yv.copy()
+        yv[:-1] = yv[:-1] - zs[np.asarray(section_index(n, pa))]
+    scal = [float(forcing.omega), g0, level] + list(R[:, 0]) + [b0]
     if order in PARAMETER_ORDERS:
         parts += [np.asarray(forcing.dU)[Qb], np.asarray(forcing.dV)[Qb]]
         d2 = (2 * n) ** 2
@@ -295,7 +306,7 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
             scal += [db if tangent.stop == ka else 0.0]
     elif tangent is not None and not tangent.zero:
         raise ParameterError("order", order, "2 or 3 with a parameter tangent")
-    yv = np.asarray(y, dtype=float)[pi]
+    yv = yv[pi]
     head = np.concatenate(parts)
     return tuple(head.tolist()) + tuple(float(v) for v in scal) + tuple(yv.tolist()) + (
         float(te),), s, pi

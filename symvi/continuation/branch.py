@@ -21,6 +21,7 @@ import numpy as np
 from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.linear import RESONANCE_CUT, LinearFlow
+from ..model import Signature
 from ..orbits.periodic import (ConvergenceError, PeriodicOrbit, Problem, initial_guess,
                                newton, orbit_of)
 from . import engine
@@ -77,7 +78,7 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
     Y2[:, -1] += 2 * math.pi * pr.n_periods
     u2 = np.concatenate([Y.ravel(), Y2.ravel(), T, T])
     pr2 = Problem(pr.model, 2 * pr.n_periods, 2 * pr.p, omega=pr.omega, param=pr.parameter,
-                  signature=pr.signature.hits * 2)
+                  signature=Signature(pr.signature.hits * 2, pr.signature.contact))
     G, Gu, Gl = pr2.evaluate(u2, lam, dparam=True)
     phi = np.linalg.svd(Gu)[2][-1]
     # the primary branch's tangent, doubled, and phi made orthogonal to it
@@ -189,9 +190,11 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed, signature=None)
         model = par.apply(model, float(start))
     if isinstance(orbit, PeriodicOrbit):
         n, p = orbit.n, orbit.p
-        signature = signature if signature is not None else orbit.signature
+        signature = signature if signature is not None else orbit.itinerary
     if signature is None and getattr(guess, "hits", None) is not None and len(guess.hits) >= p:
         signature = tuple(int(k) for k in guess.hits[-p:])
+        if getattr(guess, "active", None) is not None:     # a run through contact phases
+            signature = Signature(signature, guess.active[-p])
     problem = Problem(model, n, p, omega=omega, param=par, signature=signature)
     lam0 = float(start)
     problem.at(lam0)                                # validates the start

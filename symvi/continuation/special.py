@@ -276,8 +276,16 @@ class Codim1Tracker(engine.Tracker):
         stop = "the stop"
         if k is not None:
             coef["stop"] = k + 1
+            new = ("a new contact is born" if model_elastic(pr, k) else "a new impact is born")
             stop = f"stop {k + 1}" + ("" if k in orbit.signature else
-                                      " (one the orbit does not touch yet: a new impact is born)")
+                                      f" (one the orbit does not touch yet: {new})")
+        if pr.elastic and k in pr.phases[i]:
+            coef["exit"] = True
+            return SpecialPoint("grazing", float(X[m]), orbit, coef,
+                                f"flight {i + 1}, in contact with stop {k + 1}, reaches the "
+                                f"contact's edge with zero velocity at t = {tm:.9g} of "
+                                f"{orbit.times[i]:.9g}: the contact splits in two beyond",
+                                index)
         return SpecialPoint("grazing", float(X[m]), orbit, coef,
                             f"flight {i + 1} touches {stop} with zero velocity at t = "
                             f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
@@ -359,10 +367,18 @@ class Codim1Tracker(engine.Tracker):
         fl, (model, flow, F) = pr.flights(X[:-1], X[-1])
         z0, tau = fl[i][0], fl[i][1]
         T = float(pr.split(X[:-1])[1][i])
-        mo = flow.motion(F, z0, tau)
-        if k is None:
+        if pr.elastic:
+            # the flight's contact phase; in contact with k its guard is the exit's, -h
+            fi, Fi = pr.phase_flows(model, flow, F)[i]
+            row = _table_row(flow, k, pr.N)
+            s = -1.0 if k in pr.phases[i] else 1.0
+            h = lambda t: s * (row[0] @ fi.flight(Fi, z0, tau, t)[0][:pr.N] - row[1])  # noqa: E731
+            flow = fi
+        elif k is None:
+            mo = flow.motion(F, z0, tau)
             h = lambda t: mo.h(t)[0]              # noqa: E731
         else:
+            mo = flow.motion(F, z0, tau)
             row = _table_row(flow, k, pr.N)
             h = lambda t: row[0] @ mo.state(t)[:pr.N] - row[1]   # noqa: E731
         fast = max(float(np.max(np.abs(flow.lam))), float(F.omega))
@@ -391,6 +407,11 @@ class Codim1Tracker(engine.Tracker):
                 if math.isfinite(v) and (best[1] is None or v > best[1]):
                     best = (i, v, t, k)
         return best
+
+
+def model_elastic(problem, k):
+    """Whether constraint k of the problem's model is elastic (its contacts are phases)."""
+    return problem.model.constraints[k].kind == "elastic"
 
 
 def _table_row(flow, k, N):

@@ -147,7 +147,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
                                      f"{SEARCH_RUNS} values towards {stop:g}")
             n, p = detect_period(sim)
             guesses = [sim]
-            sig = ", ".join(f"stop{k + 1}" for k in sim.hits[-p:])
+            sig = ", ".join(_signature_names(at, sim, p))
             moved = (f"started on the {n}-{p} orbit (signature {sig}) a simulation at "
                      f"{param} = {a:.12g} settled on ({SETTLE_TRANSIENT} impacts dropped from "
                      "a default start on stop 1)")
@@ -342,6 +342,9 @@ def _settle(model, omega):
     stops, a lower one), from :func:`default_start`: SETTLE_TRANSIENT impacts dropped,
     SETTLE_IMPACTS kept."""
     from ..simulations.simulation import default_start, simulate
+    if model.elastic:        # every event (impacts, entries, exits) in the shooting layout
+        from ..orbits._phases import event_run
+        return event_run(model, omega, events=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
     y0 = None if model.one_rigid_stop else default_start(model, omega)
     return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
 
@@ -376,13 +379,25 @@ def attractor_orbit(model, omega):
     settles on none."""
     from ..flow import check_omega
     from ..orbits.periodic import detect_period, from_simulation
-    omega = check_omega(model.require_rigid_stops(), omega)
+    if model.elastic:                 # the free flight's and every contact phase's check
+        from ..orbits.periodic import flow_of
+        omega = flow_of(model).check_omega(omega)
+    else:
+        omega = check_omega(model.require_rigid_stops(), omega)
     sim = _settle(model, omega)
     if detect_period(sim) is None:
         raise SingularCaseError("no-orbit", f"a run of the map from a default start on stop "
                                 f"1 at omega = {omega:g} settles on no periodic orbit "
                                 f"({_unsettled(sim)})")
     return from_simulation(sim)
+
+
+def _signature_names(model, sim, p):
+    """The names of the last p events of a run (:meth:`symvi.model.Signature.names`)."""
+    from ..model import Signature
+    act = getattr(sim, "active", None)
+    sig = Signature(tuple(int(k) for k in sim.hits[-p:]), () if act is None else act[-p])
+    return sig.names(model) if model.elastic else [f"stop{k + 1}" for k in sig.hits]
 
 
 def _unsettled(sim):

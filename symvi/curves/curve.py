@@ -125,7 +125,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
     box = _bounds(names, start, bounds)
     system = CurveSystem(model, orbit.n, orbit.p, pars, kind,
-                         omega=None if on_omega else omega, signature=orbit.signature)
+                         omega=None if on_omega else omega, signature=orbit.itinerary)
     X0 = _first(system, orbit, start)
     first = _point(system, X0, None)
     if not first.admissible and not through:

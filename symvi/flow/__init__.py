@@ -17,10 +17,13 @@ __getattr__ = _moved_names(__name__, "symvi.paper.modal_flow", (
 
 def check_omega(system, omega, name="omega", warn=True):
     """A valid forcing frequency for ``system`` (a Model, or what :meth:`symvi.Model.of`
-    takes): :meth:`symvi.flow.linear.LinearFlow.check_omega`."""
+    takes): :meth:`symvi.flow.linear.LinearFlow.check_omega` of its free flight (with
+    elastic stops :meth:`~symvi.flow.linear.LinearFlow.contact`'s free phase)."""
     from ..model import Model
     from .linear import LinearFlow
-    return LinearFlow.of(Model.of(system)).check_omega(omega, name, warn=warn)
+    model = Model.of(system)
+    flow = LinearFlow.contact(model) if model.elastic else LinearFlow.of(model)
+    return flow.check_omega(omega, name, warn=warn)
 
 
 def check_value(system, param, value, shown, *, resonance=True):

@@ -101,18 +101,27 @@ class LinearFlow:
     flow's backend (:mod:`symvi.numerics.backend`): FLOAT64 or ``backend(digits)``.
     """
 
-    def __init__(self, model, bk):
+    #: the elastic constraints in contact (a contact phase, :meth:`contact`; () for every
+    #: flow of a model with elastic stops) or None (a model of rigid stops)
+    active = None
+    #: the static offset zs = (K_S^-1 f_S, 0) of a contact phase (flow order), else None
+    offset = None
+
+    def __init__(self, model, bk, active=None):
         self.model, self.bk = model, bk
         n = model.n
-        model.require_rigid_stops()                # what this flow takes (issue 25)
+        if active is None:
+            model.require_rigid_stops()            # what this flow takes (issue 25)
+        else:
+            self.active = tuple(sorted(active))
         con = model.constraints[0]
         self.perm, self.T, self.labels = frame_of(model)
         self.n = n
         if self.T is not None:
             self.Tinv = np.linalg.inv(self.T)
+        Km, Cm, f = _contact_matrices(model, self.active or ())
         # q = T x: M' = T^-T M T^-1 (and K', C'), P' = T^-T P (:meth:`framed`)
-        M, K, C = (bk.arr(self.framed(a)) for a in (model.mass, model.stiffness,
-                                                   model.damping))
+        M, K, C = (bk.arr(self.framed(a)) for a in (model.mass, Km, Cm))
         self.P = bk.arr(self.framed(model.forcing))
         self.M, self.K, self.C = M, K, C
         Minv = self.Minv = bk.inv(M)
@@ -122,8 +131,12 @@ class LinearFlow:
         self._forcing_cache = {}
         self._resonance_cache = {}
         # the modal form; NIL: the nilpotent part of e^{At} with free modes (zeros without)
-        self.omegas, self.lam, self.W, self.Winv, nil = modal_form(bk, M, K, C, self.A,
-                                                                   model.damped)
+        self.omegas, self.lam, self.W, self.Winv, nil = modal_form(
+            bk, M, K, C, self.A, model.damped or bool(np.any(np.asarray(Cm) != 0)))
+        if self.active:
+            # K_S xs = f_S in the frame: K' (T x) = T^-T K x = T^-T f
+            self.offset = np.concatenate([bk.solve(K, bk.arr(self.framed(f))),
+                                          bk.arr(np.zeros(n))])
         self.free = nil is not None
         self.NIL = nil if self.free else bk.arr(np.zeros((2 * n, 2 * n)))
 
@@ -154,7 +167,8 @@ class LinearFlow:
         ``reset`` R with v+ = R v-.  The one place the flow reads the impact law."""
         bk = self.bk
         self.constraint = con
-        self.b, self.r = bk.num(con.gap), bk.num(con.restitution)
+        self.b = bk.num(con.gap)
+        self.r = None if con.restitution is None else bk.num(con.restitution)
         self.level = con.sign * self.b
         if self.bk is FLOAT64:
             # a curve in the gap or r builds a flow per corrector step: what does not
@@ -186,6 +200,18 @@ class LinearFlow:
         :meth:`_constrain`."""
         r = self.r if r is None else r
         p = list(self.perm)
+        if con.kind == "elastic":
+            # an entry into or an exit from a contact phase: no jump (:mod:`.contact`)
+            guard = self.bk.arr(con.sign * (np.array(con.normal)[p] if self.T is None else
+                                            self.Tinv.T @ np.array(con.normal)))
+            reset = self.bk.arr(np.eye(self.n))
+            tail = None
+            if self.bk is FLOAT64:
+                reset = np.eye(self.n)
+                tail = np.concatenate([guard, reset.ravel()])
+                for a in (guard, reset, tail):
+                    a.setflags(write=False)
+            return guard, reset, False, False, tail
         Minv = None
         if con.impulse is None:                    # rigid: along M^-1 c (mass order)
             Minv = self.bk.inv(self.bk.arr(np.asarray(self.model.mass)))
@@ -267,6 +293,21 @@ class LinearFlow:
         return self.guard[0] * y[0] + sum(self.guard[i] * y[n + i - 1] for i in range(1, n))
 
     @classmethod
+    def contact(cls, model, active=()):
+        """The float64 flow of ``model`` with the elastic constraints ``active`` in contact
+        (:mod:`symvi.flow.contact`'s phase S in this flow's frame: K_S, C_S and the offset
+        zs); ``active`` = () is the free flight of a model with elastic stops.  Every
+        constraint is a guard; an elastic one's reset is the identity (no jump)."""
+        from ..model import Model
+        if not isinstance(model, Model):
+            raise ParameterError("model", model, "a symvi.Model")
+        active = tuple(sorted(int(i) for i in active))
+        for i in active:
+            if not 0 <= i < len(model.constraints) or model.constraints[i].kind != "elastic":
+                raise ParameterError("active", active, "indices of elastic constraints")
+        return _memo(_PHASES, (model, active), lambda: cls(model, FLOAT64, active), size=64)
+
+    @classmethod
     def of(cls, model, digits=None):
         from ..model import Model
         if not isinstance(model, Model):
@@ -320,7 +361,8 @@ class LinearFlow:
         lo, hi = OMEGA_RANGE
         if not (math.isfinite(w) and lo <= w <= hi):
             raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
-        rel, j = _memo(self._resonance_cache, w, lambda: _resonance(self.model, w))
+        rel, j = _memo(self._resonance_cache, w, lambda: _resonance(
+            self.model, w, self if self.active is not None else None))
         wj = float(self.omegas[j])
         if rel < RESONANCE_REFUSE:
             raise SingularCaseError(
@@ -377,17 +419,24 @@ class LinearFlow:
 
     def flight(self, forcing, z0, tau, t):
         """z(t) of the flight from z0 at phase tau and its first derivatives (variational
-        equations, exact): (z, dz/dz0 = Phi(t), dz/dtau, dz/dt)."""
+        equations, exact): (z, dz/dz0 = Phi(t), dz/dtau, dz/dt).  A contact phase adds its
+        static offset: z = Phi (z0 - zp(tau) - zs) + zp(tau + omega t) + zs."""
         bk = self.bk
         Phi = self.phi(t)
         ph = tau + forcing.omega * t
         zpt, dzpt = forcing.zp(ph, bk), forcing.zp_phase(ph, bk)
+        if self.offset is not None:
+            z0 = z0 - self.offset
+            zpt = zpt + self.offset
         hom = Phi @ (z0 - forcing.zp(tau, bk))
         return (hom + zpt, Phi, dzpt - Phi @ forcing.zp_phase(tau, bk),
                 self.A @ hom + forcing.omega * dzpt)
 
     def motion(self, forcing, z0, tau):
         """The free flight from state z0 (stop-first order) at phase tau."""
+        if self.active is not None:       # the walk of :mod:`.contact` watches every guard
+            raise ParameterError("flow", f"contact phase {list(self.active)}",
+                                 "a flow of rigid stops (elastic stops: symvi.flow.contact)")
         z0 = np.asarray(z0) if self.bk is FLOAT64 else self.bk.arr(z0)
         w = z0 - forcing.zp(tau, self.bk)
         return Motion(self, forcing, tau, self.Winv @ w, self.NIL @ w if self.free else None)
@@ -600,6 +649,29 @@ def _eig_modal(bk, A, null=None):
     return lam, W, bk.inv(W)
 
 
+#: the flows of contact phases per (model, active set): :meth:`LinearFlow.contact`
+_PHASES = {}
+
+
+def _contact_matrices(model, active):
+    """(K_S, C_S, f_S) in mass order: K + sum k_i c_i c_i^T, C + sum c_si c_i c_i^T and
+    f_S = sum k_i g_i c_i over the elastic constraints i in ``active``
+    (:mod:`symvi.flow.contact`, the contact law)."""
+    K, C = model.stiffness, model.damping
+    if not active:
+        return K, C, None
+    K, C = np.array(K, dtype=float), np.array(C, dtype=float)
+    f = np.zeros(model.n)
+    for i in active:
+        con = model.constraints[i]
+        c = np.array(con.normal, dtype=float)
+        K = K + con.stiffness * np.outer(c, c)
+        if con.damping:
+            C = C + con.damping * np.outer(c, c)
+        f = f + con.stiffness * con.gap * c
+    return K, C, f
+
+
 def _memo(cache, key, compute, size=256):
     """cache[key], computed once; the cache is emptied past ``size`` entries."""
     hit = cache.get(key)
@@ -610,11 +682,13 @@ def _memo(cache, key, compute, size=256):
     return hit
 
 
-def _resonance(model, w):
-    """(relative distance to forcing resonance, index of the nearest undamped mode)."""
-    flow = _flow_float(model)
+def _resonance(model, w, flow=None):
+    """(relative distance to forcing resonance, index of the nearest undamped mode) of the
+    model's free flow or of ``flow`` (a contact phase: its own K_S, C_S)."""
+    damped = model.damped if flow is None else bool(np.any(flow.C))
+    flow = _flow_float(model) if flow is None else flow
     j = int(np.argmin(np.abs(flow.omegas - w)))
-    if not model.damped:              # sigma_min(K~ - w^2 I) = min_j |omega_j^2 - w^2|
+    if not damped:                    # sigma_min(K~ - w^2 I) = min_j |omega_j^2 - w^2|
         return float(np.min(np.abs(flow.omegas ** 2 - w * w))) / (2 * w * w), j
     Kt, Ct = flow.mass_scaled
     smin = np.linalg.svd(Kt - w * w * np.eye(flow.n) + 1j * w * Ct, compute_uv=False)[-1]

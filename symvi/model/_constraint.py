@@ -171,10 +171,15 @@ class Constraint:
 
 @dataclass(frozen=True)
 class Signature:
-    """Which constraint each impact of an orbit hits: ``hits[i]`` indexes
-    ``model.constraints`` for impact i (i = 0..p-1)."""
+    """Which constraint each event of an orbit meets: ``hits[i]`` indexes
+    ``model.constraints`` for event i (i = 0..p-1): a rigid impact, or the entry into or
+    the exit from an elastic contact.  ``contact``: the elastic constraints in contact
+    during flight 0 (after event 0); each elastic event toggles its constraint, so the
+    phase of every flight follows (:meth:`phases`).  With the default () event 0 on an
+    elastic constraint is its exit: point 0 leaves the stop, as after a rigid impact."""
 
     hits: tuple
+    contact: tuple = ()
 
     def __post_init__(self):
         h = self.hits
@@ -182,6 +187,46 @@ class Signature:
                 isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0 for i in h):
             raise ParameterError("signature", h, "a non-empty sequence of constraint indices >= 0")
         object.__setattr__(self, "hits", tuple(int(i) for i in h))
+        c = self.contact
+        if isinstance(c, (str, bytes)) or not hasattr(c, "__iter__") or any(
+                isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0 for i in c):
+            raise ParameterError("signature.contact", c, "a set of constraint indices >= 0")
+        object.__setattr__(self, "contact", tuple(sorted(set(int(i) for i in c))))
+
+    def phases(self, model):
+        """The elastic constraints in contact during each flight (p tuples), or
+        ParameterError where the events cannot close an orbit: ``contact`` names a rigid
+        constraint, or an elastic constraint is met an odd number of times (its entries
+        and exits alternate)."""
+        cs = self.check(model).constraints(model)
+        bad = [i for i in self.contact if i >= len(model.constraints) or
+               model.constraints[i].kind != "elastic"]
+        if bad:
+            raise ParameterError("signature.contact", self.contact,
+                                 "indices of elastic constraints")
+        for k in set(self.hits):
+            if model.constraints[k].kind == "elastic" and self.hits.count(k) % 2:
+                raise ParameterError("signature", self.hits, "an even number of events on "
+                                     f"each elastic stop (stop {k + 1}: its entries and "
+                                     "exits alternate)")
+        S, out = set(self.contact), []
+        for i, con in enumerate(cs):
+            if i and con.kind == "elastic":
+                S ^= {self.hits[i]}
+            out.append(tuple(sorted(S)))
+        return tuple(out)
+
+    def kinds(self, model):
+        """The kind of each event: "impact", "entry" or "exit" (:meth:`phases`)."""
+        ph = self.phases(model)
+        return tuple("impact" if model.constraints[k].kind != "elastic" else
+                     "entry" if k in ph[i] else "exit" for i, k in enumerate(self.hits))
+
+    def names(self, model):
+        """["stop1", "stop2:entry", "stop2:exit", ...]: each event, stops 1-based; an
+        elastic event names its kind."""
+        return [f"stop{k + 1}" + ("" if kind == "impact" else f":{kind}")
+                for k, kind in zip(self.hits, self.kinds(model))]
 
     @classmethod
     def single(cls, p):

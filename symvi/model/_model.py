@@ -473,9 +473,11 @@ class Model:
 
     @property
     def conservative(self):
-        """r = 1 and C = 0: the impact map preserves volume (multipliers may sit on
-        the unit circle over whole intervals, and (H3) has no meaning)."""
-        return all(s.restitution == 1.0 for s in self._stops) and not self.damped
+        """r = 1, no contact damping and C = 0: the impact map preserves volume
+        (multipliers may sit on the unit circle over whole intervals, and (H3) has no
+        meaning)."""
+        return all(s.restitution == 1.0 if s.stiffness is None else not s.damping
+                   for s in self._stops) and not self.damped
 
     @property
     def preset(self):

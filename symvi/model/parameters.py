@@ -106,10 +106,12 @@ class Parameter:
         if t is None:
             n = self.n
             dM, dK, dC, dP = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
-            db, dr = self._fill(dM, dK, dC, dP)
+            vals = tuple(self._fill(dM, dK, dC, dP))
+            db, dr, dk, dc = vals + (0.0,) * (4 - len(vals))
             for a in (dM, dK, dC, dP):
                 a.flags.writeable = False
-            t = Tangent(dM, dK, dC, dP, db, dr, getattr(self, "i", 0) if (db or dr) else 0)
+            t = Tangent(dM, dK, dC, dP, db, dr,
+                        getattr(self, "i", 0) if (db or dr or dk or dc) else 0, dk, dc)
             object.__setattr__(self, "_tangent", t)
         return t
 
@@ -198,13 +200,9 @@ class StopParameter(Parameter):
         return _copy(model, _stops=tuple(stops), preset=preset, _arrays=arrays)
 
     def _fill(self, dM, dK, dC, dP):
-        # the Tangent holds a rigid stop's gap and restitution (Tangent.stop names it); an
-        # elastic stop's stiffness and damping enter no orbit analysis yet
-        if self.kind not in ("gap", "restitution"):
-            raise ParameterError("parameter", self.name, "a gap or a restitution",
-                                 "the derivative in an elastic stop's stiffness or damping is "
-                                 "not supported yet (issue 25)")
-        return (1.0, 0.0) if self.kind == "gap" else (0.0, 1.0)
+        # (db, dr, dk, dc): the Tangent holds the stop's number that moves (Tangent.stop)
+        return {"gap": (1.0, 0.0, 0.0, 0.0), "restitution": (0.0, 1.0, 0.0, 0.0),
+                "stiffness": (0.0, 0.0, 1.0, 0.0), "damping": (0.0, 0.0, 0.0, 1.0)}[self.kind]
 
 
 class EntryParameter(Parameter):
@@ -304,12 +302,17 @@ class Tangent:
     dP: np.ndarray
     db: float
     dr: float
-    #: the stop whose gap (db) or restitution (dr) moves (0-based; 0 when neither does)
+    #: the stop whose gap (db), restitution (dr), contact stiffness (dk) or contact
+    #: damping (dc) moves (0-based; 0 when none does)
     stop: int = 0
+    #: an elastic stop's stiffness and damping rates (:mod:`symvi.flow.contact`'s K_S, C_S)
+    dk: float = 0.0
+    dc: float = 0.0
 
     @property
     def zero(self):
-        return (self.db == 0 and self.dr == 0 and not np.any(self.dM) and not np.any(self.dK)
+        return (self.db == 0 and self.dr == 0 and self.dk == 0 and self.dc == 0
+                and not np.any(self.dM) and not np.any(self.dK)
                 and not np.any(self.dC) and not np.any(self.dP))
 
 

@@ -78,7 +78,10 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
-        model.require_rigid_stops()
+        if model.elastic:                    # contact phases: the walk's stops on masses
+            model.require_stops_on_masses()
+        else:
+            model.require_rigid_stops()
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
         self.param = None if param is None else self.parameter.name
@@ -89,6 +92,14 @@ class Problem:
         if sig.p != self.p:
             raise ParameterError("signature", sig.hits, f"{self.p} constraint indices (p = {self.p})")
         self.signature = sig.check(model)
+        #: with elastic stops: the constraints in contact during each flight; each flight
+        #: is the exact flow of its phase (:meth:`LinearFlow.contact`) and the numpy
+        #: reference evaluates the system (the compiled kernel takes one flow)
+        self.elastic = model.elastic
+        self.phases = sig.phases(model) if self.elastic else None
+        self.kinds = sig.kinds(model) if self.elastic else None
+        if self.elastic:
+            self.compiled = False
         self.sig = np.array(sig.hits, dtype=np.int64)
         self._sig_ring = np.append(self.sig, self.sig[0])    # the kernel's: sig[p] = sig[0]
         self.omega = omega
@@ -102,7 +113,7 @@ class Problem:
         self.sec, self.positions, self.frames, self.sections = _layout(model)
         self.idx = self.frames[0]
         #: several constraints: the flights watch every guard (the compiled finder)
-        self.several = len(model.constraints) > 1
+        self.several = len(model.constraints) > 1 or self.elastic
         #: the mirror of each constraint under x -> -x, t -> t + n pi / omega, when the
         #: model has that symmetry and an n-p orbit can have it (p even, n odd)
         self.mirror = (_mirror(model) if self.p % 2 == 0 and self.n_periods % 2 == 1
@@ -125,9 +136,12 @@ class Problem:
         if model is self.model:
             flow = self._flow
             if flow is None:
-                flow = self._flow = LinearFlow.of(model)
+                flow = self._flow = flow_of(model)
         else:
-            flow = LinearFlow.of(model)
+            flow = flow_of(model)
+        if self.elastic and check:
+            for S in set(self.phases):             # a forcing resonance of a contact phase
+                LinearFlow.contact(model, S).check_omega(omega, warn=False)
         if not check:
             omega = float(omega)
         elif model is self.model and omega is not None and omega == self._checked:
@@ -162,13 +176,15 @@ class Problem:
         Y, T = self.split(u)
         out = []
         rows = _table(flow)
+        phases = self.phase_flows(model, flow, F)
         for i in range(self.p):
             k = self.sig[i]
             z0 = np.empty(self.d)
             z0[self.positions[k]] = rows[k][1]
             z0[self.frames[k]] = Y[i][:-1]
             tau = Y[i][-1]
-            out.append((z0, tau) + flow.flight(F, z0, tau, T[i]))
+            fi, Fi = phases[i]
+            out.append((z0, tau) + fi.flight(Fi, z0, tau, T[i]))
         self._last = (key, (out, (model, flow, F)))
 
     def _shoot(self, u, lam, check, jac, dom):
@@ -260,7 +276,12 @@ class Problem:
         if not self.several:
             return tuple(float(flow.approach(f[2])) for f in fl)
         ends, N = self._ends(flow), self.N
-        return tuple(float(ends[i][1] @ f[2][N:]) for i, f in enumerate(fl))
+        speeds = [float(ends[i][1] @ f[2][N:]) for i, f in enumerate(fl)]
+        if self.elastic:                   # an exit leaves its stop: -h' > 0 there
+            kinds = self.kinds
+            speeds = [-v if kinds[(i + 1) % self.p] == "exit" else v
+                      for i, v in enumerate(speeds)]
+        return tuple(speeds)
 
     def half(self, u, mats, tol=None):
         """H = S DP_{p/2-1} ... DP_0 of a symmetric orbit (``mats`` the DP_i of
@@ -311,16 +332,33 @@ class Problem:
         fl, (model, flow, F) = self.flights(u, lam, check=False)
         return self._dparam(fl, model, flow, F, self.split(u)[1], name)
 
+    def phase_flows(self, model, flow, F):
+        """Per flight i: (flow, forcing) of its phase, the free flow's for rigid stops;
+        with elastic stops :meth:`LinearFlow.contact` of the constraints in contact."""
+        if not self.elastic:
+            return [(flow, F)] * self.p
+        key = (model, F.omega)
+        hit = self.__dict__.get("_phase_flows")
+        if hit is None or hit[0] != key:
+            fs = {S: LinearFlow.contact(model, S) for S in set(self.phases)}
+            fs = {S: (f, f.forcing(F.omega)) for S, f in fs.items()}
+            hit = self._phase_flows = (key, [fs[S] for S in self.phases])
+        return hit[1]
+
     def _dparam(self, fl, model, flow, F, T, name):
         """dG/dname at fixed u, exact (omega: dU, dV; any other: its tangent); ``name`` a
-        :class:`symvi.model.parameters.Parameter` (or a name, parsed here)."""
+        :class:`symvi.model.parameters.Parameter` (or a name, parsed here).  A contact
+        phase's flow moves with its constraints' stiffness and damping (K_S, C_S) and its
+        offset zs = K_S^-1 f_S with their gaps too (:meth:`_phase_tangent`)."""
         name = self.model.parameter(name)
         d, p, bk, N = self.d, self.p, flow.bk, self.N
         out = np.zeros(self.size)
         ends = self._ends(flow)
+        phases = self.phase_flows(model, flow, F)
         if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 E, g, _ = ends[i]
+                F = phases[i][1]
                 ph = tau + F.omega * T[i]
                 dz = F.zp_omega(ph, bk) + T[i] * F.zp_phase(ph, bk) - Phi @ F.zp_omega(tau, bk)
                 out[i * d:i * d + d - 1] = E @ dz
@@ -336,23 +374,51 @@ class Problem:
             E, g, _ = ends[i]
             kb = self.sig[(i + 1) % p]
             start, end = self.sig[i] == ks, kb == ks
-            pE0, _, pU, pV, pr, pb = tangent_data(flow, F, T[i], tan)
+            fi, F = phases[i]
+            tan_i, dzs = (tan, None) if fi.offset is None else self._phase_tangent(fi, tan)
+            pE0, _, pU, pV, pr, pb = tangent_data(fi, F, T[i], tan_i)
             dF = type(F)(F.omega, pU, pV, None, None)
             ph = tau + F.omega * T[i]
             dz0 = np.zeros(d)
             dz0[self.positions[self.sig[i]]] = pb if start else 0.0
-            dz = pE0 @ (z0 - F.zp(tau, bk)) + Phi @ (dz0 - dF.zp(tau, bk)) + dF.zp(ph, bk)
+            w0 = z0 if fi.offset is None else z0 - fi.offset
+            dz = pE0 @ (w0 - F.zp(tau, bk)) + Phi @ (dz0 - dF.zp(tau, bk)) + dF.zp(ph, bk)
+            if dzs is not None:                  # z = Phi (z0 - zp - zs) + zp + zs
+                dz = dz + dzs - Phi @ dzs
             out[i * d:i * d + d - 1] = E @ dz
             if dE[kb] is not None:
                 out[i * d:i * d + d - 1] += dE[kb] @ z
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
 
+    def _phase_tangent(self, fi, tan):
+        """(the tangent of a contact phase's matrices, d zs): dK_S = dK + dk c c^T and
+        dC_S = dC + dc c^T c for the constraint in contact whose stiffness (dk) or damping
+        (dc) moves, and zs = K_S^-1 f_S, f_S = sum k_i g_i c_i, so
+        d xs = K_S^-1 (df_S - dK_S xs) (flow order; :meth:`LinearFlow.contact`)."""
+        from dataclasses import replace
+        n = self.N
+        dK, dC = np.array(tan.dK, dtype=float), np.array(tan.dC, dtype=float)
+        df = np.zeros(n)
+        for i in fi.active:
+            if i != tan.stop:
+                continue
+            con = self.model.constraints[i]
+            c = np.array(con.normal, dtype=float)
+            dK = dK + tan.dk * np.outer(c, c)
+            dC = dC + tan.dc * np.outer(c, c)
+            df = df + (tan.dk * con.gap + con.stiffness * tan.db) * c
+        xs = fi.offset[:n]
+        dxs = np.linalg.solve(fi.K, fi.framed(df) - fi.framed(dK) @ xs)
+        return replace(tan, dK=dK, dC=dC), np.concatenate([dxs, np.zeros(n)])
+
     def _dreset_rows(self, flow, model, k, tan):
         """The rows of :meth:`_reset_rows` for dR_k/dparam of constraint k (flow order), or
         None where it is zero: its restitution moves it if the tangent's stop is k, the
         masses if its impulse is along M^-1 c (:func:`symvi.codegen.layout.reset_derivative`)."""
         con = model.constraints[k]
+        if con.kind == "elastic":                  # no jump: its reset is the identity
+            return None
         dr = tan.dr if tan.stop == k else 0.0
         if not dr and not (con.impulse is None and np.any(np.asarray(tan.dM) != 0)):
             return None
@@ -392,7 +458,7 @@ def _layout(model):
         N = model.n
         sec = Section.of(model)
         perm = sec.perm
-        flow = LinearFlow.of(model)
+        flow = flow_of(model)
         positions = tuple(flow.position(c) for c in model.constraints)
         frames = np.array([section_index(N, q) for q in positions])
         sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
@@ -404,6 +470,13 @@ def _layout(model):
 
 
 _LAYOUTS = {}
+
+
+def flow_of(model):
+    """The free flow of ``model``: :meth:`LinearFlow.of`, or with elastic stops the free
+    phase of :meth:`LinearFlow.contact` (every constraint a guard, elastic resets the
+    identity), which only the shooting system reads."""
+    return LinearFlow.contact(model) if model.elastic else LinearFlow.of(model)
 
 
 def _mirror(model):
@@ -501,15 +574,25 @@ class PeriodicOrbit:
     symmetric: bool = None
     #: the multipliers of the half map H (H^2 is the monodromy) of a symmetric orbit
     half_multipliers: tuple = None
+    #: the elastic constraints in contact during flight 0 (:class:`symvi.model.Signature`)
+    contact: tuple = ()
 
     @property
     def y(self):
         return self.points[0]
 
     @property
+    def itinerary(self):
+        """The orbit's :class:`symvi.model.Signature`: its events and what is in contact."""
+        return Signature(self.signature if self.signature is not None else (0,) * self.p,
+                         self.contact)
+
+    @property
     def signature_names(self):
         """["stop1", "stop2", ...]: the constraint of each impact, 1-based."""
         sig = self.signature if self.signature is not None else (0,) * self.p
+        if self.model.elastic:               # each elastic event names its kind
+            return Signature(sig, self.contact).names(self.model)
         return [f"stop{k + 1}" for k in sig]
 
     def jet(self, order=3):
@@ -517,11 +600,14 @@ class PeriodicOrbit:
         composed (:func:`compose`); order 2 or 3 returns (A, d2, d3) with d3 None for 2,
         as before; orders 4 and 5 (the jets of :mod:`symvi.codegen.high`, curves only)
         return (A, d2, d3, d4[, d5])."""
-        flow = LinearFlow.of(self.model)
+        flow = flow_of(self.model)
         F = flow.forcing(self.omega)
         Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
         jets = []
-        several = len(self.model.constraints) > 1
+        several = len(self.model.constraints) > 1 or self.model.elastic
+        # each flight in its phase's flow (the free flow without elastic stops)
+        phases = (Signature(self.signature, self.contact).phases(self.model)
+                  if self.model.elastic else None)
         if several and order > 3:
             raise ParameterError("order", order, "1, 2 or 3 for an orbit with several "
                                  "constraints (orders 4, 5 need the variants from each "
@@ -530,8 +616,9 @@ class PeriodicOrbit:
             if several:
                 from ..codegen.jets import flight_jet
                 sig = self.signature
-                v = flight_jet(flow, F, tuple(Y[i]), float(self.times[i]), order,
-                               sig[i], sig[(i + 1) % self.p])
+                fi = flow if phases is None else LinearFlow.contact(self.model, phases[i])
+                v = flight_jet(fi, fi.forcing(self.omega), tuple(Y[i]), float(self.times[i]),
+                               order, sig[i], sig[(i + 1) % self.p])
                 jets.append((v["J"], v["d2"] if order >= 2 else None,
                              v.get("d3") if order >= 3 else None))
             elif order <= 3:
@@ -644,13 +731,15 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
                          tuple(float(t) for t in T), vimp, names[0], mult,
                          bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
                          np.array(u, dtype=float), problem.signature.hits, names, sym,
-                         None if H is None else eigenvalues(H))
+                         None if H is None else eigenvalues(H), problem.signature.contact)
 
 
 def admissible(problem, fl, flow, F, T):
     """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight; with
     several constraints every guard is watched (the compiled finder) and each flight must
     end on the constraint its signature names."""
+    if problem.elastic:
+        return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T)
     if len(problem.model.constraints) > 1:
         return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
@@ -660,6 +749,46 @@ def admissible(problem, fl, flow, F, T):
         if not ok:
             return ok, why
     return True, ""
+
+
+def _admissible_phases(problem, fl, flow, F, T):
+    """:func:`admissible` with contact phases: each flight is checked by the walk of
+    :mod:`symvi.flow.contact` in its phase, which watches every guard (the entries,
+    exits and rigid impacts) with its provably safe step."""
+    from ..flow import contact
+    model, N, p = problem.model, problem.N, problem.p
+    perm = list(flow.perm)
+    ends = problem._ends(flow)
+    rows = _table(flow)
+    for i, (z0, tau, z, *_rest) in enumerate(fl):
+        ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
+        S = problem.phases[i]
+        zm = np.empty(2 * N)
+        zm[perm], zm[[N + j for j in perm]] = z0[:N], z0[N:]
+        mo = contact.phase(model, S).motion(F.omega, zm, tau)
+        G, lv = contact.guards(model, S)
+        sa = -1.0 if ka in S else 1.0              # the walk's guards: -h in contact
+        sb = -1.0 if kb in S else 1.0
+        v0 = sa * float(rows[ka][3:3 + N] @ z0[N:])
+        v1 = sb * float(ends[i][1] @ z[N:])
+
+        def first(t_max, mo=mo, G=G, lv=lv, ka=ka):
+            return _ContactHit(mo.first_event(G, lv, start=ka, t_max=t_max))
+
+        ok, why = check_flight(first, T[i], v0, v1, mass=None, flight=i + 1, stops=(ka, kb))
+        if not ok:
+            return ok, why
+    return True, ""
+
+
+class _ContactHit:
+    """A :class:`symvi.flow.contact.Hit` as :func:`check_flight` reads a first contact."""
+
+    def __init__(self, hit):
+        from ..flow import contact
+        from ..flow.linear import GRAZING, NO_IMPACT
+        self.status = {"event": IMPACT, contact.GRAZING: GRAZING}.get(hit.status, NO_IMPACT)
+        self.t, self.steps, self.constraint = hit.t, hit.steps, hit.guard
 
 
 def _admissible_stops(problem, fl, flow, F, T):
@@ -710,8 +839,12 @@ def periodic_orbit(model, *, n, p, guess, signature=None, **fixed):
     if signature is None and getattr(guess, "hits", None) is not None and \
             len(guess.hits) >= p:
         signature = tuple(int(k) for k in guess.hits[-p:])
+    if signature is not None and getattr(guess, "active", None) is not None and \
+            not isinstance(signature, Signature):
+        # a run through contact phases: what was in contact after its (-p)th event
+        signature = Signature(signature, guess.active[-p])
     if signature is None and isinstance(guess, PeriodicOrbit):
-        signature = guess.signature
+        signature = Signature(guess.signature, guess.contact)
     problem = Problem(model, n, p, omega=omega, signature=signature)
     u0 = initial_guess(problem, guess)
     u = newton(problem, u0, None)
@@ -779,6 +912,10 @@ def initial_guess(problem, guess):
         pts = [arr] if arr.ndim == 1 else list(arr)
         if len(pts) not in (1, p):
             raise ParameterError("guess", f"{len(pts)} points", f"1 or p = {p} section points")
+    if problem.elastic:                      # the walk through the contact phases
+        from ._phases import flights
+        Y, T = flights(problem, flow, F, pts)
+        return np.concatenate([np.concatenate(Y), T])
     # flight times (and the missing points) from the map itself (compiled: its twin)
     several = len(model.constraints) > 1
     c = _shooting.finder_constants(flow, F) if problem.compiled or several else None

@@ -263,15 +263,15 @@ def test_bad_stop_parameters(name, value, field, words):
 
 def test_stop_tangents():
     """The Tangent holds a rigid stop's gap or restitution and names the stop (Tangent.stop,
-    0-based); an elastic stop's stiffness has no tangent yet, and says so."""
+    0-based); an elastic stop's stiffness and damping are its dk and dc."""
     t, t1 = THREE.tangent("gap"), THREE.tangent("stop[1].gap")
     assert (t.db, t.dr, t1.db, t1.dr, t.stop) == (1.0, 0.0, 1.0, 0.0, 0)
     assert THREE.tangent("stop[1].restitution").dr == 1.0
     t2 = THREE.tangent("stop[2].gap")
     assert (t2.db, t2.dr, t2.stop) == (1.0, 0.0, 1)
     assert THREE.tangent("mass[1]").stop == 0
-    with pytest.raises(ParameterError, match="issue 25"):
-        THREE.tangent("stop[3].stiffness")
+    t3 = THREE.tangent("stop[3].stiffness")
+    assert (t3.dk, t3.dc, t3.db, t3.stop, t3.zero) == (1.0, 0.0, 0.0, 2, False)
 
 
 def test_preset_stop_parameters():

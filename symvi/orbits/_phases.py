@@ -1,0 +1,141 @@
+"""Orbits through contact phases (elastic stops, issue 25): a run of the walk of
+:mod:`symvi.flow.contact` that records every event (rigid impact, entry, exit) as a point of
+the shooting system's layout, and the flight times of a guess.
+
+The shooting system (:class:`symvi.orbits.periodic.Problem`) takes an orbit's events as
+its points: point i lies on the section of the constraint of event i (x_k = g in the flow's
+order, :func:`symvi.flow.compiled.section_index`), and flight i runs in the phase of the
+constraints in contact after it.  A run of the walk gives those points directly, so the
+period of its last events (:func:`symvi.orbits.periodic.detect_period`) and the guess
+follow as for rigid stops.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..flow import contact as ct
+
+#: the events of a run that settles on an attractor: dropped, then kept
+SETTLE_TRANSIENT, SETTLE_EVENTS = 600, 200
+
+
+@dataclass(frozen=True)
+class EventRun:
+    """The events of one walk: ``section[i]`` the point of event i on its constraint's
+    section (the shooting layout, tau mod 2 pi), ``t[i]`` its time, ``hits[i]`` its
+    constraint, ``active[i]`` the elastic constraints in contact after it, ``stop`` how the
+    walk ended ("completed" when it recorded every event asked for)."""
+
+    params: object
+    omega: float
+    section: np.ndarray
+    t: np.ndarray
+    hits: np.ndarray
+    active: tuple
+    stop: str
+
+
+def _to_flow(flow, zm):
+    """A state of mass order in the flow's order (stops on masses: a permutation)."""
+    n = flow.n
+    perm = list(flow.perm)
+    return np.concatenate([zm[:n][perm], zm[n:][perm]])
+
+
+def _to_mass(flow, zf):
+    n = flow.n
+    perm = list(flow.perm)
+    zm = np.empty(2 * n)
+    zm[perm], zm[[n + j for j in perm]] = zf[:n], zf[n:]
+    return zm
+
+
+def default_state(model, omega):
+    """The walk's default start: on the first stop's section (s = g), every other mass at
+    rest at 0, phase 0, leaving the stop at speed omega max(|g|, 0.1) (as
+    :func:`symvi.simulations.simulation.default_start`); nothing in contact."""
+    con = model.constraints[0]
+    z = np.zeros(2 * model.n)
+    z[:model.n] = np.array(con.normal) * con.gap
+    z[model.n:] = -con.sign * float(omega) * max(abs(con.gap), 0.1) * np.array(con.normal)
+    return z
+
+
+def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
+              transient=SETTLE_TRANSIENT, active=(), start=0):
+    """An :class:`EventRun` of ``model`` at ``omega`` from state z0 (mass order; default
+    :func:`default_state`) at phase tau, with ``active`` in contact and on the guard of
+    ``start`` (leaving it): ``transient`` events dropped, ``events`` kept."""
+    from .periodic import _layout, flow_of
+    flow = flow_of(model)
+    frames = _layout(model)[2]
+    positions = _layout(model)[1]
+    if z0 is None:
+        z0 = default_state(model, omega)
+    rows, ts, hits, acts = [], [], [], []
+    stop, count = "completed", 0
+    t_max = 200 * 2 * math.pi / omega
+    for ev in ct.walk(model, omega, z0, tau, active=active, start=start, t_max=t_max):
+        if ev.kind not in (ct.IMPACT, ct.ENTRY, ct.EXIT):
+            stop = ev.kind
+            break
+        count += 1
+        if count <= transient:
+            continue
+        k = ev.constraint
+        zf = _to_flow(flow, ev.after)
+        zf[positions[k]] = model.constraints[k].gap      # on the section exactly
+        rows.append(np.append(zf[frames[k]], ev.tau % (2 * math.pi)))
+        ts.append(ev.t)
+        hits.append(k)
+        acts.append(ev.active)
+        if count >= transient + events:
+            break
+    sec = np.array(rows).reshape(-1, 2 * model.n)
+    return EventRun(model, float(omega), sec, np.array(ts), np.array(hits, dtype=np.int64),
+                    tuple(acts), stop)
+
+
+def flights(problem, flow, F, pts):
+    """(points, flight times) of a guess through contact phases: from each point the walk
+    in its flight's phase to the first event, which must meet the constraint the signature
+    names; the next point is the given one (``pts`` has p points) or the walk's."""
+    from .periodic import ConvergenceError
+    model, p, N = problem.model, problem.p, problem.N
+    rows = flow.constraint_rows()
+    Y, T = [np.array(pts[0], dtype=float)], []
+    cur = Y[0]
+    for i in range(p):
+        ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
+        zf = np.empty(2 * N)
+        zf[int(rows[ka][0])] = model.constraints[ka].gap
+        zf[problem.frames[ka]] = cur[:-1]
+        walk = ct.walk(model, F.omega, _to_mass(flow, zf), cur[-1],
+                       active=problem.phases[i], start=ka,
+                       t_max=200 * 2 * math.pi / F.omega)
+        ev = next(walk)
+        if ev.kind not in (ct.IMPACT, ct.ENTRY, ct.EXIT):
+            raise ConvergenceError(f"the guess does not lead to an event ({ev.kind}) at "
+                                   f"event {i + 1}", math.inf)
+        if ev.constraint != kb:
+            raise ConvergenceError(f"the guess meets stop {ev.constraint + 1} at event "
+                                   f"{i + 1}, not stop {kb + 1} as the signature says", math.inf)
+        T.append(float(ev.t))
+        if i + 1 < p:
+            if len(pts) == p:
+                nxt = np.array(pts[i + 1], dtype=float)
+            else:
+                za = _to_flow(flow, ev.after)
+                nxt = np.append(za[problem.frames[kb]], 0.0)
+            nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * ev.t)
+            Y.append(nxt)
+            cur = nxt
+    return Y, T
+
+
+def _unwrap(tau, near):
+    return tau + 2 * math.pi * round((near - tau) / (2 * math.pi))
+
+
