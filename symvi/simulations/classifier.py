@@ -96,8 +96,9 @@ one reused (n_keep, 2N) buffer, then:
 
 ``follow=True``: in each consecutive group of ``row_len`` points (a row; the whole
 batch when None) a point after the first starts from the last section point of the
-previous one when that run reached a bounded attractor (period, circle, doubled
-torus, chaos), else from its own Y0.  Outputs depend only on a point's inputs (and,
+previous one (on the stop whose section it lies on, ``k_end``) when that run reached a
+bounded attractor (period, circle, doubled torus, chaos), else from its own Y0 (on the
+first stop's section).  Outputs depend only on a point's inputs (and,
 with follow, on its row's earlier points): same inputs, same bits.
 """
 import math
