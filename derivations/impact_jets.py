@@ -489,17 +489,16 @@ def _read_manifest(out_dir):
 
 def _modules(ns, orders, starts):
     """(n, K, start) of every module: the structures, and with ``starts`` their variants
-    from the section of each coordinate s (orders 1-3: flights between two constraints'
-    sections, issue 25)."""
+    from the section of each coordinate s (flights between two constraints' sections,
+    issue 25; orders 4-5 give l2 on such orbits)."""
     for n in ns:
         for K in orders:
             yield n, K, None
     if starts:
         for n in ns:
             for K in orders:
-                if K in ORDERS:
-                    for st in range(n):
-                        yield n, K, st
+                for st in range(n):
+                    yield n, K, st
 
 
 def generate(out_dir, ns=NS_SHIPPED, orders=ORDERS, force=False, starts=False):

@@ -13,6 +13,8 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 EXAMPLES = {
     "oscillator_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.5", "--switch"],
+    "oscillator_elastic": ["--param", "omega", "--from", "0.5", "--to", "4.0",
+                           "--start-omega", "2.0", "--switch"],
     "chain3_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.0",
                          "--start-omega", "1.5", "--switch"],
     "impact_damper": ["--param", "omega", "--from", "0.8", "--to", "1.2",

@@ -85,8 +85,9 @@ def _attractor(model, omega, as_json):
     print(f"{o.n}-{o.p} orbit, signature {', '.join(o.signature_names)}"
           + ("" if o.symmetric is None else (", symmetric" if o.symmetric else ", asymmetric"))
           + f": {found}")
+    event = "event" if model.elastic else "impact"      # an entry or exit has no impact
     for i, (y, names) in enumerate(zip(o.points, o.point_names)):
-        print(f"  impact {i + 1} ({o.signature_names[i]}): "
+        print(f"  {event} {i + 1} ({o.signature_names[i]}): "
               + "  ".join(f"{n} = {v:.10g}" for n, v in zip(names, y))
               + f"   flight {o.times[i]:.10g}")
     print("  multipliers: " + ", ".join(_number(z) for z in o.multipliers))

@@ -150,44 +150,48 @@ def secure(d, names):
             os.chmod(p, stat.S_IMODE(st.st_mode) & ~0o022)
 
 
-def generate(d, n, orders, force=False):
-    """Generate structure ``n``'s ``orders`` into the private folder ``d`` (created and
-    checked first) and secure what was written.  Returns (written, manifest) as
+def generate(d, n, orders, force=False, starts=False):
+    """Generate structure ``n``'s ``orders`` (with ``starts``, their variants from each
+    coordinate's section too) into the private folder ``d`` (created and checked first)
+    and secure what was written.  Returns (written, manifest) as
     :func:`derivations.impact_jets.generate`."""
     from .._derivations import impact_jets as ij
     private_dir(d, create=True)
-    written, man = ij.generate(d, (n,), tuple(orders), force=force)
+    written, man = ij.generate(d, (n,), tuple(orders), force=force, starts=starts)
     secure(d, [*written, ij.MANIFEST, "__init__.py"])
     return written, man
 
 
-def load(n, order):
-    """The module ``impact_n<n>_order<order>`` from the per-user cache, generated there
-    first when missing or stale, verified (module docstring) before it runs."""
+def load(n, order, start=None):
+    """The module ``impact_n<n>_order<order>`` (``start`` s: ``impact_n<n>_s<s>_order<K>``,
+    a flight from coordinate s's section) from the per-user cache, generated there first
+    when missing or stale, verified (module docstring) before it runs."""
     from .._derivations import impact_jets as ij
-    name = ij.module_name(n, order)
+    name = ij.module_name(n, order, start)
     d = private_dir(create=True)
     high = order > max(ij.ORDERS)
     # a high order serves l2 alone (it holds all lower state derivatives): only it
     orders = (order,) if high else tuple(range(1, order + 1))
-    stale = ij.check(d, (n,), (order,))   # the manifest says only whether to regenerate
+    starts = start is not None
+    # the manifest says only whether to regenerate
+    stale = ij.check(d, (n,), (order,), starts=starts)
     bad = None
     if not stale:
-        text, bad = _read_verified(d, name, n, order)
+        text, bad = _read_verified(d, name, n, order, start)
         if bad:
             warnings.warn(f"generated-code cache {d}: {name}.py {bad}; regenerating it",
                           stacklevel=5)
     if stale or bad:
         warnings.warn(f"generating the order-{order} jets of the {n}-mass structure into {d} "
                       f"(once; may take {'minutes' if high else 'a minute'})", stacklevel=5)
-        generate(d, n, orders, force=bool(bad))
-        text, bad = _read_verified(d, name, n, order)
+        generate(d, n, orders, force=bool(bad), starts=starts)
+        text, bad = _read_verified(d, name, n, order, start)
         if bad:
             raise SymviError(f"generated-code cache {d}: {name}.py, just generated, {bad}")
     return _execute(text, d / f"{name}.py", f"symvi_user_generated.{name}")
 
 
-def _read_verified(d, name, n, order):
+def _read_verified(d, name, n, order, start=None):
     """(text, None) when ``d/name.py`` passes every check, else (text or None, reason)."""
     private_dir(d)                          # again: checked right before reading
     path = Path(d) / f"{name}.py"
@@ -208,10 +212,10 @@ def _read_verified(d, name, n, order):
         text = data.decode("utf-8")
     except UnicodeDecodeError:
         return None, "is not UTF-8 text"
-    return text, verify(text, n, order)
+    return text, verify(text, n, order, start)
 
 
-def verify(text, n, order):
+def verify(text, n, order, start=None):
     """None if ``text`` is what the generator writes for structure ``n``, order ``order``
     as far as can be told without running the derivation (module docstring); else the
     reason, a few words."""
@@ -234,7 +238,7 @@ def verify(text, n, order):
         return "holds code the generator never writes (nested too deeply)"
     if values.get("N") != n or values.get("ORDER") != order:
         return f"is not the structure N = {n}, order {order}"
-    if values.get("INPUTS") != ij.inputs(n, order):
+    if values.get("INPUTS") != ij.inputs(n, order, start):
         return "has other INPUTS than the structure's"
     idx = _indices(values.get("LAYOUT"))
     if idx is None or not idx or max(idx) >= width or min(idx) < 0:

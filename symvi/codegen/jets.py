@@ -60,6 +60,18 @@ def flight_jet(flow, forcing, y, te, order, start, end, tangent=None):
             for ax in range(1 if name != "theta1" else 0, a.ndim):
                 a = np.take(a, back, axis=ax)
         out[name] = a
+    if flow.offset is not None and tangent is not None and not tangent.zero and "dpJ" in out:
+        # a contact phase's map is P(y) = P~(y - ys_a) + ys_b with the offset's section
+        # parts ys moving along the tangent: dJ/dp = dpJ~ - d2~ . dys_a and
+        # dP/dp = dpP~ - J~ dys_a + dys_b (symvi.codegen.layout.phase_tangent)
+        from ..flow.compiled import section_index, table
+        from .layout import phase_tangent
+        rows = table(flow)
+        dzs = phase_tangent(flow, tangent)[1]
+        ya, yb = (np.append(dzs[np.asarray(section_index(flow.n, int(rows[k][0])))], 0.0)
+                  for k in (start, end))
+        out["dpJ"] = out["dpJ"] - np.einsum("abc,c->ab", out["d2"], ya)
+        out["dpP"] = out["dpP"] - out["J"] @ ya + yb
     return out
 
 

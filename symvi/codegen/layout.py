@@ -44,33 +44,25 @@ def module(n, order, start=None):
     """The generated module of structure n, order K: shipped in ``symvi._generated``
     (orders 1-3 of N = 1..4, orders 4-5 of N = 1, 2), else generated on first use
     into the per-user cache.  ``start`` s: the variant whose flight starts on the section
-    of coordinate s (another constraint's), shipped for N = 1..4, orders 1-3."""
+    of coordinate s (another constraint's), shipped for the same N and orders."""
     key = (n, order, start)
     if key not in _LOADED:
-        if start is not None:
-            try:
-                mod = importlib.import_module(f"symvi._generated.impact_n{n}_s{start}_order{order}")
-            except ModuleNotFoundError:
-                raise ParameterError("model", f"N = {n}", "N <= 4 masses for the jets of an "
-                                     "orbit with several constraints (orders 1-3 are shipped "
-                                     "for N <= 4; larger N on first use is the next step)") from None
-            _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
-            return _LOADED[key]
-        name = f"impact_n{n}_order{order}"
+        name = f"impact_n{n}_order{order}" if start is None else \
+            f"impact_n{n}_s{start}_order{order}"
         try:
             mod = importlib.import_module(f"symvi._generated.{name}")
         except ModuleNotFoundError as exc:
             if exc.name != f"symvi._generated.{name}":
                 raise
-            mod = _user_module(n, order, name)
+            mod = _user_module(n, order, name, start)
         _LOADED[key] = (mod, {k: np.asarray(v) for k, v in mod.LAYOUT.items()})
     return _LOADED[key]
 
 
-def _user_module(n, order, name):
+def _user_module(n, order, name, start=None):
     # generated on first use, run only after the checks of symvi.codegen._usercache
     from ._usercache import load
-    return load(n, order)
+    return load(n, order, start)
 
 
 def frechet_kernel(lt, ex, t):
@@ -89,8 +81,13 @@ def frechet_kernel(lt, ex, t):
 
 def frechet_exp(flow, t, dA):
     """d/de e^{(A + e dA) t} at e = 0, by the eigen-decomposition of A:
-    W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t)."""
+    W (G o (W^-1 dA W)) W^-1, G_ij = t (e^{l_i t} - e^{l_j t}) / ((l_i - l_j) t).
+    With a mass on no spring A has a Jordan block and no eigenbasis: then the upper right
+    block of exp([[A, dA], [0, A]] t) [Van Loan, IEEE Trans. Autom. Control 23 (1978)
+    395-404; Higham, Functions of Matrices, SIAM 2008, eq. (3.16)]."""
     bk = flow.bk
+    if flow.free:
+        return _frechet_block(flow, t, dA)
     lt = flow.lam * t
     ex = bk.vexp(lt)
     m = len(lt)
@@ -105,18 +102,25 @@ def frechet_exp(flow, t, dA):
     return bk.vreal(flow.W @ (G * (flow.Winv @ dA @ flow.W)) @ flow.Winv)
 
 
+def _frechet_block(flow, t, dA):
+    """The Frechet derivative of e^{At} in the direction dA as the upper right block of
+    e^{[[A, dA], [0, A]] t} (:func:`frechet_exp`): scipy's expm in float64, mpmath's at
+    the flow's precision."""
+    bk, d = flow.bk, 2 * flow.n
+    Z = np.zeros((d, d), dtype=object if bk is not FLOAT64 else float)
+    B = np.block([[np.asarray(flow.A), np.asarray(dA)], [Z, np.asarray(flow.A)]])
+    if bk is FLOAT64:
+        from scipy.linalg import expm
+        return expm(B * float(t))[:d, d:]
+    E = mpmath.expm(mpmath.matrix(B.tolist()) * t)
+    return np.array([[E[i, d + j] for j in range(d)] for i in range(d)], dtype=object)
+
+
 def tangent_data(flow, forcing, te, tangent):
     """(pE_0, pE_1, pU, pV, pr, pb) along a :class:`symvi.model.Tangent` (stop-first order);
     the generated jets take the constraint's part through :func:`reset_tangent`."""
     bk, n = flow.bk, flow.n
     moves_A = any(np.any(np.asarray(a)) for a in (tangent.dM, tangent.dK, tangent.dC))
-    if flow.free and moves_A:
-        from ..errors import SingularCaseError
-        raise SingularCaseError(
-            "free-mass", "a derivative in a mass, stiffness or damping entry of a model with "
-            "a mass on no spring: the Frechet derivative of e^{At} at its Jordan block is "
-            "not written yet (issue 25); continue in omega, a gap, a restitution or a "
-            "forcing amplitude")
     dM, dK, dC, dP = (bk.arr(flow.framed(a)) for a in
                       (tangent.dM, tangent.dK, tangent.dC, tangent.dP))
     Minv = flow.Minv
@@ -134,6 +138,29 @@ def tangent_data(flow, forcing, te, tangent):
     X = forcing.U + i * forcing.V
     dX = bk.solve(D, dP - (dK - w * w * dM + i * w * dC) @ X)
     return pE0, pE1, bk.vreal(dX), bk.vreal(-i * dX), tangent.dr, tangent.db
+
+
+def phase_tangent(flow, tangent):
+    """(the tangent of a contact phase's matrices, d zs) along a :class:`Tangent`, for the
+    flow of a contact phase (:meth:`symvi.flow.linear.LinearFlow.contact`): dK_S = dK +
+    dk c c^T and dC_S = dC + dc c c^T for the constraint in contact whose stiffness (dk)
+    or damping (dc) moves, and, from zs = (K_S^-1 f_S, 0) with f_S = sum k_i g_i c_i,
+    d xs = K_S^-1 (df_S - dK_S xs) (flow order)."""
+    n = flow.n
+    dK, dC = np.array(tangent.dK, dtype=float), np.array(tangent.dC, dtype=float)
+    df = np.zeros(n)
+    for i in flow.active:
+        if i != tangent.stop:
+            continue
+        con = flow.model.constraints[i]
+        c = np.array(con.normal, dtype=float)
+        dK = dK + tangent.dk * np.outer(c, c)
+        dC = dC + tangent.dc * np.outer(c, c)
+        df = df + (tangent.dk * con.gap + con.stiffness * tangent.db) * c
+    xs = np.asarray(flow.offset[:n], dtype=float)
+    dxs = np.linalg.solve(np.asarray(flow.K, dtype=float),
+                          flow.framed(df) - flow.framed(dK) @ xs)
+    return replace(tangent, dK=dK, dC=dC), np.concatenate([dxs, np.zeros(n)])
 
 
 def jet_constraint(flow):
@@ -176,6 +203,8 @@ def reset_derivative(flow, con, dr, dM):
     rigid impulse q = M^-1 c along a mass tangent: dq = -M^-1 dM q,
     dQ = dq c^T / (c^T q) - Q (c^T dq) / (c^T q)."""
     bk = flow.bk
+    if con.kind == "elastic":              # an entry or an exit: no jump, nothing moves
+        return bk.arr(np.zeros((flow.n, flow.n)))
     Minv = None
     if con.impulse is None:
         Minv = bk.inv(bk.arr(np.asarray(flow.model.mass)))
@@ -296,14 +325,18 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
             parts += [np.zeros(d2), np.zeros(d2), np.zeros(n), np.zeros(n)]
             scal += [0.0] * (n + 2)
         else:
-            pE0, pE1, pU, pV, _, db = tangent_data(flow, forcing, te, tangent)
+            tan, dzs = (tangent, None) if flow.offset is None else phase_tangent(flow, tangent)
+            pE0, pE1, pU, pV, _, db = tangent_data(flow, forcing, te, tan)
             parts += [pE0[ix].ravel(), pE1[ix].ravel(), np.asarray(pU)[Qb], np.asarray(pV)[Qb]]
             # the gap and restitution of the tangent's stop move kb's guard and reset only
             # if it is kb (a mass tangent moves every rigid reset, q = M^-1 c)
             tb = tangent if tangent.stop == kb else replace(tangent, db=0.0, dr=0.0)
             plevel, pR = reset_tangent(flow, tb, con_b, list(Qb))
+            pb0 = db if tangent.stop == ka else 0.0
+            if dzs is not None:                  # the shifted levels move with zs
+                plevel, pb0 = plevel - g0 * dzs[int(rb[0])], pb0 - dzs[int(rows[ka][0])]
             scal += [plevel] + list(np.asarray(pR, dtype=float))
-            scal += [db if tangent.stop == ka else 0.0]
+            scal += [pb0]
     elif tangent is not None and not tangent.zero:
         raise ParameterError("order", order, "2 or 3 with a parameter tangent")
     yv = yv[pi]

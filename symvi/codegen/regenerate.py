@@ -94,7 +94,7 @@ def jobs(*, order=None, model=None, out=None):
     o = Path(out) if out else shipped_dir()
     todo = [Job("paper", o, low), Job("impact", o, low, ij.NS_SHIPPED, starts=True)]
     if high:
-        todo.append(Job("impact", o, high, ij.NS_HIGH))
+        todo.append(Job("impact", o, high, ij.NS_HIGH, starts=True))
     return todo
 
 

@@ -42,12 +42,6 @@ from .points import SpecialPoint
 STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
-#: what a special point of an orbit with several constraints says of its coefficient
-NO_JETS = ("the normal-form coefficient a is not computed: the jets of flights between "
-           "two constraints' sections are shipped for N <= 4 masses (the point itself is "
-           "exact)")
-
-
 @functools.lru_cache(maxsize=None)
 def _pairs(n):
     """Index pairs i < j of n multipliers (the bialternate product)."""
@@ -61,8 +55,6 @@ class Codim1Tracker(engine.Tracker):
         super().__init__(problem)
         self.problem = problem
         self.coefficients = coefficients      # False: NS points located, no normal form
-        # the jets of an orbit with several constraints: the shipped variants (N <= 4)
-        self._jets = not (problem.several and problem.N > 4)
 
     # ---- test functions -----------------------------------------------------------
     def _conservative(self, X):
@@ -94,13 +86,18 @@ class Codim1Tracker(engine.Tracker):
     def brackets(self, pa, pb, pta, pt):
         out = []
         graze = False
+        touches = self._touches(pa, pb)
         for key in pa:
             if key.startswith("v") and sign_change(pa[key], pb.get(key)):
                 graze = True
-                out.append((key, {}))
+                if key not in touches:         # the exit of a touch: one point, the entry
+                    out.append((key, {}))
         # through a grazing impact the map's Jacobian has a pole (eq. (30)): the
         # multiplier test functions change sign there without a bifurcation
-        for kind in ("fold",) if graze else ("fold", "flip", "ns", "R3", "R4"):
+        # at a touch the continued (virtual) branch turns back with the contact time < 0:
+        # no saddle-node there
+        for kind in () if touches else ("fold",) if graze else ("fold", "flip", "ns", "R3",
+                                                                   "R4"):
             if sign_change(pa.get(kind), pb.get(kind)):
                 out.append((kind, {}))
         # a multiplier through +1 where the branch does not turn: two branches cross; on
@@ -114,6 +111,21 @@ class Codim1Tracker(engine.Tracker):
         if pta.admissible != pt.admissible and not graze:
             out.append(("interior", {"bad": None if pta.admissible else "a",
                                      "why": (pt if pta.admissible else pta).orbit.reason}))
+        return out
+
+    def _touches(self, pa, pb):
+        """The keys of exit speeds that change sign with the entry speed before them: a
+        contact phase that shrinks to a touch (entry speed, contact time and exit speed
+        all tend to 0), located once, as its entry (elastic stops)."""
+        pr = self.problem
+        if not pr.elastic:
+            return set()
+        out = set()
+        for i in range(pr.p):
+            j = (i + 1) % pr.p                 # flight i ends at event j, flight j in contact
+            if pr.kinds[j] == "entry" and sign_change(pa.get(f"v{i}"), pb.get(f"v{i}")) \
+                    and sign_change(pa.get(f"v{j}"), pb.get(f"v{j}")):
+                out.add(f"v{j}")
         return out
 
     # ---- location -----------------------------------------------------------------
@@ -155,12 +167,6 @@ class Codim1Tracker(engine.Tracker):
         if kind == "fold":
             X, t, Gu = self._root(lambda X, t, Gu: t[-1], Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if not self._jets:
-                e = real_critical(self._mono(X, Gu), 1.0)
-                return SpecialPoint("fold", float(X[m]), orbit,
-                                    {"multiplier": e.mu, "gap": e.gap},
-                                    "a multiplier through +1: the branch turns (saddle-node); "
-                                    + NO_JETS, index)
             A, d2, _ = orbit.jet(2)
             a, e = fold_coefficient(A, d2)
             note = (f"; +1 is a double multiplier (gap {e.gap:.1e}): the one-dimensional "
@@ -198,12 +204,6 @@ class Codim1Tracker(engine.Tracker):
         if kind == "flip":
             X, t, Gu = self._root(lambda X, t, Gu: self._mu_prod(X, Gu, +1), Xa, ta, Xb)
             orbit = self._orbit(X, Gu)
-            if not self._jets:
-                e = real_critical(self._mono(X, Gu), -1.0)
-                return SpecialPoint("flip", float(X[m]), orbit,
-                                    {"multiplier": e.mu, "gap": e.gap},
-                                    f"a multiplier through -1: period doubling to a "
-                                    f"{2 * pr.n_periods}-{2 * pr.p} orbit; " + NO_JETS, index)
             A, d2, d3 = orbit.jet(3)
             c, e = flip_coefficient(A, d2, d3)
             crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
@@ -227,11 +227,6 @@ class Codim1Tracker(engine.Tracker):
             if not self.coefficients:
                 return SpecialPoint("ns", float(X[m]), orbit, {}, "a complex pair through "
                                     "|lambda| = 1 (normal form left to the caller)", index)
-            if not self._jets:
-                return SpecialPoint("ns", float(X[m]), orbit,
-                                    {"theta": float(abs(np.angle(crit)))},
-                                    "a complex pair through |lambda| = 1: Neimark-Sacker; "
-                                    + NO_JETS.replace("a is", "l1 is"), index)
             return self._ns(X, orbit, index, Xa, Xb)
         if kind in ("R3", "R4"):
             m_ = int(kind[1])
@@ -253,6 +248,9 @@ class Codim1Tracker(engine.Tracker):
                                 "model (its multipliers move along the unit circle)", index)
         if kind.startswith("v"):
             i = int(kind[1:])
+            j = (i + 1) % pr.p
+            if pr.elastic and pr.kinds[j] == "entry":
+                return self._touch(i, Xa, ta, Xb, index)
             X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i), Xa, ta, Xb)
             orbit = self._orbit(X, Gu, admissibility=False)
             coef = {"impact": i + 1, "impact_velocity": self._vimp(X, i)}
@@ -290,6 +288,25 @@ class Codim1Tracker(engine.Tracker):
                             f"flight {i + 1} touches {stop} with zero velocity at t = "
                             f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
                             f"orbit penetrates {'the stop' if k is None else 'it'} beyond", index)
+
+    def _touch(self, i, Xa, ta, Xb, index):
+        """Flight i arrives at an elastic stop with zero speed: the contact that follows
+        shrinks to a touch (its time -> 0 with the speed) and has gone beyond.  The
+        shooting system is singular at the touch (the contact flight's guard has zero
+        derivative at zero time), so the point is interpolated between corrected points
+        either side (:meth:`_branch_root`)."""
+        pr, m = self.problem, self.problem.size
+        X, spread, orbit, _ = self._branch_root(lambda X, Gu: self._vimp(X, i), Xa, ta, Xb)
+        j = (i + 1) % pr.p
+        k = int(pr.sig[j])
+        coef = {"impact": i + 1, "impact_velocity": self._vimp(X, i), "stop": k + 1,
+                "contact_time": float(pr.split(X[:m])[1][j]), "spread": spread}
+        return SpecialPoint("grazing", float(X[m]), orbit, coef,
+                            f"flight {i + 1} arrives at the elastic stop {k + 1} with zero "
+                            f"velocity: its contact shrinks to a touch (the contact time "
+                            f"tends to 0 with the speed) and the orbit has no such contact "
+                            f"beyond (interpolated: the shooting system is singular at the "
+                            f"touch)", index)
 
     def _branch_root(self, f, Xa, ta, Xb):
         """(X, spread, orbit, G_u) at the zero of f(X, G_u) on the arc: the extended system

@@ -184,13 +184,14 @@ class CurveSystem:
         names = self.names
         jets = []
         tans = [None if par.is_forcing_frequency else par.tangent(model) for par in self.params]
+        phases = pr.phase_flows(model, flow, F)       # each flight's contact phase
         for i in range(self.p):
             y, te = tuple(Y[i]), float(T[i])
             if pr.several:            # a flight between two constraints' sections
                 ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
 
-                def jet(tan, y=y, te=te, ends=ends):
-                    return flight_jet(flow, F, y, te, 2, *ends, tan)
+                def jet(tan, y=y, te=te, ends=ends, fF=phases[i]):
+                    return flight_jet(*fF, y, te, 2, *ends, tan)
             else:
                 def jet(tan, y=y, te=te):
                     return jet_values(flow, F, y, te, 2, tan)

@@ -63,7 +63,7 @@ from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
 from ._steady import steady_state
-from .linear import EIGVEC_COND_MAX   # the flow's bound, for the phases too
+from .linear import modal_form
 
 #: event kinds: a rigid impact, the entry into and the exit from an elastic contact
 IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
@@ -96,26 +96,22 @@ class Phase:
         self.M, self.K, self.C, self.f = M, K, C, f
         self.P = np.array(model.forcing, dtype=float)
         Minv = self.Minv = np.linalg.inv(M)
-        # the static offset of the constant force f_S: K_S xs = f_S
-        self.zs = np.concatenate([np.linalg.solve(K, f), np.zeros(n)])
         self.A = np.block([[np.zeros((n, n)), np.eye(n)], [-(Minv @ K), -(Minv @ C)]])
-        self.omegas, psi = FLOAT64.eigh_pair(K, M)
-        if not C.any():            # undamped: the closed form of LinearFlow
-            Om = self.omegas
-            self.lam = np.concatenate([1j * Om, -1j * Om])
-            self.W = np.block([[psi, psi], [1j * psi * Om, -1j * psi * Om]])
-            PM = psi.T @ M
-            Oi = (1 / Om)[:, None]
-            self.Winv = 0.5 * np.block([[PM, -1j * Oi * PM], [PM, 1j * Oi * PM]])
-        else:
-            self.lam, self.W = np.linalg.eig(self.A)
-            cond = np.linalg.cond(self.W)
-            if not cond < EIGVEC_COND_MAX:
+        # the one modal form (symvi.flow.linear.modal_form): closed form undamped, the
+        # eigenvectors damped (refused when ill-conditioned), a mass on no spring's drift
+        self.omegas, self.lam, self.W, self.Winv, nil = modal_form(
+            FLOAT64, M, K, C, self.A, bool(C.any()))
+        self.NIL = nil
+        # the static offset of the constant force f_S: K_S xs = f_S
+        xs = np.zeros(n)
+        if self.active:
+            if nil is not None:
                 raise SingularCaseError(
-                    "defective-flow", f"the eigenvectors of the state matrix of the contact "
-                    f"phase {list(self.active)} are nearly dependent (condition {cond:.3g}): "
-                    "a mode is (close to) critically damped")
-            self.Winv = np.linalg.inv(self.W)
+                    "free-mass", f"the contact phase {list(self.active)} leaves a mass on no "
+                    "spring: its contact force has no static offset (the contact must act "
+                    "on every free mode)")
+            xs = np.linalg.solve(K, f)
+        self.zs = np.concatenate([xs, np.zeros(n)])
         # Re lambda <= 0 up to rounding; a rounding-sized Re lambda > 0 enters the bound
         self.growth_rate = max(0.0, float(np.max(self.lam.real)))
         self._forcing = {}
@@ -153,8 +149,9 @@ class Phase:
         return self.A @ z + np.concatenate([np.zeros(n), rhs])
 
     def phi(self, t):
-        """Phi_S(t) = e^{A_S t} (real 2N x 2N)."""
-        return np.real((self.W * np.exp(self.lam * t)) @ self.Winv)
+        """Phi_S(t) = e^{A_S t} (real 2N x 2N): Re(W e^{Lambda t} W^-1) + t NIL."""
+        out = np.real((self.W * np.exp(self.lam * t)) @ self.Winv)
+        return out if self.NIL is None else out + t * self.NIL
 
 
 @functools.lru_cache(maxsize=64)
@@ -176,12 +173,15 @@ class Hit:
 
 
 class PhaseMotion:
-    """z(t) = Re(W (a e^{lambda t})) + zp(t) + zs of one phase, a = W^-1 (z0 - zp(0) - zs)."""
+    """z(t) = Re(W (a e^{lambda t})) + t NIL w + zp(t) + zs of one phase, w = z0 - zp(0) - zs,
+    a = W^-1 w (the drift t NIL w of a mass on no spring moves positions only)."""
 
     def __init__(self, ph, omega, z0, tau):
         self.phase, self.omega, self.tau = ph, omega, tau
         self.U, self.V = ph.forcing(omega)
-        self.a = ph.Winv @ (z0 - self._zp(tau) - ph.zs)
+        w = z0 - self._zp(tau) - ph.zs
+        self.a = ph.Winv @ w
+        self.nw = None if ph.NIL is None else ph.NIL @ w
 
     def _zp(self, phase):
         s, c = math.sin(phase), math.cos(phase)
@@ -191,8 +191,9 @@ class PhaseMotion:
     def state(self, t):
         """z(t), mass order."""
         ph = self.phase
-        return (np.real(ph.W @ (self.a * np.exp(ph.lam * t))) + self._zp(self.omega * t + self.tau)
-                + ph.zs)
+        z = (np.real(ph.W @ (self.a * np.exp(ph.lam * t))) + self._zp(self.omega * t + self.tau)
+             + ph.zs)
+        return z if self.nw is None else z + t * self.nw
 
     def first_event(self, G, level, start=None, t_max=None, max_steps=1_000_000):
         """First t > 0 with h_g(t) = G[g] . x(t) - level[g] = 0 for some guard g, from a start
@@ -211,6 +212,8 @@ class PhaseMotion:
         Dv = (G @ ph.W[n:]) * self.a
         D2 = Dv * ph.lam
         GU, GV = G @ self.U, G @ self.V
+        # the free modes' drift: a rate of each guard, no part of h'' (it is linear in t)
+        drift = np.zeros(len(G)) if self.nw is None else G @ self.nw[:n]
         X = np.hypot(GU, GV)
         al = np.abs(ph.lam)
         grow = math.exp(ph.growth_rate * 4 * t_max)
@@ -224,7 +227,7 @@ class PhaseMotion:
             e = np.exp(lam * t)
             p = om * t + tau
             s, c = math.sin(p), math.cos(p)
-            return ((D @ e).real + GU * s + GV * c - level,
+            return ((D @ e).real + t * drift + GU * s + GV * c - level,
                     (Dv @ e).real + om * (GU * c - GV * s))
 
         def h2(t, g):

@@ -152,6 +152,27 @@ class LinearFlow:
         Ti = self.Tinv
         return _sym(Ti.T @ a @ Ti) if a.ndim == 2 else Ti.T @ a
 
+    def to_flow(self, z):
+        """A state (x, v) of mass order in the flow's coordinates: (T x, T v), a
+        reordering for a permutation (:func:`frame_of`)."""
+        z = np.asarray(z)
+        n = self.n
+        if self.T is None:
+            p = list(self.perm)
+            return np.concatenate([z[:n][p], z[n:][p]])
+        return np.concatenate([self.T @ z[:n], self.T @ z[n:]])
+
+    def to_mass(self, z):
+        """The inverse of :meth:`to_flow`."""
+        z = np.asarray(z)
+        n = self.n
+        if self.T is None:
+            out = np.empty(2 * n, dtype=z.dtype)
+            p = list(self.perm)
+            out[p], out[[n + j for j in p]] = z[:n], z[n:]
+            return out
+        return np.concatenate([self.Tinv @ z[:n], self.Tinv @ z[n:]])
+
     def framed_velocity(self, R):
         """A map of velocities (a reset, its derivative) of mass order in the flow's
         coordinates: T R T^-1 (v' = T v), a reordering for a permutation."""

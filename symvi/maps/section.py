@@ -82,7 +82,6 @@ class Section:
 @functools.lru_cache(maxsize=256)
 def _section_of(model):
     from ..flow.linear import frame_of
-    # an elastic model's section is its stops' on masses (the walk of symvi.flow.contact)
-    perm, _, labels = frame_of(model.require_stops_on_masses() if model.elastic else
-                               model.require_rigid_stops())
+    # an elastic model's sections are its stops' (simulate's walk asks for stops on masses)
+    perm, _, labels = frame_of(model if model.elastic else model.require_rigid_stops())
     return Section(model.n, perm, labels)

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
 from ..flow import contact as ct
 
 #: the events of a run that settles on an attractor: dropped, then kept
@@ -37,29 +36,16 @@ class EventRun:
     stop: str
 
 
-def _to_flow(flow, zm):
-    """A state of mass order in the flow's order (stops on masses: a permutation)."""
-    n = flow.n
-    perm = list(flow.perm)
-    return np.concatenate([zm[:n][perm], zm[n:][perm]])
-
-
-def _to_mass(flow, zf):
-    n = flow.n
-    perm = list(flow.perm)
-    zm = np.empty(2 * n)
-    zm[perm], zm[[n + j for j in perm]] = zf[:n], zf[n:]
-    return zm
-
-
 def default_state(model, omega):
     """The walk's default start: on the first stop's section (s = g), every other mass at
     rest at 0, phase 0, leaving the stop at speed omega max(|g|, 0.1) (as
     :func:`symvi.simulations.simulation.default_start`); nothing in contact."""
     con = model.constraints[0]
+    c = np.array(con.normal, dtype=float)
+    c = c / (c @ c)                                # c . x = s along c: x = s c / |c|^2
     z = np.zeros(2 * model.n)
-    z[:model.n] = np.array(con.normal) * con.gap
-    z[model.n:] = -con.sign * float(omega) * max(abs(con.gap), 0.1) * np.array(con.normal)
+    z[:model.n] = c * con.gap
+    z[model.n:] = -con.sign * float(omega) * max(abs(con.gap), 0.1) * c
     return z
 
 
@@ -85,7 +71,7 @@ def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
         if count <= transient:
             continue
         k = ev.constraint
-        zf = _to_flow(flow, ev.after)
+        zf = flow.to_flow(ev.after)
         zf[positions[k]] = model.constraints[k].gap      # on the section exactly
         rows.append(np.append(zf[frames[k]], ev.tau % (2 * math.pi)))
         ts.append(ev.t)
@@ -112,7 +98,7 @@ def flights(problem, flow, F, pts):
         zf = np.empty(2 * N)
         zf[int(rows[ka][0])] = model.constraints[ka].gap
         zf[problem.frames[ka]] = cur[:-1]
-        walk = ct.walk(model, F.omega, _to_mass(flow, zf), cur[-1],
+        walk = ct.walk(model, F.omega, flow.to_mass(zf), cur[-1],
                        active=problem.phases[i], start=ka,
                        t_max=200 * 2 * math.pi / F.omega)
         ev = next(walk)
@@ -126,10 +112,10 @@ def flights(problem, flow, F, pts):
         if i + 1 < p:
             if len(pts) == p:
                 nxt = np.array(pts[i + 1], dtype=float)
-            else:
-                za = _to_flow(flow, ev.after)
-                nxt = np.append(za[problem.frames[kb]], 0.0)
-            nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * ev.t)
+                nxt[-1] = _unwrap(nxt[-1], cur[-1] + F.omega * ev.t)
+            else:                                  # the walk's point, tau unwrapped
+                za = flow.to_flow(ev.after)
+                nxt = np.append(za[problem.frames[kb]], cur[-1] + F.omega * ev.t)
             Y.append(nxt)
             cur = nxt
     return Y, T

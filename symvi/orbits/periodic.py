@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..codegen.layout import reset_derivative, tangent_data
+from ..codegen.layout import phase_tangent, reset_derivative, tangent_data
 from ..errors import ParameterError, SingularCaseError, SymviError
 from ..flow.compiled import STATUS_NAMES
 from ..flow.compiled import section_index
@@ -78,9 +78,7 @@ class Problem:
 
     def __init__(self, model, n, p, omega=None, param=None, signature=None):
         _check_np(n, p)
-        if model.elastic:                    # contact phases: the walk's stops on masses
-            model.require_stops_on_masses()
-        else:
+        if not model.elastic:                # contact phases: LinearFlow.contact
             model.require_rigid_stops()
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
@@ -349,7 +347,7 @@ class Problem:
         """dG/dname at fixed u, exact (omega: dU, dV; any other: its tangent); ``name`` a
         :class:`symvi.model.parameters.Parameter` (or a name, parsed here).  A contact
         phase's flow moves with its constraints' stiffness and damping (K_S, C_S) and its
-        offset zs = K_S^-1 f_S with their gaps too (:meth:`_phase_tangent`)."""
+        offset zs = K_S^-1 f_S with their gaps too (:func:`phase_tangent`)."""
         name = self.model.parameter(name)
         d, p, bk, N = self.d, self.p, flow.bk, self.N
         out = np.zeros(self.size)
@@ -375,7 +373,7 @@ class Problem:
             kb = self.sig[(i + 1) % p]
             start, end = self.sig[i] == ks, kb == ks
             fi, F = phases[i]
-            tan_i, dzs = (tan, None) if fi.offset is None else self._phase_tangent(fi, tan)
+            tan_i, dzs = (tan, None) if fi.offset is None else phase_tangent(fi, tan)
             pE0, _, pU, pV, pr, pb = tangent_data(fi, F, T[i], tan_i)
             dF = type(F)(F.omega, pU, pV, None, None)
             ph = tau + F.omega * T[i]
@@ -390,27 +388,6 @@ class Problem:
                 out[i * d:i * d + d - 1] += dE[kb] @ z
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
-
-    def _phase_tangent(self, fi, tan):
-        """(the tangent of a contact phase's matrices, d zs): dK_S = dK + dk c c^T and
-        dC_S = dC + dc c^T c for the constraint in contact whose stiffness (dk) or damping
-        (dc) moves, and zs = K_S^-1 f_S, f_S = sum k_i g_i c_i, so
-        d xs = K_S^-1 (df_S - dK_S xs) (flow order; :meth:`LinearFlow.contact`)."""
-        from dataclasses import replace
-        n = self.N
-        dK, dC = np.array(tan.dK, dtype=float), np.array(tan.dC, dtype=float)
-        df = np.zeros(n)
-        for i in fi.active:
-            if i != tan.stop:
-                continue
-            con = self.model.constraints[i]
-            c = np.array(con.normal, dtype=float)
-            dK = dK + tan.dk * np.outer(c, c)
-            dC = dC + tan.dc * np.outer(c, c)
-            df = df + (tan.dk * con.gap + con.stiffness * tan.db) * c
-        xs = fi.offset[:n]
-        dxs = np.linalg.solve(fi.K, fi.framed(df) - fi.framed(dK) @ xs)
-        return replace(tan, dK=dK, dC=dC), np.concatenate([dxs, np.zeros(n)])
 
     def _dreset_rows(self, flow, model, k, tan):
         """The rows of :meth:`_reset_rows` for dR_k/dparam of constraint k (flow order), or
@@ -608,10 +585,6 @@ class PeriodicOrbit:
         # each flight in its phase's flow (the free flow without elastic stops)
         phases = (Signature(self.signature, self.contact).phases(self.model)
                   if self.model.elastic else None)
-        if several and order > 3:
-            raise ParameterError("order", order, "1, 2 or 3 for an orbit with several "
-                                 "constraints (orders 4, 5 need the variants from each "
-                                 "section, not generated yet)")
         for i in range(self.p):
             if several:
                 from ..codegen.jets import flight_jet
@@ -620,7 +593,8 @@ class PeriodicOrbit:
                 v = flight_jet(fi, fi.forcing(self.omega), tuple(Y[i]), float(self.times[i]),
                                order, sig[i], sig[(i + 1) % self.p])
                 jets.append((v["J"], v["d2"] if order >= 2 else None,
-                             v.get("d3") if order >= 3 else None))
+                             v.get("d3") if order >= 3 else None)
+                            + tuple(v[f"d{k}"] for k in range(4, order + 1)))
             elif order <= 3:
                 from ..codegen.jets import evaluate
                 v = evaluate(flow, F, tuple(Y[i]), float(self.times[i]), order)
@@ -757,15 +731,12 @@ def _admissible_phases(problem, fl, flow, F, T):
     exits and rigid impacts) with its provably safe step."""
     from ..flow import contact
     model, N, p = problem.model, problem.N, problem.p
-    perm = list(flow.perm)
     ends = problem._ends(flow)
     rows = _table(flow)
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
         S = problem.phases[i]
-        zm = np.empty(2 * N)
-        zm[perm], zm[[N + j for j in perm]] = z0[:N], z0[N:]
-        mo = contact.phase(model, S).motion(F.omega, zm, tau)
+        mo = contact.phase(model, S).motion(F.omega, flow.to_mass(z0), tau)
         G, lv = contact.guards(model, S)
         sa = -1.0 if ka in S else 1.0              # the walk's guards: -h in contact
         sb = -1.0 if kb in S else 1.0

@@ -51,7 +51,8 @@ def test_no_attractor_anywhere_is_one_line(tmp_path):
 def test_the_worked_examples_are_current():
     """Each worked example's JSON is what its model file gives today (the command in
     examples/contacts/README.md): the same branches, signatures and special points."""
-    for name in ("oscillator_two_stops", "chain3_two_stops", "impact_damper"):
+    for name in ("oscillator_two_stops", "oscillator_elastic", "chain3_two_stops",
+                 "impact_damper"):
         d = json.loads((EXAMPLES / f"{name}.json").read_text())
         args = [str(EXAMPLES / pathlib.Path(a).name) if a.endswith(".toml") else a
                 for a in d["command"]]
@@ -76,6 +77,29 @@ def test_orbit_of_a_two_stop_model():
     assert "attractor" in o["found"]
     rc, out, err = cli("orbit", "--model", str(SYM), "--omega", "1.0")
     assert rc == 0 and "1-2 orbit, signature" in out and "symmetric" in out
+
+
+def test_orbit_and_branch_of_an_elastic_model():
+    """Elastic stops in orbit and continue: the attractor's events name their kind
+    (stop1:entry, stop1:exit), and a branch in one stop's stiffness carries them in its
+    JSON up to its end (the symmetry is lost as soon as the stiffnesses differ)."""
+    el = EXAMPLES / "oscillator_elastic.toml"
+    rc, out, err = cli("orbit", "--model", str(el), "--omega", "2.0", "--json")
+    assert rc == 0, err
+    o = json.loads(out)["orbits"][0]
+    assert (o["n"], o["p"]) == (1, 4) and o["symmetric"] is True
+    assert sorted(o["signature"]) == ["stop1:entry", "stop1:exit", "stop2:entry",
+                                      "stop2:exit"]
+    assert o["admissible"] and o["residual"] < 1e-12
+    rc, out, err = cli("continue", "--model", str(el), "--param", "stop[1].stiffness",
+                       "--from", "50", "--to", "80", "--set", "omega=2.0", "--json")
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["branches"][0]["signature"] == o["signature"]
+    assert "reached stop[1].stiffness = 80" in d["branches"][0]["end"]
+    pts = d["points"]
+    assert pts[0]["symmetric"] and not pts[-1]["symmetric"]
+    assert all(p["admissible"] for p in pts) and abs(pts[-1]["value"] - 80.0) < 1e-9
 
 
 def test_orbit_without_attractor_is_one_line(tmp_path):

@@ -126,3 +126,44 @@ def test_supercritical_flip_of_a_two_stop_orbit_against_simulation():
         a, b = sim.section[-1], sim.section[-2]
         dist.append(float(np.linalg.norm(a[:-1] - b[:-1])))
     assert 1.7 < dist[1] / dist[0] < 2.3
+
+
+def _jet_at(orbit, y, order):
+    """The composed jet of P^p at the point y of the orbit's first section (not a fixed
+    point): the flights from y by the map (:func:`symvi.orbits.periodic.initial_guess`),
+    then :meth:`PeriodicOrbit.jet` along them."""
+    import dataclasses
+
+    from symvi.orbits.periodic import initial_guess
+    pr = Problem(orbit.model, orbit.n, orbit.p, omega=orbit.omega, signature=orbit.itinerary)
+    u = initial_guess(pr, np.array(y, dtype=float))
+    T = pr.split(u)[1]
+    return dataclasses.replace(orbit, u=u, times=tuple(float(t) for t in T)).jet(order)
+
+
+@pytest.mark.parametrize("which", ["sym", "frames", "elastic"])
+def test_orders_4_and_5_across_sections(which):
+    """The start variants of orders 4 and 5 (l2 of orbits with several constraints, and
+    through contact phases): d4 and a d5 slice against central differences of the
+    composed order-3 and order-4 jets at points moved along each coordinate."""
+    from tests.orbits.test_elastic_orbits import ONE, _orbit
+    orbit = {"sym": lambda: _settled(SYM, 1.0, (-0.1, 0.0)),
+             "frames": lambda: _settled(TWO_FRAMES, 1.5, (-0.2, 0.0, 0.0, 0.0)),
+             "elastic": lambda: _orbit(ONE, 1.2)}[which]()
+    J5 = orbit.jet(5)
+    assert len(J5) == 5 and all(t is not None for t in J5)
+    J3 = orbit.jet(3)
+    for a, b in zip(J5[:3], J3):
+        assert np.allclose(a, b, rtol=1e-12, atol=1e-12)
+    y = np.array(orbit.u[:2 * orbit.model.n])
+    d = len(y)
+    h = 1e-5
+    for e in range(d):
+        step = np.eye(d)[e] * h
+        fd4 = (_jet_at(orbit, y + step, 3)[2] - _jet_at(orbit, y - step, 3)[2]) / (2 * h)
+        scale = max(1.0, float(np.max(np.abs(J5[3]))))
+        assert np.max(np.abs(fd4 - J5[3][..., e])) <= 1e-5 * scale, e
+    fd5 = (_jet_at(orbit, y + np.eye(d)[0] * h, 4)[3]
+           - _jet_at(orbit, y - np.eye(d)[0] * h, 4)[3]) / (2 * h)
+    scale = max(1.0, float(np.max(np.abs(J5[4]))))
+    assert np.max(np.abs(fd5 - J5[4][..., 0])) <= 1e-5 * scale

@@ -218,3 +218,109 @@ def test_symmetric_elastic_orbit_breaks_symmetry(sym_branches):
         run = event_run(SYM, s.omega, z0, tau, events=8 * s.p, transient=40 * s.p,
                         active=s.itinerary.phases(SYM)[0], start=s.signature[0])
         assert detect_period(run) == (s.n, s.p)
+
+
+def _next_event(model, orbit, i, y):
+    """(time, point) from point y of event i's section to the next event, by the walk (the
+    orbit's signature rotated to start at event i)."""
+    from symvi.orbits._phases import flights
+    from symvi.orbits.periodic import flow_of
+    hits = orbit.signature[i:] + orbit.signature[:i]
+    sig = Signature(hits, orbit.itinerary.phases(model)[i])
+    pr = Problem(model, orbit.n, orbit.p, omega=orbit.omega, signature=sig)
+    flow = flow_of(model)
+    Y, T = flights(pr, flow, flow.forcing(orbit.omega), [np.array(y)])
+    return T[0], Y[1]
+
+
+@pytest.mark.parametrize("param", ["stop[1].stiffness", "stop[1].gap", "stop[1].damping",
+                                   "mass[1]", "damping[1,1]"])
+def test_parameter_jets_through_contact_phases(param):
+    """dJ/dp and dP/dp of each flight's map (the generated parameter slots fed the phase's
+    tangent, K_S, C_S and the offset's motion, corrected for the moving translation)
+    against central differences of J and of the walk's end point at p +- h."""
+    from symvi.codegen.jets import flight_jet
+    model, omega = CASES["chain-1-3"]
+    orbit = _orbit(model, omega)
+    par = model.parameter(param)
+    v, tan = par.get(model), par.tangent(model)
+    phases = orbit.itinerary.phases(model)
+    Y = orbit.u[:orbit.p * 2 * model.n].reshape(orbit.p, -1)
+    h = 1e-6 * max(1.0, abs(v))
+    for i in range(orbit.p):
+        ka, kb = orbit.signature[i], orbit.signature[(i + 1) % orbit.p]
+        fi = LinearFlow.contact(model, phases[i])
+        val = flight_jet(fi, fi.forcing(omega), tuple(Y[i]), orbit.times[i], 2, ka, kb, tan)
+        J, P = [], []
+        for s in (1.0, -1.0):
+            mp = par.apply(model, v + s * h)
+            te, nxt = _next_event(mp, orbit, i, Y[i])
+            fp = LinearFlow.contact(mp, phases[i])
+            J.append(flight_jet(fp, fp.forcing(omega), tuple(Y[i]), te, 1, ka, kb)["J"])
+            P.append(nxt)
+        fd = (J[0] - J[1]) / (2 * h)
+        assert np.max(np.abs(val["dpJ"] - fd)) <= 2e-6 * max(1.0, np.max(np.abs(fd))), i
+        fdP = (P[0] - P[1]) / (2 * h)
+        assert np.max(np.abs(val["dpP"] - fdP)) <= 2e-6 * max(1.0, np.max(np.abs(fdP))), i
+
+
+def test_a_contact_that_shrinks_to_a_touch_is_located():
+    """Along omega the one-stop elastic orbit's contact shrinks until the mass only touches
+    the stop: located as grazing of stop 1 (interpolated, the shooting system is singular
+    there) with the entry speed and the contact time both 0, once (not again as the exit's
+    speed, nor as a fold of the virtual branch beyond)."""
+    br = continue_orbits(ONE, "omega", 1.2, 2.5)[0]
+    touch = [sp for sp in br.special if sp.kind == "grazing"]
+    assert len(touch) == 1 and not [sp for sp in br.special if sp.kind == "unlocated"]
+    c = touch[0].coefficients
+    assert c["stop"] == 1 and abs(c["impact_velocity"]) < 1e-8 and abs(c["contact_time"]) < 1e-8
+    # the last admissible point before it has a short contact, entered slowly
+    last = [pt.orbit for pt in br.points if pt.orbit.admissible][-1]
+    assert 0 < min(last.times) < 0.05 and 0 < min(last.impact_velocities) < 0.2
+
+
+#: an impact damper with rubber-coated walls: a free mass (on no spring) in a cavity of
+#: clearance +-1, elastic contacts between the masses
+DAMPER = Model(mass=[1.0, 0.1], stiffness=[[1.0, 0.0], [0.0, 0.0]],
+               damping=[[0.05, 0.0], [0.0, 0.0]], forcing=[0.1, 0.0],
+               stops=[Stop(between=(1, 2), gap=1.0, stiffness=200.0, damping=0.5),
+                      Stop(between=(1, 2), gap=-1.0, side="lower", stiffness=200.0,
+                           damping=0.5)])
+
+
+@pytest.mark.parametrize("param", ["omega", "stop[1].stiffness", "stop[2].gap",
+                                   "stop[1].damping", "forcing[1]"])
+def test_elastic_impact_damper_with_a_free_mass(param):
+    """Contacts between masses and a mass on no spring: the free phase has the drift of a
+    Jordan block, each contact phase none (the contact acts on the free mode).  The
+    symmetric orbit is a periodic walk with the elastic determinant identity, and its
+    shooting derivatives agree with central differences."""
+    orbit = _orbit(DAMPER, 1.0)
+    assert orbit.symmetric and orbit.p == 4
+    flow = LinearFlow.contact(DAMPER)
+    assert flow.free and not LinearFlow.contact(DAMPER, (0,)).free
+    # the walk from point 0 meets the four events at the orbit's times and closes
+    pr = Problem(DAMPER, orbit.n, orbit.p, omega=1.0, param=param, signature=orbit.itinerary)
+    k0 = orbit.signature[0]
+    zf = np.empty(4)
+    zf[pr.positions[k0]] = DAMPER.constraints[k0].gap
+    zf[pr.frames[k0]] = orbit.points[0][:-1]
+    z0 = flow.to_mass(zf)
+    walk = ct.walk(DAMPER, 1.0, z0, orbit.points[0][-1], active=pr.phases[0], start=k0)
+    t = 0.0
+    for i in range(orbit.p):
+        ev = next(walk)
+        assert ev.constraint == orbit.signature[(i + 1) % orbit.p]
+        assert ev.t - t == pytest.approx(orbit.times[i], rel=1e-9)
+        t = ev.t
+    assert np.allclose(ev.after, z0, atol=1e-9)
+    # det: the contact damping acts on s = x2 - x1 with c^T M^-1 c = 1 + 10
+    expo = -0.05 * 2 * math.pi - sum(0.5 * 11.0 * T for S, T in zip(pr.phases, orbit.times)
+                                     if S)
+    assert abs(np.prod(orbit.multipliers)) == pytest.approx(math.exp(expo), rel=1e-9)
+    lam = 1.0 if param == "omega" else pr.parameter.get(DAMPER)
+    G, Gu, Gl = pr.evaluate(orbit.u, lam, dparam=True)
+    h = 1e-6 * max(1.0, abs(lam))
+    fd = (pr.evaluate(orbit.u, lam + h, jac=False)[0]
+          - pr.evaluate(orbit.u, lam - h, jac=False)[0]) / (2 * h)
+    assert np.max(np.abs(Gl - fd)) <= 1e-7 * max(1.0, np.max(np.abs(fd)))
