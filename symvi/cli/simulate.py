@@ -40,11 +40,13 @@ def run(args):
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     params = params_from(args)
     if args.classify:
-        from ..simulations.diagnostics import classifiable
-        if not classifiable(params):
-            raise ParameterError("--classify", "on", "a model with one rigid upper stop",
-                                 "the classifier judges the points of one stop's section "
-                                 "(issue 25)")
+        from ..model import Model
+        try:                                     # the classifier takes rigid stops only
+            Model.of(params).require_rigid_stops()
+        except ParameterError as exc:
+            raise ParameterError("--classify", "on", "a model with rigid stops only",
+                                 f"{exc.name} is elastic: its records are contact entries, "
+                                 "not impacts (issue 25)") from None
     labels, projections, names = section_view(params)
     if args.y0 is not None and len(args.y0) != len(names):
         raise ParameterError("--y0", args.y0, f"{len(names)} numbers: {' '.join(names)}")
@@ -77,6 +79,8 @@ def run(args):
             out["attractor"] = cl.label
             if cl.impacts is not None:
                 out["impacts_per_orbit"] = cl.impacts
+            if cl.signature is not None:
+                out["signature"] = cl.signature_names
         # null only where the run stopped or was too short (the class says which)
         out["lyapunov"] = (None if cl.lyapunov is None
                            else [float(v) for v in cl.lyapunov.exponents])

@@ -48,7 +48,7 @@ def register(sub):
 def run(args):
     from ..errors import ParameterError
     from ..plane.engine import run_sweep
-    from ..simulations.classifier import MIN_KEPT
+    from ..simulations.classifier import MIN_KEPT, min_kept
     from ..simulations.simulation import MAX_TRANSIENT, omega_grid
     data, figs = check_paths(args)
     if not 2 <= args.steps <= MAX_STEPS:
@@ -62,9 +62,13 @@ def run(args):
                              if args.impacts > most else "")
     if not 0 <= args.transient <= MAX_TRANSIENT:
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
-    if args.classify and args.impacts < MIN_KEPT:
-        raise ParameterError("--impacts", args.impacts,
-                             f"an integer >= {MIN_KEPT} with --classify")
+    if args.classify:
+        from ..model import Model
+        least = min_kept(len(Model.of(params).constraints))
+        if args.impacts < least:
+            raise ParameterError("--impacts", args.impacts, f"an integer >= {least} with "
+                                 "--classify" + (f" ({MIN_KEPT} per stop)" if least > MIN_KEPT
+                                                 else ""))
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,
                              f"0 .. {len(names) - 1} ({', '.join(names)})")
@@ -101,6 +105,8 @@ def run(args):
     if classes is not None:
         out["classes"] = classes.tolist()
         out["class_counts"] = res.class_counts()
+        if res.signatures() is not None:       # several stops: the stops of each orbit
+            out["signatures"] = res.signatures()
     print_json(out)
     return 0
 

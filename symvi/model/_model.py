@@ -429,9 +429,9 @@ class Model:
         """``self``, or the one-line ParameterError saying what the analyses built on the
         period-1 closed form cannot handle yet: they take one rigid upper stop on one mass
         (issue 25).  Called where a model enters them (period-1 orbits and the certified
-        Hopf scan, the Python map, the single-section jets, the classifier, the mpmath
-        simulation); the flow asks :meth:`require_rigid_stops`, and the n-p orbits,
-        continuation, curves and Lyapunov exponents take several rigid stops on masses."""
+        Hopf scan, the Python map, the single-section jets, the mpmath simulation); the
+        flow asks :meth:`require_rigid_stops`, and the n-p orbits, continuation, curves,
+        Lyapunov exponents, the classifier and the planes take several rigid stops."""
         if self.one_rigid_stop:
             return self
         stops = self._stops

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, SymviError
-from ..simulations.classifier import MIN_KEPT
+from ..simulations.classifier import MIN_KEPT, min_kept
 
 #: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
 POINTS_PER_TASK = 1024
@@ -142,13 +142,15 @@ def _check_spec(spec):
                                  + ", ".join(names))
     if spec.x.name == spec.y.name:
         raise ParameterError("--y", spec.y.name, f"a parameter other than --x ({spec.x.name})")
+    spec.model.require_rigid_stops()     # the classifier's runs: rigid stops, any number
     if spec.x.n * spec.y.n > MAX_POINTS:
         raise ParameterError("--x", spec.x.text(), f"at most {MAX_POINTS} points in all")
     # the classifier's own floor on kept impacts, checked here before any store exists
-    for flag, value, lo in (("--impacts", spec.impacts, MIN_KEPT),
+    for flag, value, lo in (("--impacts", spec.impacts, min_kept(len(spec.model.constraints))),
                             ("--transient", spec.transient, 0)):
         if not (isinstance(value, (int, np.integer)) and lo <= value <= 10 ** 7):
-            raise ParameterError(flag, value, f"an integer in {lo} .. 10000000")
+            raise ParameterError(flag, value, f"an integer in {lo} .. 10000000"
+                                 + (f" ({MIN_KEPT} per stop)" if lo > MIN_KEPT else ""))
     if spec.chunk_rows is not None and not (isinstance(spec.chunk_rows, (int, np.integer))
                                             and 1 <= spec.chunk_rows <= spec.y.n):
         raise ParameterError("--chunk-rows", spec.chunk_rows, f"an integer in 1 .. {spec.y.n}")
@@ -200,12 +202,21 @@ def block_inputs(spec, r0, r1):
     A start is the point's admissible period-1 orbit plus the default perturbation
     (:func:`symvi.simulations.simulation.start_point`); where a point has none, the nearest
     point of its row that has one lends its start; where no point of the row has one,
-    the model's generic start (v_k+ = -1, the other coordinates 0) is used.  Returns
-    (C, Y0, has_orbit (m,) bool).
+    the model's generic start (v_k+ = -1, the other coordinates 0) is used.  A model with
+    no period-1 closed form (several stops, a lower one) starts every point from
+    :func:`symvi.simulations.simulation.default_start` on its first stop (has_orbit
+    False).  Returns (C, Y0, has_orbit (m,) bool).
     """
     from ..flow import compiled as cf
-    from ..simulations.simulation import start_point
+    from ..simulations.simulation import default_start, start_point
     nx, dim = spec.x.n, spec.model.dim
+    if not spec.model.one_rigid_stop:
+        pts = [spec.point(i, j) for i in range(r0, r1) for j in range(nx)]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")       # as below: the grid was checked
+            C = [cf.constants(model, omega) for model, omega in pts]
+        Y0 = [default_start(model, omega) for model, omega in pts]
+        return cf.pack(C), np.array(Y0, dtype=np.float64), np.zeros(len(pts), dtype=bool)
     generic = np.zeros(dim)
     generic[0] = -1.0
     C, Y0, have = [], [], []

@@ -78,12 +78,27 @@ one reused (n_keep, 2N) buffer, then:
   grazing -> "grazing".  Their period, impacts are 0 and lyapunov, rotation,
   impacts_per_period NaN.
 * ``y_end``: the last section point accepted (for a stopped run the one before the
-  failed step: finite), from which a caller may continue.
+  failed step: finite), from which a caller may continue; ``k_end`` the stop whose
+  section it lies on.
+* several rigid stops (issue 25): each kept point lies on the section of the stop it hit
+  (``hits``, in that stop's own layout).  Periodic: the joint sequence (hit, point) has
+  period q: the window test above also needs hits_j = hits_{j-q} throughout, points are
+  compared only on one stop, and in the whole-record decay test a pair on two stops
+  counts as the scale s (first quarter: still far) or fails (last quarter).  The
+  signature is the stops of the orbit's last q impacts, read from the rotation smallest
+  in lexicographic order (:func:`signature`; the symmetric orbit of two stops is
+  (stop1, stop2)).  Otherwise the points of the stop hit most often are judged (a
+  section of the attractor by that stop, its first-return map: a closed curve stays one
+  curve, a cloud a cloud) with the logs of every impact; their radial trend b is per
+  judged point, b n_judged / n per impact in the chaos test, and the rotation is per
+  return to that stop (likewise for a periodic orbit with >= 3 impacts on it).  With
+  one stop none of this runs: the same bits as before.
 
 ``follow=True``: in each consecutive group of ``row_len`` points (a row; the whole
 batch when None) a point after the first starts from the last section point of the
-previous one when that run reached a bounded attractor (period, circle, doubled
-torus, chaos), else from its own Y0.  Outputs depend only on a point's inputs (and,
+previous one (on the stop whose section it lies on, ``k_end``) when that run reached a
+bounded attractor (period, circle, doubled torus, chaos), else from its own Y0 (on the
+first stop's section).  Outputs depend only on a point's inputs (and,
 with follow, on its row's earlier points): same inputs, same bits.
 """
 import math
@@ -94,11 +109,11 @@ import numpy as np
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
-from ..flow.compiled import (_NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING,
+from ..flow.compiled import (_NC, _NN, _OM, COMPLETED, STOP_CHATTER, STOP_GRAZING,
                              STOP_NO_IMPACT, STOP_STICKING, _run_into)
 
 __all__ = ["ATTRACTORS", "KINDS", "FIELDS", "Classified", "classify_runs", "label", "kind",
-           "code_of_stop"]
+           "code_of_stop", "signature", "min_kept"]
 
 #: the vocabulary: attractor codes 0 .. 7 (code 0 is spelled period-k, k forcing periods)
 ATTRACTORS = ("period", "circle", "doubled-torus", "chaos", "no-impact", "sticking", "escape",
@@ -187,10 +202,13 @@ def _dist(sec, j, k, dim):
 
 
 @nb.njit(cache=True)
-def _period(sec, times, n, dim, omega, qmax, tol):
+def _period(sec, times, hits, n, dim, omega, qmax, tol):
     """(q, k) of the periodic attractor of the n kept points, or (0, 0): the one period
     detector (module docstring; ``tol`` the closure TOL_CLOSED).  omega = 0: no times,
-    (q, 0) for the first closing q."""
+    (q, 0) for the first closing q.  ``hits`` (empty: one section): the stop of each
+    point; the joint sequence (hit, point) must repeat, points compared only on one stop
+    (a pair on two stops is as far apart as the scale s)."""
+    several = hits.shape[0] > 0
     qmax = min(qmax, n // 4)
     for q in range(1, qmax + 1):
         W = min(n - q, max(4 * q, W_MIN))
@@ -203,8 +221,13 @@ def _period(sec, times, n, dim, omega, qmax, tol):
         first = 0.0
         last = 0.0
         quarter = max(W // 4, 1)
+        same = True
         for jj in range(W):
-            ej = _dist(sec, n - W + jj, n - W + jj - q, dim)
+            j = n - W + jj
+            if several and hits[j] != hits[j - q]:
+                same = False                      # another itinerary: not period q
+                break
+            ej = _dist(sec, j, j - q, dim)
             emax = max(emax, ej)
             if emax > TOL_SLOW * s:
                 break
@@ -212,7 +235,7 @@ def _period(sec, times, n, dim, omega, qmax, tol):
                 first += ej
             if jj >= W - quarter:
                 last += ej
-        if not emax <= TOL_SLOW * s:
+        if not (same and emax <= TOL_SLOW * s):
             continue
         closed = emax <= tol * s or last <= DECAY * first
         if not closed:
@@ -221,8 +244,14 @@ def _period(sec, times, n, dim, omega, qmax, tol):
             first = 0.0
             last = 0.0
             for jj in range(quarter):
-                first += _dist(sec, q + jj, jj, dim)
-                last += _dist(sec, n - 1 - jj, n - 1 - jj - q, dim)
+                if several and hits[q + jj] != hits[jj]:
+                    first += s                    # still on another itinerary: far
+                else:
+                    first += _dist(sec, q + jj, jj, dim)
+                if several and hits[n - 1 - jj] != hits[n - 1 - jj - q]:
+                    last = np.inf                 # not yet on the orbit's itinerary
+                else:
+                    last += _dist(sec, n - 1 - jj, n - 1 - jj - q, dim)
             closed = last <= DECAY * first
         if not closed:
             continue
@@ -336,12 +365,54 @@ def _loop_length(pts, ang, n, dim):
 
 
 @nb.njit(cache=True)
-def _judge(sec, times, glog, n, dim, omega, qmax, tol, lyap_min, pts, ang, out_f):
+def _one_section(sec, hits, n, dim):
+    """(the points of the stop hit most often among the n, in order; their number; the
+    stop), ties to the lower stop: with several stops each stop's points are the section of
+    the attractor by that stop (its first-return map), so a closed curve stays one."""
+    nc = 0
+    for j in range(n):
+        nc = max(nc, hits[j] + 1)
+    count = np.zeros(nc, np.int64)
+    for j in range(n):
+        count[hits[j]] += 1
+    best = 0
+    for g in range(nc):
+        if count[g] > count[best]:
+            best = g
+    sub = np.empty((count[best], dim))
+    m = 0
+    for j in range(n):
+        if hits[j] == best:
+            for i in range(dim):
+                sub[m, i] = sec[j, i]
+            m += 1
+    return sub, m, best
+
+
+@nb.njit(cache=True)
+def _judge(sec, times, glog, hits, n, dim, omega, qmax, tol, lyap_min, pts, ang, out_f):
     """The classifier: attractor of the n kept points of a completed run (sec, times)
     with the per-step logs ``glog`` of the largest exponent (module docstring).
-    Returns (code, k forcing periods, q impacts); the rotation into out_f[0]."""
+    ``hits`` (empty: one section): the stop of each point; the period is that of the
+    joint sequence (hit, point), the rest is judged on the points of the stop hit most
+    often (:func:`_one_section`).  Returns (code, k forcing periods, q impacts); the
+    rotation into out_f[0]."""
     out_f[0] = np.nan
-    q, k = _period(sec, times, n, dim, omega, qmax, tol)
+    q, k = _period(sec, times, hits, n, dim, omega, qmax, tol)
+    per = 1.0                                     # impacts per judged point
+    if hits.shape[0] > 0:
+        sec, ns, best = _one_section(sec, hits, n, dim)
+        per = n / ns
+        if q > 0:
+            qs = 0                                # the orbit's points on that stop
+            for j in range(n - q, n):
+                if hits[j] == best:
+                    qs += 1
+            if qs >= 3:
+                _plane(sec, 0, ns, dim, pts, ang)
+                out_f[0] = _rotation(ang, ns)
+            return PERIOD, k, q
+        n = ns
     if q > 0:
         if q >= 3:
             _plane(sec, 0, n, dim, pts, ang)
@@ -367,25 +438,29 @@ def _judge(sec, times, glog, n, dim, omega, qmax, tol, lyap_min, pts, ang, out_f
         m = max(n // 4, min(n, W_MIN))
         b = _plane(sec, n - m, m, dim, pts, ang)
     out_f[0] = _rotation(ang, m)
-    # a spiral's exponent is its radial growth b: chaos only beyond it
-    if nl >= 2 and lt - max(b, 0.0) > thr:
+    # a spiral's exponent is its radial growth b (per judged point; per impact b / per):
+    # chaos only beyond it
+    if nl >= 2 and lt - max(b, 0.0) / per > thr:
         return CHAOS, 0, 0
     ratio = _loop_length(pts, ang, m, dim) / _loop_length(pts, ang, m // 2, dim)
     return (CIRCLE if ratio < RATIO_CIRCLE else DOUBLED), 0, 0
 
 
 @nb.njit(cache=True)
-def _classify_one(c, y, n_keep, transient, sec, times, vimp, glog, v, pts, ang, out_f):
-    """Run the shared loop from y (left at the last section point) with the tangent map
-    and the escape test, and classify.  Returns (code, period, impacts, stop); floats
-    (lyapunov, rotation, impacts_per_period, max_velocity) into out_f."""
+def _classify_one(c, y, k, n_keep, transient, sec, times, vimp, hits, glog, v, pts, ang,
+                  out_f):
+    """Run the shared loop from y on constraint k's section (y left at the last section
+    point) with the tangent map and the escape test, and classify.  ``hits`` (n_keep, or
+    empty for one constraint): the stop of each kept point.  Returns (code, period,
+    impacts, stop, the constraint of y's section at the end); floats (lyapunov, rotation,
+    impacts_per_period, max_velocity) into out_f."""
     n = int(c[_NN])
     dim = 2 * n
     omega = c[_OM]
     for i in range(dim):
         v[i] = 1.0 / math.sqrt(dim)
-    stop, kept, _, T0, _ = _run_into(c, y, 0, n_keep, transient, sec, times, vimp,
-                                     np.empty(0, np.int64), v, glog, ESCAPE_MAX)
+    stop, kept, _, T0, k = _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v,
+                                     glog, ESCAPE_MAX)
     nan = np.nan
     vmax = -1.0
     for j in range(kept):
@@ -395,28 +470,30 @@ def _classify_one(c, y, n_keep, transient, sec, times, vimp, glog, v, pts, ang, 
     out_f[2] = nan
     out_f[3] = vmax if kept > 0 else nan
     if stop != COMPLETED:
-        return _code_of_stop(stop), 0, 0, stop
+        return _code_of_stop(stop), 0, 0, stop, k
     lsum = 0.0
     for j in range(n_keep):
         lsum += glog[j]
     out_f[0] = lsum / n_keep
     out_f[2] = n_keep / ((times[n_keep - 1] - T0) * omega / _TWO_PI)
     rot = np.empty(1)
-    cd, k, q = _judge(sec, times, glog, n_keep, dim, omega, Q_MAX, TOL_CLOSED, LYAP_MIN,
-                      pts, ang, rot)
+    cd, kk, q = _judge(sec, times, glog, hits, n_keep, dim, omega, Q_MAX, TOL_CLOSED,
+                       LYAP_MIN, pts, ang, rot)
     out_f[1] = rot[0]
-    return cd, k, q, stop
+    return cd, kk, q, stop, k
 
 
 @nb.njit(cache=True)
 def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, impacts, floats,
-                    stop, y_end, followed):
+                    stop, y_end, followed, k_end, sigs):
     m = C.shape[0]
     n = int(C[0, _NN])
     dim = 2 * n
+    several = sigs.shape[1] > 0               # record the stop of each kept impact
     sec = np.empty((n_keep, dim))
     times = np.empty(n_keep)
     vimp = np.empty(n_keep)
+    hits = np.empty(n_keep if several else 0, np.int64)
     glog = np.empty(n_keep)
     pts = np.empty((n_keep, dim))
     ang = np.empty(n_keep)
@@ -431,13 +508,17 @@ def _classify_batch(C, Y0, n_keep, transient, follow, row_len, code, period, imp
         followed[p] = not own
         for i in range(dim):
             y[i] = Y0[p, i] if own else y_end[p - 1, i]
-        cd, k, q, st = _classify_one(C[p], y, n_keep, transient, sec, times, vimp, glog, v,
-                                     pts, ang, out_f)
-        code[p], period[p], impacts[p], stop[p] = cd, k, q, st
+        k = 0 if own else k_end[p - 1]
+        cd, kk, q, st, k = _classify_one(C[p], y, k, n_keep, transient, sec, times, vimp,
+                                         hits, glog, v, pts, ang, out_f)
+        code[p], period[p], impacts[p], stop[p], k_end[p] = cd, kk, q, st, k
         for i in range(4):
             floats[i, p] = out_f[i]
         for i in range(dim):
             y_end[p, i] = y[i]
+        if several and cd == PERIOD:
+            for j in range(q):                # the stops of the orbit's last q impacts
+                sigs[p, j] = hits[n_keep - q + j]
 
 
 @dataclass(frozen=True)
@@ -454,19 +535,48 @@ class Classified:
     stop: np.ndarray                 # int8, index into symvi.flow.compiled.STOP_NAMES
     y_end: np.ndarray                # (m, 2N) float64, the last section point
     followed: np.ndarray             # bool, started from the previous point's y_end
+    #: int64 (m,): the constraint whose section y_end lies on (0 with one stop)
+    k_end: np.ndarray = None
+    #: with several stops, per point the stops (0-based) of a periodic attractor's impacts
+    #: in order (:func:`signature`), () when not periodic; None with one stop
+    signature: tuple = None
 
     def labels(self):
         """Names of the attractors: "period-3", "circle", ..."""
         return np.array([label(c, k) for c, k in zip(self.code, self.period)], dtype=str)
 
+    def signature_names(self):
+        """Per point ["stop1", "stop2", ...] of a periodic attractor, None otherwise (and
+        for every point with one stop)."""
+        if self.signature is None:
+            return [None] * len(self.code)
+        return [[f"stop{g + 1}" for g in sig] if sig else None for sig in self.signature]
+
+
+def signature(hits):
+    """The stops of one period of a periodic attractor, ``hits`` its last q impacts'
+    constraints, as a tuple read from the rotation that is smallest in lexicographic
+    order (an orbit has no first impact: the symmetric orbit of two stops is (0, 1)
+    whichever it was seen starting from)."""
+    h = [int(g) for g in hits]
+    return min((tuple(h[i:] + h[:i]) for i in range(len(h))), default=())
+
+
+def min_kept(nc):
+    """Fewest kept impacts a run of a model with ``nc`` stops is classified from: MIN_KEPT
+    on the section judged (the stop hit most often has at least n / nc of them)."""
+    return MIN_KEPT * max(int(nc), 1)
+
 
 def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     """Run and classify one batch: rows of C (:func:`symvi.flow.compiled.constants`, one
-    model size) from the start points Y0 (m, 2N), in one compiled serial loop.
+    model size and number of stops) from the start points Y0 (m, 2N), each on the first
+    stop's section, in one compiled serial loop.
 
-    ``n_keep`` (>= 4) kept impacts after ``transient`` dropped ones.  ``follow``
-    continues each row (``row_len`` points, the whole batch when None) from the
-    previous point's attractor (module docstring).
+    ``n_keep`` (>= 4 per stop, :func:`min_kept`) kept impacts after ``transient`` dropped
+    ones.  ``follow`` continues each row (``row_len`` points, the whole batch when None)
+    from the previous point's attractor (module docstring).  With several stops the
+    periodic attractors' signatures are in ``Classified.signature``.
     """
     C = np.ascontiguousarray(np.atleast_2d(C), dtype=np.float64)
     Y0 = np.ascontiguousarray(np.atleast_2d(Y0), dtype=np.float64)
@@ -474,12 +584,14 @@ def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     if m == 0 or Y0.shape[0] != m:
         raise ParameterError("Y0", Y0.shape, f"one start point per row of C ({m})")
     n = int(C[0, _NN])
-    if not np.all(C[:, _NN] == n) or Y0.shape[1] < 2 * n:
-        raise ParameterError("C", "model sizes", f"rows of one model size N with Y0 of "
-                             f"width 2N = {2 * n}")
+    nc = int(C[0, _NC])
+    if not np.all(C[:, _NN] == n) or not np.all(C[:, _NC] == nc) or Y0.shape[1] < 2 * n:
+        raise ParameterError("C", "model sizes", f"rows of one model size N and number of "
+                             f"stops with Y0 of width 2N = {2 * n}")
     n_keep, transient = int(n_keep), int(transient)
-    if n_keep < MIN_KEPT:
-        raise ParameterError("n_keep", n_keep, f"an integer >= {MIN_KEPT}")
+    if n_keep < min_kept(nc):
+        raise ParameterError("n_keep", n_keep, f"an integer >= {min_kept(nc)}"
+                             + (f" ({MIN_KEPT} per stop)" if nc > 1 else ""))
     if transient < 0:
         raise ParameterError("transient", transient, "an integer >= 0")
     row_len = m if row_len is None else int(row_len)
@@ -492,25 +604,34 @@ def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     stop = np.zeros(m, dtype=np.int8)
     y_end = np.empty((m, 2 * n))
     followed = np.zeros(m, dtype=np.bool_)
+    k_end = np.zeros(m, dtype=np.int64)
+    sigs = np.full((m, Q_MAX if nc > 1 else 0), -1, dtype=np.int64)
     _classify_batch(C, Y0, n_keep, transient, bool(follow), row_len, code, period, impacts,
-                    floats, stop, y_end, followed)
+                    floats, stop, y_end, followed, k_end, sigs)
+    sig = None if nc == 1 else tuple(signature(row[:q]) for row, q in zip(sigs, impacts))
     return Classified(code, period, impacts, floats[0], floats[1], floats[2], floats[3], stop,
-                      y_end, followed)
+                      y_end, followed, k_end, sig)
 
 
-def classify_section(section, t, omega, logs, *, max_period=Q_MAX, tol=TOL_CLOSED,
-                     lyap_min=LYAP_MIN):
+def classify_section(section, t, omega, logs, *, hits=None, max_period=Q_MAX,
+                     tol=TOL_CLOSED, lyap_min=LYAP_MIN):
     """:func:`_judge` on the stored points of a completed run: (code, k, q, rotation).
 
     ``logs``: per-step log |DP v| of the largest exponent over the last points (any
-    number, none to skip the chaos test)."""
+    number, none to skip the chaos test).  ``hits``: with several stops, the stop of each
+    point (each lies on that stop's section); the signature of a periodic attractor is
+    then :func:`signature` of ``hits[-q:]``."""
     sec = np.ascontiguousarray(section, dtype=np.float64)
     n, dim = sec.shape
-    if n < MIN_KEPT:
-        raise ParameterError("section", n, f"at least {MIN_KEPT} points")
+    h = np.empty(0, np.int64) if hits is None else np.ascontiguousarray(hits, dtype=np.int64)
+    if hits is not None and h.shape != (n,):
+        raise ParameterError("hits", h.shape, f"one stop per section point ({n})")
+    least = MIN_KEPT if hits is None else min_kept(int(h.max()) + 1 if n else 1)
+    if n < least:
+        raise ParameterError("section", n, f"at least {least} points")
     rot = np.empty(1)
     cd, k, q = _judge(sec, np.ascontiguousarray(t, dtype=np.float64),
-                      np.ascontiguousarray(logs, dtype=np.float64), n, dim, float(omega),
+                      np.ascontiguousarray(logs, dtype=np.float64), h, n, dim, float(omega),
                       int(max_period), float(tol), float(lyap_min),
                       np.empty((n, dim)), np.empty(n), rot)
     return int(cd), int(k), int(q), float(rot[0])
@@ -521,5 +642,6 @@ def period_of(section, max_period=64, tol=TOL_CLOSED):
     :func:`_period`, or None."""
     sec = np.ascontiguousarray(section, dtype=np.float64)
     n, dim = sec.shape
-    q, _ = _period(sec, np.empty(0), n, dim, 0.0, int(max_period), float(tol))
+    q, _ = _period(sec, np.empty(0), np.empty(0, np.int64), n, dim, 0.0, int(max_period),
+                   float(tol))
     return int(q) if q > 0 else None

@@ -81,10 +81,12 @@ def _spectrum(logs, te):
 
 
 def classifiable(params):
-    """Whether :func:`classify` takes the model of ``params``: one rigid upper stop (its
-    judge reads the points of one section; issue 25).  :func:`lyapunov` takes several."""
+    """Whether :func:`classify` takes the model of ``params``: rigid stops, any number
+    (with several, the period is that of the stops hit and the points together, the rest
+    is judged on one stop's section); an elastic stop is not (its records are contact
+    entries; :meth:`symvi.model.Model.require_rigid_stops` says so in one line)."""
     from ..model import Model
-    return Model.of(params).one_rigid_stop
+    return not Model.of(params).elastic
 
 
 def _logs(sim, n=None):
@@ -252,6 +254,14 @@ class Classification:
     branches: object          # 1 for an invariant circle, 2 for a doubled torus, else None
     code: object = None       # attractor code (classifier.ATTRACTORS), None if unclassified
     impacts: object = None    # q impacts per orbit of a period-k point, else None
+    #: with several stops, the stops (0-based) of a period-k point's impacts in order
+    #: (:func:`symvi.simulations.classifier.signature`); None otherwise
+    signature: tuple = None
+
+    @property
+    def signature_names(self):
+        """["stop1", "stop2", ...] of :attr:`signature`, or None."""
+        return None if self.signature is None else [f"stop{g + 1}" for g in self.signature]
 
     @property
     def label(self):
@@ -271,10 +281,14 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     over the last half exceeds the radial growth by ``chaos_threshold`` (and the
     O(1/n) bias); else one closed curve (invariant circle) or not (doubled torus).
     A stopped run, or a completed one of fewer than MIN_CLASSIFY impacts, is not
-    classified (its kind says so).
+    classified (its kind says so).  With several rigid stops the run's ``hits`` join the
+    points (the period of the pairs (stop, point), the signature of a periodic attractor),
+    the rest is judged on the stop hit most often; an elastic stop is refused.
     """
     from ..errors import SingularCaseError
+    from ..model import Model
     from . import classifier as cl
+    several = len(Model.of(sim.params).require_rigid_stops().constraints) > 1
     if sim.stop != "completed":
         code = cl.code_of_stop(cf.STOP_NAMES.index(sim.stop))
         return Classification(f"stopped: {sim.stop}", None, None, None, None, code)
@@ -286,12 +300,14 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
         err = None
     except SingularCaseError as exc:     # a grazing point on the section: DP undefined
         logs, err = np.empty((0, 1)), exc
+    hits = np.asarray(sim.hits) if several else None
     code, k, q, rot = cl.classify_section(sim.section, sim.t, sim.omega, logs[:, 0],
-                                          max_period=max_period, tol=tol,
+                                          hits=hits, max_period=max_period, tol=tol,
                                           lyap_min=chaos_threshold)
     if code == cl.PERIOD:
         lya = None if err is not None else _spectrum(logs, te)
-        return Classification(cl.kind(code, k), k, lya, None, None, code, q)
+        sig = cl.signature(hits[len(hits) - q:]) if several else None
+        return Classification(cl.kind(code, k), k, lya, None, None, code, q, sig)
     if err is not None:
         raise err
     lya = _spectrum(logs, te)

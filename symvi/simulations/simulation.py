@@ -400,6 +400,14 @@ class Sweep:
         "period-1", "circle", ...); None when the sweep was not classified."""
         return None if self.classes is None else self.classes.labels()
 
+    def signatures(self):
+        """With several stops, per omega the stops of a periodic attractor's impacts
+        (["stop1", "stop2"], :func:`classifier.signature`), None where it is not periodic;
+        None when the sweep was not classified or the model has one stop."""
+        if self.classes is None or self.classes.signature is None:
+            return None
+        return self.classes.signature_names()
+
     def class_counts(self):
         """{class: number of omegas}, the classes sorted by name; None when the sweep was
         not classified."""
@@ -514,13 +522,16 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
 
 
 def _check_classifiable(n_impacts, name="n_impacts", params=None):
-    """Refuse a classification the classifier does not take: too few kept impacts, or a
-    model with several stops (its judge reads the points of one section: issue 25)."""
-    from .classifier import MIN_KEPT
-    if n_impacts < MIN_KEPT:
-        raise ParameterError(name, n_impacts, f"an integer >= {MIN_KEPT} to classify")
+    """Refuse a classification the classifier does not take: too few kept impacts
+    (:func:`~symvi.simulations.classifier.min_kept`: 4, or 4 per stop), or a model with an
+    elastic stop (its records are contact entries: issue 25)."""
+    from .classifier import MIN_KEPT, min_kept
+    least = MIN_KEPT
     if params is not None:
-        Model.of(params).require_one_rigid_stop()
+        least = min_kept(len(Model.of(params).require_rigid_stops().constraints))
+    if n_impacts < least:
+        raise ParameterError(name, n_impacts, f"an integer >= {least} to classify"
+                             + (f" ({MIN_KEPT} per stop)" if least > MIN_KEPT else ""))
 
 
 def classify_sweep(res):
@@ -532,7 +543,7 @@ def classify_sweep(res):
     :class:`~symvi.simulations.classifier.Classified`; ``.labels()`` names the classes."""
     from .classifier import classify_runs
     n_keep = res.section.shape[1]
-    _check_classifiable(n_keep)
+    _check_classifiable(n_keep, params=res.params)
     model = Model.of(res.params)
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
     return classify_runs(C, res.starts, n_keep, res.transient)

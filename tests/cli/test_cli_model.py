@@ -145,8 +145,9 @@ def test_several_stops_are_refused_in_one_line(tmp_path, args):
 
 def test_simulate_runs_several_stops(tmp_path):
     """simulate takes a two-stop file: a start is asked for (no period-1 orbit to start
-    from), --classify is refused before the run, and a run names the impacts on each stop
-    (JSON) and the stop of each impact (the .npz's "hits")."""
+    from), --classify judges the run (tests/simulations/test_classify_stops.py), and a run
+    names the impacts on each stop (JSON) and the stop of each impact (the .npz's
+    "hits")."""
     import numpy as np
     f = tmp_path / "two.toml"
     f.write_text(TWO_STOPS)
@@ -156,8 +157,10 @@ def test_simulate_runs_several_stops(tmp_path):
     r = _run(*base)
     assert r.returncode == 2 and "--y0" in r.stderr and "issue 25" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
-    r = _run(*base, "--y0", "-0.3", "0.0", "0.0", "0.4", "--classify")
-    assert r.returncode == 2 and "--classify" in r.stderr and not out.exists()
+    r = _run(*base[:-1], str(tmp_path / "c.npz"), "--y0", "-0.3", "0.0", "0.0", "0.4",
+             "--classify")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["class"] and not out.exists()
     r = _run(*base, "--y0", "-0.3", "0.0", "0.0", "0.4", "--plot", str(tmp_path / "s.png"))
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
