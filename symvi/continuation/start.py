@@ -145,7 +145,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
             if sim is None:
                 raise ParameterError(N["start_omega"] if a0 != start else N["start"], a0,
                                      "a value where a run of the map settles on a periodic "
-                                     f"orbit", f"none at {param} = {a0:g} ({why}), nor at "
+                                     "orbit", f"none at {param} = {a0:g} ({why}), nor at "
                                      f"{SEARCH_RUNS} values towards {stop:g}")
             n, p = detect_period(sim)
             guesses = [sim]
