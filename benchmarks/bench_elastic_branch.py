@@ -10,14 +10,12 @@ multipliers, the half map and every test function at each point.  Prints one JSO
 seconds per point (median of the reps) of each and their ratio."""
 import argparse
 import json
-import statistics
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_symmetric_branch import SYM  # noqa: E402
+from bench_symmetric_branch import SYM, timed  # noqa: E402
 from symvi.continuation import attractor_orbit, continue_branch  # noqa: E402
 from symvi.model import load_model  # noqa: E402
 
@@ -28,15 +26,6 @@ ELASTIC = load_model(Path(__file__).resolve().parents[1] / "examples" / "contact
 def branch(model, orbit):
     return continue_branch(model, "omega", 2.0, 4.0, orbit=orbit, h_max=0.01,
                            max_points=1000)
-
-
-def timed(fn, reps):
-    out, ts = None, []
-    for _ in range(reps):
-        t = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t)
-    return statistics.median(ts), out
 
 
 def main():
