@@ -6,11 +6,13 @@ cached in ``docs/_build/.jupyter_cache`` (jupyter-cache), so a rebuild with unch
 cells runs nothing.  ``tests/docs`` builds into a fresh folder, so every example runs.
 """
 import os
+import sys
 from pathlib import Path
 
 import symvi
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "_ext"))
 # the gallery's kernels inherit this: no compile messages or progress bars in the pages
 os.environ.setdefault("SYMVI_PROGRESS", "0")
 
@@ -23,8 +25,9 @@ extensions = [
     "myst_nb",                      # Markdown pages and executed notebooks
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",          # numpy-style docstring sections
-    "sphinx.ext.mathjax",
+    "mathml",                       # maths as MathML at build time (docs/_ext/mathml.py)
 ]
+html_math_renderer = "mathml"
 
 exclude_patterns = ["_build", "_generated", "Thumbs.db", ".DS_Store", "**.ipynb_checkpoints"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
