@@ -47,7 +47,6 @@ nb_merge_streams = True
 # API pages: the public names only, in source order, numpy-style sections
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
-autodoc_default_options = {"members": False}
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True
 

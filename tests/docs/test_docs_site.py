@@ -149,7 +149,8 @@ def test_api_pages_document_the_public_names(site):
     out, _ = site
     top = (out / "api/symvi.html").read_text(encoding="utf-8")
     cont = (out / "api/continuation.html").read_text(encoding="utf-8")
-    for name in ("symvi.Model", "symvi.Stop", "symvi.load_model", "symvi.Params",
+    for name in ("symvi.Model", "symvi.Model.luo_xie", "symvi.Stop", "symvi.load_model",
+                 "symvi.Params", "symvi.Params.as_model",
                  "symvi.period1_orbits", "symvi.hopf_points", "symvi.simulate", "symvi.jet",
                  "symvi.poincare_map"):
         assert f'id="{name}"' in top, name
