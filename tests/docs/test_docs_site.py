@@ -42,6 +42,7 @@ PAGES = [
 #: (page, text its executed output must show): numbers the README and the examples'
 #: README state, so a page that ran nothing, or ran something else, fails
 OUTPUTS = {
+    "getting-started.html": ["flip at omega = 2.656177", "2-2 orbits from omega", "completed"],
     "gallery/paper_examples.html": ["omega_c = 0.736877", "omega_c = 0.490520"],
     "gallery/chain3.html": ["omega_c = 0.9997114225", "omega_c = 1.0459583390"],
     "gallery/contact_two_stops.html": ["symmetry-breaking", "omega = 1.0082739",
