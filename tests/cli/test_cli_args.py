@@ -101,3 +101,38 @@ def test_parameter_error_renders_numpy_values_plainly():
     assert "np." not in msg and "(1.0, 2.0)" in msg
     msg = str(ParameterError("stiffness", np.array([[1.0, 1e300], [1e300, 6.0]]), "y"))
     assert "\n" not in msg and "array" not in msg
+
+
+def test_version_and_defaults_in_help():
+    """symvi --version prints the package's version; each option with a default shows it
+    in --help, once (issue 26: one set of CLI conventions)."""
+    import argparse
+
+    import symvi
+    rc, out, err = cli("--version")
+    assert rc == 0 and out.strip() == f"symvi {symvi.__version__}"
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    assert "(default: 5000)" in " ".join(sub.choices["continue"].format_help().split())
+    for name, p in sub.choices.items():
+        fmt = p._get_formatter()
+        for action in p._actions:
+            if action.help:
+                assert fmt._expand_help(action).lower().count("default") <= 1, \
+                    (name, action.dest)
+
+
+def test_json_on_the_report_and_regenerate_commands(tmp_path):
+    """--json on run and regenerate (issue 26: --json on every command): one JSON object
+    naming what was written, or for --check whether generated/ is fresh."""
+    import json
+    rc, out, err = cli("regenerate", "--check", "--json")
+    d = json.loads(out)
+    assert rc == (0 if d["fresh"] else 1) and d["folders"] and isinstance(d["stale"], list)
+    from pathlib import Path
+    scene = sorted((Path(__file__).resolve().parents[2] / "symvi" / "scenes").glob("*.toml"))[0]
+    rc, out, err = cli("run", str(scene), "--out", str(tmp_path / "r"), "--quick", "--json")
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["report"].endswith("report.md") and Path(d["report"]).exists()
+    assert d["parts"] >= 1 and all(Path(f).exists() for f in d["figures"])
