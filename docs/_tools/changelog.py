@@ -25,6 +25,7 @@ TITLES = {
     23: "Reliability: defects found by an outside test, the scan's certificate, README examples",
     24: "Core: one hybrid core, the paper on top, one engine per job",
     25: "Contacts: several stops, two-sided stops, impacts between masses, elastic stops",
+    26: "Docs: a documentation site and a command line with one set of conventions",
 }
 
 
@@ -38,7 +39,7 @@ def named_issue(text):
 
 
 #: branches merged without an issue number in their name
-BRANCHES = {"classify-stops": 25}
+BRANCHES = {"classify-stops": 25, "docs-site": 26}
 
 
 def branch_issue(subject):
