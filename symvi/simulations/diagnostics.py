@@ -81,12 +81,33 @@ def _spectrum(logs, te):
 
 
 def classifiable(params):
-    """Whether :func:`classify` takes the model of ``params``: rigid stops, any number
-    (with several, the period is that of the stops hit and the points together, the rest
-    is judged on one stop's section); an elastic stop is not (its records are contact
-    entries; :meth:`symvi.model.Model.require_rigid_stops` says so in one line)."""
+    """Whether :func:`classify` takes the model of ``params``: any stops, rigid or elastic
+    (with several, or an elastic one, the period is that of the events' symbols and the
+    points together, the rest is judged on one symbol's section: :func:`event_symbols`)."""
     from ..model import Model
-    return not Model.of(params).elastic
+    Model.of(params)
+    return True
+
+
+def event_symbols(model):
+    """The symbols the classifier tells events apart by: (constraint, kind) in the model's
+    order, "impact" for a rigid stop, "entry" then "exit" for an elastic one (each a section
+    of its own: an entry and an exit lie on the same s = g, moving in and out)."""
+    out = []
+    for k, con in enumerate(model.constraints):
+        out += [(k, "entry"), (k, "exit")] if con.kind == "elastic" else [(k, "impact")]
+    return tuple(out)
+
+
+def _symbols_of(events):
+    """The symbol (index into :func:`event_symbols`) of each event of an EventRun: an
+    elastic event is an entry when its constraint is in contact after it."""
+    from ..model import Model
+    table = {s: i for i, s in enumerate(event_symbols(Model.of(events.params)))}
+    cons = Model.of(events.params).constraints
+    return np.array([table[(int(k), "impact" if cons[k].kind != "elastic" else
+                            "entry" if k in act else "exit")]
+                     for k, act in zip(events.hits, events.active)], dtype=np.int64)
 
 
 def _logs(sim, n=None):
@@ -95,7 +116,9 @@ def _logs(sim, n=None):
     stops each DP maps the section of the stop a point lies on to the next one's
     (``sim.hits``): the product over the run is chart-free, so are the exponents."""
     from ..model import Model
-    model = Model.of(sim.params).require_rigid_stops()
+    model = Model.of(sim.params)
+    if model.elastic:                   # per event, from the shooting system
+        return _event_logs(sim.events, n)
     sec, t = np.asarray(sim.section), np.asarray(sim.t)
     if len(sec) < 3:
         raise ValueError("need at least 3 section points")
@@ -151,14 +174,100 @@ def _qr_logs(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
             continue
-        Q, R = np.linalg.qr(J @ Q)
-        Q = np.ascontiguousarray(Q)
-        for i in range(d):
-            dg = R[i, i]
-            logs[k, i] = math.log(abs(dg))
-            if dg < 0.0:                 # keep Q's columns continuous
-                Q[:, i] = -Q[:, i]
+        Q = _qr_step(J, Q, logs, k)
     return logs
+
+
+@nb.njit(cache=True)
+def _qr_step(J, Q, logs, k):
+    """One step of the QR method: J Q = Q' R, log |R[i, i]| into logs[k]; returns Q'."""
+    d = Q.shape[0]
+    Q, R = np.linalg.qr(J @ Q)
+    Q = np.ascontiguousarray(Q)
+    for i in range(d):
+        dg = R[i, i]
+        logs[k, i] = math.log(abs(dg))
+        if dg < 0.0:                     # keep Q's columns continuous
+            Q[:, i] = -Q[:, i]
+    return Q
+
+
+@nb.njit(cache=True)
+def _qr_mats(mats):
+    """The QR method over given map Jacobians mats[k] (m, d, d); a non-finite one (an
+    event at zero speed: no map there) gives NaN logs and is skipped."""
+    m, d = mats.shape[0], mats.shape[1]
+    logs = np.empty((m, d))
+    Q = np.eye(d)
+    for k in range(m):
+        if not np.all(np.isfinite(mats[k])):
+            logs[k, :] = np.nan
+            continue
+        Q = _qr_step(np.ascontiguousarray(mats[k]), Q, logs, k)
+    return logs
+
+
+def event_jacobians(events, n=None):
+    """(DP_i, flight times) of the map from each event's section to the next over the last
+    ``n`` events (default all) of ``events`` (:class:`symvi.orbits._phases.EventRun`, every
+    impact, entry and exit), eq. (30) with each flight in its contact phase's exact flow.
+
+    The shooting system gives them: the run is cut into chunks at the events of its most
+    frequent (constraint, phase before) pair, so that a chunk's events form a
+    :class:`symvi.model.Signature` (each elastic stop met an even number of times, ``contact``
+    the phase after its first event) whose last flight ends on its first event's constraint
+    in the right phase; :meth:`symvi.orbits.periodic.Problem.monodromy` of each chunk gives
+    its DP_i, each from its own flight alone (the chunk's wrap-around residual is not
+    closed, and need not be).  Events before the first cut and from the last one on are
+    not used."""
+    from ..errors import SymviError
+    from ..model import Signature
+    from ..orbits.periodic import Problem
+    sec, t = np.asarray(events.section, dtype=float), np.asarray(events.t, dtype=float)
+    hits, act = np.asarray(events.hits), events.active
+    m, d = len(sec), sec.shape[1] if sec.ndim == 2 else 0
+    if m < 3:
+        raise ValueError("need at least 3 events")
+    k0 = 1 if n is None else max(1, m - 1 - int(n))
+    keys = [(int(hits[i]), act[i - 1]) for i in range(k0, m)]
+    counts = {}
+    for key in keys:
+        counts[key] = counts.get(key, 0) + 1
+    best = max(counts, key=lambda key: (counts[key], -keys.index(key)))
+    cuts = [k0 + j for j, key in enumerate(keys) if key == best]
+    mats, te, problems = [], [], {}
+    w = float(events.omega)
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        sig = Signature(tuple(int(h) for h in hits[a:b]), contact=act[a])
+        pr = problems.get(sig)
+        if pr is None:
+            pr = problems[sig] = Problem(events.params, n=1, p=b - a, omega=w, signature=sig)
+        Y = sec[a:b].copy()
+        T = t[a + 1:b + 1] - t[a:b]
+        for i in range(1, b - a):          # tau unwrapped along the chunk
+            near = Y[0, -1] + w * (t[a + i] - t[a])
+            Y[i, -1] += TWO_PI * round((near - Y[i, -1]) / TWO_PI)
+        u = np.concatenate([Y.ravel(), T])
+        try:
+            Gu = pr.evaluate(u, None)[1]
+            mats += pr.monodromy(u, Gu)[0]
+        except SymviError:                 # an event at zero speed: no map there
+            mats += [np.full((d, d), np.nan)] * (b - a)
+        te += list(T)
+    return np.array(mats).reshape(-1, d, d), np.array(te)
+
+
+def _event_logs(events, n=None):
+    """:func:`_logs` of an elastic run: the QR method over :func:`event_jacobians`."""
+    mats, te = event_jacobians(events, n)
+    if len(mats) == 0:
+        raise ValueError("no two events of the run repeat a constraint and phase: no map")
+    logs = _qr_mats(np.ascontiguousarray(mats))
+    if not np.isfinite(logs).all():
+        from ..errors import SingularCaseError
+        raise SingularCaseError("grazing", "an event of the run has zero speed (grazing): "
+                                "DP, eq. (30), is undefined there")
+    return logs, te
 
 
 def _unwrapped(section, center):

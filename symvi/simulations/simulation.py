@@ -59,6 +59,11 @@ class Simulation:
     #: for a contact still open when the run stopped.  None for a rigid-only model.
     exit_t: np.ndarray = None
     exit_velocity: np.ndarray = None
+    #: with an elastic stop: every event from the first stored record on (rigid impacts,
+    #: entries and exits, :class:`symvi.orbits._phases.EventRun`: each point on its
+    #: constraint's section in the shooting layout, the constraints in contact after it),
+    #: what the Lyapunov exponents and the classifier read.  None for a rigid-only model.
+    events: object = None
 
     @property
     def n(self):
@@ -260,15 +265,55 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
                              f"({', '.join(sec.names)}): no period-1 orbit to start from "
                              "with an elastic stop (issue 25)")
     y0, z0 = _check_walk_start(model, sec, y0, flow)
-    n, first = model.n, model.constraints[0]
+    active = (0,) if model.constraints[0].kind == "elastic" else ()
+    return _walk_records(model, omega, z0, y0[-1], active, 0, n_impacts, transient, y0)
+
+
+def contact_run(model, omega, n_impacts, transient, start=None):
+    """:func:`_simulate_contacts` of a checked (model, omega) from ``start`` = (state z0 in
+    mass order, phase tau, the elastic constraints in contact, the constraint whose guard z0
+    lies on), by default :func:`symvi.orbits._phases.default_state` (the first stop's
+    section, leaving it, nothing in contact): the runs of a sweep or a plane."""
+    if start is None:
+        from ..orbits._phases import default_state
+        start = (default_state(model, omega), 0.0, (), 0)
+    z0, tau, active, k = start
+    return _walk_records(model, float(omega), np.asarray(z0, dtype=float), float(tau),
+                         tuple(active), int(k), int(n_impacts), int(transient))
+
+
+def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0=None):
+    """The records of :func:`_simulate_contacts` from state z0 (mass order) at phase tau with
+    ``active`` in contact, on the guard of ``start``; ``Simulation.events`` every event from
+    the first record kept on (:class:`symvi.orbits._phases.EventRun`: the exits too, each
+    point on its constraint's section, and the constraints in contact after it)."""
+    from ..flow import contact as ct
+    from ..flow.linear import LinearFlow
+    from ..orbits._phases import EventRun
+    flow = LinearFlow.contact(model)
+    positions = [flow.position(c) for c in model.constraints]
+    frames = [cf.section_index(model.n, q) for q in positions]
+    if y0 is None:                    # the start as a section point of its constraint
+        zf = flow.to_flow(z0)
+        y0 = tuple(float(v) for v in zf[frames[start]]) + (tau % (2 * math.pi),)
+    n = model.n
     rows, t, vin, hits, t_out, v_out = [], [], [], [], [], []
+    ev_rows, ev_t, ev_hits, ev_act = [], [], [], []
     total = transient + n_impacts
     count, short, last, stop = 0, 0, 0.0, "completed"
     t_chat = cf.CHATTER_FLIGHT * 2 * math.pi / omega
     open_ = {}                        # elastic constraint in contact -> its record (-1: dropped)
-    active = (0,) if first.kind == "elastic" else ()
-    for ev in ct.walk(model, omega, z0, y0[-1], active=active, start=0):
+    for ev in ct.walk(model, omega, z0, tau, active=active, start=start):
         done = count >= total
+        if ev.kind in (ct.IMPACT, ct.ENTRY, ct.EXIT) and np.all(np.isfinite(ev.after)) and (
+                count > transient or (count == transient and ev.kind != ct.EXIT)):
+            g = ev.constraint             # every event from the first kept record on
+            zf = flow.to_flow(ev.after)
+            zf[positions[g]] = model.constraints[g].gap
+            ev_rows.append(tuple(zf[frames[g]]) + (ev.tau,))
+            ev_t.append(ev.t)
+            ev_hits.append(g)
+            ev_act.append(ev.active)
         if ev.kind == ct.EXIT:
             j = open_.pop(ev.constraint, -1)
             if j >= 0:
@@ -309,9 +354,13 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
             break
     hits = np.array(hits, dtype=np.int64)
     hits.flags.writeable = False
+    ev_hits = np.array(ev_hits, dtype=np.int64)
+    ev_hits.flags.writeable = False
+    events = EventRun(model, omega, _frozen(np.array(ev_rows).reshape(-1, model.dim)),
+                      _frozen(ev_t), ev_hits, tuple(ev_act), stop)
     return Simulation(model, omega, y0, _frozen(np.array(rows).reshape(-1, model.dim)),
                       _frozen(t), _frozen(vin), stop, transient, None, hits,
-                      _frozen(t_out), _frozen(v_out))
+                      _frozen(t_out), _frozen(v_out), events)
 
 
 def _check_walk_start(model, sec, y0, flow, name="y0"):
