@@ -366,11 +366,19 @@ class Classification:
     #: with several stops, the stops (0-based) of a period-k point's impacts in order
     #: (:func:`symvi.simulations.classifier.signature`); None otherwise
     signature: tuple = None
+    #: with an elastic stop, the kind of each event of :attr:`signature` ("impact",
+    #: "entry", "exit"); None otherwise
+    kinds: tuple = None
 
     @property
     def signature_names(self):
-        """["stop1", "stop2", ...] of :attr:`signature`, or None."""
-        return None if self.signature is None else [f"stop{g + 1}" for g in self.signature]
+        """["stop1", "stop2:entry", "stop2:exit", ...] of :attr:`signature` (as
+        :meth:`symvi.model.Signature.names` spells an orbit's events), or None."""
+        if self.signature is None:
+            return None
+        kinds = self.kinds or ("impact",) * len(self.signature)
+        return [f"stop{g + 1}" + ("" if kind == "impact" else f":{kind}")
+                for g, kind in zip(self.signature, kinds)]
 
     @property
     def label(self):
@@ -392,31 +400,56 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     A stopped run, or a completed one of fewer than MIN_CLASSIFY impacts, is not
     classified (its kind says so).  With several rigid stops the run's ``hits`` join the
     points (the period of the pairs (stop, point), the signature of a periodic attractor),
-    the rest is judged on the stop hit most often; an elastic stop is refused.
+    the rest is judged on the stop hit most often.  With an elastic stop the classifier
+    judges every event of the run (``sim.events``: impacts, entries and exits), its symbol
+    (:func:`event_symbols`: the constraint and the kind) as the hit: a periodic attractor
+    has q events in k forcing periods (a k-q orbit of
+    :class:`symvi.orbits.periodic.Problem`, the signature's names those of
+    :meth:`symvi.model.Signature.names`), the rest is judged on the entries into the stop
+    met most often.
     """
-    from ..errors import SingularCaseError
     from ..model import Model
     from . import classifier as cl
-    several = len(Model.of(sim.params).require_rigid_stops().constraints) > 1
+    Model.of(sim.params)
     if sim.stop != "completed":
         code = cl.code_of_stop(cf.STOP_NAMES.index(sim.stop))
         return Classification(f"stopped: {sim.stop}", None, None, None, None, code)
     if len(sim.section) < MIN_CLASSIFY:
         return Classification(f"too few impacts to classify ({len(sim.section)}; need >= "
                               f"{MIN_CLASSIFY})", None, None, None, None)
+    return _judged(sim, max_period, tol, lyap_points, chaos_threshold)[0]
+
+
+def _judged(sim, max_period, tol, lyap_points, chaos_threshold):
+    """(:class:`Classification`, the per-step logs of the largest exponent, the rotation)
+    of a completed run: the records of a rigid-only model, the events of an elastic one."""
+    from ..errors import SingularCaseError
+    from ..model import Model
+    from . import classifier as cl
+    model = Model.of(sim.params)
+    elastic = model.elastic
+    several = len(model.constraints) > 1 or elastic
+    if elastic:                     # every event, its symbol (stop, kind) the hit
+        ev = sim.events
+        sec, t, hits = ev.section, ev.t, _symbols_of(ev)
+    else:
+        sec, t, hits = sim.section, sim.t, np.asarray(sim.hits) if several else None
     try:
         logs, te = _logs(sim, lyap_points)
         err = None
     except SingularCaseError as exc:     # a grazing point on the section: DP undefined
         logs, err = np.empty((0, 1)), exc
-    hits = np.asarray(sim.hits) if several else None
-    code, k, q, rot = cl.classify_section(sim.section, sim.t, sim.omega, logs[:, 0],
+    code, k, q, rot = cl.classify_section(sec, t, sim.omega, logs[:, 0],
                                           hits=hits, max_period=max_period, tol=tol,
                                           lyap_min=chaos_threshold)
     if code == cl.PERIOD:
         lya = None if err is not None else _spectrum(logs, te)
-        sig = cl.signature(hits[len(hits) - q:]) if several else None
-        return Classification(cl.kind(code, k), k, lya, None, None, code, q, sig)
+        sig, kinds = (cl.signature(hits[len(hits) - q:]) if several else None), None
+        if elastic:
+            table = event_symbols(model)
+            sig, kinds = tuple(table[s][0] for s in sig), tuple(table[s][1] for s in sig)
+        return Classification(cl.kind(code, k), k, lya, None, None, code, q, sig,
+                              kinds), logs, rot
     if err is not None:
         raise err
     lya = _spectrum(logs, te)
@@ -425,4 +458,4 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     # whole record that still spirals in or out, rotation_number is biased (example 1
     # at 0.738, 5000 impacts from y*: 0.261 against 0.3963 on the circle)
     return Classification(cl.kind(code, k), None, lya, rot if code == cl.CIRCLE else None,
-                          branches, code)
+                          branches, code), logs, rot
