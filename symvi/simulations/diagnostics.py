@@ -439,11 +439,13 @@ def _judged(sim, max_period, tol, lyap_points, chaos_threshold):
         err = None
     except SingularCaseError as exc:     # a grazing point on the section: DP undefined
         logs, err = np.empty((0, 1)), exc
+    except ValueError:                   # a short elastic run: no chunk of events repeats
+        logs, te, err = np.empty((0, model.dim)), np.empty(0), None
     code, k, q, rot = cl.classify_section(sec, t, sim.omega, logs[:, 0],
                                           hits=hits, max_period=max_period, tol=tol,
                                           lyap_min=chaos_threshold)
     if code == cl.PERIOD:
-        lya = None if err is not None else _spectrum(logs, te)
+        lya = None if err is not None or not len(logs) else _spectrum(logs, te)
         sig, kinds = (cl.signature(hits[len(hits) - q:]) if several else None), None
         if elastic:
             table = event_symbols(model)
@@ -452,7 +454,7 @@ def _judged(sim, max_period, tol, lyap_points, chaos_threshold):
                               kinds), logs, rot
     if err is not None:
         raise err
-    lya = _spectrum(logs, te)
+    lya = _spectrum(logs, te) if len(logs) else None
     branches = {cl.CIRCLE: 1, cl.DOUBLED: 2}.get(code)
     # the classifier's rotation, over the points it judged (the settled part): over a
     # whole record that still spirals in or out, rotation_number is biased (example 1
