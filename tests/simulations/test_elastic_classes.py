@@ -134,3 +134,29 @@ def test_sweep_classes_are_each_omegas_classification():
     assert np.array_equal(eng.section, res.section, equal_nan=True)
     assert list(eng.labels()) == list(res.labels())
     assert np.array_equal(eng.classes.lyapunov, res.classes.lyapunov, equal_nan=True)
+
+
+def test_cli_sweep_of_an_elastic_model(tmp_path):
+    """symvi sweep [--classify] runs an elastic model (one walk per omega from the default
+    start) and prints each periodic attractor's events; too few records for its symbols
+    (4 per entry or exit) is refused in one line."""
+    import json
+
+    from tests.cli.test_cli_itinerary import EXAMPLES
+    from tests.fuzz._cli import cli
+    f = str(EXAMPLES / "oscillator_elastic.toml")
+    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
+                        "--steps", "2", "--impacts", "40", "--transient", "300",
+                        "--classify", "--out", str(tmp_path / "s.npz"))
+    assert rc == 0, err
+    got = json.loads(text)
+    assert got["classes"] == ["period-1", "period-1"] and got["stops"] == {"completed": 2}
+    assert got["signatures"][1] == ["stop1:entry", "stop1:exit", "stop2:entry", "stop2:exit"]
+    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
+                        "--steps", "2", "--impacts", "40", "--out", str(tmp_path / "t.npz"))
+    assert rc == 0, err
+    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
+                        "--steps", "2", "--impacts", "15", "--classify",
+                        "--out", str(tmp_path / "u.npz"))
+    assert rc == 2 and text == "" and len(err.strip().splitlines()) == 1
+    assert "entries and exits" in err
