@@ -174,12 +174,12 @@ def _qr_logs(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
             continue
-        Q = _qr_step(J, Q, logs, k)
+        Q = _qr_update(J, Q, logs, k)
     return logs
 
 
 @nb.njit(cache=True)
-def _qr_step(J, Q, logs, k):
+def _qr_update(J, Q, logs, k):
     """One step of the QR method: J Q = Q' R, log |R[i, i]| into logs[k]; returns Q'."""
     d = Q.shape[0]
     Q, R = np.linalg.qr(J @ Q)
@@ -203,7 +203,7 @@ def _qr_mats(mats):
         if not np.all(np.isfinite(mats[k])):
             logs[k, :] = np.nan
             continue
-        Q = _qr_step(np.ascontiguousarray(mats[k]), Q, logs, k)
+        Q = _qr_update(np.ascontiguousarray(mats[k]), Q, logs, k)
     return logs
 
 
