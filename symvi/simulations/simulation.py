@@ -538,7 +538,10 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``progress(done, total)`` is called after each chunk of omegas.  ``params``
     is a :class:`symvi.Params` or any :class:`symvi.model.Model`.  ``classify``: also
     label each omega's attractor (:func:`classify_sweep`; ``n_impacts`` >= 4), in
-    ``Sweep.classes``.
+    ``Sweep.classes``.  A model with an elastic stop walks each omega in Python
+    (:func:`_sweep_contacts`; ``starts`` are points of the first stop's section leaving it,
+    nothing in contact, by default :func:`contact_start`; ``n_impacts`` >= 4 per symbol of
+    :func:`symbol_count` to classify).
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
