@@ -44,11 +44,27 @@ def _once(cls):
     return _ONCE[cls]
 
 
+class _Defaults(argparse.HelpFormatter):
+    """Help that shows each option's default where it has one (not None, not a switch
+    that is off) and its text does not already say it: "(default: 5000)" after it
+    (issue 26: defaults in --help)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        d = action.default
+        if ("default" in text.lower() or d is None or d is argparse.SUPPRESS or d is False
+                or not action.option_strings or isinstance(d, (list, tuple)) and not d):
+            return text
+        return text + " (default: %(default)s)"
+
+
 class _Parser(argparse.ArgumentParser):
     """One-line errors (exit 2); negative numbers with exponents are values; a flag given
-    twice is refused (every subcommand's parser is one of these)."""
+    twice is refused (every subcommand's parser is one of these); --help shows the
+    defaults (:class:`_Defaults`)."""
 
     def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _Defaults)
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
         self._given = set()
@@ -199,6 +215,8 @@ def print_json(obj):
 
 def build_parser():
     parser = _Parser(prog="symvi", description="Bifurcation analysis of vibro-impact systems.")
+    from .. import __version__
+    parser.add_argument("--version", action="version", version=f"symvi {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser, metavar="COMMAND")
     for name in COMMANDS:
         try:

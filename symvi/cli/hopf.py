@@ -28,6 +28,9 @@ def run(args):
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
+    from ..model import Model
+    if isinstance(params, Model) and not params.one_rigid_stop:
+        return _branch_scan(params, args)
     # first run after install: compile the scan's kernels in parallel, and say so
     warm(HOPF, "the Hopf scan")
     try:
@@ -126,6 +129,40 @@ def run(args):
                 ws = [e.omega for e in res.events if e.kind == kind]
                 print(f"  {n} events '{kind}' between omega = {min(ws):.10g} and "
                       f"{max(ws):.10g} (listed one by one with --json)")
+    return 0
+
+
+def _branch_scan(model, args):
+    """A model with no period-1 closed form (several stops, a lower one, an elastic stop):
+    the NS points of the branches continued from the attractors found in the interval
+    (:func:`symvi.continuation.start.ns_scan`), said to be uncertified."""
+    from ..continuation.start import ns_scan
+    from ..errors import ParameterError
+    if args.digits is not None:
+        raise ParameterError("--digits", args.digits, "not given for a model with no "
+                             "period-1 closed form (the mpmath chains check period-1 orbits "
+                             "of one rigid stop)")
+    try:
+        res = ns_scan(model, args.omega_min, args.omega_max)
+    except ParameterError as exc:
+        raise exc.renamed({"omega_min": "--omega-min", "omega_max": "--omega-max"}) from None
+    if args.json:
+        print_json(res.as_dict())
+        return 0
+    print(f"model: {describe(model)}   omega in [{res.omega_min:g}, {res.omega_max:g}]")
+    print(f"NOT CERTIFIED: {res.reason}")
+    for w, n, p, sig in res.starts:
+        print(f"  attractor at omega = {w:.6g}: {n}-{p} orbit ({', '.join(sig)})")
+    if not res.points:
+        print("no NS point on these branches")
+    for i, (sp, br) in enumerate(res.points):
+        c = sp.coefficients
+        print(f"\nNS point {i + 1}: omega_c = {sp.value:.15g}  ({br.n}-{br.p} orbit, "
+              f"{', '.join(sp.orbit.signature_names)})")
+        if "l1" in c:
+            print(f"  theta = {c.get('theta', float('nan')):.10g}   l1 = {c['l1']:.10g}  "
+                  "(||q||_2 = 1, <p,q> = 1)")
+        print(f"  {sp.detail}")
     return 0
 
 

@@ -15,7 +15,8 @@ _LAZY = {"Branch": "points", "BranchPoint": "points", "SpecialPoint": "points",
          "continue_branch": "branch", "switch_at_flip": "branch",
          "period1_branches": "branch", "same_branch": "branch",
          "diagram_branches": "branch", "continue_orbits": "start",
-         "switch_at_branch_point": "branch", "attractor_orbit": "start"}
+         "switch_at_branch_point": "branch", "attractor_orbit": "start",
+         "ns_scan": "start"}
 __all__ = ["EVENT_KINDS", "Result", *_LAZY]
 
 

@@ -12,6 +12,8 @@ import os
 import warnings
 from numbers import Integral
 
+import numpy as np
+
 from ..errors import NearSingularWarning, ParameterError, SingularCaseError, SymviError
 from ..flow import check_value
 from .branch import continue_branch, same_branch, switch_at_branch_point, switch_at_flip
@@ -143,7 +145,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
             if sim is None:
                 raise ParameterError(N["start_omega"] if a0 != start else N["start"], a0,
                                      "a value where a run of the map settles on a periodic "
-                                     f"orbit", f"none at {param} = {a0:g} ({why}), nor at "
+                                     "orbit", f"none at {param} = {a0:g} ({why}), nor at "
                                      f"{SEARCH_RUNS} values towards {stop:g}")
             n, p = detect_period(sim)
             guesses = [sim]
@@ -406,3 +408,131 @@ def _unsettled(sim):
             "it settles on no periodic orbit of at most 16 impacts")
 
 
+
+
+#: frequencies of [omega_min, omega_max] whose attractors start :func:`ns_scan`'s branches
+SCAN_SAMPLES = 8
+#: why :func:`ns_scan` certifies nothing, said with every result
+SCAN_UNCERTIFIED = ("no period-1 closed form for this model: the NS points are those of "
+                    "the branches continued from the periodic attractors that runs of the "
+                    "map settle on at {samples} frequencies; an orbit no run settles on, "
+                    "and a branch that does not reach one, are not searched")
+
+
+@dataclasses.dataclass(frozen=True)
+class BranchScan:
+    """The Neimark-Sacker points of a model with no period-1 closed form over
+    [omega_min, omega_max] (:func:`ns_scan`): ``points`` the located NS points (each a
+    :class:`SpecialPoint` with l1, ||q||_2 = 1, <p,q> = 1), ``branches`` the continued
+    branches they lie on, ``starts`` the (omega, n, p, signature) of each attractor a
+    branch started from.  Never certified (:data:`SCAN_UNCERTIFIED`)."""
+
+    model: object
+    omega_min: float
+    omega_max: float
+    points: tuple
+    branches: tuple
+    starts: tuple
+    samples: int
+    complete: bool = False
+
+    @property
+    def reason(self):
+        return SCAN_UNCERTIFIED.format(samples=self.samples)
+
+    def as_dict(self):
+        index = {id(br): k + 1 for k, br in enumerate(self.branches)}
+        return {"model": self.model.as_dict(), "omega_min": self.omega_min,
+                "omega_max": self.omega_max, "complete": False,
+                "uncertified": [[self.omega_min, self.omega_max]],
+                "uncertified_reasons": [self.reason],
+                "points": [{**sp.as_dict(), "branch": index[id(br)]}
+                           for sp, br in self.points],
+                "branches": [{"orbit": f"{br.n}-{br.p}",
+                              "signature": br.points[0].orbit.signature_names,
+                              "omega": [float(br.values.min()), float(br.values.max())],
+                              "end": br.end} for br in self.branches],
+                "starts": [{"omega": w, "orbit": f"{n}-{p}", "signature": sig}
+                           for w, n, p, sig in self.starts]}
+
+
+def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
+    """The NS points of ``model`` (one with no period-1 closed form: several stops, a
+    lower one, an elastic stop) in [omega_min, omega_max], as ``symvi hopf`` reports them
+    there: at ``samples`` frequencies a run of the map from the default start settles on
+    a periodic attractor; each new one is continued in omega over the interval both ways
+    (:func:`continue_orbits`), and the NS points located on the branches are kept, each
+    once.  A :class:`BranchScan`, which says it is not certified."""
+    from ..model import Model
+    from ..orbits.periodic import detect_period, from_simulation
+    if not isinstance(model, Model):
+        raise ParameterError("model", model, "a symvi.Model")
+    lo = check_value(model, "omega", _real(omega_min, "omega_min"), "omega_min",
+                     resonance=False)
+    hi = check_value(model, "omega", _real(omega_max, "omega_max"), "omega_max",
+                     resonance=False)
+    if not lo < hi:
+        raise ParameterError("omega_max", hi, f"a value > omega_min = {lo:g}")
+    branches, starts = [], []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NearSingularWarning)
+        for k in range(samples):
+            w = lo + (hi - lo) * (k + 0.5) / samples
+            try:
+                sim = _settle(model, w)
+                found = detect_period(sim)
+                if found is None:
+                    continue
+                orbit = from_simulation(sim)
+            except SymviError:
+                continue
+            if not orbit.admissible or any(_on(br, orbit) for br in branches):
+                continue
+            starts.append((w, orbit.n, orbit.p, orbit.signature_names))
+            for stop in (lo, hi):
+                try:
+                    br = continue_branch(model, "omega", w, stop, orbit=orbit,
+                                         max_points=max_points)
+                except SymviError:
+                    continue
+                if not any(same_branch(br, other) for other in branches):
+                    branches.append(br)
+    seen, points = [], []
+    for br in branches:
+        for sp in br.special:
+            key = (_rotation_key(sp.orbit.signature_names), sp.value)
+            if sp.kind == "ns" and not any(k[0] == key[0] and abs(k[1] - key[1]) <= 1e-9 *
+                                           (1 + abs(key[1])) for k in seen):
+                seen.append(key)
+                points.append((sp, br))
+    points.sort(key=lambda t: t[0].value)
+    return BranchScan(model, lo, hi, tuple(points), tuple(branches), tuple(starts), samples)
+
+
+def _on(branch, orbit):
+    """Whether ``orbit`` lies on ``branch``: the same n-p and signature up to where the
+    orbit starts (a rotation), and the orbit's point of the branch's first event within
+    1e-3 of the branch's points interpolated at its omega (a start found again is not
+    continued twice)."""
+    if (branch.n, branch.p) != (orbit.n, orbit.p) or not branch.points:
+        return False
+    sig, mine = branch.points[0].orbit.signature_names, orbit.signature_names
+    shifts = [r for r in range(orbit.p) if mine[r:] + mine[:r] == sig]
+    for a, b in zip(branch.points[:-1], branch.points[1:]):
+        wa, wb = a.orbit.omega, b.orbit.omega
+        if not (min(wa, wb) <= orbit.omega <= max(wa, wb) and wa != wb):
+            continue
+        s = (orbit.omega - wa) / (wb - wa)
+        ya, yb = np.array(a.orbit.y), np.array(b.orbit.y)
+        for r in shifts:
+            y = np.array(orbit.points[r])
+            d = ya + s * (yb - ya) - y
+            d[-1] = (d[-1] + math.pi) % (2 * math.pi) - math.pi
+            if np.max(np.abs(d)) <= 1e-3 * (1 + np.max(np.abs(y))):
+                return True
+    return False
+
+
+def _rotation_key(names):
+    """The signature's smallest rotation: one key for an orbit whichever event it starts at."""
+    return min(tuple(names[r:] + names[:r]) for r in range(len(names)))

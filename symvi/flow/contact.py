@@ -63,7 +63,7 @@ from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
 from ._steady import steady_state
-from .linear import modal_form
+from .linear import contact_matrices, modal_form
 
 #: event kinds: a rigid impact, the entry into and the exit from an elastic contact
 IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
@@ -81,18 +81,11 @@ class Phase:
         self.active = tuple(sorted(active))
         n = self.n = model.n
         M = np.array(model.mass, dtype=float)
-        K = np.array(model.stiffness, dtype=float)
-        C = np.array(model.damping, dtype=float)
-        f = np.zeros(n)
-        for i in self.active:
-            con = model.constraints[i]
-            if con.kind != "elastic":
-                raise ParameterError("active", self.active, "indices of elastic constraints")
-            c = np.array(con.normal)
-            K = K + con.stiffness * np.outer(c, c)
-            if con.damping:
-                C = C + con.damping * np.outer(c, c)
-            f = f + con.stiffness * con.gap * c
+        if any(model.constraints[i].kind != "elastic" for i in self.active):
+            raise ParameterError("active", self.active, "indices of elastic constraints")
+        # the contact law's matrices, one owner (the shooting's LinearFlow.contact reads it)
+        K, C, f = (np.array(a, dtype=float) if a is not None else np.zeros(n)
+                   for a in contact_matrices(model, self.active))
         self.M, self.K, self.C, self.f = M, K, C, f
         self.P = np.array(model.forcing, dtype=float)
         Minv = self.Minv = np.linalg.inv(M)

@@ -119,7 +119,7 @@ class LinearFlow:
         self.n = n
         if self.T is not None:
             self.Tinv = np.linalg.inv(self.T)
-        Km, Cm, f = _contact_matrices(model, self.active or ())
+        Km, Cm, f = contact_matrices(model, self.active or ())
         # q = T x: M' = T^-T M T^-1 (and K', C'), P' = T^-T P (:meth:`framed`)
         M, K, C = (bk.arr(self.framed(a)) for a in (model.mass, Km, Cm))
         self.P = bk.arr(self.framed(model.forcing))
@@ -674,7 +674,7 @@ def _eig_modal(bk, A, null=None):
 _PHASES = {}
 
 
-def _contact_matrices(model, active):
+def contact_matrices(model, active):
     """(K_S, C_S, f_S) in mass order: K + sum k_i c_i c_i^T, C + sum c_si c_i c_i^T and
     f_S = sum k_i g_i c_i over the elastic constraints i in ``active``
     (:mod:`symvi.flow.contact`, the contact law)."""

@@ -27,6 +27,14 @@ from .._io import FIGURE_SUFFIXES, atomic_path  # noqa: E402
 PROJECTIONS = ((1, 0), (3, 0), (2, 1))
 LABELS = (r"$\dot x_{1+}$", r"$x_2$", r"$\dot x_2$", r"$\tau$")
 
+#: the Okabe-Ito palette (colour-blind safe) for lines and markers [Okabe & Ito, Color
+#: Universal Design, 2008]; maps use the light colours of :data:`_MAP_COLOURS` so that
+#: every line, drawn with a white outline, stays visible over them
+OKABE_ITO = {"black": "#000000", "orange": "#E69F00", "sky": "#56B4E9", "green": "#009E73",
+             "yellow": "#F0E442", "blue": "#0072B2", "vermillion": "#D55E00",
+             "purple": "#CC79A7"}
+_BRANCH = OKABE_ITO["blue"]
+
 
 def save(fig, path, *more, dpi=150):
     """Write ``fig`` to ``path`` and to each of ``more`` (PNG or PDF by suffix, every name
@@ -53,28 +61,43 @@ def save_all(fig, stem, formats=("png", "pdf")):
 
 
 def multiplier_paths(omegas, multipliers, title="", omega_c=None):
-    """Multipliers lambda_i(omega) in the complex plane with the unit circle, figs. 4, 10.
+    """Multipliers lambda_i(omega) in the complex plane with the unit circle, figs. 4, 10,
+    and beside it |lambda_i| against omega with the line |lambda| = 1, so that where a pair
+    crosses the circle reads off (``omega_c`` marked on both).
 
     ``multipliers`` is (m, 4) complex, one row per omega.
     """
     lam = np.asarray(multipliers, dtype=complex)
     om = np.asarray(omegas, dtype=float)
-    fig, ax = plt.subplots(figsize=(5.2, 5))
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10.4, 4.8),
+                                 gridspec_kw={"width_ratios": (1.1, 1.0)})
     th = np.linspace(0, 2 * np.pi, 400)
-    ax.plot(np.cos(th), np.sin(th), color="0.6", lw=0.8)
+    ax.plot(np.cos(th), np.sin(th), color="0.3", lw=1.0, label="unit circle")
     for i in range(lam.shape[1]):
         sc = ax.scatter(lam[:, i].real, lam[:, i].imag, c=om, s=6, cmap="viridis")
     fig.colorbar(sc, ax=ax, label=r"$\omega$")
+    # where the pair crosses: |lambda| against omega beside it, the crossing marked
+    for i in range(lam.shape[1]):
+        bx.plot(om, np.abs(lam[:, i]), ".", ms=2, color="0.35")
+    bx.axhline(1.0, color="0.3", lw=1.0, label=r"$|\lambda| = 1$ (the unit circle)")
     if omega_c is not None:
-        ax.set_title(f"{title}\n" + r"$\omega_c$" + f" = {omega_c:.6g}" if title else
-                     r"$\omega_c$" + f" = {omega_c:.6g}")
-    elif title:
-        ax.set_title(title)
+        j = int(np.argmin(np.abs(om - omega_c)))
+        ax.plot(lam[j].real, lam[j].imag, "o", mfc="none", mec=OKABE_ITO["vermillion"],
+                ms=9, label=r"multipliers at $\omega_c$")
+        bx.axvline(omega_c, color=OKABE_ITO["vermillion"], ls="--", lw=1.0,
+                   label=r"$\omega_c$" + f" = {omega_c:.6g}")
+    bx.set_xlabel(r"$\omega$")
+    bx.set_ylabel(r"$|\lambda|$")
+    bx.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper right")
+    if title:
+        fig.suptitle(title, fontsize=9)
     ax.set_aspect("equal")
     ax.set_xlabel(r"Re $\lambda$")
     ax.set_ylabel(r"Im $\lambda$")
     ax.axhline(0, color="0.85", lw=0.5)
     ax.axvline(0, color="0.85", lw=0.5)
+    _plain_ticks(bx)
     fig.tight_layout()
     return fig
 
@@ -167,25 +190,76 @@ def _axes(ax, figsize):
 
 
 def _done(ax, own, title):
-    """``ax`` titled; its figure, laid out, when this call made it (``own``), else ``ax``."""
+    """``ax`` titled, with plain ticks; its figure, laid out, when this call made it
+    (``own``), else ``ax``."""
     if title:
         ax.set_title(title, fontsize=9)
+    _plain_ticks(ax)
     if own:
         ax.figure.tight_layout()
         return ax.figure
     return ax
 
 
+def _plain_ticks(ax):
+    """Tick labels as the values themselves, never an offset or a factor beside the axis
+    (a flip curve spanning 2e-5 read "+1.2" and unreadable ticks), at most 6 a side."""
+    from matplotlib.ticker import MaxNLocator, ScalarFormatter
+    for axis in (ax.xaxis, ax.yaxis):
+        if axis.get_scale() != "linear":
+            continue
+        fmt = ScalarFormatter(useOffset=False)
+        fmt.set_scientific(False)
+        axis.set_major_formatter(fmt)
+        axis.set_major_locator(MaxNLocator(nbins=6))
+
+
 def _axis_label(name):
-    """A parameter's axis label: omega as its symbol."""
+    """A parameter's axis label: omega as its symbol (one symbol for one quantity)."""
     return name if name != "omega" else r"$\omega$"
 
 
-#: marker and colour of each special-point kind on a branch plot
-_SPECIAL_STYLE = {"fold": ("s", "tab:blue"), "flip": ("D", "tab:red"), "ns": ("o", "tab:green"),
-                  "grazing": ("v", "tab:purple"), "admissibility": ("x", "tab:gray"),
-                  "branch-point": ("P", "tab:orange"), "unlocated": ("x", "k"),
-                  "symmetry-breaking": ("P", "tab:brown")}
+#: marker, colour and short label of each special-point kind (one set in every figure)
+_SPECIAL_STYLE = {"fold": ("s", OKABE_ITO["green"]), "flip": ("D", OKABE_ITO["vermillion"]),
+                  "ns": ("o", OKABE_ITO["purple"]), "grazing": ("v", OKABE_ITO["orange"]),
+                  "admissibility": ("x", "0.45"), "branch-point": ("P", OKABE_ITO["sky"]),
+                  "unlocated": ("x", "k"), "symmetry-breaking": ("P", OKABE_ITO["black"])}
+_SPECIAL_LABEL = {"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G",
+                  "branch-point": "BP", "symmetry-breaking": "SB", "admissibility": "A",
+                  "unlocated": "?"}
+
+
+def _place_labels(ax, items, fontsize=7):
+    """Annotate each (text, (x, y), colour) beside its point, trying offsets round it in
+    turn and keeping the first whose box overlaps no label placed before (labels of
+    nearby points, PD/G/LP, no longer print over each other); where every place is taken
+    the point keeps its marker alone (the legend names the kinds)."""
+    offsets = ((4, 4), (4, -11), (-16, 4), (-16, -11), (4, 14), (-16, 14))
+    ax.autoscale_view()                   # the final limits: where the points will be
+    renderer = ax.figure.canvas.get_renderer()
+    placed = []
+    for text, xy, col in items:
+        for off in offsets:
+            a = ax.annotate(text, xy, textcoords="offset points", xytext=off,
+                            fontsize=fontsize, color=col)
+            box = a.get_window_extent(renderer)
+            if not any(box.overlaps(b) for b in placed):
+                placed.append(box)
+                break
+            a.remove()
+
+
+def _style_legend(ax, styles, kinds, loc="best"):
+    """A legend of the line styles used (``styles``: (label, kwargs)) and of the markers
+    of the special kinds present (``kinds``)."""
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], **kw, label=lab) for lab, kw in styles]
+    for kind in kinds:
+        mk, col = _SPECIAL_STYLE.get(kind, ("*", "k"))
+        handles.append(Line2D([], [], ls="", marker=mk, color=col, mfc="none", ms=6,
+                              label=f"{_SPECIAL_LABEL.get(kind, kind)}: {kind}"))
+    if handles:
+        ax.legend(handles=handles, fontsize=7, loc=loc, framealpha=0.85)
 
 
 def branches(curves, param, ylabel=None, title="", ax=None):
@@ -193,40 +267,52 @@ def branches(curves, param, ylabel=None, title="", ax=None):
     each impact point's coordinate against the parameter; stable solid, unstable
     dashed, inadmissible dotted grey; special points marked and labelled."""
     ax, own = _axes(ax, (7, 4.2))
+    styles = (("stable", dict(ls="-", color=_BRANCH, lw=1.4)),
+              ("unstable", dict(ls="--", color=_BRANCH, lw=1.0)),
+              ("not admissible", dict(ls=":", color="0.6", lw=0.8)))
+    used, kinds, labels = set(), [], []
     for c in curves:
         lam = np.asarray(c["values"], dtype=float)
         Y = np.asarray(c["Y"], dtype=float).reshape(len(lam), -1)
         stab = np.asarray(c["stable"], dtype=bool)
         adm = np.asarray(c["admissible"], dtype=bool)
         for j in range(Y.shape[1]):
-            for mask, style in ((adm & stab, dict(ls="-", color="tab:blue", lw=1.4)),
-                                (adm & ~stab, dict(ls="--", color="tab:blue", lw=1.0)),
-                                (~adm, dict(ls=":", color="0.6", lw=0.8))):
+            for (name, style), mask in zip(styles, (adm & stab, adm & ~stab, ~adm)):
+                if mask.any():
+                    used.add(name)
                 ax.plot(lam, np.where(mask, Y[:, j], np.nan), **style)
         for kind, value, ys in c["special"]:
             mk, col = _SPECIAL_STYLE.get(kind, ("*", "k"))
             for y in ys:
                 ax.plot(value, y, mk, color=col, ms=6, mfc="none")
-            ax.annotate({"ns": "NS", "flip": "PD", "fold": "LP", "grazing": "G",
-                         "branch-point": "BP", "symmetry-breaking": "SB"}.get(kind, kind),
-                        (value, ys[0]), textcoords="offset points", xytext=(4, 4), fontsize=7,
-                        color=col)
+            if kind not in kinds:
+                kinds.append(kind)
+            labels.append((_SPECIAL_LABEL.get(kind, kind), (value, ys[0]), col))
     ax.set_xlabel(_axis_label(param))
     ax.set_ylabel(ylabel or "")
+    _plain_ticks(ax)
+    _place_labels(ax, labels)
+    _style_legend(ax, [s for s in styles if s[0] in used], kinds)
     return _done(ax, own, title)
 
 
-_CURVE_COLOUR = {"ns": "tab:blue", "flip": "tab:red", "fold": "tab:green"}
+_CURVE_COLOUR = {"ns": OKABE_ITO["purple"], "flip": OKABE_ITO["vermillion"],
+                 "fold": OKABE_ITO["green"]}
+_CURVE_NAME = {"ns": "NS", "flip": "flip (PD)", "fold": "fold (LP)"}
 
 
 def two_parameter(curves, names, title="", ax=None):
     """A two-parameter bifurcation diagram from the plain data of
     :meth:`symvi.curves.Curve.plot_data`: each curve in the plane of ``names``
-    (NS blue, flip red, fold green; solid where the bifurcation is supercritical
-    or the fold is simple, dashed where subcritical, dotted on neutral-saddle
-    stretches, grey where the orbit is not admissible), short ticks on the side
-    where the orbit is stable, and the codimension-two points labelled."""
+    (NS purple, flip vermillion, fold green, each with a white outline so that it stays
+    visible over a map; solid where the bifurcation is supercritical or the fold is
+    simple, dashed where subcritical, dotted on neutral-saddle stretches, grey where the
+    orbit is not admissible), short ticks on the side where the orbit is stable, the
+    codimension-two points labelled, and a legend of colours and line styles."""
+    from matplotlib import patheffects
+    halo = [patheffects.Stroke(linewidth=3.2, foreground="white"), patheffects.Normal()]
     ax, own = _axes(ax, (6.4, 4.6))
+    kinds, used, labels = [], set(), []
     spans = [np.ptp(np.concatenate([np.asarray(c["a"], float) for c in curves])) or 1.0,
              np.ptp(np.concatenate([np.asarray(c["b"], float) for c in curves])) or 1.0]
     for c in curves:
@@ -235,11 +321,20 @@ def two_parameter(curves, names, title="", ax=None):
         sub = np.asarray(c["subcritical"], dtype=bool)
         adm = np.asarray(c["admissible"], dtype=bool)
         bif = np.asarray(c["bifurcation"], dtype=bool)
-        for mask, style in ((adm & bif & ~sub, dict(ls="-", color=col, lw=1.5)),
-                            (adm & bif & sub, dict(ls="--", color=col, lw=1.2)),
-                            (adm & ~bif, dict(ls=":", color=col, lw=0.9)),
-                            (~adm, dict(ls=":", color="0.6", lw=0.8))):
-            ax.plot(np.where(mask, a, np.nan), np.where(mask, b, np.nan), **style)
+        if c["kind"] not in kinds:
+            kinds.append(c["kind"])
+        for name, mask, style in (
+                ("supercritical / simple", adm & bif & ~sub, dict(ls="-", lw=1.5)),
+                ("subcritical", adm & bif & sub, dict(ls="--", lw=1.2)),
+                ("neutral saddle", adm & ~bif, dict(ls=":", lw=0.9))):
+            if mask.any():
+                used.add((name, style["ls"], style["lw"]))
+            ax.plot(np.where(mask, a, np.nan), np.where(mask, b, np.nan), color=col,
+                    path_effects=halo, **style)
+        if (~adm).any():
+            used.add(("not admissible", ":", 0.8))
+        ax.plot(np.where(~adm, a, np.nan), np.where(~adm, b, np.nan), ls=":", color="0.6",
+                lw=0.8)
         for i, side in c["sides"]:
             if side is None:
                 continue
@@ -247,9 +342,21 @@ def two_parameter(curves, names, title="", ax=None):
             ax.plot([a[i], a[i] + da], [b[i], b[i] + db], "-", color=col, lw=0.8)
         for kind, va, vb in c["special"]:
             ax.plot(va, vb, "o", color="k", ms=4, mfc="w")
-            ax.annotate(kind, (va, vb), textcoords="offset points", xytext=(4, 4), fontsize=7)
+            labels.append((kind, (va, vb), "k"))
     ax.set_xlabel(_axis_label(names[0]))
     ax.set_ylabel(_axis_label(names[1]))
+    _plain_ticks(ax)
+    _place_labels(ax, labels)
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color=_CURVE_COLOUR.get(k, "k"), lw=1.5, path_effects=halo,
+                      label=f"{_CURVE_NAME.get(k, k)} curve") for k in kinds]
+    handles += [Line2D([], [], color="0.3" if n != "not admissible" else "0.6", ls=ls,
+                       lw=lw, label=n) for n, ls, lw in sorted(used)]
+    old = ax.get_legend()                 # a map's own legend (plane_maps) stays the axes'
+    leg = ax.legend(handles=handles, fontsize=7, loc="best", framealpha=0.85)
+    if old is not None:
+        ax.add_artist(leg)
+        ax.legend_ = old
     return _done(ax, own, title)
 
 
@@ -306,12 +413,18 @@ def codim2_evidence(result, arrays, axes=(1, 2), title=""):
     return fig
 
 
-#: attractor colours: periodic orbits in blues/greens by period, the rest fixed
-_ATTRACTOR_COLOUR = {"circle": "#ffbf00", "doubled-torus": "#ff7f0e", "chaos": "#d62728",
-                     "no-impact": "#ffffff", "sticking": "#7f7f7f", "escape": "#000000",
-                     "grazing": "#e377c2"}
-_PERIOD_COLOURS = ("#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#8c564b", "#bcbd22",
-                   "#aec7e8", "#98df8a")
+#: attractor colours: light ones (Paul Tol's colour-blind safe "light" scheme, 2021) so
+#: that the curves drawn over a map in the Okabe-Ito colours, outlined, stay visible
+_MAP_COLOURS = {"light blue": "#77AADD", "light cyan": "#99DDFF", "mint": "#44BB99",
+                "pear": "#BBCC33", "olive": "#AAAA00", "light yellow": "#EEDD88",
+                "orange": "#EE8866", "pink": "#FFAABB", "pale grey": "#DDDDDD"}
+_ATTRACTOR_COLOUR = {"circle": _MAP_COLOURS["light yellow"],
+                     "doubled-torus": _MAP_COLOURS["orange"], "chaos": _MAP_COLOURS["pink"],
+                     "no-impact": "#ffffff", "sticking": _MAP_COLOURS["pale grey"],
+                     "escape": "#555555", "grazing": "#CCBBEE"}
+_PERIOD_COLOURS = (_MAP_COLOURS["light blue"], _MAP_COLOURS["mint"],
+                   _MAP_COLOURS["light cyan"], _MAP_COLOURS["pear"], _MAP_COLOURS["olive"],
+                   "#B4D7F0", "#A8DDCC", "#DDE899")
 
 
 def plane_maps(ds, curves=(), title=""):
@@ -332,7 +445,7 @@ def plane_maps(ds, curves=(), title=""):
     periodic = [s for s in present if s.startswith("period-")]
     colours = {s: _PERIOD_COLOURS[i % len(_PERIOD_COLOURS)] for i, s in enumerate(periodic)}
     colours.update({s: _ATTRACTOR_COLOUR[s] for s in present if s in _ATTRACTOR_COLOUR})
-    colours[many] = "#393b79"
+    colours[many] = "#6699CC"
     code = np.full(lab.shape, np.nan)
     for i, s in enumerate(present):
         code[lab == s] = i
@@ -360,8 +473,9 @@ def plane_maps(ds, curves=(), title=""):
             two_parameter(list(curves), names, ax=ax)     # curves made in (x, y) order
         ax.set_xlim(x.min(), x.max())
         ax.set_ylim(y.min(), y.max())
-        ax.set_xlabel(xn)
-        ax.set_ylabel(yn)
+        ax.set_xlabel(_axis_label(xn))
+        ax.set_ylabel(_axis_label(yn))
+        _plain_ticks(ax)
     if title:
         fig.suptitle(title)
     return fig

@@ -101,3 +101,22 @@ def test_parameter_error_renders_numpy_values_plainly():
     assert "np." not in msg and "(1.0, 2.0)" in msg
     msg = str(ParameterError("stiffness", np.array([[1.0, 1e300], [1e300, 6.0]]), "y"))
     assert "\n" not in msg and "array" not in msg
+
+
+def test_version_and_defaults_in_help():
+    """symvi --version prints the package's version; each option with a default shows it
+    in --help, once (issue 26: one set of CLI conventions)."""
+    import argparse
+
+    import symvi
+    rc, out, err = cli("--version")
+    assert rc == 0 and out.strip() == f"symvi {symvi.__version__}"
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    assert "(default: 5000)" in " ".join(sub.choices["continue"].format_help().split())
+    for name, p in sub.choices.items():
+        fmt = p._get_formatter()
+        for action in p._actions:
+            if action.help:
+                assert fmt._expand_help(action).lower().count("default") <= 1, \
+                    (name, action.dest)

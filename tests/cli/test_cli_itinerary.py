@@ -138,3 +138,28 @@ def test_sweep_of_a_two_stop_model(tmp_path):
     d = json.loads(text)
     assert len(d["classes"]) == len(d["signatures"]) == 6 and (tmp_path / "c.npz").exists()
     assert d["classes"][-1] == "period-1" and d["signatures"][-1] == ["stop1", "stop2"]
+
+
+def test_hopf_of_a_several_stop_model_is_an_uncertified_branch_scan():
+    """symvi hopf with no period-1 closed form: the NS points of the branches continued
+    from the attractors found in the interval, each once, the same point as symvi continue
+    locates (the impact damper's supercritical NS), and said not to be certified."""
+    damper = EXAMPLES / "impact_damper.toml"
+    rc, out, err = cli("hopf", "--model", str(damper), "--omega-min", "0.8",
+                       "--omega-max", "1.2", "--json")
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["complete"] is False and d["uncertified"] == [[0.8, 1.2]]
+    assert "not searched" in d["uncertified_reasons"][0]
+    ns = [p for p in d["points"] if p["kind"] == "ns"]
+    assert len(ns) == 1 and ns[0]["coefficients"]["l1"] < 0
+    ref = json.loads((EXAMPLES / "impact_damper.json").read_text())
+    want = [s["value"] for s in ref["special"] if s["kind"] == "ns"]
+    assert abs(ns[0]["value"] - want[0]) < 1e-9
+    rc, out, err = cli("hopf", "--model", str(damper), "--omega-min", "0.8",
+                       "--omega-max", "1.2")
+    assert rc == 0 and "NOT CERTIFIED" in out and "NS point 1" in out
+    for bad in (["--omega-min", "1.2", "--omega-max", "0.8"],
+                ["--omega-min", "0.8", "--omega-max", "1.2", "--digits", "40"]):
+        rc, out, err = cli("hopf", "--model", str(damper), *bad)
+        assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
