@@ -25,6 +25,7 @@ def register(sub):
     p.add_argument("--out", default=None, help="target folder (default: symvi's generated/)")
     p.add_argument("--model", default=None, metavar="FILE",
                    help="generate the N-mass structure of this model file only")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
     return p
 
 
@@ -40,6 +41,11 @@ def run(args):
     where = ", ".join(sorted({str(job.folder) for job in todo}))
     if args.check:
         why = stale(todo)
+        if args.json:
+            from . import print_json
+            print_json({"folders": sorted({str(job.folder) for job in todo}),
+                        "fresh": not why, "stale": list(why)})
+            return 1 if why else 0
         if why:
             for w in why:
                 print(f"stale: {w}", file=sys.stderr)
@@ -47,7 +53,15 @@ def run(args):
             return 1
         print(f"{where} is fresh")
         return 0
-    for g in generate(todo, force=args.force):
+    done = generate(todo, force=args.force)
+    if args.json:
+        from . import print_json
+        print_json({"jobs": [{"name": g.job.name, "folder": str(g.job.folder),
+                              "orders": list(g.job.orders), "written": list(g.written),
+                              "seconds": round(g.seconds, 3),
+                              "input_hash": g.manifest["input_hash"]} for g in done]})
+        return 0
+    for g in done:
         name, o, orders = g.job.name, g.job.folder, g.job.orders
         if g.written:
             print(f"{name}: wrote {g.written if name == 'impact' else list(orders)} to {o} in "

@@ -9,18 +9,16 @@ def register(sub):
     p.add_argument("--quick", action="store_true",
                    help="fewer impacts and frequencies (under a minute; says so on each figure)")
     p.add_argument("--no-cache", action="store_true", help="recompute every part")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
     return p
 
 
 def run(args):
     from ..reporting.report import build_report
     from ..reporting.scenes import paper_scenes
-    from .run import check_out
+    from .run import check_out, written
     check_out(args.out)
     scenes = paper_scenes()
     rep = build_report(scenes, args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]))
-    n = len(rep.from_cache)
-    print(f"wrote {rep.path} ({len(rep.figures)} figures; {len(rep.parts)} parts, {n} from the "
-          f"cache) in {rep.seconds:.1f} s")
-    return 0
+    return written(rep, args.json)

@@ -10,6 +10,7 @@ def register(sub):
     p.add_argument("--no-cache", action="store_true", help="recompute every part")
     p.add_argument("--model", default=None, metavar="FILE",
                    help="run the scene on this model file instead of its [params]")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
     return p
 
 
@@ -24,7 +25,17 @@ def run(args):
         scene = with_model(scene, load_model(args.model), f"{args.scene} with --model")
     rep = build_report([scene], args.out, quick=args.quick, use_cache=not args.no_cache,
                        command=" ".join(["symvi"] + sys.argv[1:]), title=scene.title)
+    return written(rep, args.json)
+
+
+def written(rep, as_json):
+    """What ``run`` and ``reproduce`` print: a line, or with --json one object."""
     n = len(rep.from_cache)
+    if as_json:
+        from . import print_json
+        print_json({"report": rep.path, "figures": list(rep.figures), "parts": len(rep.parts),
+                    "from_cache": n, "seconds": round(rep.seconds, 3)})
+        return 0
     print(f"wrote {rep.path} ({len(rep.figures)} figures; {len(rep.parts)} parts, {n} from the "
           f"cache) in {rep.seconds:.1f} s")
     return 0

@@ -64,14 +64,18 @@ class SpecialPoint(Located):
     index: int = 0              # the branch point after which it lies
 
     def as_dict(self):
+        co = {k: (float(v) if isinstance(v, (int, float, np.floating)) else v)
+              for k, v in self.coefficients.items()}
+        if "separation" in co:
+            # the distance to the nearest other multiplier was "gap" (the stop's gap's name
+            # too) until 0.1: kept under that key for one release (issue 26, naming)
+            co["gap"] = co["separation"]
         return {"kind": self.kind, "value": self.value,
                 "signature": self.orbit.signature_names, **_symmetry(self.orbit),
                 "admissible": bool(self.orbit.admissible),
                 "y": [float(v) for v in self.orbit.y],
                 "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers],
-                "coefficients": {k: (float(v) if isinstance(v, (int, float, np.floating))
-                                     else v) for k, v in self.coefficients.items()},
-                "detail": self.detail}
+                "coefficients": co, "detail": self.detail}
 
 
 @dataclass(frozen=True)

@@ -169,10 +169,10 @@ class Codim1Tracker(engine.Tracker):
             orbit = self._orbit(X, Gu)
             A, d2, _ = orbit.jet(2)
             a, e = fold_coefficient(A, d2)
-            note = (f"; +1 is a double multiplier (gap {e.gap:.1e}): the one-dimensional "
+            note = (f"; +1 is a double multiplier (separation {e.gap:.1e}): the one-dimensional "
                     "normal form does not apply" if e.gap < DOUBLE_GAP else "")
             return SpecialPoint("fold", float(X[m]), orbit,
-                                {"a": a, "multiplier": e.mu, "gap": e.gap},
+                                {"a": a, "multiplier": e.mu, "separation": e.gap},
                                 "a multiplier through +1: the branch turns (saddle-node); "
                                 f"eta -> eta + a eta^2 with a = {a:.6g} (||q|| = 1, "
                                 "<p,q> = 1)" + note, index)
@@ -181,7 +181,7 @@ class Codim1Tracker(engine.Tracker):
                                                      Xa, ta, Xb)
             e = real_critical(self._mono(X, Gu), 1.0)
             return SpecialPoint("branch-point", float(X[m]), orbit,
-                                {"multiplier": e.mu, "gap": e.gap, "spread": float(spread)},
+                                {"multiplier": e.mu, "separation": e.gap, "spread": float(spread)},
                                 "a multiplier through +1 where the branch does not turn: "
                                 "another branch of orbits crosses this one here (the orbit is "
                                 "not isolated; e.g. a symmetry-breaking pitchfork, or the "
@@ -194,7 +194,7 @@ class Codim1Tracker(engine.Tracker):
                 return None
             e = real_critical(H, -1.0)
             return SpecialPoint("symmetry-breaking", float(X[m]), orbit,
-                                {"half_multiplier": e.mu, "gap": e.gap,
+                                {"half_multiplier": e.mu, "separation": e.gap,
                                  "spread": float(spread)},
                                 "a multiplier of the half map H (H^2 = M) through -1: the "
                                 "symmetric orbit's monodromy has +1 and the branch does not "
@@ -208,11 +208,11 @@ class Codim1Tracker(engine.Tracker):
             c, e = flip_coefficient(A, d2, d3)
             crit = ("supercritical: a stable" if c > 0 else "subcritical: an unstable")
             if e.gap < DOUBLE_GAP:
-                crit = (f"degenerate: -1 is a double multiplier (gap {e.gap:.1e}, a collision "
+                crit = (f"degenerate: -1 is a double multiplier (separation {e.gap:.1e}, a collision "
                         "of two multipliers at -1), so the one-dimensional flip normal form and "
                         "its c do not decide the")
             return SpecialPoint("flip", float(X[m]), orbit,
-                                {"c": c, "multiplier": e.mu, "gap": e.gap},
+                                {"c": c, "multiplier": e.mu, "separation": e.gap},
                                 f"a multiplier through -1: period doubling to a "
                                 f"{2 * pr.n_periods}-{2 * pr.p} orbit, {crit} doubled orbit "
                                 f"(eta -> -eta + c eta^3, c = {c:.6g}, ||q|| = 1, <p,q> = 1)",

@@ -473,10 +473,12 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
                      resonance=False)
     if not lo < hi:
         raise ParameterError("omega_max", hi, f"a value > omega_min = {lo:g}")
+    from ..progress import Progress
     branches, starts = [], []
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), Progress(samples, "NS scan (attractors)") as bar:
         warnings.simplefilter("ignore", NearSingularWarning)
         for k in range(samples):
+            bar.update()
             w = lo + (hi - lo) * (k + 0.5) / samples
             try:
                 sim = _settle(model, w)

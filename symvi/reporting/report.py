@@ -209,7 +209,8 @@ def render(scene_list, parts, *, quick=False, command="", seconds=0.0, title=Non
           f"hash of their inputs) and {len(parts) - n_cache} computed",
           ("- **quick mode**: fewer impacts, frequencies and values of μ; every affected figure "
            "and row says so" if quick else "- full run"), ""]
-    L += _summary(by_kind)
+    L += _summary(by_kind, parts)
+    L += _conventions(by_kind)
     if "numbers" in by_kind:
         L += _numbers(by_kind["numbers"])
     if "audit" in by_kind:
@@ -236,7 +237,7 @@ def render(scene_list, parts, *, quick=False, command="", seconds=0.0, title=Non
     return "\n".join(L)
 
 
-def _summary(by_kind):
+def _summary(by_kind, parts=()):
     L = ["## Summary", ""]
     for p in by_kind.get("numbers", []):
         if not p.available:
@@ -256,8 +257,89 @@ def _summary(by_kind):
                  f"{fmt(p.result.get('omega_c'), 10)}): {len(rows)} checks, "
                  f"{sum(r['status'] == 'agrees' for r in rows)} agree; differ: "
                  + (", ".join(bad) if bad else "none") + ".")
+    for p in parts:                        # each scene's result in a line
+        line = _result_line(p) if p.available else "not available"
+        if line:
+            L.append(f"- {_text(p.output.spec.get('title') or p.output.id)} "
+                     f"({_code(p.scene.name)}): {line}.")
     L.append("")
     return L
+
+
+def _result_line(p):
+    """What a scene part found, in one line (None for the numbers and the audit, which
+    have their own lines)."""
+    r, k = p.result, p.output.kind
+    if k == "hopf":
+        pts = r.get("points", [])
+        if not pts:
+            return "no Hopf point" + (" (not certified everywhere)" if r.get("uncertified")
+                                      else "")
+        return "; ".join(f"Hopf point at v_c = {_num(q['omega_c'], '.10g')}, l1 = "
+                         f"{_num(q['l1'], '.4g')} ({q['kind']})" for q in pts)
+    if k == "curve":
+        kinds = sorted({s["kind"] for s in r["special"]})
+        return (f"{r['curve'].upper()} curve of {r['points']} points; codimension-two points: "
+                + (", ".join(kinds) if kinds else "none"))
+    if k == "codim2_evidence":
+        ok = r["coexist"] if r["kind"] == "CH" else r["agrees"]
+        return f"{r['kind']} normal form {'confirmed' if ok else 'NOT confirmed'} by simulation"
+    if k == "circle_check":
+        return (f"circle half-widths against the normal form, error slope "
+                f"{r['error_slope']:.2f} (1 expected)")
+    if k == "mpcheck":
+        ag = r["agreement_digits"]
+        return ("digits of agreement of two independent chains: "
+                + ", ".join(f"{q} {ag[q]['A-B']}" for q in ag))
+    if k == "section":
+        att = r.get("attractor")
+        return f"attractor: {att['kind']}" if att else f"{r['stored']} impacts ({r['stop']})"
+    if k == "bifurcation":
+        return f"{r['steps']} frequencies; run stops: {_counts(r['stops'])}"
+    if k == "multipliers":
+        return (f"{len(r['crossings'])} crossing(s) of the unit circle on "
+                f"[{r['omega'][0]}, {r['omega'][1]}]")
+    return None
+
+
+def _counts(d):
+    """{"completed": 240} as "completed 240": never a Python dict in prose."""
+    return ", ".join(f"{k} {v}" for k, v in d.items()) if isinstance(d, dict) else str(d)
+
+
+def _point(d):
+    """{"omega": 0.785, "r": 0.276} as "omega = 0.7852013525, r = 0.2761921527"."""
+    if not isinstance(d, dict):
+        return str(d)
+    return ", ".join(f"{k} = {v:.10g}" if isinstance(v, float) else f"{k} = {v}"
+                     for k, v in d.items())
+
+
+#: how the coefficients of curves and codimension-two points are normalised (said once)
+_CURVE_CONVENTIONS = ("Curves: solid where supercritical (l1 < 0) or the fold is simple, "
+                      "dashed where subcritical, dotted on neutral-saddle stretches, grey "
+                      "where the orbit is not admissible; ticks point to the side where the "
+                      "orbit is stable. Every coefficient of a curve point and of a "
+                      "codimension-two point is computed with ||q||_2 = 1, <p,q> = 1.")
+
+
+def _conventions(by_kind):
+    """Every normalisation the report's numbers use, said once (the parts refer here)."""
+    L = ["## Conventions", ""]
+    for p in by_kind.get("hopf", []):
+        pts = p.result.get("points", []) if p.available else []
+        if pts and pts[0].get("normalisation"):
+            L += [f"- {k}: {v}" for k, v in pts[0]["normalisation"].items()]
+            break
+    if by_kind.get("curve"):
+        L.append(f"- {_CURVE_CONVENTIONS}")
+    kinds = {}                            # one line per normalisation, with its kinds
+    for p in by_kind.get("codim2_evidence", []):
+        nm = p.result.get("normalisation") if p.available else None
+        if nm and p.result["kind"] not in kinds.setdefault(nm, []):
+            kinds[nm].append(p.result["kind"])
+    L += [f"- {', '.join(ks)} evidence: {nm}" for nm, ks in kinds.items()]
+    return L + [""] if len(L) > 2 else []
 
 
 def _unavailable(p):
@@ -363,7 +445,7 @@ def _part(p):
         L += [desc + ".", ""]
     elif k == "bifurcation":
         L += [f"{r['steps']} frequencies, {r['impacts']} points each after {r['transient']}; run "
-              f"stops: {r['stops']}.", ""]
+              f"stops: {_counts(r['stops'])}.", ""]
         if r.get("special") is not None:
             L += ["Continued branches (stable solid, unstable dashed, inadmissible dotted) and "
                   "their special points, located by `symvi continue`:", "",
@@ -396,9 +478,7 @@ def _curve_table(r):
     L += [f"Note: {n}" for n in r.get("notes", [])]
     if not r["special"]:
         return L + ["No codimension-two point on the curve.", ""]
-    L += ["NS curves: solid where supercritical (l1 < 0), dashed where subcritical, dotted on "
-          "neutral-saddle stretches, grey where the orbit is not admissible; ticks point to the "
-          "side where the orbit is stable. Coefficients with ||q||_2 = 1, <p,q> = 1.", "",
+    L += ["Line styles and normalisations: see [Conventions](#conventions).", "",
           f"| kind | {a} | {b} | coefficients | admissible | what |", "|---|---|---|---|---|---|"]
     keep = ("l2", "l1", "c1", "c2", "re", "im", "a", "b", "s", "C", "D", "c", "coef", "theta")
     for s in r["special"]:
@@ -412,18 +492,20 @@ def _evidence_text(r):
     where = ", ".join(f"{k} = {v:.9g}" for k, v in r["params"].items())
     if r["kind"] == "CH":
         w = r["wedge"]
-        L = [f"Next to the Chenciner point {r['ch_point']} (l2 = {r['l2_at_ch']:.4g}), at {where}: "
+        L = [f"Next to the Chenciner point ({_point(r['ch_point'])}; l2 = "
+             f"{r['l2_at_ch']:.4g}), at {where}: "
              f"l1 = {r['l1']:.4g}, l2 = {r['l2']:.4g}, d mu = |λ| − 1 = {r['dmu']:.4g} (the "
              f"bistable wedge is {w['condition']}: d mu > {w['dmu_min']:.4g}); predicted "
              f"circles ρ₋ = {w['rho_inner']:.4g} (repelling), ρ₊ = {w['rho_outer']:.4g} "
-             f"(attracting), {r['normalisation']}.", "",
+             f"(attracting; normalisation: see [Conventions](#conventions)).", "",
              f"**{'Coexistence observed' if r['coexist'] else 'Coexistence not shown'}.** "
              + r["verdict"] + ".", ""]
         return L
-    return [f"Next to the {r['kind']} point {r['r_point']}, at {where} (d mu = {r['dmu']:.3g}): "
+    return [f"Next to the {r['kind']} point ({_point(r['r_point'])}), at {where} (d mu = "
+            f"{r['dmu']:.3g}): "
             f"**{'the normal form is confirmed' if r['agrees'] else 'the normal form is NOT confirmed'}**"
             f" — {r['verdict']}. Checked: {r['checked']}; not checked: {r['not_checked']} "
-            f"({r['normalisation']}).", ""]
+            "(normalisation: see [Conventions](#conventions)).", ""]
 
 
 def _short(v):
@@ -461,8 +543,7 @@ def _hopf_table(r):
                  f"{q['theta_over_2pi']:.6f} | {_num(q['dmod_domega'], '.8g')} | "
                  f"{_num(q['dmod_domega_branch'], '.8g')} | {_num(q['l1'], '.6g')} | {_na(q['f1_paper'])} | "
                  f"{_na(q['f1_wan'])} | {q['kind']} | {q['h1']} | {q['h2']} | {q.get('h3')} |")
-    nm = pts[0].get("normalisation", {})
-    L += ["", "Normalisation: " + "; ".join(f"{k}: {v}" for k, v in nm.items()), ""]
+    L += ["", "Normalisations: see [Conventions](#conventions).", ""]
     for q in pts:       # what a number in the table does not mean as stated
         for key in ("dmod_domega_branch_caveat", "circle_caveat"):
             if q.get(key):

@@ -343,9 +343,16 @@ def _check_digits(digits):
 
 def check_points(params, points, *, digits=50):
     """Chains A and B at each float64 HopfPoint of ``points`` (a scan's, in its order:
-    ``symvi hopf --digits``); ``digits`` from 30 to 500."""
+    ``symvi hopf --digits``); ``digits`` from 30 to 500.  Seconds a point: a progress bar
+    on stderr (:mod:`symvi.progress`) says so while it runs."""
+    from ..progress import Progress
     _check_digits(digits)
-    return [check_point(params, pt, digits=digits) for pt in points]
+    out = []
+    with Progress(len(points), f"mpmath checks at {digits} digits") as bar:
+        for pt in points:
+            out.append(check_point(params, pt, digits=digits))
+            bar.update()
+    return out
 
 
 def check_point(params, pt, *, digits=50):

@@ -120,3 +120,19 @@ def test_version_and_defaults_in_help():
             if action.help:
                 assert fmt._expand_help(action).lower().count("default") <= 1, \
                     (name, action.dest)
+
+
+def test_json_on_the_report_and_regenerate_commands(tmp_path):
+    """--json on run and regenerate (issue 26: --json on every command): one JSON object
+    naming what was written, or for --check whether generated/ is fresh."""
+    import json
+    rc, out, err = cli("regenerate", "--check", "--json")
+    d = json.loads(out)
+    assert rc == (0 if d["fresh"] else 1) and d["folders"] and isinstance(d["stale"], list)
+    from pathlib import Path
+    scene = sorted((Path(__file__).resolve().parents[2] / "symvi" / "scenes").glob("*.toml"))[0]
+    rc, out, err = cli("run", str(scene), "--out", str(tmp_path / "r"), "--quick", "--json")
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["report"].endswith("report.md") and Path(d["report"]).exists()
+    assert d["parts"] >= 1 and all(Path(f).exists() for f in d["figures"])

@@ -165,7 +165,8 @@ def test_conservative_model_is_said_and_seeks_no_ns():
             assert min(abs(z ** m - 1) for z in s.orbit.multipliers) < 1e-9
     # a -1 reached by two multipliers colliding is not called a plain flip
     for s in _kinds(br, "flip"):
-        assert s.coefficients["gap"] > 1e-4 or "degenerate" in s.detail
+        assert s.coefficients["separation"] > 1e-4 or "degenerate" in s.detail
+        assert s.as_dict()["coefficients"]["gap"] == s.coefficients["separation"]
     for pt in br.points[:20]:
         assert abs(np.prod(np.array(pt.multipliers)).real - 1) < 1e-9
 

@@ -40,6 +40,14 @@ def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
     assert all(float(ab) >= 25 and float(fa) >= 11 for _, ab, fa in rows), rows
     assert "not available" not in text
     assert "quick mode" in text
+    # issue 26, item 5: each normalisation said once, in Conventions; every scene's result
+    # in the summary; no Python dict in prose
+    head, _, rest = text.partition("## Conventions")
+    conv, _, body = rest.partition("\n## ")
+    assert "||q||_2 = 1" in conv and "||q||_2 = 1" not in body
+    summary = head.partition("## Summary")[2]
+    assert "Hopf point at v_c" in summary and "attractor:" in summary
+    assert "{'" not in text and "{\"" not in text
     pngs = sorted(f for f in os.listdir(out) if f.endswith(".png"))
     assert len(pngs) >= 14
     for f in pngs:
