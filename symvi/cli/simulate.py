@@ -39,14 +39,6 @@ def run(args):
     if not 0 <= args.transient <= MAX_TRANSIENT:
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     params = params_from(args)
-    if args.classify:
-        from ..model import Model
-        try:                                     # the classifier takes rigid stops only
-            Model.of(params).require_rigid_stops()
-        except ParameterError as exc:
-            raise ParameterError("--classify", "on", "a model with rigid stops only",
-                                 f"{exc.name} is elastic: its records are contact entries, "
-                                 "not impacts (issue 25)") from None
     labels, projections, names = section_view(params)
     if args.y0 is not None and len(args.y0) != len(names):
         raise ParameterError("--y0", args.y0, f"{len(names)} numbers: {' '.join(names)}")

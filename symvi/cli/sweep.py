@@ -49,7 +49,7 @@ def run(args):
     from ..errors import ParameterError
     from ..plane.engine import run_sweep
     from ..simulations.classifier import MIN_KEPT, min_kept
-    from ..simulations.simulation import MAX_TRANSIENT, omega_grid
+    from ..simulations.simulation import MAX_TRANSIENT, omega_grid, symbol_count
     data, figs = check_paths(args)
     if not 2 <= args.steps <= MAX_STEPS:
         raise ParameterError("--steps", args.steps, f"an integer in 2 .. {MAX_STEPS}")
@@ -64,10 +64,12 @@ def run(args):
         raise ParameterError("--transient", args.transient, f"an integer in 0 .. {MAX_TRANSIENT}")
     if args.classify:
         from ..model import Model
-        least = min_kept(len(Model.of(params).constraints))
+        model = Model.of(params)
+        least = min_kept(symbol_count(model))
         if args.impacts < least:
+            per = " per stop" + (", entries and exits counted apart" if model.elastic else "")
             raise ParameterError("--impacts", args.impacts, f"an integer >= {least} with "
-                                 "--classify" + (f" ({MIN_KEPT} per stop)" if least > MIN_KEPT
+                                 "--classify" + (f" ({MIN_KEPT}{per})" if least > MIN_KEPT
                                                  else ""))
     if not 0 <= args.component < len(names):
         raise ParameterError("--component", args.component,

@@ -48,9 +48,16 @@ def compute_block(spec_text, r0, r1):
     name -> array (r1 - r0, nx).  What a Dask task runs; also the serial reference."""
     from ..simulations.classifier import classify_runs
     spec = _spec(spec_text)
-    C, Y0, own = block_inputs(spec, r0, r1)
-    res = classify_runs(C, Y0, spec.impacts, spec.transient, follow=spec.follow,
-                        row_len=spec.x.n)
+    if spec.model.elastic:              # contact phases: the Python walk, point by point
+        from ..simulations.simulation import classify_contacts
+        pts = [spec.point(i, j) for i in range(r0, r1) for j in range(spec.x.n)]
+        res = classify_contacts(pts, spec.impacts, spec.transient, follow=spec.follow,
+                                row_len=spec.x.n)
+        own = np.zeros(len(pts), dtype=bool)   # no period-1 orbit to start from
+    else:
+        C, Y0, own = block_inputs(spec, r0, r1)
+        res = classify_runs(C, Y0, spec.impacts, spec.transient, follow=spec.follow,
+                            row_len=spec.x.n)
     shape = (r1 - r0, spec.x.n)
     own = own & ~res.followed          # a followed point did not start from its own orbit
     return {"attractor": res.labels().astype("<U16").reshape(shape),
@@ -343,10 +350,22 @@ def _counts(store):
     return {str(v): int(c) for v, c in zip(vals, cnt)}
 
 
-def _sweep_block(params, omegas, starts, n_impacts, transient):
+def _sweep_block(params, omegas, starts, n_impacts, transient, classify=False):
     # one Dask task of a sweep: the compiled batch of symvi.simulations.simulation.sweep
+    # (an elastic model's walks, classified in the task: a walk is too slow to run twice)
     from ..simulations.simulation import sweep
-    return sweep(params, omegas, n_impacts=n_impacts, transient=transient, starts=starts)
+    return sweep(params, omegas, n_impacts=n_impacts, transient=transient, starts=starts,
+                 classify=classify)
+
+
+def _joined(parts):
+    """One Classified of the tasks' ones, in order."""
+    from ..simulations.classifier import Classified
+    tuples = ("signature", "kinds")
+    return Classified(**{f.name: tuple(x for p in parts for x in getattr(p, f.name))
+                         if f.name in tuples else
+                         np.concatenate([getattr(p, f.name) for p in parts])
+                         for f in dataclasses.fields(Classified)})
 
 
 def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=None,
@@ -356,6 +375,7 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     bit, as one call of ``sweep``.  ``classify``: also label each omega's attractor
     (:func:`symvi.simulations.simulation.classify_sweep`, in this process), in
     ``Sweep.classes``."""
+    from ..model import Model
     from ..simulations.simulation import (MAX_STORED, Sweep, _check_classifiable,
                                           _positive_int, classify_sweep, sweep_starts)
     check_workers(scheduler, workers)
@@ -369,8 +389,9 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     starts = sweep_starts(params, omegas)
     chunk = chunk or max(1, math.ceil(m / 32))
     parts = {}
+    elastic = Model.of(params).elastic
     tasks = [(str(lo), lo, (params, omegas[lo:lo + chunk], starts[lo:lo + chunk], n_impacts,
-                            transient)) for lo in range(0, m, chunk)]
+                            transient, classify and elastic)) for lo in range(0, m, chunk)]
 
     def done(lo, res):
         parts[lo] = res
@@ -382,4 +403,6 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
                 np.concatenate([g.counts for g in got]),
                 tuple(s for g in got for s in g.stops), np.concatenate([g.starts for g in got]),
                 transient, sum(g.impacts_total for g in got))
+    if classify and elastic:
+        return dataclasses.replace(res, classes=_joined([g.classes for g in got]))
     return dataclasses.replace(res, classes=classify_sweep(res)) if classify else res

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError, SymviError
 from ..simulations.classifier import MIN_KEPT, min_kept
+from ..simulations.simulation import symbol_count
 
 #: points per Dask task aimed at: enough work to hide the scheduling cost (~1 ms a task)
 POINTS_PER_TASK = 1024
@@ -142,15 +143,17 @@ def _check_spec(spec):
                                  + ", ".join(names))
     if spec.x.name == spec.y.name:
         raise ParameterError("--y", spec.y.name, f"a parameter other than --x ({spec.x.name})")
-    spec.model.require_rigid_stops()     # the classifier's runs: rigid stops, any number
     if spec.x.n * spec.y.n > MAX_POINTS:
         raise ParameterError("--x", spec.x.text(), f"at most {MAX_POINTS} points in all")
-    # the classifier's own floor on kept impacts, checked here before any store exists
-    for flag, value, lo in (("--impacts", spec.impacts, min_kept(len(spec.model.constraints))),
+    # the classifier's own floor on kept impacts (4 per stop, per elastic stop's entries
+    # and exits), checked here before any store exists
+    for flag, value, lo in (("--impacts", spec.impacts, min_kept(symbol_count(spec.model))),
                             ("--transient", spec.transient, 0)):
         if not (isinstance(value, (int, np.integer)) and lo <= value <= 10 ** 7):
             raise ParameterError(flag, value, f"an integer in {lo} .. 10000000"
-                                 + (f" ({MIN_KEPT} per stop)" if lo > MIN_KEPT else ""))
+                                 + (f" ({MIN_KEPT} per stop" + (", entries and exits counted "
+                                    "apart" if spec.model.elastic else "") + ")"
+                                    if lo > MIN_KEPT else ""))
     if spec.chunk_rows is not None and not (isinstance(spec.chunk_rows, (int, np.integer))
                                             and 1 <= spec.chunk_rows <= spec.y.n):
         raise ParameterError("--chunk-rows", spec.chunk_rows, f"an integer in 1 .. {spec.y.n}")
@@ -183,17 +186,29 @@ def _check_ranges(spec):
                                         for v in par[0][1].values]
     seen = set()
     for m in rows:
-        flow = LinearFlow.of(m)
-        key = tuple(np.round(np.asarray(flow.lam, dtype=complex), 14))
+        # with elastic stops every contact phase too (LinearFlow.contact: K_S, C_S)
+        flows = ([LinearFlow.contact(m)] + [LinearFlow.contact(m, S) for S in _contact_sets(m)]
+                 if m.elastic else [LinearFlow.of(m)])
+        key = tuple(tuple(np.round(np.asarray(f.lam, dtype=complex), 14)) for f in flows)
         if key in seen:
             continue
         seen.add(key)
         for w in omegas:
-            try:
-                flow.check_omega(w, name=flag, warn=False)
-            except SymviError as exc:
-                raise ParameterError(flag, float(w), "forcing frequencies of the grid away "
-                                     "from the model's natural frequencies", str(exc)) from None
+            for f in flows:
+                try:
+                    f.check_omega(w, name=flag, warn=False)
+                except SymviError as exc:
+                    raise ParameterError(flag, float(w), "forcing frequencies of the grid "
+                                         "away from the model's natural frequencies"
+                                         + (" (and its contact phases')" if m.elastic
+                                            else ""), str(exc)) from None
+
+
+def _contact_sets(model):
+    """Every non-empty set of the model's elastic stops (a contact phase of the walk)."""
+    from itertools import combinations
+    el = [i for i, c in enumerate(model.constraints) if c.kind == "elastic"]
+    return [S for r in range(1, len(el) + 1) for S in combinations(el, r)]
 
 
 def block_inputs(spec, r0, r1):

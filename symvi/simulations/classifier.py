@@ -540,17 +540,24 @@ class Classified:
     #: with several stops, per point the stops (0-based) of a periodic attractor's impacts
     #: in order (:func:`signature`), () when not periodic; None with one stop
     signature: tuple = None
+    #: with an elastic stop, per point the kind of each event of :attr:`signature`
+    #: ("impact", "entry", "exit"); None otherwise
+    kinds: tuple = None
 
     def labels(self):
         """Names of the attractors: "period-3", "circle", ..."""
         return np.array([label(c, k) for c, k in zip(self.code, self.period)], dtype=str)
 
     def signature_names(self):
-        """Per point ["stop1", "stop2", ...] of a periodic attractor, None otherwise (and
-        for every point with one stop)."""
+        """Per point ["stop1", "stop2", ...] of a periodic attractor (an elastic stop's
+        events "stop1:entry", "stop1:exit", as :meth:`symvi.model.Signature.names`), None
+        otherwise (and for every point with one stop)."""
         if self.signature is None:
             return [None] * len(self.code)
-        return [[f"stop{g + 1}" for g in sig] if sig else None for sig in self.signature]
+        kinds = self.kinds or [()] * len(self.code)
+        return [[f"stop{g + 1}" + ("" if kd == "impact" else f":{kd}")
+                 for g, kd in zip(sig, kind or ("impact",) * len(sig))] if sig else None
+                for sig, kind in zip(self.signature, kinds)]
 
 
 def signature(hits):

@@ -81,12 +81,33 @@ def _spectrum(logs, te):
 
 
 def classifiable(params):
-    """Whether :func:`classify` takes the model of ``params``: rigid stops, any number
-    (with several, the period is that of the stops hit and the points together, the rest
-    is judged on one stop's section); an elastic stop is not (its records are contact
-    entries; :meth:`symvi.model.Model.require_rigid_stops` says so in one line)."""
+    """Whether :func:`classify` takes the model of ``params``: any stops, rigid or elastic
+    (with several, or an elastic one, the period is that of the events' symbols and the
+    points together, the rest is judged on one symbol's section: :func:`event_symbols`)."""
     from ..model import Model
-    return not Model.of(params).elastic
+    Model.of(params)
+    return True
+
+
+def event_symbols(model):
+    """The symbols the classifier tells events apart by: (constraint, kind) in the model's
+    order, "impact" for a rigid stop, "entry" then "exit" for an elastic one (each a section
+    of its own: an entry and an exit lie on the same s = g, moving in and out)."""
+    out = []
+    for k, con in enumerate(model.constraints):
+        out += [(k, "entry"), (k, "exit")] if con.kind == "elastic" else [(k, "impact")]
+    return tuple(out)
+
+
+def _symbols_of(events):
+    """The symbol (index into :func:`event_symbols`) of each event of an EventRun: an
+    elastic event is an entry when its constraint is in contact after it."""
+    from ..model import Model
+    table = {s: i for i, s in enumerate(event_symbols(Model.of(events.params)))}
+    cons = Model.of(events.params).constraints
+    return np.array([table[(int(k), "impact" if cons[k].kind != "elastic" else
+                            "entry" if k in act else "exit")]
+                     for k, act in zip(events.hits, events.active)], dtype=np.int64)
 
 
 def _logs(sim, n=None):
@@ -95,7 +116,9 @@ def _logs(sim, n=None):
     stops each DP maps the section of the stop a point lies on to the next one's
     (``sim.hits``): the product over the run is chart-free, so are the exponents."""
     from ..model import Model
-    model = Model.of(sim.params).require_rigid_stops()
+    model = Model.of(sim.params)
+    if model.elastic:                   # per event, from the shooting system
+        return _event_logs(sim.events, n)
     sec, t = np.asarray(sim.section), np.asarray(sim.t)
     if len(sec) < 3:
         raise ValueError("need at least 3 section points")
@@ -151,14 +174,100 @@ def _qr_logs(lam, W, Winv, A, NIL, U, V, w, tab, idx, sec, te, hits):
         if not ok:                       # an impact at zero velocity: DP is undefined
             logs[k, :] = np.nan
             continue
-        Q, R = np.linalg.qr(J @ Q)
-        Q = np.ascontiguousarray(Q)
-        for i in range(d):
-            dg = R[i, i]
-            logs[k, i] = math.log(abs(dg))
-            if dg < 0.0:                 # keep Q's columns continuous
-                Q[:, i] = -Q[:, i]
+        Q = _qr_update(J, Q, logs, k)
     return logs
+
+
+@nb.njit(cache=True)
+def _qr_update(J, Q, logs, k):
+    """One step of the QR method: J Q = Q' R, log |R[i, i]| into logs[k]; returns Q'."""
+    d = Q.shape[0]
+    Q, R = np.linalg.qr(J @ Q)
+    Q = np.ascontiguousarray(Q)
+    for i in range(d):
+        dg = R[i, i]
+        logs[k, i] = math.log(abs(dg))
+        if dg < 0.0:                     # keep Q's columns continuous
+            Q[:, i] = -Q[:, i]
+    return Q
+
+
+@nb.njit(cache=True)
+def _qr_mats(mats):
+    """The QR method over given map Jacobians mats[k] (m, d, d); a non-finite one (an
+    event at zero speed: no map there) gives NaN logs and is skipped."""
+    m, d = mats.shape[0], mats.shape[1]
+    logs = np.empty((m, d))
+    Q = np.eye(d)
+    for k in range(m):
+        if not np.all(np.isfinite(mats[k])):
+            logs[k, :] = np.nan
+            continue
+        Q = _qr_update(np.ascontiguousarray(mats[k]), Q, logs, k)
+    return logs
+
+
+def event_jacobians(events, n=None):
+    """(DP_i, flight times) of the map from each event's section to the next over the last
+    ``n`` events (default all) of ``events`` (:class:`symvi.orbits._phases.EventRun`, every
+    impact, entry and exit), eq. (30) with each flight in its contact phase's exact flow.
+
+    The shooting system gives them: the run is cut into chunks at the events of its most
+    frequent (constraint, phase before) pair, so that a chunk's events form a
+    :class:`symvi.model.Signature` (each elastic stop met an even number of times, ``contact``
+    the phase after its first event) whose last flight ends on its first event's constraint
+    in the right phase; :meth:`symvi.orbits.periodic.Problem.monodromy` of each chunk gives
+    its DP_i, each from its own flight alone (the chunk's wrap-around residual is not
+    closed, and need not be).  Events before the first cut and from the last one on are
+    not used."""
+    from ..errors import SymviError
+    from ..model import Signature
+    from ..orbits.periodic import Problem
+    sec, t = np.asarray(events.section, dtype=float), np.asarray(events.t, dtype=float)
+    hits, act = np.asarray(events.hits), events.active
+    m, d = len(sec), sec.shape[1] if sec.ndim == 2 else 0
+    if m < 3:
+        raise ValueError("need at least 3 events")
+    k0 = 1 if n is None else max(1, m - 1 - int(n))
+    keys = [(int(hits[i]), act[i - 1]) for i in range(k0, m)]
+    counts = {}
+    for key in keys:
+        counts[key] = counts.get(key, 0) + 1
+    best = max(counts, key=lambda key: (counts[key], -keys.index(key)))
+    cuts = [k0 + j for j, key in enumerate(keys) if key == best]
+    mats, te, problems = [], [], {}
+    w = float(events.omega)
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        sig = Signature(tuple(int(h) for h in hits[a:b]), contact=act[a])
+        pr = problems.get(sig)
+        if pr is None:
+            pr = problems[sig] = Problem(events.params, n=1, p=b - a, omega=w, signature=sig)
+        Y = sec[a:b].copy()
+        T = t[a + 1:b + 1] - t[a:b]
+        for i in range(1, b - a):          # tau unwrapped along the chunk
+            near = Y[0, -1] + w * (t[a + i] - t[a])
+            Y[i, -1] += TWO_PI * round((near - Y[i, -1]) / TWO_PI)
+        u = np.concatenate([Y.ravel(), T])
+        try:
+            Gu = pr.evaluate(u, None)[1]
+            mats += pr.monodromy(u, Gu)[0]
+        except SymviError:                 # an event at zero speed: no map there
+            mats += [np.full((d, d), np.nan)] * (b - a)
+        te += list(T)
+    return np.array(mats).reshape(-1, d, d), np.array(te)
+
+
+def _event_logs(events, n=None):
+    """:func:`_logs` of an elastic run: the QR method over :func:`event_jacobians`."""
+    mats, te = event_jacobians(events, n)
+    if len(mats) == 0:
+        raise ValueError("no two events of the run repeat a constraint and phase: no map")
+    logs = _qr_mats(np.ascontiguousarray(mats))
+    if not np.isfinite(logs).all():
+        from ..errors import SingularCaseError
+        raise SingularCaseError("grazing", "an event of the run has zero speed (grazing): "
+                                "DP, eq. (30), is undefined there")
+    return logs, te
 
 
 def _unwrapped(section, center):
@@ -257,11 +366,19 @@ class Classification:
     #: with several stops, the stops (0-based) of a period-k point's impacts in order
     #: (:func:`symvi.simulations.classifier.signature`); None otherwise
     signature: tuple = None
+    #: with an elastic stop, the kind of each event of :attr:`signature` ("impact",
+    #: "entry", "exit"); None otherwise
+    kinds: tuple = None
 
     @property
     def signature_names(self):
-        """["stop1", "stop2", ...] of :attr:`signature`, or None."""
-        return None if self.signature is None else [f"stop{g + 1}" for g in self.signature]
+        """["stop1", "stop2:entry", "stop2:exit", ...] of :attr:`signature` (as
+        :meth:`symvi.model.Signature.names` spells an orbit's events), or None."""
+        if self.signature is None:
+            return None
+        kinds = self.kinds or ("impact",) * len(self.signature)
+        return [f"stop{g + 1}" + ("" if kind == "impact" else f":{kind}")
+                for g, kind in zip(self.signature, kinds)]
 
     @property
     def label(self):
@@ -283,37 +400,64 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     A stopped run, or a completed one of fewer than MIN_CLASSIFY impacts, is not
     classified (its kind says so).  With several rigid stops the run's ``hits`` join the
     points (the period of the pairs (stop, point), the signature of a periodic attractor),
-    the rest is judged on the stop hit most often; an elastic stop is refused.
+    the rest is judged on the stop hit most often.  With an elastic stop the classifier
+    judges every event of the run (``sim.events``: impacts, entries and exits), its symbol
+    (:func:`event_symbols`: the constraint and the kind) as the hit: a periodic attractor
+    has q events in k forcing periods (a k-q orbit of
+    :class:`symvi.orbits.periodic.Problem`, the signature's names those of
+    :meth:`symvi.model.Signature.names`), the rest is judged on the entries into the stop
+    met most often.
     """
-    from ..errors import SingularCaseError
     from ..model import Model
     from . import classifier as cl
-    several = len(Model.of(sim.params).require_rigid_stops().constraints) > 1
+    Model.of(sim.params)
     if sim.stop != "completed":
         code = cl.code_of_stop(cf.STOP_NAMES.index(sim.stop))
         return Classification(f"stopped: {sim.stop}", None, None, None, None, code)
     if len(sim.section) < MIN_CLASSIFY:
         return Classification(f"too few impacts to classify ({len(sim.section)}; need >= "
                               f"{MIN_CLASSIFY})", None, None, None, None)
+    return _judged(sim, max_period, tol, lyap_points, chaos_threshold)[0]
+
+
+def _judged(sim, max_period, tol, lyap_points, chaos_threshold):
+    """(:class:`Classification`, the per-step logs of the largest exponent, the rotation)
+    of a completed run: the records of a rigid-only model, the events of an elastic one."""
+    from ..errors import SingularCaseError
+    from ..model import Model
+    from . import classifier as cl
+    model = Model.of(sim.params)
+    elastic = model.elastic
+    several = len(model.constraints) > 1 or elastic
+    if elastic:                     # every event, its symbol (stop, kind) the hit
+        ev = sim.events
+        sec, t, hits = ev.section, ev.t, _symbols_of(ev)
+    else:
+        sec, t, hits = sim.section, sim.t, np.asarray(sim.hits) if several else None
     try:
         logs, te = _logs(sim, lyap_points)
         err = None
     except SingularCaseError as exc:     # a grazing point on the section: DP undefined
         logs, err = np.empty((0, 1)), exc
-    hits = np.asarray(sim.hits) if several else None
-    code, k, q, rot = cl.classify_section(sim.section, sim.t, sim.omega, logs[:, 0],
+    except ValueError:                   # a short elastic run: no chunk of events repeats
+        logs, te, err = np.empty((0, model.dim)), np.empty(0), None
+    code, k, q, rot = cl.classify_section(sec, t, sim.omega, logs[:, 0],
                                           hits=hits, max_period=max_period, tol=tol,
                                           lyap_min=chaos_threshold)
     if code == cl.PERIOD:
-        lya = None if err is not None else _spectrum(logs, te)
-        sig = cl.signature(hits[len(hits) - q:]) if several else None
-        return Classification(cl.kind(code, k), k, lya, None, None, code, q, sig)
+        lya = None if err is not None or not len(logs) else _spectrum(logs, te)
+        sig, kinds = (cl.signature(hits[len(hits) - q:]) if several else None), None
+        if elastic:
+            table = event_symbols(model)
+            sig, kinds = tuple(table[s][0] for s in sig), tuple(table[s][1] for s in sig)
+        return Classification(cl.kind(code, k), k, lya, None, None, code, q, sig,
+                              kinds), logs, rot
     if err is not None:
         raise err
-    lya = _spectrum(logs, te)
+    lya = _spectrum(logs, te) if len(logs) else None
     branches = {cl.CIRCLE: 1, cl.DOUBLED: 2}.get(code)
     # the classifier's rotation, over the points it judged (the settled part): over a
     # whole record that still spirals in or out, rotation_number is biased (example 1
     # at 0.738, 5000 impacts from y*: 0.261 against 0.3963 on the circle)
     return Classification(cl.kind(code, k), None, lya, rot if code == cl.CIRCLE else None,
-                          branches, code)
+                          branches, code), logs, rot

@@ -59,6 +59,11 @@ class Simulation:
     #: for a contact still open when the run stopped.  None for a rigid-only model.
     exit_t: np.ndarray = None
     exit_velocity: np.ndarray = None
+    #: with an elastic stop: every event from the first stored record on (rigid impacts,
+    #: entries and exits, :class:`symvi.orbits._phases.EventRun`: each point on its
+    #: constraint's section in the shooting layout, the constraints in contact after it),
+    #: what the Lyapunov exponents and the classifier read.  None for a rigid-only model.
+    events: object = None
 
     @property
     def n(self):
@@ -260,15 +265,55 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
                              f"({', '.join(sec.names)}): no period-1 orbit to start from "
                              "with an elastic stop (issue 25)")
     y0, z0 = _check_walk_start(model, sec, y0, flow)
-    n, first = model.n, model.constraints[0]
+    active = (0,) if model.constraints[0].kind == "elastic" else ()
+    return _walk_records(model, omega, z0, y0[-1], active, 0, n_impacts, transient, y0)
+
+
+def contact_run(model, omega, n_impacts, transient, start=None):
+    """:func:`_simulate_contacts` of a checked (model, omega) from ``start`` = (state z0 in
+    mass order, phase tau, the elastic constraints in contact, the constraint whose guard z0
+    lies on), by default :func:`symvi.orbits._phases.default_state` (the first stop's
+    section, leaving it, nothing in contact): the runs of a sweep or a plane."""
+    if start is None:
+        from ..orbits._phases import default_state
+        start = (default_state(model, omega), 0.0, (), 0)
+    z0, tau, active, k = start
+    return _walk_records(model, float(omega), np.asarray(z0, dtype=float), float(tau),
+                         tuple(active), int(k), int(n_impacts), int(transient))
+
+
+def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0=None):
+    """The records of :func:`_simulate_contacts` from state z0 (mass order) at phase tau with
+    ``active`` in contact, on the guard of ``start``; ``Simulation.events`` every event from
+    the first record kept on (:class:`symvi.orbits._phases.EventRun`: the exits too, each
+    point on its constraint's section, and the constraints in contact after it)."""
+    from ..flow import contact as ct
+    from ..flow.linear import LinearFlow
+    from ..orbits._phases import EventRun
+    flow = LinearFlow.contact(model)
+    positions = [flow.position(c) for c in model.constraints]
+    frames = [cf.section_index(model.n, q) for q in positions]
+    if y0 is None:                    # the start as a section point of its constraint
+        zf = flow.to_flow(z0)
+        y0 = tuple(float(v) for v in zf[frames[start]]) + (tau % (2 * math.pi),)
+    n = model.n
     rows, t, vin, hits, t_out, v_out = [], [], [], [], [], []
+    ev_rows, ev_t, ev_hits, ev_act = [], [], [], []
     total = transient + n_impacts
     count, short, last, stop = 0, 0, 0.0, "completed"
     t_chat = cf.CHATTER_FLIGHT * 2 * math.pi / omega
     open_ = {}                        # elastic constraint in contact -> its record (-1: dropped)
-    active = (0,) if first.kind == "elastic" else ()
-    for ev in ct.walk(model, omega, z0, y0[-1], active=active, start=0):
+    for ev in ct.walk(model, omega, z0, tau, active=active, start=start):
         done = count >= total
+        if ev.kind in (ct.IMPACT, ct.ENTRY, ct.EXIT) and np.all(np.isfinite(ev.after)) and (
+                count > transient or (count == transient and ev.kind != ct.EXIT)):
+            g = ev.constraint             # every event from the first kept record on
+            zf = flow.to_flow(ev.after)
+            zf[positions[g]] = model.constraints[g].gap
+            ev_rows.append(tuple(zf[frames[g]]) + (ev.tau,))
+            ev_t.append(ev.t)
+            ev_hits.append(g)
+            ev_act.append(ev.active)
         if ev.kind == ct.EXIT:
             j = open_.pop(ev.constraint, -1)
             if j >= 0:
@@ -309,9 +354,13 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
             break
     hits = np.array(hits, dtype=np.int64)
     hits.flags.writeable = False
+    ev_hits = np.array(ev_hits, dtype=np.int64)
+    ev_hits.flags.writeable = False
+    events = EventRun(model, omega, _frozen(np.array(ev_rows).reshape(-1, model.dim)),
+                      _frozen(ev_t), ev_hits, tuple(ev_act), stop)
     return Simulation(model, omega, y0, _frozen(np.array(rows).reshape(-1, model.dim)),
                       _frozen(t), _frozen(vin), stop, transient, None, hits,
-                      _frozen(t_out), _frozen(v_out))
+                      _frozen(t_out), _frozen(v_out), events)
 
 
 def _check_walk_start(model, sec, y0, flow, name="y0"):
@@ -463,6 +512,8 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     lower one) starts each omega from :func:`default_start`.
     """
     model = Model.of(params)
+    if model.elastic:                 # the walk's default start, as a section point
+        return np.array([contact_start(model, w)[1] for w in omegas])
     if not model.one_rigid_stop:
         return np.array([default_start(model.require_rigid_stops(), w) for w in omegas])
     perturbation = _perturbation(params, perturbation)
@@ -487,13 +538,19 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``progress(done, total)`` is called after each chunk of omegas.  ``params``
     is a :class:`symvi.Params` or any :class:`symvi.model.Model`.  ``classify``: also
     label each omega's attractor (:func:`classify_sweep`; ``n_impacts`` >= 4), in
-    ``Sweep.classes``.
+    ``Sweep.classes``.  A model with an elastic stop walks each omega in Python
+    (:func:`_sweep_contacts`; ``starts`` are points of the first stop's section leaving it,
+    nothing in contact, by default :func:`contact_start`; ``n_impacts`` >= 4 per symbol of
+    :func:`symbol_count` to classify).
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
     n_impacts = _positive_int("n_impacts", n_impacts, maximum=max(1, MAX_STORED // len(omegas)))
     if classify:
         _check_classifiable(n_impacts, params=params)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    if Model.of(params).elastic:      # contact phases: the Python walk, omega by omega
+        return _sweep_contacts(params, omegas, n_impacts, transient, starts, progress,
+                               classify)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
     try:
@@ -523,12 +580,12 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
 
 def _check_classifiable(n_impacts, name="n_impacts", params=None):
     """Refuse a classification the classifier does not take: too few kept impacts
-    (:func:`~symvi.simulations.classifier.min_kept`: 4, or 4 per stop), or a model with an
-    elastic stop (its records are contact entries: issue 25)."""
+    (:func:`~symvi.simulations.classifier.min_kept`: 4, or 4 per symbol of
+    :func:`symbol_count`)."""
     from .classifier import MIN_KEPT, min_kept
     least = MIN_KEPT
     if params is not None:
-        least = min_kept(len(Model.of(params).require_rigid_stops().constraints))
+        least = min_kept(symbol_count(Model.of(params)))
     if n_impacts < least:
         raise ParameterError(name, n_impacts, f"an integer >= {least} to classify"
                              + (f" ({MIN_KEPT} per stop)" if least > MIN_KEPT else ""))
@@ -545,8 +602,150 @@ def classify_sweep(res):
     n_keep = res.section.shape[1]
     _check_classifiable(n_keep, params=res.params)
     model = Model.of(res.params)
+    if model.elastic:                 # the same walks again (classify_contacts)
+        return classify_contacts([(model, float(w)) for w in res.omegas], n_keep,
+                                 res.transient, starts=[_leaving(model, y) for y in res.starts])
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
     return classify_runs(C, res.starts, n_keep, res.transient)
+
+
+def symbol_count(model):
+    """How many kinds of record the classifier tells apart: one per rigid stop, two per
+    elastic one (its entries and exits, :func:`symvi.simulations.diagnostics.event_symbols`);
+    a classified run keeps at least :func:`~symvi.simulations.classifier.min_kept` of it."""
+    return sum(2 if con.kind == "elastic" else 1 for con in model.constraints)
+
+
+def contact_start(model, omega):
+    """(the walk's start of :func:`contact_run`, the same as a section point of the first
+    stop): :func:`symvi.orbits._phases.default_state`, leaving the first stop, nothing in
+    contact, phase 0."""
+    from ..flow.linear import LinearFlow
+    from ..orbits._phases import default_state
+    z = default_state(model, omega)
+    flow = LinearFlow.contact(model)
+    frame = cf.section_index(model.n, flow.position(model.constraints[0]))
+    return (z, 0.0, (), 0), tuple(float(v) for v in flow.to_flow(z)[frame]) + (0.0,)
+
+
+def _leaving(model, y, name="starts"):
+    """The walk's start from a section point y of the first stop leaving it (a sweep's
+    start, :func:`contact_start`), nothing in contact; checked as :func:`_check_model_start`."""
+    from ..flow.linear import LinearFlow
+    from ..maps import Section
+    y = _check_model_start(model, y, name)
+    zf, _ = Section.of(model).state(np.array(y), model.constraints[0].gap)
+    return LinearFlow.contact(model).to_mass(zf), y[-1], (), 0
+
+
+def _sweep_contacts(model, omegas, n_impacts, transient, starts, progress, classify):
+    """:func:`sweep` of a model with an elastic stop: one walk (:func:`contact_run`) per
+    omega from ``starts`` (default :func:`contact_start`), its records as the section;
+    ``classify`` judges those same runs (:func:`classify_contacts`)."""
+    model = Model.of(model)
+    m = len(omegas)
+    if starts is None:
+        starts = sweep_starts(model, omegas)
+    try:
+        rows = list(starts)
+    except TypeError:
+        raise ParameterError("starts", starts, f"{m} start points") from None
+    if len(rows) != m:
+        raise ParameterError("starts", starts, f"{m} start points, one per omega")
+    begin = [_leaving(model, y) for y in rows]
+    sims = []
+    for i, w in enumerate(omegas):
+        sims.append(contact_run(model, float(w), n_impacts, transient, begin[i]))
+        if progress is not None:
+            progress(i + 1, m)
+    sec = np.full((m, n_impacts, model.dim), np.nan)
+    counts = np.zeros(m, dtype=np.int64)
+    for i, sim in enumerate(sims):
+        counts[i] = sim.n
+        sec[i, :sim.n] = sim.section
+    res = Sweep(model, _frozen(omegas), _frozen(sec), counts, tuple(s.stop for s in sims),
+                _frozen(np.array([s.y0 for s in sims])), transient,
+                int(m * (n_impacts + transient)))
+    return (dataclasses.replace(res, classes=_classified([_judge_run(s) for s in sims]))
+            if classify else res)
+
+
+#: the codes after which a followed point starts from the previous one's end (a bounded
+#: attractor: period, circle, doubled torus, chaos)
+_BOUNDED = (0, 1, 2, 3)
+
+
+def classify_contacts(points, n_keep, transient, *, follow=False, row_len=None, starts=None):
+    """:func:`symvi.simulations.classifier.classify_runs` for models with an elastic stop:
+    per point (model, omega) one walk (:func:`contact_run`, ``n_keep`` records after
+    ``transient``) from ``starts`` (default :func:`contact_start`), judged by
+    :func:`symvi.simulations.diagnostics.classify`'s judge on every event of the run.
+    ``follow``: in each row of ``row_len`` points a point after the first starts from the
+    previous point's last event (its state, phase and contacts) when that run reached a
+    bounded attractor.  In Python: about 0.2-1 ms an event."""
+    points = list(points)
+    row_len = len(points) if row_len is None else int(row_len)
+    rows, followed, prev = [], [], None
+    for p, (model, omega) in enumerate(points):
+        start = None if starts is None else starts[p]
+        own = True
+        if follow and p % row_len and prev is not None and prev[1][0] in _BOUNDED:
+            start, own = _end_state(model, prev[0]), False
+        sim = contact_run(model, omega, n_keep, transient, start)
+        prev = (sim, _judge_run(sim))
+        rows.append(prev[1])
+        followed.append(not own)
+    return _classified(rows, followed)
+
+
+def _end_state(model, sim):
+    """The walk's start at the last event of ``sim`` (state, phase, contacts, constraint),
+    its section point put on ``model``'s constraint (the next point of a row)."""
+    from ..flow.linear import LinearFlow
+    ev = sim.events
+    k = int(ev.hits[-1])
+    flow = LinearFlow.contact(model)
+    zf = np.empty(2 * model.n)
+    zf[flow.position(model.constraints[k])] = model.constraints[k].gap
+    zf[cf.section_index(model.n, flow.position(model.constraints[k]))] = ev.section[-1][:-1]
+    return flow.to_mass(zf), float(ev.section[-1][-1]), tuple(ev.active[-1]), k
+
+
+def _judge_run(sim):
+    """One elastic run's row of :class:`~symvi.simulations.classifier.Classified`: (code,
+    period, events per orbit, lyapunov, rotation, records per period, max velocity, stop,
+    last event's point, its constraint, signature, kinds)."""
+    from . import classifier as cl
+    from .diagnostics import _judged
+    stop = STOP_NAMES.index(sim.stop)
+    ev = sim.events
+    dim = Model.of(sim.params).dim
+    y_end, k_end = (ev.section[-1], int(ev.hits[-1])) if len(ev.t) else (np.full(dim, np.nan), 0)
+    vmax = float(np.max(np.abs(sim.impact_velocity))) if sim.n else math.nan
+    if sim.stop != "completed":
+        return (cl.code_of_stop(stop), 0, 0, math.nan, math.nan, math.nan, vmax, stop, y_end,
+                k_end, (), ())
+    c, glog, rot = _judged(sim, cl.Q_MAX, cl.TOL_CLOSED, None, cl.LYAP_MIN)
+    per = math.nan
+    if sim.n > 1:
+        per = (sim.n - 1) / ((sim.t[-1] - sim.t[0]) * sim.omega / (2 * math.pi))
+    return (c.code, c.period or 0, c.impacts or 0,
+            float(glog[:, 0].mean()) if len(glog) else math.nan, rot, per, vmax, stop, y_end,
+            k_end, c.signature or (), c.kinds or ())
+
+
+def _classified(rows, followed=None):
+    """The :class:`~symvi.simulations.classifier.Classified` of rows of :func:`_judge_run`."""
+    from . import classifier as cl
+    m = len(rows)
+    col = list(zip(*rows)) if m else [()] * 12
+    followed = np.zeros(m, dtype=np.bool_) if followed is None else np.array(followed, bool)
+    return cl.Classified(np.array(col[0], dtype=np.int8), np.array(col[1], dtype=np.int32),
+                         np.array(col[2], dtype=np.int32), np.array(col[3], dtype=float),
+                         np.array(col[4], dtype=float), np.array(col[5], dtype=float),
+                         np.array(col[6], dtype=float), np.array(col[7], dtype=np.int8),
+                         np.array(col[8], dtype=float).reshape(m, -1), followed,
+                         np.array(col[9], dtype=np.int64), tuple(col[10]), tuple(col[11]))
 
 
 def quick_counts(spec, quick, default_impacts=2000, default_transient=5000):

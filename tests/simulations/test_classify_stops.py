@@ -192,24 +192,29 @@ def test_cli_simulate_and_sweep_classify(tmp_path):
     assert "4 per stop" in err and not (tmp_path / "x.npz").exists()
 
 
-def test_elastic_stop_is_refused_in_one_line(tmp_path):
-    """An elastic stop stays refused, named, in one line (exit 2): simulate --classify,
-    sweep --classify, the Python classify of its run."""
+def test_an_elastic_stop_is_classified_too(tmp_path):
+    """An elastic stop beside a rigid one (issue 25): simulate --classify names the events
+    of its orbit ("stop1:entry", "stop1:exit", "stop2"), the Python classify agrees, and a
+    too short run is still refused in one line (exit 2)."""
     f = tmp_path / "el.toml"
     f.write_text(SYM_FILE.read_text().replace("gap = 0.5\nrestitution = 0.9",
                                               "gap = 0.5\nstiffness = 50.0\ndamping = 0.5"))
     out = tmp_path / "el.npz"
     rc, text, err = cli("simulate", "--model", str(f), "--omega", "1.2", "--y0", "0.5", "0",
-                        "--impacts", "100", "--out", str(out), "--classify")
-    assert rc == 2 and text == "" and len(err.strip().splitlines()) == 1
-    assert "--classify" in err and "stop[1]" in err and "elastic" in err
-    assert not out.exists()
+                        "--impacts", "100", "--transient", "300", "--out", str(out),
+                        "--classify")
+    assert rc == 0, err
+    got = json.loads(text)
     m = load_model(f)
-    sim = simulate(m, 1.2, y0=(0.5, 0.0), n_impacts=60)
-    with pytest.raises(Exception, match=r"stop\[1\]") as exc:
-        dg.classify(sim)
-    assert "\n" not in str(exc.value)
-    assert not dg.classifiable(m) and dg.classifiable(SYM)
+    sim = simulate(m, 1.2, y0=(0.5, 0.0), n_impacts=100, transient=300)
+    cl = dg.classify(sim)
+    assert got["class"] == cl.kind and got.get("signature") == cl.signature_names
+    assert dg.classifiable(m) and dg.classifiable(SYM)
+    if cl.signature is not None:
+        assert any(":entry" in n for n in cl.signature_names)
+    rc, text, err = cli("simulate", "--model", str(f), "--omega", "1.2", "--y0", "0.5", "0",
+                        "--impacts", "10", "--out", str(out), "--classify")
+    assert rc == 2 and text == "" and len(err.strip().splitlines()) == 1
 
 
 def test_rotation_is_per_return_to_the_judged_stop():
