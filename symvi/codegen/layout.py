@@ -175,7 +175,8 @@ def jet_constraint(flow):
     if not (g[0] != 0 and all(x == 0 for x in g[1:])):
         raise ParameterError("constraint.normal", flow.constraint.normal,
                              "a normal along the section's first coordinate (a stop on one "
-                             "mass; other normals need a section frame, issue 25)")
+                             "mass; other normals: the several-constraint jets, "
+                             "flight_jet)")
     if not all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(1, n)):
         raise ParameterError("constraint.impulse", flow.constraint.impulse,
                              "a reset along the guard's normal (R = I - (1 + r) q c^T / c^T q)")

@@ -355,7 +355,7 @@ class LinearFlow:
             raise SingularCaseError(
                 "free-mass", "the model has a mass on no spring (a free mode): its flow is "
                 "e^{At} = Re(W e^{Lambda t} W^-1) + t NIL, which this analysis does not take "
-                "yet (issue 25); simulate it instead")
+                "(symvi orbit, continue, curve and simulate do)")
         return self.modal_nil64[:4]
 
     @functools.cached_property

@@ -411,8 +411,8 @@ class Model:
             if s.stiffness is not None:
                 name = "stop" if len(self._stops) == 1 else f"stop[{k}]"
                 raise ParameterError(name, s, _RIGID_STOPS, "an elastic stop is not supported "
-                                     "by this analysis yet (simulate, orbit, continue and "
-                                     "curve run it): issue 25")
+                                     "by this analysis (simulate, orbit, continue, curve, "
+                                     "hopf, sweep and plane run it)")
         return self
 
     @property
@@ -427,8 +427,7 @@ class Model:
 
     def require_one_rigid_stop(self):
         """``self``, or the one-line ParameterError saying what the analyses built on the
-        period-1 closed form cannot handle yet: they take one rigid upper stop on one mass
-        (issue 25).  Called where a model enters them (period-1 orbits and the certified
+        period-1 closed form cannot handle: they take one rigid upper stop on one mass.  Called where a model enters them (period-1 orbits and the certified
         Hopf scan, the Python map, the single-section jets, the mpmath simulation); the
         flow asks :meth:`require_rigid_stops`, and the n-p orbits, continuation, curves,
         Lyapunov exponents, the classifier and the planes take several rigid stops."""
@@ -436,14 +435,17 @@ class Model:
             return self
         stops = self._stops
         if len(stops) > 1:
-            raise ParameterError("stops", len(stops), _ONE_STOP, "several stops are not "
-                                 "supported by this analysis yet (orbit, continue, curve "
-                                 "and simulate take them): issue 25")
+            raise ParameterError("stops", len(stops), _ONE_STOP, "several stops have no "
+                                 "period-1 closed form, which this analysis rests on "
+                                 "(orbit, continue, curve, hopf, simulate, sweep and plane "
+                                 "take them)")
         s = stops[0]
         what = ("an elastic stop" if s.stiffness is not None else
                 "a stop between two masses" if s.between is not None else "a lower stop")
         raise ParameterError("stop", s, _ONE_STOP,
-                             f"{what} is not supported by the orbit analyses yet: issue 25")
+                             f"{what} has no period-1 closed form, which this analysis rests "
+                             "on (orbit, continue, curve, hopf, simulate, sweep and plane "
+                             "take it)")
 
     @property
     def n(self):

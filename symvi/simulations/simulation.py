@@ -215,13 +215,13 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     perturbation = _perturbation(params, perturbation)
     if not model.one_rigid_stop:
-        # several stops, or a lower one: no period-1 orbit to start from yet (issue 25)
+        # several stops, or a lower one: no period-1 closed form to start from
         if y0 is None:
             from ..maps import Section
             raise ParameterError("y0", None, f"a start on the first stop's section "
                                  f"({', '.join(Section.of(model).names)}): no period-1 "
-                                 "orbit to start from with several stops or a lower one "
-                                 "(issue 25)")
+                                 "orbit in closed form to start from with several stops or "
+                                 "a lower one (symvi orbit finds the attractor)")
         ys = None
     else:
         ys = fixed_point(params, omega)
@@ -262,8 +262,9 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
     sec = Section.of(model)
     if y0 is None:
         raise ParameterError("y0", None, f"a start on the first stop's section "
-                             f"({', '.join(sec.names)}): no period-1 orbit to start from "
-                             "with an elastic stop (issue 25)")
+                             f"({', '.join(sec.names)}): no period-1 orbit in closed form to "
+                             "start from with an elastic stop (symvi orbit finds the "
+                             "attractor)")
     y0, z0 = _check_walk_start(model, sec, y0, flow)
     active = (0,) if model.constraints[0].kind == "elastic" else ()
     return _walk_records(model, omega, z0, y0[-1], active, 0, n_impacts, transient, y0)

@@ -153,7 +153,7 @@ def test_simulate_runs_several_stops(tmp_path):
     base = ("simulate", "--model", str(f), "--omega", "1.1", "--impacts", "400",
             "--out", str(out))
     r = _run(*base)
-    assert r.returncode == 2 and "--y0" in r.stderr and "issue 25" in r.stderr
+    assert r.returncode == 2 and "--y0" in r.stderr and "closed form" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
     r = _run(*base[:-1], str(tmp_path / "c.npz"), "--y0", "-0.3", "0.0", "0.0", "0.4",
              "--classify")
