@@ -110,6 +110,11 @@ def run(args):
         if res.signatures() is not None:       # several stops: the stops of each orbit
             out["signatures"] = res.signatures()
     print_json(out)
+    if not args.out.lower().endswith(".npz"):     # after the work: refusals stay one line
+        import warnings
+        warnings.warn("a figure given as --out is deprecated: --out is the data (.npz), "
+                      "--plot the figure (the one figure flag of every command)",
+                      FutureWarning)
     return 0
 
 

@@ -136,3 +136,18 @@ def test_json_on_the_report_and_regenerate_commands(tmp_path):
     d = json.loads(out)
     assert d["report"].endswith("report.md") and Path(d["report"]).exists()
     assert d["parts"] >= 1 and all(Path(f).exists() for f in d["figures"])
+
+
+def test_one_figure_flag_old_spellings_warn(tmp_path):
+    """--plot is the figure flag of every command: a figure given to sweep as --out still
+    works for one release, and says it is deprecated (after the work, so that a refusal
+    stays one line)."""
+    ex1 = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
+    fig = tmp_path / "bif.png"
+    rc, out, err = cli("sweep", *ex1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps",
+                       "3", "--impacts", "5", "--transient", "10", "--out", fig)
+    assert rc == 0 and fig.exists() and "deprecated" in err and "--plot" in err
+    rc, out, err = cli("sweep", *ex1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps",
+                       "3", "--impacts", "5", "--transient", "10", "--out", tmp_path / "b.npz",
+                       "--plot", tmp_path / "b2.png")
+    assert rc == 0 and "deprecated" not in err and (tmp_path / "b2.png").exists()

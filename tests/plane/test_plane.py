@@ -264,11 +264,17 @@ def test_plot_draws_both_maps(tmp_path, capsys):
                  "--impacts", "200", "--transient", "200", "--workers", "0",
                  "--out", str(out)]) == 0
     fig = tmp_path / "p.png"
+    # --out is the old spelling of --plot: it works for a release, with a notice
     assert main(["plot", str(out), "--out", str(fig), "--no-curves", "--json"]) == 0
-    got = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
-    assert fig.stat().st_size > 10_000 and got["rows_done"] == 6
-    assert main(["plot", str(tmp_path / "none.zarr"), "--out", str(fig)]) == 2
-    assert main(["plot", str(out), "--out", str(tmp_path / "x.txt")]) == 2
+    cap = capsys.readouterr()
+    got = json.loads(cap.out.strip().splitlines()[-1])
+    assert fig.stat().st_size > 10_000 and got["rows_done"] == 6 and "--plot" in cap.err
+    assert main(["plot", str(out), "--plot", str(fig), "--no-curves", "--json"]) == 0
+    cap = capsys.readouterr()
+    assert json.loads(cap.out.strip().splitlines()[-1])["plot"] == str(fig)
+    assert "deprecated" not in cap.err
+    assert main(["plot", str(tmp_path / "none.zarr"), "--plot", str(fig)]) == 2
+    assert main(["plot", str(out), "--plot", str(tmp_path / "x.txt")]) == 2
 
 
 def test_sweep_on_the_engine_equals_one_sweep(cluster):

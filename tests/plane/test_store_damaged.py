@@ -89,7 +89,7 @@ def test_damaged_store_refused_by_plot_and_resume(good, tmp_path, damage):
     shutil.copytree(good, store)
     DAMAGE[damage](str(store))
     before = snapshot(tmp_path)
-    assert_bad_input(cli("plot", store, "--out", tmp_path / "d.png", "--no-curves"),
+    assert_bad_input(cli("plot", store, "--plot", tmp_path / "d.png", "--no-curves"),
                      "store", "d.zarr")
     assert_bad_input(cli(*PLANE, store), "--out", "d.zarr")
     assert snapshot(tmp_path) == before
@@ -100,7 +100,7 @@ def test_damaged_data_chunk_refused_by_plot(good, tmp_path):
     shutil.copytree(good, store)
     _garbage("lyapunov/1.0")(str(store))
     before = snapshot(tmp_path)
-    line = assert_bad_input(cli("plot", store, "--out", tmp_path / "d.png", "--no-curves"),
+    line = assert_bad_input(cli("plot", store, "--plot", tmp_path / "d.png", "--no-curves"),
                             "store", "damaged")
     assert "d.zarr" in line and snapshot(tmp_path) == before
 
@@ -115,5 +115,5 @@ def test_plot_of_a_non_store(tmp_path, what):
     elif what == "fifo":
         os.mkfifo(p)
     before = snapshot(tmp_path)
-    assert_bad_input(cli("plot", p, "--out", tmp_path / "x.png"), "store")
+    assert_bad_input(cli("plot", p, "--plot", tmp_path / "x.png"), "store")
     assert snapshot(tmp_path) == before
