@@ -39,6 +39,24 @@ class EventRun:
     stop: str
 
 
+def section_frames(flow):
+    """Per constraint of the flow's model, the flow-order index of each coordinate of its
+    section point (:func:`symvi.flow.compiled.section_index`): an event's point is
+    ``np.append(flow.to_flow(z)[frames[k]], tau)`` (x_k itself is not a coordinate)."""
+    return [section_index(flow.n, flow.position(c)) for c in flow.model.constraints]
+
+
+def state_of(flow, k, y):
+    """The state (mass order) of point y (tau last, not used) of constraint k's section:
+    the inverse of the point of :func:`section_frames`, with s_k = g_k."""
+    con = flow.model.constraints[k]
+    q = flow.position(con)
+    zf = np.empty(2 * flow.n)
+    zf[q] = con.gap
+    zf[section_index(flow.n, q)] = np.asarray(y, dtype=float)[:-1]
+    return flow.to_mass(zf)
+
+
 def default_state(model, omega):
     """The walk's default start: on the first stop's section (s = g), every other mass at
     rest at 0, phase 0, leaving the stop at speed omega max(|g|, 0.1) (as
@@ -58,8 +76,7 @@ def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
     :func:`default_state`) at phase tau, with ``active`` in contact and on the guard of
     ``start`` (leaving it): ``transient`` events dropped, ``events`` kept."""
     flow = LinearFlow.contact(model)
-    positions = [flow.position(c) for c in model.constraints]
-    frames = [section_index(model.n, q) for q in positions]
+    frames = section_frames(flow)
     if z0 is None:
         z0 = default_state(model, omega)
     rows, ts, hits, acts = [], [], [], []
@@ -73,9 +90,7 @@ def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
         if count <= transient:
             continue
         k = ev.constraint
-        zf = flow.to_flow(ev.after)
-        zf[positions[k]] = model.constraints[k].gap      # on the section exactly
-        rows.append(np.append(zf[frames[k]], ev.tau % (2 * math.pi)))
+        rows.append(np.append(flow.to_flow(ev.after)[frames[k]], ev.tau % (2 * math.pi)))
         ts.append(ev.t)
         hits.append(k)
         acts.append(ev.active)
@@ -90,16 +105,12 @@ def flights(problem, flow, F, pts):
     """(points, flight times) of a guess through contact phases: from each point the walk
     in its flight's phase to the first event, which must meet the constraint the signature
     names; the next point is the given one (``pts`` has p points) or the walk's."""
-    model, p, N = problem.model, problem.p, problem.N
-    rows = flow.constraint_rows()
+    model, p = problem.model, problem.p
     Y, T = [np.array(pts[0], dtype=float)], []
     cur = Y[0]
     for i in range(p):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
-        zf = np.empty(2 * N)
-        zf[int(rows[ka][0])] = model.constraints[ka].gap
-        zf[problem.frames[ka]] = cur[:-1]
-        walk = ct.walk(model, F.omega, flow.to_mass(zf), cur[-1],
+        walk = ct.walk(model, F.omega, state_of(flow, ka, cur), cur[-1],
                        active=problem.phases[i], start=ka,
                        t_max=200 * 2 * math.pi / F.omega)
         ev = next(walk)

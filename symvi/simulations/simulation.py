@@ -250,12 +250,9 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
     leaving it for a rigid stop, entering it for an elastic one.  The stop reasons are the
     compiled run's; a contact that does not end within 1000 forcing periods is
     ``sticking``, and chatter counts records closer than CHATTER_FLIGHT periods."""
-    from ..flow import contact as ct
     from ..flow.linear import LinearFlow
     from ..maps import Section
     flow = LinearFlow.contact(model)              # the frame: q = T x (stops between masses)
-    positions = [flow.position(c) for c in model.constraints]
-    frames = [cf.section_index(model.n, q) for q in positions]
     omega = check_omega(model, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
@@ -290,10 +287,9 @@ def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0
     point on its constraint's section, and the constraints in contact after it)."""
     from ..flow import contact as ct
     from ..flow.linear import LinearFlow
-    from ..orbits._phases import EventRun
+    from ..orbits._phases import EventRun, section_frames
     flow = LinearFlow.contact(model)
-    positions = [flow.position(c) for c in model.constraints]
-    frames = [cf.section_index(model.n, q) for q in positions]
+    frames = section_frames(flow)
     if y0 is None:                    # the start as a section point of its constraint
         zf = flow.to_flow(z0)
         y0 = tuple(float(v) for v in zf[frames[start]]) + (tau % (2 * math.pi),)
@@ -306,12 +302,13 @@ def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0
     open_ = {}                        # elastic constraint in contact -> its record (-1: dropped)
     for ev in ct.walk(model, omega, z0, tau, active=active, start=start):
         done = count >= total
-        if ev.kind in (ct.IMPACT, ct.ENTRY, ct.EXIT) and np.all(np.isfinite(ev.after)) and (
+        point = None                      # the event's point on its constraint's section
+        if ev.kind in (ct.IMPACT, ct.ENTRY, ct.EXIT) and np.all(np.isfinite(ev.after)):
+            point = tuple(flow.to_flow(ev.after)[frames[ev.constraint]]) + (ev.tau,)
+        if point is not None and (
                 count > transient or (count == transient and ev.kind != ct.EXIT)):
             g = ev.constraint             # every event from the first kept record on
-            zf = flow.to_flow(ev.after)
-            zf[positions[g]] = model.constraints[g].gap
-            ev_rows.append(tuple(zf[frames[g]]) + (ev.tau,))
+            ev_rows.append(point)
             ev_t.append(ev.t)
             ev_hits.append(g)
             ev_act.append(ev.active)
@@ -335,9 +332,7 @@ def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0
                 open_[g] = kept
             if kept >= 0:
                 con = model.constraints[g]
-                zf = flow.to_flow(ev.after)
-                zf[positions[g]] = con.gap            # on the section exactly
-                rows.append(tuple(zf[frames[g]]) + (ev.tau,))
+                rows.append(point)
                 t.append(ev.t)
                 vin.append(con.approach(ev.before[n:]))
                 hits.append(g)
@@ -622,10 +617,10 @@ def contact_start(model, omega):
     stop): :func:`symvi.orbits._phases.default_state`, leaving the first stop, nothing in
     contact, phase 0."""
     from ..flow.linear import LinearFlow
-    from ..orbits._phases import default_state
+    from ..orbits._phases import default_state, section_frames
     z = default_state(model, omega)
     flow = LinearFlow.contact(model)
-    frame = cf.section_index(model.n, flow.position(model.constraints[0]))
+    frame = section_frames(flow)[0]
     return (z, 0.0, (), 0), tuple(float(v) for v in flow.to_flow(z)[frame]) + (0.0,)
 
 
@@ -703,13 +698,11 @@ def _end_state(model, sim):
     """The walk's start at the last event of ``sim`` (state, phase, contacts, constraint),
     its section point put on ``model``'s constraint (the next point of a row)."""
     from ..flow.linear import LinearFlow
+    from ..orbits._phases import state_of
     ev = sim.events
     k = int(ev.hits[-1])
-    flow = LinearFlow.contact(model)
-    zf = np.empty(2 * model.n)
-    zf[flow.position(model.constraints[k])] = model.constraints[k].gap
-    zf[cf.section_index(model.n, flow.position(model.constraints[k]))] = ev.section[-1][:-1]
-    return flow.to_mass(zf), float(ev.section[-1][-1]), tuple(ev.active[-1]), k
+    return (state_of(LinearFlow.contact(model), k, ev.section[-1]),
+            float(ev.section[-1][-1]), tuple(ev.active[-1]), k)
 
 
 def _judge_run(sim):
