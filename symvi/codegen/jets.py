@@ -48,7 +48,7 @@ def flight_jet(flow, forcing, y, te, order, start, end, tangent=None):
     (:func:`symvi.codegen.layout.assemble_flight`) with its input axes put back in the
     start section's layout; the output is in the end section's layout (issue 25)."""
     from .layout import assemble_flight
-    inp, s, pi = assemble_flight(flow, forcing, y, te, order, start, end, tangent)
+    inp, s, pi, dzs = assemble_flight(flow, forcing, y, te, order, start, end, tangent)
     mod, layout = module(flow.n, order, s)
     vals = mod.f64(inp)
     flat = np.fromiter(vals, float, len(vals))
@@ -60,14 +60,12 @@ def flight_jet(flow, forcing, y, te, order, start, end, tangent=None):
             for ax in range(1 if name != "theta1" else 0, a.ndim):
                 a = np.take(a, back, axis=ax)
         out[name] = a
-    if flow.offset is not None and tangent is not None and not tangent.zero and "dpJ" in out:
+    if dzs is not None:
         # a contact phase's map is P(y) = P~(y - ys_a) + ys_b with the offset's section
         # parts ys moving along the tangent: dJ/dp = dpJ~ - d2~ . dys_a and
         # dP/dp = dpP~ - J~ dys_a + dys_b (symvi.codegen.layout.phase_tangent)
         from ..flow.compiled import section_index, table
-        from .layout import phase_tangent
         rows = table(flow)
-        dzs = phase_tangent(flow, tangent)[1]
         ya, yb = (np.append(dzs[np.asarray(section_index(flow.n, int(rows[k][0])))], 0.0)
                   for k in (start, end))
         out["dpJ"] = out["dpJ"] - np.einsum("abc,c->ab", out["d2"], ya)

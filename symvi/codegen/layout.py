@@ -291,7 +291,9 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
     """The input tuple of ``impact_n<N>_s<s>_order<K>`` for the flight from point y of
     constraint ka's section (its layout) that ends on constraint kb: the flow's matrices
     and the forcing in kb's frame, kb's guard and reset, ka's level b0, and y in the
-    variant's layout (float64).  Returns (inputs, s, pi) (:func:`flight_frame`)."""
+    variant's layout (float64).  Returns (inputs, s, pi, dzs) (:func:`flight_frame`; dzs
+    the motion of a contact phase's offset along ``tangent``, :func:`phase_tangent`, which
+    the outputs need too, else None)."""
     from ..flow.compiled import table
     rows = table(flow)
     n = flow.n
@@ -319,6 +321,7 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
         yv = yv.copy()
         yv[:-1] = yv[:-1] - zs[np.asarray(section_index(n, pa))]
     scal = [float(forcing.omega), g0, level] + list(R[:, 0]) + [b0]
+    dzs = None
     if order in PARAMETER_ORDERS:
         parts += [np.asarray(forcing.dU)[Qb], np.asarray(forcing.dV)[Qb]]
         d2 = (2 * n) ** 2
@@ -343,4 +346,4 @@ def assemble_flight(flow, forcing, y, te, order, ka, kb, tangent=None):
     yv = yv[pi]
     head = np.concatenate(parts)
     return tuple(head.tolist()) + tuple(float(v) for v in scal) + tuple(yv.tolist()) + (
-        float(te),), s, pi
+        float(te),), s, pi, dzs
