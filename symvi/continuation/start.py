@@ -381,11 +381,7 @@ def attractor_orbit(model, omega):
     settles on none."""
     from ..flow import check_omega
     from ..orbits.periodic import detect_period, from_simulation
-    if model.elastic:                 # the free flight's and every contact phase's check
-        from ..orbits.periodic import flow_of
-        omega = flow_of(model).check_omega(omega)
-    else:
-        omega = check_omega(model.require_rigid_stops(), omega)
+    omega = check_omega(model, omega)             # the free flight's (LinearFlow.free)
     sim = _settle(model, omega)
     if detect_period(sim) is None:
         raise SingularCaseError("no-orbit", f"a run of the map from a default start on stop "

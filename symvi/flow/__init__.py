@@ -21,9 +21,7 @@ def check_omega(system, omega, name="omega", warn=True):
     elastic stops :meth:`~symvi.flow.linear.LinearFlow.contact`'s free phase)."""
     from ..model import Model
     from .linear import LinearFlow
-    model = Model.of(system)
-    flow = LinearFlow.contact(model) if model.elastic else LinearFlow.of(model)
-    return flow.check_omega(omega, name, warn=warn)
+    return LinearFlow.free(Model.of(system)).check_omega(omega, name, warn=warn)
 
 
 def check_value(system, param, value, shown, *, resonance=True):

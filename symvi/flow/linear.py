@@ -329,6 +329,12 @@ class LinearFlow:
         return _memo(_PHASES, (model, active), lambda: cls(model, FLOAT64, active), size=64)
 
     @classmethod
+    def free(cls, model):
+        """The float64 free flight of ``model``: :meth:`of`, or with elastic stops the free
+        phase of :meth:`contact` (every constraint a guard, elastic resets the identity)."""
+        return cls.contact(model) if model.elastic else cls.of(model)
+
+    @classmethod
     def of(cls, model, digits=None):
         from ..model import Model
         if not isinstance(model, Model):

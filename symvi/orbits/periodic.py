@@ -126,9 +126,9 @@ class Problem:
         if model is self.model:
             flow = self._flow
             if flow is None:
-                flow = self._flow = flow_of(model)
+                flow = self._flow = LinearFlow.free(model)
         else:
-            flow = flow_of(model)
+            flow = LinearFlow.free(model)
         if self.elastic and check:
             for S in set(self.phases):             # a forcing resonance of a contact phase
                 LinearFlow.contact(model, S).check_omega(omega, warn=False)
@@ -427,7 +427,7 @@ def _layout(model):
         N = model.n
         sec = Section.of(model)
         perm = sec.perm
-        flow = flow_of(model)
+        flow = LinearFlow.free(model)
         positions = tuple(flow.position(c) for c in model.constraints)
         frames = np.array([section_index(N, q) for q in positions])
         sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
@@ -439,13 +439,6 @@ def _layout(model):
 
 
 _LAYOUTS = {}
-
-
-def flow_of(model):
-    """The free flow of ``model``: :meth:`LinearFlow.of`, or with elastic stops the free
-    phase of :meth:`LinearFlow.contact` (every constraint a guard, elastic resets the
-    identity), which only the shooting system reads."""
-    return LinearFlow.contact(model) if model.elastic else LinearFlow.of(model)
 
 
 def _mirror(model):
@@ -569,7 +562,7 @@ class PeriodicOrbit:
         composed (:func:`compose`); order 2 or 3 returns (A, d2, d3) with d3 None for 2,
         as before; orders 4 and 5 (the jets of :mod:`symvi.codegen.high`, curves only)
         return (A, d2, d3, d4[, d5])."""
-        flow = flow_of(self.model)
+        flow = LinearFlow.free(self.model)
         F = flow.forcing(self.omega)
         Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
         jets = []

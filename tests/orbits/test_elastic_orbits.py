@@ -224,11 +224,10 @@ def _next_event(model, orbit, i, y):
     """(time, point) from point y of event i's section to the next event, by the walk (the
     orbit's signature rotated to start at event i)."""
     from symvi.orbits._phases import flights
-    from symvi.orbits.periodic import flow_of
     hits = orbit.signature[i:] + orbit.signature[:i]
     sig = Signature(hits, orbit.itinerary.phases(model)[i])
     pr = Problem(model, orbit.n, orbit.p, omega=orbit.omega, signature=sig)
-    flow = flow_of(model)
+    flow = LinearFlow.free(model)
     Y, T = flights(pr, flow, flow.forcing(orbit.omega), [np.array(y)])
     return T[0], Y[1]
 
