@@ -274,7 +274,8 @@ class Codim1Tracker(engine.Tracker):
         stop = "the stop"
         if k is not None:
             coef["stop"] = k + 1
-            new = ("a new contact is born" if model_elastic(pr, k) else "a new impact is born")
+            new = ("a new contact is born" if pr.model.constraints[k].kind == "elastic"
+                   else "a new impact is born")
             stop = f"stop {k + 1}" + ("" if k in orbit.signature else
                                       f" (one the orbit does not touch yet: {new})")
         if pr.elastic and k in pr.phases[i]:
@@ -424,11 +425,6 @@ class Codim1Tracker(engine.Tracker):
                 if math.isfinite(v) and (best[1] is None or v > best[1]):
                     best = (i, v, t, k)
         return best
-
-
-def model_elastic(problem, k):
-    """Whether constraint k of the problem's model is elastic (its contacts are phases)."""
-    return problem.model.constraints[k].kind == "elastic"
 
 
 def _table_row(flow, k, N):
