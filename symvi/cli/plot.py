@@ -1,5 +1,5 @@
 """``symvi plot``: draw a plane store (``symvi plane``) with the bifurcation curves over it."""
-from . import print_json
+from . import deprecated, print_json
 
 
 def register(sub):
@@ -53,8 +53,7 @@ def run(args):
         print(f"{args.plot}: {len(curves)} curves over {args.store}")
         for n in notes:
             print(f"  note: {n}")
-    if flag == "--out":                   # after the work: a refusal stays one line
-        import warnings
-        warnings.warn("symvi plot --out is deprecated: the figure flag of every command is "
-                      "--plot", FutureWarning)
+    if flag == "--out":
+        deprecated(args, "symvi plot --out is deprecated: the figure flag of every command is "
+                         "--plot")
     return 0
