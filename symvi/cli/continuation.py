@@ -96,10 +96,13 @@ def run(args):
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     param = span.name
     spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])
-    branches = continue_orbits(model, param, span.lo, span.hi, orbit=args.orbit,
-                               start_omega=args.start_omega, simulation=args.from_section,
-                               switch=args.switch, through=args.through,
-                               max_points=args.max_points, names=spelled, **fixed)
+    from ..progress import counting
+    with counting(f"continuing in {param}"):
+        branches = continue_orbits(model, param, span.lo, span.hi, orbit=args.orbit,
+                                   start_omega=args.start_omega,
+                                   simulation=args.from_section, switch=args.switch,
+                                   through=args.through, max_points=args.max_points,
+                                   names=spelled, **fixed)
     if args.plot:
         from ..reporting import figures
         names = branches[0].points[0].orbit.names

@@ -92,7 +92,8 @@ def run(args):
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
-    with warnings.catch_warnings():
+    from ..progress import counting
+    with warnings.catch_warnings(), counting(f"{args.kind} curve"):
         warnings.simplefilter("ignore", NearSingularWarning)
         try:
             curve, start = curve_from_interval(model, a, b, names, kind=args.kind,

@@ -37,7 +37,9 @@ def run(args):
     spec = st.spec
     if not args.no_curves:
         from ..curves import curves_of_plane
-        curves, notes = curves_of_plane(spec)
+        from ..progress import counting
+        with counting("curves over the plane"):
+            curves, notes = curves_of_plane(spec)
     title = os.path.basename(os.path.normpath(args.store))
     if done < spec.y.n:
         title += f" (incomplete: {done} of {spec.y.n} rows)"

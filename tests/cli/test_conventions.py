@@ -182,3 +182,24 @@ def test_sweep_prints_text_on_a_terminal(tmp_path):
     assert rc == 0 and err == "", err
     assert "3 omega values in [0.73, 0.745]" in text and "runs ended: completed 3" in text
     assert "ns       omega = 0.736876922" in text and "{" not in text
+
+
+def test_a_long_continuation_shows_a_counting_bar_and_a_short_one_nothing(monkeypatch):
+    """Issue 26: a bar once a wait exceeds ~2 s (progress.DELAY), counting the engine's
+    points; nothing before that, and nothing outside a counting block."""
+    import io
+
+    import symvi.progress as progress
+    from symvi import Model
+    from symvi.continuation import continue_orbits
+    model = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    for delay, shows in ((0.0, True), (60.0, False)):
+        monkeypatch.setattr(progress, "DELAY", delay)
+        err = io.StringIO()
+        with progress.counting("continuing in omega", stream=err, enabled=True) as bar:
+            branches = continue_orbits(model, "omega", 1.3, 1.2, max_points=30)
+            counted = bar.n
+        # every accepted point after each branch's start
+        assert counted == sum(len(br) - 1 for br in branches) > 0
+        assert ("continuing in omega" in err.getvalue()) == shows, err.getvalue()
+    progress.tick()                                # no bar: nothing happens
