@@ -58,8 +58,8 @@ OUTPUTS = {
     "howto/curves.html": ["CH   omega = 0.8164887222", "R3   omega = 0.7628671598"],
 }
 #: gallery pages that draw at least one figure
-FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html", "gallery/chain3.html",
-           "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
+FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html",
+           "gallery/chain3.html", "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
            "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html"]
 
 
