@@ -19,8 +19,9 @@ def register(sub):
                         f"({PRESET_NAMED})")
     p.add_argument("--bounds", action="append", default=[], metavar="NAME=LO:HI",
                    help="range of a curve parameter (default: half to twice its start value)")
-    p.add_argument("--kind", default="ns", choices=("ns", "flip", "fold"),
-                   help="the curve's bifurcation (default ns)")
+    p.add_argument("--kind", default="ns", choices=("ns", "flip", "fold", "grazing"),
+                   help="the curve's bifurcation (default ns); grazing: an impact of the "
+                        "orbit arriving with zero velocity")
     p.add_argument("--index", type=int, default=1, metavar="K",
                    help="start from the K-th point of that kind in [A, B], by omega (default 1)")
     p.add_argument("--max-points", type=int, default=2000,

@@ -4,7 +4,7 @@ branches born at their flips, :func:`symvi.continuation.period1_branches`)."""
 from ..errors import ParameterError, SingularCaseError
 from .curve import continue_curve
 
-_BRANCH_KIND = {"ns": "ns", "flip": "flip", "fold": "fold"}
+_BRANCH_KIND = {"ns": "ns", "flip": "flip", "fold": "fold", "grazing": "grazing"}
 
 
 def parse_params(text, flag="--params"):
@@ -54,13 +54,15 @@ def start_points(model, omega_min, omega_max, kind, *, branches=None):
     ``branches``: those of :func:`symvi.continuation.period1_branches` over the interval,
     when already computed."""
     if kind not in _BRANCH_KIND:
-        raise ParameterError("kind", kind, "ns, flip or fold")
+        raise ParameterError("kind", kind, "ns, flip, fold or grazing")
     out = []
     if branches is None:
         branches = omega_branches(model, omega_min, omega_max)
     for br in branches:
         for sp in br.special:
-            if sp.kind == kind and sp.orbit.admissible:
+            # a grazing point is inadmissible by nature: an impact velocity through 0
+            if sp.kind == kind and (sp.orbit.admissible if kind != "grazing"
+                                    else "impact" in sp.coefficients):
                 if not any(abs(sp.value - o.value) < 1e-9 and o.orbit.p == sp.orbit.p
                            for o, _ in out):
                     out.append((sp, br))
@@ -97,6 +99,10 @@ def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=
     fixed = {}
     if "omega" not in names:
         fixed["omega"] = sp.value
+    if kind == "grazing":
+        from .grazing import continue_grazing
+        kw.pop("locate", None)
+        return continue_grazing(model, names, sp, **fixed, **kw), sp
     return continue_curve(model, kind, names, sp.orbit, **fixed, **kw), sp
 
 

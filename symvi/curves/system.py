@@ -64,8 +64,11 @@ class CurveSystem:
     :class:`symvi.model.parameters.Parameter`, parsed here once: :attr:`params`); ``omega``
     is the forcing frequency when neither is omega."""
 
+    #: the kinds of curve this system defines
+    KINDS = KINDS
+
     def __init__(self, model, n, p, names, kind, omega=None, signature=None):
-        if kind not in KINDS:
+        if kind not in self.KINDS:
             raise ParameterError("kind", kind, "ns, flip or fold")
         pa, pb = (model.parameter(nm) for nm in names)   # names the parameter or raises
         if pa == pb:

@@ -297,14 +297,14 @@ def branches(curves, param, ylabel=None, title="", ax=None):
 
 
 _CURVE_COLOUR = {"ns": OKABE_ITO["purple"], "flip": OKABE_ITO["vermillion"],
-                 "fold": OKABE_ITO["green"]}
-_CURVE_NAME = {"ns": "NS", "flip": "flip (PD)", "fold": "fold (LP)"}
+                 "fold": OKABE_ITO["green"], "grazing": OKABE_ITO["orange"]}
+_CURVE_NAME = {"ns": "NS", "flip": "flip (PD)", "fold": "fold (LP)", "grazing": "grazing (G)"}
 
 
 def two_parameter(curves, names, title="", ax=None):
     """A two-parameter bifurcation diagram from the plain data of
     :meth:`symvi.curves.Curve.plot_data`: each curve in the plane of ``names``
-    (NS purple, flip vermillion, fold green, each with a white outline so that it stays
+    (NS purple, flip vermillion, fold green, grazing orange, each with a white outline so that it stays
     visible over a map; solid where the bifurcation is supercritical or the fold is
     simple, dashed where subcritical, dotted on neutral-saddle stretches, grey where the
     orbit is not admissible), short ticks on the side where the orbit is stable, the
@@ -327,7 +327,7 @@ def two_parameter(curves, names, title="", ax=None):
                 ("supercritical / simple", adm & bif & ~sub, dict(ls="-", lw=1.5)),
                 ("subcritical", adm & bif & sub, dict(ls="--", lw=1.2)),
                 ("neutral saddle", adm & ~bif, dict(ls=":", lw=0.9))):
-            if mask.any():
+            if mask.any() and c["kind"] != "grazing":     # a grazing curve has no sides
                 used.add((name, style["ls"], style["lw"]))
             ax.plot(np.where(mask, a, np.nan), np.where(mask, b, np.nan), color=col,
                     path_effects=halo, **style)

@@ -1,0 +1,118 @@
+"""Grazing curves in two parameters (issue 27, item 1, first kind: an impact velocity -> 0).
+
+The reference is COCO's *Recipes for Continuation*, Example 15.2 (k = 1, c = 0.1, d = 1,
+e = 0.8): a forced, damped 1-DOF oscillator whose impacting period-1 orbit grazes where the
+non-impacting harmonic response just reaches the stop, A_GR(omega) = d |k - omega^2 +
+i c omega| (equivalently d_GR = A / |k - omega^2 + i c omega|), in closed form.
+"""
+import json
+
+import numpy as np
+import pytest
+
+from symvi import Model, Stop
+from symvi.continuation import continue_orbits
+from symvi.curves.grazing import GrazingSystem, continue_grazing
+from symvi.curves.start import curve_from_interval
+from symvi.errors import ParameterError
+
+from ..fuzz._cli import assert_bad_input, cli
+
+K, C, D, E = 1.0, 0.1, 1.0, 0.8
+
+
+def coco(amplitude=2.0, gap=D):
+    return Model(mass=[1.0], stiffness=[[K]], damping=[[C]], forcing=[amplitude],
+                 stops=[Stop(mass=1, gap=gap, restitution=E)])
+
+
+def H(w):
+    return np.abs(K - w ** 2 + 1j * C * w)
+
+
+def _grazing_on_branch(model, param, a, b, **fixed):
+    brs = continue_orbits(model, param, a, b, **fixed)
+    return [s for br in brs for s in br.special if s.kind == "grazing"][0]
+
+
+def test_the_grazing_curve_in_omega_and_amplitude_is_cocos_closed_form():
+    sp = _grazing_on_branch(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    assert sp.value == pytest.approx(D * H(1.5), rel=1e-12)
+    cv = continue_grazing(coco(), ("omega", "forcing[1]"), sp,
+                          bounds={"omega": (0.3, 3.0), "forcing[1]": (0.05, 10.0)})
+    w, a = cv.values("omega"), cv.values("forcing[1]")
+    assert len(cv) > 200 and w.min() == pytest.approx(0.3) and w.max() == pytest.approx(3.0)
+    assert cv.ends == ("reached omega = 0.3", "reached omega = 3")
+    # the whole curve, through the resonance at omega ~ 1, to the rounding of the solver
+    assert np.max(np.abs(a - D * H(w)) / (D * H(w))) < 1e-10
+    # every point: an orbit whose impact arrives with zero speed, off the stop in between
+    assert all(pt.admissible for pt in cv.points)
+    assert max(abs(pt.impact_velocities[0]) for pt in cv.points) < 1e-10
+    assert all(pt.times[0] == pytest.approx(2 * np.pi / pt.params["omega"], rel=1e-12)
+               for pt in cv.points)
+
+
+def test_a_grazing_curve_in_two_model_parameters_at_fixed_omega():
+    """(forcing[1], gap) at omega = 0.8: the grazing gap is A / |H(0.8)|, a straight line."""
+    w = 0.8
+    sp = _grazing_on_branch(coco(), "gap", 1.0, 8.0, omega=w)   # grazes at 2 / |H| = 5.42
+    cv = continue_grazing(coco(), ("forcing[1]", "gap"), sp,
+                          bounds={"forcing[1]": (0.5, 4.0), "gap": (0.1, 20.0)})
+    a, g = cv.values("forcing[1]"), cv.values("gap")
+    assert np.ptp(a) > 3 and np.max(np.abs(g - a / H(w)) / g) < 1e-10
+    assert cv.fixed == {"omega": w}
+
+
+def test_the_augmented_system_is_regular_at_grazing():
+    """The flight time is an unknown: no 1/v pole. The Jacobian of (G, v+) in (u, a) at a
+    grazing point is well conditioned, while the monodromy (time eliminated) blows up."""
+    model = coco()
+    sp = _grazing_on_branch(model, "forcing[1]", 2.0, 0.2, omega=1.5)
+    pars = [model.parameter(n) for n in ("omega", "forcing[1]")]
+    system = GrazingSystem(model.with_(**{"forcing[1]": sp.value}), 1, 1, pars, 0)
+    v = np.append(sp.orbit.u, 1.5)
+    F, DF, Fb = system.evaluate(v, sp.value, dparam=True)
+    assert np.max(np.abs(F)) < 1e-10
+    s = np.linalg.svd(DF, compute_uv=False)
+    assert s[-1] / s[0] > 1e-3
+    assert max(abs(z) for z in sp.orbit.multipliers) > 1e6      # the pole the curve avoids
+
+
+def test_curve_from_interval_starts_at_the_branchs_grazing_point():
+    cv, start = curve_from_interval(coco(), 1.0, 2.0, ("omega", "forcing[1]"), kind="grazing",
+                                    bounds={"omega": (1.0, 2.5), "forcing[1]": (0.5, 6.0)})
+    assert start.kind == "grazing" and "impact" in start.coefficients
+    # at the model's amplitude 2, the branch in omega grazes where 2 = |H(omega)|
+    assert 2.0 == pytest.approx(D * H(start.value), rel=1e-10)
+    w = cv.values("omega")
+    assert np.max(np.abs(cv.values("forcing[1]") - H(w)) / H(w)) < 1e-10
+
+
+def test_symvi_curve_kind_grazing_json(tmp_path):
+    f = tmp_path / "coco.toml"
+    f.write_text("[model]\nmass = [1.0]\nstiffness = [[1.0]]\ndamping = [[0.1]]\n"
+                 "forcing = [2.0]\n\n[stop]\nmass = 1\ngap = 1.0\nrestitution = 0.8\n")
+    rc, out, err = cli("curve", "--model", f, "--range", "omega=1.0:2.0", "--params",
+                       "omega,forcing[1]", "--kind", "grazing", "--bounds", "omega=1.0:2.5",
+                       "--bounds", "forcing[1]=0.5:6", "--max-points", "100", "--json",
+                       "--plot", tmp_path / "g.png")
+    assert rc == 0, err
+    d = json.loads(out)
+    assert d["kind"] == "grazing" and d["params"] == ["omega", "forcing[1]"]
+    assert d["start"]["kind"] == "grazing" and d["special"] == [] and d["notes"]
+    p = d["points"][len(d["points"]) // 2]
+    assert set(p) >= {"params", "admissible", "y", "times", "impact_velocities"}
+    assert p["params"]["forcing[1]"] == pytest.approx(H(p["params"]["omega"]), rel=1e-10)
+    assert (tmp_path / "g.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_grazing_curves_refuse_what_they_do_not_follow(tmp_path):
+    elastic = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[2.0],
+                    stops=[Stop(mass=1, gap=1.0, stiffness=50.0, damping=0.0)])
+    with pytest.raises(ParameterError, match="rigid stops"):
+        GrazingSystem(elastic, 1, 1, [elastic.parameter(n) for n in ("omega", "gap")], 0)
+    with pytest.raises(ParameterError, match="an impact of the orbit"):
+        GrazingSystem(coco(), 1, 1, [coco().parameter(n) for n in ("omega", "gap")], 1)
+    assert_bad_input(cli("curve", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5",
+                         "--r", "0.8", "--range", "omega=0.70:0.76", "--params", "omega,b",
+                         "--kind", "graze"), "--kind", "grazing")
