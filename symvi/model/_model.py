@@ -610,7 +610,8 @@ class Model:
         mu_m : float
             Mass ratio m2 / m1, 1e-6 <= mu_m <= 1e6.
         mu_k : float
-            Stiffness ratio k2 / k1, 1e-6 <= mu_k <= 1e6.
+            Stiffness ratio k2 / k1 (k1 couples the masses, k2 holds mass 2 to the
+            frame), 1e-6 <= mu_k <= 1e6.
         f2 : float
             Share of the forcing on mass 2 (mass 1 gets 1 - f2), ``abs(f2) <= 1e6``.
         b : float
