@@ -156,8 +156,9 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
         One of its special points of kind ``"flip"``.
     h : float, optional
         Step in arclength of the first point of the new branch (default
-        ``1e-3 * (1 + max(abs(u)))``, doubled until the point leaves the flip); the
-        steps after it follow :func:`continue_branch`'s default.
+        ``1e-3 * (1 + max(abs(u)))``, u the shooting unknowns of the orbit at the flip,
+        doubled until the point leaves it); the steps after it follow
+        :func:`continue_branch`'s default.
     h_max : float, optional
         Largest step in arclength (default as :func:`continue_branch`).
     max_points : int, optional
@@ -235,8 +236,8 @@ def switch_at_branch_point(branch, special, *, h=None, h_max=None, max_points=50
         ``"branch-point"``.
     h : float, optional
         Step in arclength of the first point of the new branch (default
-        ``1e-3 * (1 + max(abs(u)))``, doubled until the point's parameter leaves the
-        branch point).
+        ``1e-3 * (1 + max(abs(u)))``, u the shooting unknowns of the orbit there, doubled
+        until the point's parameter leaves the branch point).
     h_max : float, optional
         Largest step in arclength (default as :func:`continue_branch`).
     max_points : int, optional
