@@ -17,7 +17,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "docs" / "api" / "symvi.rst", ROOT / "docs" / "api" / "continuation.rst"]
 _DIRECTIVE = re.compile(r"^\.\. auto(?:function|class|exception):: (\S+)\n((?:   :\w+:.*\n)*)",
-                        re.M)
+                        re.MULTILINE)
 #: result classes, built by the library: an ``Attributes`` section, not ``Parameters``
 RESULTS = {"symvi.Orbit", "symvi.Jet", "symvi.continuation.Result",
            "symvi.continuation.Branch", "symvi.continuation.BranchPoint",
@@ -30,7 +30,7 @@ NO_EXAMPLE = {
     "symvi.continuation.BranchPoint": "shown in Branch's example",
     "symvi.continuation.SpecialPoint": "shown in Branch's example",
 }
-_SECTION = re.compile(r"^([A-Z][a-z]+)\n-+\n", re.M)
+_SECTION = re.compile(r"^([A-Z][a-z]+)\n-+\n", re.MULTILINE)
 
 
 def _resolve(name):

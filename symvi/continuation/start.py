@@ -574,7 +574,7 @@ class BranchScan:
 
 
 def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
-    """The Neimark–Sacker points of a model with no period-1 closed form in [omega_min, omega_max].
+    """The Neimark–Sacker points of a model with no period-1 closed form, uncertified.
 
     The NS points of ``model`` (one with no period-1 closed form: several stops, a
     lower one, an elastic stop) in [omega_min, omega_max], as ``symvi hopf`` reports them

@@ -273,7 +273,8 @@ def load_model(path):
     ... restitution = 0.8
     ... ''')
     >>> load_model(path)
-    Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0], stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+          stop=Stop(mass=1, gap=0.0, restitution=0.8))
     """
     try:
         st = os.stat(path)

@@ -600,10 +600,10 @@ class Model:
         """The two-mass model of Luo & Xie (1998), eq. (4).
 
         M = diag(1, mu_m), K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2), stop on
-        mass 1 at b.  No damping (C = 0); one rigid upper stop on mass 1.  The model remembers the five
-        numbers (:attr:`preset`), so ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r`` are named
-        parameters of it too.  The paper's :class:`symvi.Params` gives the same model
-        (:meth:`symvi.Params.as_model`).
+        mass 1 at b.  No damping (C = 0); one rigid upper stop on mass 1.  The model
+        remembers the five numbers (:attr:`preset`), so ``mu_m``, ``mu_k``, ``f2``,
+        ``b``, ``r`` are named parameters of it too.  The paper's :class:`symvi.Params`
+        gives the same model (:meth:`symvi.Params.as_model`).
 
         Parameters
         ----------
