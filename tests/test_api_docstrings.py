@@ -16,7 +16,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "docs" / "api" / "symvi.rst", ROOT / "docs" / "api" / "continuation.rst"]
-_DIRECTIVE = re.compile(r"^\.\. auto(?:function|class|exception):: (\S+)\n((?:   :\w+:.*\n)*)",
+#: an autodoc directive: the name (an explicit signature after it is skipped), its options
+_DIRECTIVE = re.compile(r"^\.\. auto(?:function|class|exception):: ([\w.]+).*\n((?:   :\w+:.*\n)*)",
                         re.MULTILINE)
 #: result classes, built by the library: an ``Attributes`` section, not ``Parameters``
 RESULTS = {"symvi.Orbit", "symvi.Jet", "symvi.continuation.Result",

@@ -459,8 +459,10 @@ def same_branch(a, b):
 
     Parameters
     ----------
-    a, b : Branch
-        Two branches in the same parameter.
+    a : Branch
+        The branch that may retrace ``b``.
+    b : Branch
+        A branch of the same parameter.
 
     Returns
     -------
@@ -503,8 +505,10 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
     model : Model or Params
         A model with one rigid upper stop on one mass (the paper's Params as its
         ``Model.luo_xie``).
-    omega_min, omega_max : float
-        The interval in omega.
+    omega_min : float
+        Lower end of the interval, at least 1e-4; branches start at both ends.
+    omega_max : float
+        Upper end, at most 1e4.
     switch : bool, optional
         Add the 2-2 branch born at each admissible flip point (default True).
     max_points : int, optional
@@ -567,8 +571,10 @@ def diagram_branches(system, omega_min, omega_max, component=0):
     ----------
     system : Model or Params
         A model with one rigid upper stop on one mass, or the paper's parameters.
-    omega_min, omega_max : float
-        The interval in omega.
+    omega_min : float
+        Lower end of the interval, at least 1e-4.
+    omega_max : float
+        Upper end, at most 1e4.
     component : int, optional
         The section coordinate drawn (0-based index into the orbit's section point;
         default 0, the stop mass's velocity after the impact).

@@ -128,8 +128,10 @@ class Branch(Result):
     ----------
     param : str
         The continued parameter's name.
-    n, p : int
-        Forcing periods and impacts of the branch's orbits.
+    n : int
+        Forcing periods of the branch's orbits.
+    p : int
+        Impacts per orbit.
     points : tuple of BranchPoint
         The points, in arclength order.
     special : tuple of SpecialPoint

@@ -589,8 +589,10 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
     ----------
     model : Model
         Any model.
-    omega_min, omega_max : float
-        The interval, 1e-4 <= omega_min < omega_max <= 1e4.
+    omega_min : float
+        Lower end of the interval, 1e-4 <= omega_min < omega_max.
+    omega_max : float
+        Upper end, at most 1e4.
     samples : int, optional
         Frequencies (the midpoints of equal sub-intervals) where a run looks for an
         attractor (default 8).

@@ -68,9 +68,11 @@ def hopf_points(params, omega_min, omega_max):
     params : Params or Model
         The paper's parameters (points with the paper's f1 of eq. (60), printed and
         corrected), or a :class:`symvi.Model` with one rigid upper stop on one mass.
-    omega_min, omega_max : float
-        The interval scanned, 1e-4 <= omega_min < omega_max <= 1e4; neither end at the
+    omega_min : float
+        Lower end of the interval scanned, 1e-4 <= omega_min < omega_max; not at the
         natural frequency of an undamped mode.
+    omega_max : float
+        Upper end, at most 1e4; not at the natural frequency of an undamped mode.
 
     Returns
     -------

@@ -163,9 +163,14 @@ class Jet(_AnyJet):
         The mpmath precision (None: float64).
     orbit : Orbit
         The period-1 orbit the jet is taken at (the paper's :class:`Orbit`).
-    F01, F02, F03, F11 : ndarray or None
-        The paper's normalisation: F01 = ``jacobian``, F02 = ``d2 / 2``,
-        F03 = ``d3 / 6``, F11 = ``dA``.
+    F01 : ndarray
+        The paper's name of ``jacobian``, eq. (36).
+    F02 : ndarray or None
+        ``d2 / 2``: the paper's second-order coefficients.
+    F03 : ndarray or None
+        ``d3 / 6``: the paper's third-order coefficients.
+    F11 : ndarray or None
+        The paper's name of ``dA``, eq. (34).
 
     Examples
     --------
