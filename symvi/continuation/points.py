@@ -228,7 +228,7 @@ class Branch(Result):
                             for sp in self.special]}
 
     def as_dict(self):
-        """The branch as plain data (JSON types), what ``symvi continue --json`` writes.
+        """The branch as plain data: dicts, lists, strings and numbers (JSON types).
 
         Returns
         -------
