@@ -36,16 +36,95 @@ ISOLATION_CUT = 1e-5
 def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p=1,
                     h=None, h_max=None, max_points=5000, locate=True, through=False,
                     signature=None, **fixed):
-    """Continue an n-p orbit of ``model`` in the named parameter ``param`` from ``start``
-    towards ``stop`` (the interval between them bounds the branch).
+    """Continue one n-p orbit of ``model`` in the named parameter ``param`` (pseudo-arclength).
 
+    From ``start`` towards ``stop`` (the interval between them bounds the branch).
     The first orbit is ``orbit`` (a :class:`PeriodicOrbit` or a period-1
     :class:`symvi.orbits.Orbit`), or the solution near ``guess``, or else the
     first admissible period-1 orbit at ``start``.  ``fixed`` sets the other
     parameters, omega included when it is not ``param``.  The branch ends where its
     orbit stops being admissible (the grazing point located), unless ``through``:
     then it is followed on, its points marked inadmissible.  Returns a
-    :class:`Branch`; see the module docstring.
+    :class:`Branch`; see the module docstring.  Keller's method: predictor along the
+    unit tangent of G(u, lam) = 0 (u the shooting unknowns), Newton corrector on the
+    hyperplane orthogonal to it, so the branch turns around folds; special points are
+    located by Brent's method on their test functions.  A one-impact branch of an
+    undamped model is cut next to a natural frequency (eq. (15): the orbit is not
+    isolated there).
+
+    Parameters
+    ----------
+    model : Model
+        The model (the paper's Params as ``Model.of(params)``).
+    param : str
+        The continued parameter: ``"omega"`` or a named parameter of the model
+        (:meth:`symvi.Model.parameter`: ``"gap"``, ``"stiffness[1,2]"``, ...).
+    start : float
+        The value where the branch starts (finite).
+    stop : float
+        The value it is continued towards, != ``start``; the branch stays between the
+        two.
+    orbit : PeriodicOrbit or Orbit, optional
+        The first orbit (its n, p and signature are used).
+    guess : optional
+        A start for Newton instead: a section point (2N numbers), a simulation that
+        settled on the orbit (its last p impacts give the signature), or an orbit.
+        Required for an orbit other than 1-1 when no ``orbit`` is given.
+    n : int, optional
+        Forcing periods of the orbit (default 1).
+    p : int, optional
+        Impacts per orbit (default 1).
+    h : float, optional
+        First step in arclength (default ``min(h_max, (hi - lo) / 100)``).
+    h_max : float, optional
+        Largest step in arclength (default ``(hi - lo) / 25 + 0.05``).
+    max_points : int, optional
+        Most points on the branch (default 5000).
+    locate : bool, optional
+        Locate special points (default True); False gives none.
+    through : bool, optional
+        Follow the branch on where its orbits are inadmissible (default False: end
+        there).
+    signature : optional
+        Not used: the signature comes from ``orbit``, or from the simulation passed as
+        ``guess``, else every impact is on stop 1.
+    **fixed : float
+        The other parameters' values: ``omega=...`` (required when ``param`` is not
+        omega) and any named parameter of the model.
+
+    Returns
+    -------
+    Branch
+        Its points in arclength order, the special points located on it (folds, flips,
+        Neimark–Sacker points, branch points, grazing: :data:`EVENT_KINDS`) and why it
+        ended (``end``: ``"reached omega = 0.75"``, the orbit stops being admissible,
+        the branch closes on itself, ``max_points`` reached, ...).
+
+    Raises
+    ------
+    ParameterError
+        ``model`` not a Model; ``start`` or ``stop`` not finite, or equal; ``param`` not
+        a parameter of the model; ``omega`` missing (``param`` not omega) or given
+        (``param`` omega); a fixed value the model refuses; no ``guess`` for an orbit
+        other than 1-1.
+    SingularCaseError
+        ``"no-orbit"``: no admissible period-1 orbit at ``start`` to begin with.
+    SymviError
+        Newton does not converge from the first orbit or guess (a ConvergenceError).
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import continue_branch
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> br = continue_branch(m, "omega", 2.5, 2.8)
+    >>> br.n, br.p, br.end
+    (1, 1, 'reached omega = 2.8')
+    >>> [(sp.kind, round(sp.value, 6)) for sp in br.special]
+    [('flip', 2.656177)]
+    >>> continue_branch(m, "gap", 0.0, 0.1, omega=2.6).end     # another parameter
+    'reached gap = 0.1'
     """
     problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed)
     lo, hi = sorted((float(start), float(stop)))
@@ -61,13 +140,56 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
 
 def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, locate=True,
                    through=False):
-    """The period-doubled branch (2n-2p orbits) born at a located flip point of ``branch``,
-    continued within the branch's parameter bounds, away from the flip.
+    """The period-doubled branch (2n-2p orbits) born at a located flip point of ``branch``.
 
+    Continued within the branch's parameter bounds, away from the flip.
     At the flip the doubled system G2(u2; lam) = 0 (the n-p orbit traversed twice) has a
     one-dimensional kernel phi of dG2/du2 (the multiplier -1 of P^p is +1 of P^2p); the
     doubled branch leaves tangent to (phi, 0).  The first point solves G2 = 0 on the
     hyperplane (phi, 0) . (X - X*) = h, phi taken orthogonal to the primary branch.
+
+    Parameters
+    ----------
+    branch : Branch
+        A branch from :func:`continue_branch` or :func:`continue_orbits`.
+    special : SpecialPoint
+        One of its special points of kind ``"flip"``.
+    h : float, optional
+        Step in arclength of the first point of the new branch (default
+        ``1e-3 * (1 + max(abs(u)))``, u the shooting unknowns of the orbit at the flip,
+        doubled until the point leaves it); the steps after it follow
+        :func:`continue_branch`'s default.
+    h_max : float, optional
+        Largest step in arclength (default as :func:`continue_branch`).
+    max_points : int, optional
+        Most points on the new branch (default 5000).
+    locate : bool, optional
+        Locate special points on it (default True).
+    through : bool, optional
+        Follow it on where its orbits are inadmissible (default False).
+
+    Returns
+    -------
+    Branch
+        The branch of 2n-2p orbits, in the same parameter.
+
+    Raises
+    ------
+    ParameterError
+        ``special`` is not a flip point.
+    SymviError
+        No doubled orbit found next to the flip (a ConvergenceError).
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import continue_branch, switch_at_flip
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> br = continue_branch(m, "omega", 2.5, 2.8)
+    >>> doubled = switch_at_flip(br, br.special[0])
+    >>> doubled.n, doubled.p, doubled.bounds
+    (2, 2, (2.5, 2.8))
     """
     if not isinstance(special, SpecialPoint) or special.kind != "flip":
         raise ParameterError("special", getattr(special, "kind", special), "a flip point of "
@@ -93,15 +215,49 @@ def switch_at_flip(branch, special, *, h=None, h_max=None, max_points=5000, loca
 
 def switch_at_branch_point(branch, special, *, h=None, h_max=None, max_points=5000,
                            locate=True, through=False):
-    """The other branch through a located branch point of ``branch`` (kind
-    "symmetry-breaking" or "branch-point"), continued within the branch's parameter
-    bounds: at a symmetry-breaking pitchfork, one of the two mirror-image asymmetric
-    branches (the other is its mirror image, :meth:`symvi.orbits.periodic.Problem.half`).
+    """The other branch through a located branch point of ``branch``.
+
+    Of kind "symmetry-breaking" or "branch-point", continued within the branch's
+    parameter bounds: at a symmetry-breaking pitchfork, one of the two mirror-image
+    asymmetric branches (the other is its mirror image,
+    :meth:`symvi.orbits.periodic.Problem.half`).
 
     There G_u has a one-dimensional kernel phi (the multiplier +1 of the monodromy) and
     [G_u G_lam] a two-dimensional one, spanned by the branch's tangent and (phi, 0): the
     other branch leaves along (phi, 0) taken orthogonal to the branch's tangent, as at a
     flip (:func:`switch_at_flip`), on the same n-p system.
+
+    Parameters
+    ----------
+    branch : Branch
+        A branch from :func:`continue_branch` or :func:`continue_orbits`.
+    special : SpecialPoint
+        One of its special points of kind ``"symmetry-breaking"`` or
+        ``"branch-point"``.
+    h : float, optional
+        Step in arclength of the first point of the new branch (default
+        ``1e-3 * (1 + max(abs(u)))``, u the shooting unknowns of the orbit there, doubled
+        until the point's parameter leaves the branch point).
+    h_max : float, optional
+        Largest step in arclength (default as :func:`continue_branch`).
+    max_points : int, optional
+        Most points on the new branch (default 5000).
+    locate : bool, optional
+        Locate special points on it (default True).
+    through : bool, optional
+        Follow it on where its orbits are inadmissible (default False).
+
+    Returns
+    -------
+    Branch
+        The other branch, n-p orbits in the same parameter.
+
+    Raises
+    ------
+    ParameterError
+        ``special`` is not a branch point.
+    SymviError
+        No other branch found next to the point (a ConvergenceError).
     """
     if not isinstance(special, SpecialPoint) or special.kind not in ("symmetry-breaking",
                                                                      "branch-point"):
@@ -292,8 +448,37 @@ def _not_isolated(problem, X):
 
 
 def same_branch(a, b):
-    """Whether branch a retraces b (e.g. the two period-1 orbits at A joined by a fold; an
-    isola switched to from both of its pitchforks: two closed loops over one range)."""
+    """Whether branch a retraces b.
+
+    E.g. the two period-1 orbits at A joined by a fold; an isola switched to from both
+    of its pitchforks: two closed loops over one range.  True when a and b have the same
+    n-p and either both close on themselves over the same parameter range (to 1e-6,
+    relative), or a's last point is a point of b (parameter to 1e-9, relative; section
+    point to 1e-7).  Not symmetric: a branch that stops inside another retraces it, not
+    the other way round.
+
+    Parameters
+    ----------
+    a : Branch
+        The branch that may retrace ``b``.
+    b : Branch
+        A branch of the same parameter.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import continue_branch, same_branch
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> up = continue_branch(m, "omega", 2.5, 2.8)
+    >>> down = continue_branch(m, "omega", 2.8, 2.5)        # ends where up starts
+    >>> same_branch(down, up), same_branch(up, continue_branch(m, "omega", 2.5, 2.6))
+    (True, False)
+    """
     if (a.n, a.p) != (b.n, b.p):
         return False
     closed = "closes on itself"
@@ -308,9 +493,47 @@ def same_branch(a, b):
 
 
 def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=5000):
-    """The period-1 branches over [omega_min, omega_max] started from the admissible
-    period-1 orbits at both ends (duplicates dropped), and with ``switch`` the
-    period-doubled branch of each flip: what a bifurcation diagram overlays."""
+    """The period-1 branches over [omega_min, omega_max], and the period-doubled ones.
+
+    Started from the admissible period-1 orbits at both ends (duplicates dropped), and
+    with ``switch`` the period-doubled branch of each flip: what a bifurcation diagram
+    overlays.  An end where the orbits are singular (a resonance, not isolated) starts
+    nothing; a branch or switch that fails is left out, silently.
+
+    Parameters
+    ----------
+    model : Model or Params
+        A model with one rigid upper stop on one mass (the paper's Params as its
+        ``Model.luo_xie``).
+    omega_min : float
+        Lower end of the interval, at least 1e-4; branches start at both ends.
+    omega_max : float
+        Upper end, at most 1e4.
+    switch : bool, optional
+        Add the 2-2 branch born at each admissible flip point (default True).
+    max_points : int, optional
+        Most points on each branch (default 5000).
+
+    Returns
+    -------
+    list of Branch
+        The 1-1 branches continued in omega from each end, then the doubled ones.
+
+    Raises
+    ------
+    ParameterError
+        ``model`` neither a Model nor Params, an end out of range, or a model with
+        several stops or a lower, elastic or between-masses stop.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import period1_branches
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> [(br.n, br.p) for br in period1_branches(m, 2.5, 2.8)]
+    [(1, 1), (2, 2)]
+    """
     from ..model import Model
     from ..orbits.period1 import admissible_orbits
     model = Model.of(model)      # the paper's Params too (it found no branch: silently none)
@@ -339,8 +562,46 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
 
 
 def diagram_branches(system, omega_min, omega_max, component=0):
-    """What a bifurcation diagram over omega overlays, for a Model or the paper's Params:
-    (curves of :meth:`Branch.curve`, special points as dicts with the orbit's n-p)."""
+    """What a bifurcation diagram over omega overlays, for a Model or the paper's Params.
+
+    (curves of :meth:`Branch.curve`, special points as dicts with the orbit's n-p), of
+    the branches of :func:`period1_branches` (doubled branches included).
+
+    Parameters
+    ----------
+    system : Model or Params
+        A model with one rigid upper stop on one mass, or the paper's parameters.
+    omega_min : float
+        Lower end of the interval, at least 1e-4.
+    omega_max : float
+        Upper end, at most 1e4.
+    component : int, optional
+        The section coordinate drawn (0-based index into the orbit's section point;
+        default 0, the stop mass's velocity after the impact).
+
+    Returns
+    -------
+    curves : list of dict
+        One :meth:`Branch.curve` per branch.
+    special : list of dict
+        Every special point (:meth:`SpecialPoint.as_dict`), with ``"orbit"`` its
+        branch's ``"n-p"``.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`period1_branches`.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import diagram_branches
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> curves, special = diagram_branches(m, 2.5, 2.8)
+    >>> len(curves), [(s["kind"], s["orbit"]) for s in special]
+    (2, [('flip', '1-1'), ('flip', '2-2')])
+    """
     from ..model import Model
     brs = period1_branches(Model.of(system), omega_min, omega_max)
     return ([b.curve(component) for b in brs],

@@ -63,8 +63,37 @@ class Located:
 
 @dataclass(frozen=True)
 class Result:
-    """Base of a continuation run's result: ``points`` in arclength order, ``special`` the
-    located events (:class:`Located`), ``stop_reasons`` why each end of the run stopped."""
+    """Base of a continuation run's result (one family for branches and curves).
+
+    ``points`` in arclength order, ``special`` the located events (:class:`Located`),
+    ``stop_reasons`` why each end of the run stopped.  Its members are
+    :class:`symvi.continuation.Branch` (one parameter) and :class:`symvi.curves.Curve`
+    (two); every event's kind is checked against :data:`EVENT_KINDS` when the result is
+    made (ValueError otherwise).  ``len(result)`` is the number of points.
+
+    Attributes
+    ----------
+    points : tuple
+        The points of the run, in arclength order.
+    special : tuple
+        The located events, each with a ``kind`` of :data:`EVENT_KINDS`.
+    events : tuple
+        The same as ``special``.
+    stop_reasons : tuple of str
+        Why each end of the run stopped.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import Result, continue_branch
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> br = continue_branch(m, "omega", 2.5, 2.8)
+    >>> isinstance(br, Result), len(br) == len(br.points), br.stop_reasons
+    (True, True, ('reached omega = 2.8',))
+    >>> [sp.kind for sp in br.events_of("flip")], br.events_of("fold")
+    (['flip'], ())
+    """
 
     def __post_init__(self):
         for sp in self.special:
@@ -82,6 +111,7 @@ class Result:
         raise NotImplementedError                                 # pragma: no cover
 
     def events_of(self, kind):
-        """The located events of one ``kind`` (of :data:`EVENT_KINDS`)."""
+        """The located events of one ``kind`` (of :data:`EVENT_KINDS`); ValueError for a
+        kind not in it."""
         check_kind(kind)
         return tuple(sp for sp in self.special if sp.kind == kind)

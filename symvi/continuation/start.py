@@ -37,8 +37,12 @@ _SWITCHES = {"flip": switch_at_flip, "symmetry-breaking": switch_at_branch_point
 def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=None,
                     simulation=None, switch=False, through=False, max_points=5000,
                     names=None, **fixed):
-    """The branches of n-p orbits of ``model`` in the named parameter ``param``, started
-    at ``start`` and kept between ``start`` and ``stop``: a list of :class:`Branch`.
+    """The branches of n-p orbits of ``model`` in a named parameter, from every orbit at a start.
+
+    In the named parameter ``param``, started at ``start`` and kept between ``start``
+    and ``stop``: a list of :class:`Branch`.  What ``symvi continue`` runs.  Each
+    starting orbit is continued by :func:`continue_branch`; a branch that retraces
+    another (:func:`same_branch`) is dropped.
 
     The orbits to start from:
 
@@ -62,6 +66,83 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     ``through`` follows branches on where their orbits are inadmissible,
     ``max_points`` bounds each branch.  Errors are :class:`ParameterError` naming the
     argument, as ``names`` spells it (:data:`NAMES`; the command line passes its flags).
+    Where the start has no admissible period-1 orbit, the first of 200 values towards
+    ``stop`` with one is taken (refined to the edge of existence by bisection); where no
+    run settles on a periodic orbit at the start of a model with no period-1 closed
+    form (several stops, a lower one), the first of 20 values towards ``stop`` where
+    one does.  A branch then says so in its ``notes``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (positional only; the paper's Params as ``Model.of(params)``).
+    param : str
+        The continued parameter (positional only): ``"omega"`` or a named parameter of
+        the model (:meth:`symvi.Model.parameter`).
+    start : float
+        Where the branches start (positional only); a valid value of ``param`` for the
+        model (omega: 1e-4 to 1e4, not at an undamped natural frequency).
+    stop : float
+        The other end of the interval (positional only), != ``start``.
+    orbit : tuple of int or str, optional
+        The orbit's n-p, ``(n, p)`` or ``"n-p"``, 1 <= n, p <= 64 (default ``(1, 1)``).
+    start_omega : float, optional
+        With ``param`` omega only: start there, inside [start, stop], and continue both
+        ways.  Not with ``simulation``.
+    simulation : Simulation or str or os.PathLike, optional
+        A :func:`symvi.simulate` run of ``model`` that settled on a periodic orbit, or
+        the path of an ``.npz`` written by ``symvi simulate --out``: start from its
+        orbit.
+    switch : bool, optional
+        Also follow the branch born at each flip point and at each branch point
+        (default False).
+    through : bool, optional
+        Follow branches on where their orbits are inadmissible (default False).
+    max_points : int, optional
+        Most points on each branch, 2 to 1000000 (default 5000).
+    names : dict, optional
+        How errors name the arguments: keys of :data:`NAMES` (``"start"``, ``"stop"``,
+        ``"param"``, ...) to the caller's spelling (default: the argument names).
+    **fixed : float
+        The other parameters' values: ``omega=...`` (required when ``param`` is not
+        omega, unless ``simulation`` gives it) and any named parameter of the model
+        (``gap=0.4``, ``**{"stiffness[1,2]": -1.0}``).
+
+    Returns
+    -------
+    list of Branch
+        The branches from each starting orbit (each direction from ``start_omega`` or a
+        simulation's omega), then, with ``switch``, the branches switched to.
+
+    Raises
+    ------
+    ParameterError
+        An argument out of range, naming it: ``model`` not a Model, an unknown
+        ``param`` or fixed name, ``param`` also fixed, a bad ``orbit`` or
+        ``max_points``, no ``omega`` when it is needed, ``start == stop``,
+        ``start_omega`` outside the interval, a simulation that settled on no periodic
+        orbit (or on another n-p), no start found anywhere in the interval.
+    SingularCaseError
+        ``"forcing-resonance"``: ``start``, ``start_omega`` or the fixed omega at an
+        undamped natural frequency.
+    SymviError
+        Newton does not converge from a starting orbit (a ConvergenceError).
+
+    Warns
+    -----
+    UserWarning
+        With ``switch``: a branch switch that failed, with the reason.
+
+    Examples
+    --------
+    >>> from symvi import Model
+    >>> from symvi.continuation import continue_orbits
+    >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> branches = continue_orbits(m, "omega", 0.72, 0.75)
+    >>> [(br.n, br.p, br.end) for br in branches]
+    [(1, 1, 'reached omega = 0.75')]
+    >>> [(sp.kind, round(sp.value, 6)) for sp in branches[0].special]
+    [('ns', 0.736877)]
     """
     from ..model import Model
     from ..orbits.periodic import detect_period
@@ -374,11 +455,51 @@ def _attractor(model, par, start, stop, omega):
 
 
 def attractor_orbit(model, omega):
-    """The periodic orbit a run of the map settles on at ``omega`` from
-    :func:`default_start` (SETTLE_TRANSIENT impacts dropped), refined by Newton on its
-    signature: what ``symvi orbit`` gives for a model with no period-1 closed form (several
-    stops, a lower one).  SingularCaseError ("no-orbit") with the reason when the run
-    settles on none."""
+    """The periodic orbit a run of the map settles on at ``omega``, refined by Newton.
+
+    From :func:`default_start` (SETTLE_TRANSIENT impacts dropped), refined by Newton on
+    its signature: what ``symvi orbit`` gives for a model with no period-1 closed form
+    (several stops, a lower one).  SingularCaseError ("no-orbit") with the reason when
+    the run settles on none.  The default start lies on the first stop's section: every
+    other mass at rest at 0, phase 0, the stop's mass leaving at speed
+    omega * max(abs(gap), 0.1); 4000 impacts are dropped and the period is read from
+    the next 400 (at most 16 impacts).
+
+    Parameters
+    ----------
+    model : Model
+        Any model (several stops, lower, elastic and between-masses stops included).
+    omega : float
+        Forcing frequency, 1e-4 <= omega <= 1e4, not at the natural frequency of an
+        undamped mode.
+
+    Returns
+    -------
+    PeriodicOrbit
+        The n-p orbit (``n``, ``p``, ``points``, ``times``, ``multipliers``,
+        ``stable``, ``admissible``, ``signature``).
+
+    Raises
+    ------
+    ParameterError
+        ``omega`` out of range.
+    SingularCaseError
+        ``"forcing-resonance"`` (omega at an undamped natural frequency), or
+        ``"no-orbit"``: the run settles on no periodic orbit of at most 16 impacts
+        (or ends early: grazing, chatter, ...).
+    SymviError
+        Newton does not converge from the run (a ConvergenceError).
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import attractor_orbit
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> o = attractor_orbit(m, 2.69)          # past the flip at omega = 2.656
+    >>> o.n, o.p, o.admissible, o.stable
+    (2, 2, True, True)
+    """
     from ..flow import check_omega
     from ..orbits.periodic import detect_period, from_simulation
     omega = check_omega(model, omega)             # the free flight's (LinearFlow.free)
@@ -453,12 +574,45 @@ class BranchScan:
 
 
 def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
-    """The NS points of ``model`` (one with no period-1 closed form: several stops, a
+    """The Neimark–Sacker points of a model with no period-1 closed form, uncertified.
+
+    The NS points of ``model`` (one with no period-1 closed form: several stops, a
     lower one, an elastic stop) in [omega_min, omega_max], as ``symvi hopf`` reports them
     there: at ``samples`` frequencies a run of the map from the default start settles on
     a periodic attractor; each new one is continued in omega over the interval both ways
     (:func:`continue_orbits`), and the NS points located on the branches are kept, each
-    once.  A :class:`BranchScan`, which says it is not certified."""
+    once.  A :class:`BranchScan`, which says it is not certified: an orbit no run
+    settles on, and a branch that does not reach one, are not searched (the certified
+    scan of closed-form branches is :func:`symvi.hopf_points`).
+
+    Parameters
+    ----------
+    model : Model
+        Any model.
+    omega_min : float
+        Lower end of the interval, 1e-4 <= omega_min < omega_max.
+    omega_max : float
+        Upper end, at most 1e4.
+    samples : int, optional
+        Frequencies (the midpoints of equal sub-intervals) where a run looks for an
+        attractor (default 8).
+    max_points : int, optional
+        Most points on each branch (default 5000).
+
+    Returns
+    -------
+    BranchScan
+        ``points``: (SpecialPoint, Branch) pairs of kind "ns", sorted by omega, each
+        with its normal-form coefficients (``l1``); ``branches``, ``starts`` (omega,
+        n, p, signature of each attractor started from), ``complete`` False and
+        ``reason``.
+
+    Raises
+    ------
+    ParameterError
+        ``model`` not a Model, an end not a real number or out of range, or
+        ``omega_max <= omega_min``.
+    """
     from ..model import Model
     from ..orbits.periodic import detect_period, from_simulation
     if not isinstance(model, Model):

@@ -41,9 +41,63 @@ def step(flow, forcing, y, t_max=None):
 
 
 def poincare_map(model, omega, y, *, digits=None, t_max=None):
-    """P(y; omega), eq. (31), of ``model`` (a Model, or the paper's Params: :meth:`Model.of`)
-    on float64 or (``digits``) mpmath.  Raises nothing for a flight that grazes or never
-    returns; inspect ``status``."""
+    """P(y; omega), eq. (31): one application of the impact map.
+
+    Of ``model`` (a Model, or the paper's Params: :meth:`Model.of`) on float64 or
+    (``digits``) mpmath.  Raises nothing for a flight that grazes or never returns;
+    inspect ``status``.  From y just after an impact (t reset to 0) the exact flow runs
+    to the first contact with the stop, where the impact law v_k+ = -r v_k- (eq. (2))
+    applies and tau' = tau + omega t_e (mod 2 pi), eqs. (26)–(31).
+
+    Parameters
+    ----------
+    model : Model or Params
+        A model with one rigid upper stop on one mass (the paper's Params as its
+        ``Model.luo_xie``).
+    omega : float
+        Forcing frequency, 1e-4 <= omega <= 1e4, not at the natural frequency of an
+        undamped mode.
+    y : sequence of float
+        The section point just after an impact, 2N finite numbers in the order of
+        :class:`symvi.Orbit`'s ``names``: (v_k+, x_j, v_j for j != k, tau).  For a
+        flight, v_k+ must point away from the stop.
+    digits : int, optional
+        Compute with mpmath at this many digits.  Default None: float64.
+    t_max : float, optional
+        Longest flight searched for the next impact; default None: 1000 forcing
+        periods, 2000 pi / omega.
+
+    Returns
+    -------
+    MapStep
+        ``y`` the image P(y) (tau in [0, 2 pi)), ``t`` the flight time t_e,
+        ``impact_velocity`` v_k- just before the impact (> 0 on the physical branch),
+        ``status`` "impact", "grazing" (a contact at zero speed, or a start that does not
+        leave the stop) or "no-impact" (no return within ``t_max``), and
+        ``tau_unwrapped`` = tau + omega t_e before the reduction mod 2 pi.  Arrays are
+        float64, or mpf with ``digits``.
+
+    Raises
+    ------
+    ParameterError
+        ``omega`` out of range, ``y`` not 2N finite numbers, or a model with several
+        stops or a lower, elastic or between-masses stop.
+    SingularCaseError
+        ``"forcing-resonance"``: omega at an undamped natural frequency.
+
+    Examples
+    --------
+    >>> import symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> o = symvi.period1_orbits(p, 0.72)[0]
+    >>> step = symvi.poincare_map(p, 0.72, o.y)          # the fixed point maps to itself
+    >>> step.status
+    'impact'
+    >>> print(max(abs(a - b) for a, b in zip(step.y, o.y)) < 1e-12)
+    True
+    >>> round(float(step.t), 6)                          # one forcing period, 2 pi / omega
+    8.726646
+    """
     model = Model.of(model).require_one_rigid_stop()
     LinearFlow.of(model)                      # validates the model
     y = Section.of(model).check(y)

@@ -227,7 +227,55 @@ def loads(text, source="<model>"):
 
 
 def load_model(path):
-    """Read a model file (TOML); see the module docstring for the format."""
+    """Read a model file (TOML); see the module docstring for the format.
+
+    A ``[model]`` table with ``mass`` (the diagonal, or a matrix as a list of rows),
+    ``stiffness``, optional ``damping`` and ``forcing``, as :class:`Model` takes them;
+    then one ``[stop]`` table (``mass``, ``gap``, ``restitution``) or one ``[[stop]]``
+    table per stop (the fields of :class:`Stop`: ``mass`` or ``between``, ``gap``,
+    ``side``, ``restitution`` or ``stiffness`` and ``damping``).  Sizes are bounded
+    before anything is allocated: at most 1 MiB, arrays nested at most 8 deep, at most
+    64 stops, N <= 8.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The model file: a regular file of UTF-8 TOML text.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    symvi.model.ModelFileError
+        A :class:`ParameterError` whose one-line message names the file and the key: no such
+        file, a directory, unreadable, not UTF-8, larger than 1 MiB, invalid TOML, an
+        unknown or missing key, or a value the :class:`Model` or :class:`Stop`
+        constructor refuses.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from symvi import load_model
+    >>> path = os.path.join(tempfile.mkdtemp(), "one.toml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write('''
+    ... [model]
+    ... mass = [1.0]
+    ... stiffness = [[1.0]]
+    ... damping = [[0.05]]
+    ... forcing = [1.0]
+    ...
+    ... [stop]
+    ... mass = 1
+    ... gap = 0.0
+    ... restitution = 0.8
+    ... ''')
+    >>> load_model(path)
+    Model(mass=[[1.0]], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+          stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    """
     try:
         st = os.stat(path)
         if stat.S_ISDIR(st.st_mode):

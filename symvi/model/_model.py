@@ -57,14 +57,55 @@ SYM_TOL = 1e-12
 
 @dataclass(frozen=True, repr=False)
 class Stop:
-    """One stop (keyword fields; ``Stop(mass, gap, restitution)`` as before).
+    """One stop of a :class:`Model` (keyword fields; ``Stop(mass, gap, restitution)`` as before).
 
     The coordinate: exactly one of ``mass=k`` (s = x_k) or ``between=(i, j)``
     (s = x_j - x_i, an impact between two masses), 1-based, i != j.  ``gap`` g;
     ``side`` "upper" (s <= g, the default) or "lower" (s >= g).  The contact: rigid
-    with ``restitution`` 0 < r <= 1, or elastic with ``stiffness`` > 0 and an optional
-    ``damping`` >= 0 (:mod:`symvi.model._constraint`).  Each field is checked here; the
-    model checks the indices against N and the stops against each other.
+    with ``restitution`` 0 < r <= 1 (Newton's law v+ = -r v-, eq. (2)), or elastic with
+    ``stiffness`` > 0 and an optional ``damping`` >= 0 (:mod:`symvi.model._constraint`).
+    Each field is checked here; the model checks the indices against N and the stops
+    against each other.  Immutable and hashable.
+
+    Parameters
+    ----------
+    mass : int, optional
+        1-based index (1 to 8) of the mass that meets the stop: s = x_k.  Exactly one of
+        ``mass`` and ``between``.
+    gap : float
+        The gap g (required): the stop is at s = g; finite, ``abs(gap) <= 1e6``.
+    restitution : float, optional
+        Coefficient of restitution r of a rigid stop, 0 < r <= 1 (1: elastic impact, no
+        loss).  Required for a rigid stop, refused with ``stiffness``.
+    between : tuple of int, optional
+        ``(i, j)``: two different 1-based mass indices, s = x_j - x_i (an impact between
+        two masses).  Exactly one of ``mass`` and ``between``.
+    side : {"upper", "lower"}, optional
+        "upper" (default): the motion keeps s <= g; "lower": s >= g.
+    stiffness : float, optional
+        Contact stiffness k_s of an elastic stop, 0 < k_s <= 1e6 (then no
+        ``restitution``).  Default None: a rigid stop.
+    damping : float, optional
+        Contact damping c_s of an elastic stop, 0 <= c_s <= 1e6; only with
+        ``stiffness``.  Default None (no contact damping).
+
+    Raises
+    ------
+    ParameterError
+        A field out of its range, naming it (``stop.mass``, ``stop.gap``,
+        ``stop.restitution``, ...): neither or both of ``mass`` and ``between``, a mass
+        index outside 1..8, a missing or non-finite gap, a side other than "upper" or
+        "lower", a rigid stop without a restitution in (0, 1], ``restitution`` together
+        with ``stiffness``, ``damping`` without ``stiffness``.
+
+    Examples
+    --------
+    >>> from symvi import Stop
+    >>> Stop(mass=1, gap=0.5, restitution=0.8)
+    Stop(mass=1, gap=0.5, restitution=0.8)
+    >>> s = Stop(between=(1, 2), gap=0.1, side="lower", stiffness=50.0)
+    >>> s.kind
+    'elastic'
     """
 
     mass: int = None
@@ -319,10 +360,55 @@ def _stop_list(stop, stops):
 class Model:
     """A linear impact oscillator (see the module docstring); immutable, hashable.
 
+    Between impacts ``M x'' + C x' + K x = P sin(omega t + tau)``; at a stop Newton's
+    impact law (eq. (2) generalised), or a contact phase for an elastic stop.
     ``Model(mass=..., stiffness=..., forcing=..., damping=None, stop=Stop(...))``, or
     ``stops=[Stop(...), ...]`` for several stops (exactly one of ``stop`` and ``stops``);
     every argument is keyword-only and validated here; an error names the
     field and its valid range (``stop.gap`` for ``stop=``, ``stop[2].gap`` for ``stops=``).
+    The forcing frequency omega is not a field of the model: every analysis takes it
+    beside the model.  Luo & Xie's two-mass model, eq. (4), is :meth:`luo_xie`.
+
+    Parameters
+    ----------
+    mass : array_like
+        M: a list of N numbers (the diagonal) or an N x N matrix (a list of rows),
+        1 <= N <= 8; symmetric positive definite with condition number <= 1e12, entries
+        ``abs(m_ij) <= 1e6``.  An asymmetry of at most 1e-12 (relative) is removed.
+    stiffness : array_like
+        K: an N x N matrix, symmetric positive semi-definite: positive definite
+        (condition number <= 1e12) or singular to rounding (a mass on no spring: a free
+        mode); entries ``abs(k_ij) <= 1e6``.
+    forcing : array_like
+        P: the N forcing amplitudes, ``abs(P_i) <= 1e6``.
+    stop : Stop, optional
+        The one stop.  Exactly one of ``stop`` and ``stops``.
+    stops : list of Stop, optional
+        Several stops, in order (``stop[k]`` in parameter names is ``stops[k - 1]``); at
+        most one upper and one lower stop per coordinate, with free space between them.
+    damping : array_like, optional
+        C: an N x N symmetric positive semi-definite matrix.  Default None: C = 0, as in
+        the paper.
+
+    Raises
+    ------
+    ParameterError
+        An argument out of its valid range, naming the field (``mass``, ``stiffness``,
+        ``damping``, ``forcing``, ``stop.gap``, ``stop[2].mass``, ...): a wrong size or
+        shape, a non-finite or non-numeric entry, an asymmetric or indefinite matrix, an
+        ill-conditioned M, a mass index beyond N, two stops on one side of a coordinate.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> m = Model(mass=[1.0, 2.0], stiffness=[[2.0, -1.0], [-1.0, 1.0]],
+    ...           forcing=[1.0, 0.0], damping=[[0.02, 0.0], [0.0, 0.02]],
+    ...           stop=Stop(mass=1, gap=0.5, restitution=0.8))
+    >>> m.n, m.dim
+    (2, 4)
+    >>> m.mass
+    array([[1., 0.],
+           [0., 2.]])
     """
 
     __slots__ = ("_M", "_K", "_C", "_P", "_stops", "_preset", "_arrays", "_hash")
@@ -511,8 +597,49 @@ class Model:
     # ---- the paper's preset ----------------------------------------------------
     @classmethod
     def luo_xie(cls, mu_m, mu_k, f2, b, r):
-        """The model of Luo & Xie (1998), eq. (4): M = diag(1, mu_m),
-        K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2), stop on mass 1 at b."""
+        """The two-mass model of Luo & Xie (1998), eq. (4).
+
+        M = diag(1, mu_m), K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2), stop on
+        mass 1 at b.  No damping (C = 0); one rigid upper stop on mass 1.  The model
+        remembers the five numbers (:attr:`preset`), so ``mu_m``, ``mu_k``, ``f2``,
+        ``b``, ``r`` are named parameters of it too.  The paper's :class:`symvi.Params`
+        gives the same model (:meth:`symvi.Params.as_model`).
+
+        Parameters
+        ----------
+        mu_m : float
+            Mass ratio m2 / m1, 1e-6 <= mu_m <= 1e6.
+        mu_k : float
+            Stiffness ratio k2 / k1 (k1 couples the masses, k2 holds mass 2 to the
+            frame), 1e-6 <= mu_k <= 1e6.
+        f2 : float
+            Share of the forcing on mass 2 (mass 1 gets 1 - f2), ``abs(f2) <= 1e6``.
+        b : float
+            Gap between mass 1 at rest and the stop, ``abs(b) <= 1e6``.
+        r : float
+            Coefficient of restitution, 0 < r <= 1.
+
+        Returns
+        -------
+        Model
+            The two-mass model of eq. (4).
+
+        Raises
+        ------
+        ParameterError
+            A value out of its range, naming it (``mu_m``, ``mu_k``, ``f2``, ``b``,
+            ``r``).
+
+        Examples
+        --------
+        >>> from symvi import Model
+        >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        >>> m.stiffness
+        array([[ 1., -1.],
+               [-1.,  6.]])
+        >>> m.stop
+        Stop(mass=1, gap=1.5, restitution=0.8)
+        """
         p = _preset.values(mu_m, mu_k, f2, b, r)      # the preset's ranges and messages
         return cls(mass=[1.0, p["mu_m"]], stiffness=[[1.0, -1.0], [-1.0, 1.0 + p["mu_k"]]],
                    forcing=[1.0 - p["f2"], p["f2"]],
@@ -521,9 +648,34 @@ class Model:
 
     @classmethod
     def of(cls, system):
-        """``system`` itself when it is a Model, else the Model it presents through its
+        """The Model of ``system``: a Model itself, or what its ``as_model()`` gives.
+
+        ``system`` itself when it is a Model, else the Model it presents through its
         ``as_model()`` (the paper's :class:`symvi.Params` does: its ``Model.luo_xie``).  The
-        layers below the paper take Models only; this is where a client's object becomes one."""
+        layers below the paper take Models only; this is where a client's object becomes one.
+
+        Parameters
+        ----------
+        system : Model or object
+            A Model, or an object whose class has an ``as_model()`` method returning one.
+
+        Returns
+        -------
+        Model
+
+        Raises
+        ------
+        ParameterError
+            ``model``: ``system`` is neither a Model nor has an ``as_model()`` that returns
+            one.
+
+        Examples
+        --------
+        >>> from symvi import Model, Params
+        >>> p = Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        >>> Model.of(p) == Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        True
+        """
         if isinstance(system, cls):
             return system
         as_model = getattr(type(system), "as_model", None)
@@ -553,26 +705,112 @@ class Model:
         return names
 
     def parameter(self, name):
-        """The :class:`symvi.model.parameters.Parameter` called ``name`` (``omega`` included):
-        parsed once per model shape (the objects are cached), then it reads, sets and
+        """The :class:`symvi.model.parameters.Parameter` called ``name`` (``omega`` included).
+
+        Parsed once per model shape (the objects are cached), then it reads, sets and
         differentiates that parameter on any model of this shape.  A bad name raises the
-        one-line ParameterError naming the valid names."""
+        one-line ParameterError naming the valid names.
+
+        Parameters
+        ----------
+        name : str or Parameter
+            ``omega``; ``gap``, ``restitution`` (the first stop's); ``stop[k].gap``,
+            ``stop[k].restitution``, ``stop[k].stiffness``, ``stop[k].damping``;
+            ``mass[i]`` (= ``mass[i,i]``), ``mass[i,j]``, ``stiffness[i,j]``,
+            ``damping[i,j]``, ``forcing[i]`` (1-based indices up to N); on the paper's
+            preset also ``mu_m``, ``mu_k``, ``f2``, ``b``, ``r``.  A Parameter is
+            returned as this model's.
+
+        Returns
+        -------
+        Parameter
+            A lens on the point (model, omega): ``get``, ``set``, ``apply``,
+            ``tangent``, ``is_forcing_frequency``.
+
+        Raises
+        ------
+        ParameterError
+            ``parameter``: not a name of this model (the message lists the valid ones),
+            or a ``stop[k]`` field the model's stop k does not have.
+
+        Examples
+        --------
+        >>> from symvi import Model
+        >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        >>> m.parameter("omega").is_forcing_frequency
+        True
+        >>> m.parameter("stiffness[2,2]").get(m)
+        6.0
+        """
         par = _parse_parameter(name, len(self._P), self._preset is not None)
         if isinstance(par, StopParameter):
             par.stop_of(self)                     # the model has that stop, of that kind
         return par
 
     def value(self, name):
-        """The value of a named parameter (not omega, which is not a field of the model)."""
+        """The value of a named parameter (not omega, which is not a field of the model).
+
+        Parameters
+        ----------
+        name : str
+            A parameter name of :meth:`parameter`, except ``omega``.
+
+        Returns
+        -------
+        float
+
+        Raises
+        ------
+        ParameterError
+            A name that is not a parameter of this model, or ``omega``.
+
+        Examples
+        --------
+        >>> from symvi import Model
+        >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        >>> m.value("mu_k"), m.value("gap"), m.value("forcing[1]")
+        (5.0, 1.5, 1.0)
+        """
         par = self.parameter(name)
         if par.is_forcing_frequency:
             par.apply(self, None)                 # refuses: omega lives beside the model
         return par.get(self)
 
     def with_(self, **changes):
-        """A copy with named parameters changed, e.g. ``model.with_(**{"forcing[1]": 0.3})``
-        or ``model.with_(mu_m=3)`` on the preset.  Validated like the constructor (one
-        change: :meth:`Parameter.apply`, which checks only what the change can break)."""
+        """A copy with named parameters changed.
+
+        E.g. ``model.with_(**{"forcing[1]": 0.3})`` or ``model.with_(mu_m=3)`` on the
+        preset.  Validated like the constructor (one change: :meth:`Parameter.apply`,
+        which checks only what the change can break).  Changing a preset number
+        (``mu_m``, ...) rebuilds :meth:`luo_xie`; changing a matrix entry of a preset
+        model gives a plain Model.
+
+        Parameters
+        ----------
+        **changes : float
+            New values by parameter name (see :meth:`parameter`; not ``omega``).
+            Setting an off-diagonal entry sets its mirror too.  None: the model itself.
+
+        Returns
+        -------
+        Model
+
+        Raises
+        ------
+        ParameterError
+            A name that is not a parameter of this model, ``omega``, or a value that
+            leaves the model invalid (a non-finite number, an indefinite matrix, a
+            restitution outside (0, 1], ...), naming it.
+
+        Examples
+        --------
+        >>> from symvi import Model
+        >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+        >>> m.with_(b=1.2).value("gap")
+        1.2
+        >>> m.with_(**{"forcing[2]": 0.3}).forcing
+        array([1. , 0.3])
+        """
         if not changes:
             return self
         if len(changes) == 1:

@@ -60,7 +60,54 @@ class Orbit:
     """A period-1 one-impact orbit of a model at omega: the fixed point y of P.
 
     ``y`` follows :class:`symvi.maps.Section` (names in ``names``).  Numbers
-    are float, or mpf when computed with ``digits``.
+    are float, or mpf when computed with ``digits``.  What :func:`symvi.period1_orbits`
+    returns for a :class:`symvi.Model` (for the paper's :class:`symvi.Params`, a
+    subclass with the paper's names); immutable.
+
+    Attributes
+    ----------
+    model : Model
+        The model of the orbit.
+    omega : float
+        The forcing frequency.
+    branch : str
+        "+" or "-": tau0 = phi +- arccos(alpha b / rho), the paper's two solutions of
+        eq. (16).
+    y : tuple
+        The fixed point of the impact map P just after the impact, 2N numbers:
+        (v_k+, x_j for j != k, v_j for j != k, tau) with k the stop's mass, tau the
+        forcing phase in [0, 2 pi) (eq. (9) for the paper's model).
+    names : tuple of str
+        The names of the components of ``y``, e.g. ``("v1+", "x2", "v2", "tau")``.
+    impact_velocity : float
+        The stop mass's velocity just before the impact, v_k- at t = 2 pi / omega;
+        > 0 on the physical branch.
+    admissible : bool
+        Whether the orbit is physical: it arrives moving towards the stop and meets no
+        stop during the flight (the first-impact finder over (0, 2 pi / omega)).
+    reason : str
+        Why it is not admissible ("" when it is).
+    multipliers : tuple of complex
+        Eigenvalues of DP at y, eq. (36), sorted by modulus, largest first; empty when
+        computed with ``multipliers=False``.
+    stable : bool
+        Admissible and every multiplier inside the unit circle.
+    digits : int or None
+        The mpmath precision the orbit was computed at (None: float64).
+    tau0 : float
+        The impact phase, ``y[-1]``.
+
+    Examples
+    --------
+    >>> from symvi import Model, period1_orbits
+    >>> m = Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> o = period1_orbits(m, 0.72)[0]
+    >>> o.names
+    ('v1+', 'x2', 'v2', 'tau')
+    >>> o.branch, o.admissible, round(float(o.impact_velocity), 6)
+    ('+', True, 1.868924)
+    >>> max(abs(z) for z in o.multipliers) < 1
+    True
     """
 
     model: object = field(repr=False)

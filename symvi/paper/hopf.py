@@ -49,8 +49,63 @@ class PaperHopfResult(HopfResult):
 
 
 def hopf_points(params, omega_min, omega_max):
-    """:func:`symvi.analysis.hopf.hopf_points` of a Model, or of the paper's Params in the
-    paper's terms (a :class:`PaperHopfResult`: one HopfResult, with the paper's fields)."""
+    """Every Neimark–Sacker point of an admissible period-1 orbit in [omega_min, omega_max].
+
+    :func:`symvi.analysis.hopf.hopf_points` of a Model, or of the paper's Params in the
+    paper's terms (a :class:`PaperHopfResult`: one HopfResult, with the paper's fields).
+    Both orbit branches of eqs. (10)–(16) are scanned with order-1 code (orbit and
+    multipliers); every crossing of a complex pair through the unit circle, (H1)–(H3),
+    is located to 1e-12 in omega, and the order-3 jet and the normal form are evaluated
+    there (Sec. 3).  The scan certifies each segment it accepts, so no crossing is
+    missed there; the spans it could not certify are listed (``uncertified``; empty:
+    ``complete``).  A natural frequency of an undamped mode strictly inside the interval
+    cuts the branches and is reported as a ``forcing-resonance`` event.  A conservative
+    model (r = 1, no damping) has no Neimark–Sacker point: ``conservative`` is set and
+    only the other events are reported.
+
+    Parameters
+    ----------
+    params : Params or Model
+        The paper's parameters (points with the paper's f1 of eq. (60), printed and
+        corrected), or a :class:`symvi.Model` with one rigid upper stop on one mass.
+    omega_min : float
+        Lower end of the interval scanned, 1e-4 <= omega_min < omega_max; not at the
+        natural frequency of an undamped mode.
+    omega_max : float
+        Upper end, at most 1e4; not at the natural frequency of an undamped mode.
+
+    Returns
+    -------
+    HopfResult
+        ``points`` (each a :class:`symvi.analysis.hopf.HopfPoint`: ``omega_c``,
+        ``branch``, ``multiplier``, (H1)–(H3), Kuznetsov's ``c1`` and ``l1``, ``kind``
+        "supercritical" for l1 < 0, the orbit and the predicted circle; with Params a
+        ``PaperHopfPoint`` adding ``f1_paper`` and ``f1_wan``) sorted by omega;
+        ``events`` (real multipliers through +1 or -1, admissibility changes, orbits
+        appearing or vanishing, cuts at natural frequencies); ``uncertified`` and
+        ``complete``; ``conservative``.  Iterating the result gives its points.
+
+    Raises
+    ------
+    ParameterError
+        An end not a number or outside 1e-4..1e4, ``omega_max <= omega_min``, a
+        ``params`` that is neither a Model nor Params, or a model with several stops or
+        a lower, elastic or between-masses stop (:func:`symvi.continuation.ns_scan`
+        scans those).
+    SingularCaseError
+        ``"forcing-resonance"``: an end at an undamped natural frequency.
+
+    Examples
+    --------
+    >>> import symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> res = symvi.hopf_points(p, 0.72, 0.75)
+    >>> len(res), res.complete
+    (1, True)
+    >>> pt = res.points[0]
+    >>> round(pt.omega_c, 6), pt.branch, pt.kind
+    (0.736877, '+', 'supercritical')
+    """
     if not isinstance(params, Params):
         return _hopf_points(params, omega_min, omega_max)     # checks what it is given
     res = _hopf_points(params.as_model(), omega_min, omega_max)

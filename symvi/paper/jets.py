@@ -124,7 +124,63 @@ class Jet(_AnyJet):
     A :class:`symvi.codegen.jets.Jet` (raw derivatives in the section order of
     ``Model.luo_xie``) with its orbit and the paper's names F01 … F11.  Arrays are numpy
     float64, or numpy object arrays of mpf when ``digits`` is set.  Unrequested orders
-    are ``None``.
+    are ``None``.  What :func:`symvi.jet` returns for the paper's :class:`symvi.Params`
+    (for a :class:`symvi.Model`, the :class:`symvi.codegen.jets.Jet` itself, the same
+    fields without ``orbit`` and the F names).  Indices run over the section variables
+    (x1dot+, x20, x20dot, tau) of eq. (9).
+
+    Attributes
+    ----------
+    omega : float
+        The forcing frequency.
+    y : tuple
+        The fixed point y* the jet is taken at.
+    order : int
+        The order computed, 1 to 3.
+    jacobian : ndarray, shape (4, 4)
+        ``jacobian[i, j] = df_i/dy_j`` (F01, eq. (36)); its eigenvalues are the
+        multipliers.
+    theta1 : ndarray, shape (4,)
+        First-order coefficients of the implicit impact-phase correction theta in dy
+        (the implicit function theorem of eq. (37)).
+    g_theta : float
+        Derivative of the impact condition g in theta at the point, eq. (37): zero at
+        grazing (refused).
+    d2 : ndarray, shape (4, 4, 4) or None
+        ``d2[i, j, k] = d^2 f_i/dy_j dy_k`` (order >= 2).
+    d3 : ndarray, shape (4, 4, 4, 4) or None
+        Third derivatives (order 3).
+    dA : ndarray, shape (4, 4) or None
+        d/domega of the Jacobian along the orbit branch (F11, eq. (34) with p = q = 1):
+        ``dJ_domega + d2 . dy_domega`` (order >= 2).
+    dP_domega : ndarray, shape (4,) or None
+        Explicit omega-derivative of the map at fixed y (order >= 2).
+    dJ_domega : ndarray, shape (4, 4) or None
+        Explicit omega-derivative of the Jacobian at fixed y (order >= 2).
+    dy_domega : ndarray, shape (4,) or None
+        Motion of the fixed point, dy*/domega = (I - J)^-1 dP/domega (order >= 2).
+    digits : int or None
+        The mpmath precision (None: float64).
+    orbit : Orbit
+        The period-1 orbit the jet is taken at (the paper's :class:`Orbit`).
+    F01 : ndarray
+        The paper's name of ``jacobian``, eq. (36).
+    F02 : ndarray or None
+        ``d2 / 2``: the paper's second-order coefficients.
+    F03 : ndarray or None
+        ``d3 / 6``: the paper's third-order coefficients.
+    F11 : ndarray or None
+        The paper's name of ``dA``, eq. (34).
+
+    Examples
+    --------
+    >>> import numpy as np, symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> j = symvi.jet(p, 0.72)
+    >>> j.F01.shape, j.F02.shape, j.F03.shape
+    ((4, 4), (4, 4, 4), (4, 4, 4, 4))
+    >>> print(np.allclose(j.F02, j.d2 / 2), round(float(np.linalg.det(j.F01)), 12))
+    True 0.64
     """
 
     orbit: object = None
@@ -158,7 +214,61 @@ def jet(params, omega, order=3, *, digits=None, branch=None, orbit=None):
     """Jet of the Poincaré map at the admissible period-1 orbit, eqs. (33)–(38).
 
     ``order`` 1 gives the Jacobian only; 2 adds d2, dA (F11), dP/domega; 3 adds d3.
-    ``digits`` selects the mpmath backend at that many digits.
+    ``digits`` selects the mpmath backend at that many digits.  The derivatives are
+    evaluated by the generated code of the model's N-mass structure (exact, not finite
+    differences); the orbit is the admissible period-1 orbit at omega
+    (:func:`symvi.period1_orbits`) unless ``orbit`` is given.
+
+    Parameters
+    ----------
+    params : Params or Model
+        The paper's parameters (a :class:`Jet` with the paper's names), or a
+        :class:`symvi.Model` with one rigid upper stop on one mass (a
+        :class:`symvi.codegen.jets.Jet`: raw derivatives in its section order).
+    omega : float
+        Forcing frequency of the orbit, 1e-4 <= omega <= 1e4; not used when ``orbit``
+        is given (the orbit's own omega is).
+    order : {1, 2, 3}, optional
+        Highest order of derivatives computed (default 3).
+    digits : int, optional
+        Compute with mpmath at this many digits (16 to 10000 for the orbit).  Default
+        None: float64; with ``orbit``, the orbit's point is taken at this precision.
+    branch : {"+", "-"}, optional
+        Which orbit, when both branches are admissible at omega (default None: the one
+        admissible orbit).
+    orbit : Orbit, optional
+        A period-1 orbit computed by :func:`symvi.period1_orbits` (of the same model):
+        the jet is taken there, without solving for the orbit again.
+
+    Returns
+    -------
+    Jet
+        The derivatives; unrequested orders are None.
+
+    Raises
+    ------
+    ParameterError
+        ``order`` not 1, 2 or 3, ``branch`` not "+" or "-", an invalid omega or
+        ``digits``, or a model with several stops or a lower, elastic or between-masses
+        stop.
+    SingularCaseError
+        ``"no-admissible-orbit"`` (none at omega), ``"two-admissible-orbits"`` (both,
+        and no ``branch``), ``"grazing"`` (the impact has zero speed: eq. (30)'s
+        implicit function theorem fails), ``"multiplier-one"`` or
+        ``"near-singular-map"`` (order >= 2: the fixed point does not move smoothly with
+        omega), and those of :func:`symvi.period1_orbits`.
+
+    Examples
+    --------
+    >>> import symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> j = symvi.jet(p, 0.72, order=1)
+    >>> j.jacobian.shape, j.d2 is None
+    ((4, 4), True)
+    >>> o = symvi.period1_orbits(p, 0.72)[0]
+    >>> j3 = symvi.jet(p, 0.72, orbit=o)       # at an orbit already computed
+    >>> j3.d3.shape
+    (4, 4, 4, 4)
     """
     if order not in (1, 2, 3):
         raise ParameterError("order", order, "1, 2 or 3")

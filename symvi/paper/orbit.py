@@ -26,6 +26,15 @@ class Orbit(_AnyOrbit):
     section order of ``Model.luo_xie``, named here ``v1_plus``, ``x20``, ``x20_dot``,
     ``tau0``, with the modal constants ``a``, ``b`` of eqs. (13)–(15).  Numbers are float,
     or mpf when computed with ``digits``.
+
+    Attributes
+    ----------
+    params : Params
+        The paper's parameters of the orbit.
+    v1_plus, x20, x20_dot, tau0 : float
+        ``y`` by the paper's names, eq. (9).
+    a, b : tuple
+        The modal integration constants a_j (eq. (15)) and b_j (eqs. (13)–(14)).
     """
 
     params: object = field(default=None, repr=False, compare=False)
@@ -87,6 +96,66 @@ def period1_orbits(params, omega, *, digits=None, multipliers=True):
     ``admissible=False`` and a reason, never silently analysed.  ``digits``
     selects mpmath at that precision.  ``multipliers=False`` skips the Jacobian.
     A :class:`symvi.Model` gets the any-model :class:`symvi.orbits.Orbit`.
+    The orbits come from the closed form of :func:`symvi.orbits.period1_orbits`
+    (eqs. (10)–(18) generalised), the multipliers from the monodromy of eq. (30), and
+    admissibility from a run of the first-impact finder over the period.
+
+    Parameters
+    ----------
+    params : Params or Model
+        The paper's parameters (the orbits in the paper's terms: ``v1_plus``, ``x20``,
+        ``x20_dot``, ``tau0``, the modal constants ``a``, ``b``), or any
+        :class:`symvi.Model` with one rigid upper stop on one mass.
+    omega : float
+        Forcing frequency, 1e-4 <= omega <= 1e4, not at the natural frequency of an
+        undamped mode (warned about within 1e-4, relative).  With ``digits`` an
+        mpmath ``mpf`` keeps all its digits.
+    digits : int, optional
+        Compute with mpmath at this many significant digits, 16 to 10000.  Default
+        None: float64 (the compiled kernel).
+    multipliers : bool, optional
+        Compute the multipliers and the stability (default True); False leaves
+        ``multipliers`` empty and ``stable`` False.
+
+    Returns
+    -------
+    list of Orbit
+        Two orbits, branch "+" then "-" (tau0 = phi +- arccos(alpha b / rho), eq. (16)),
+        admissible or not; an empty list when no period-1 orbit exists at omega.
+
+    Raises
+    ------
+    ParameterError
+        ``omega`` not a number or out of range, ``digits`` not an integer from 16 to
+        10000, or a model with several stops, a lower, elastic or between-masses stop
+        (no period-1 closed form: :func:`symvi.continuation.attractor_orbit`).
+    SingularCaseError
+        ``"forcing-resonance"`` (omega at an undamped natural frequency: the forcing of
+        eq. (7) is infinite), ``"one-minus-cos"`` (omega_j / omega an integer for an
+        undamped mode: the orbit is not isolated, eq. (15)),
+        ``"degenerate-orbit-conditions"`` or ``"degenerate-forcing"`` (conditions (10)
+        do not fix the orbit or its impact phase).
+
+    Warns
+    -----
+    NearSingularWarning
+        Omega near a natural frequency or the stop's mass near an anti-resonance:
+        digits are lost.
+
+    Examples
+    --------
+    >>> import math, symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> orbits = symvi.period1_orbits(p, 0.72)
+    >>> [(o.branch, o.admissible, o.stable) for o in orbits]
+    [('+', True, True), ('-', False, False)]
+    >>> o = orbits[0]
+    >>> round(o.v1_plus, 6), round(o.tau0, 6)
+    (-1.495139, 1.498021)
+    >>> abs(math.prod(o.multipliers) - p.r ** 2) < 1e-12     # det DP = r^2 (C = 0)
+    True
+    >>> orbits[1].reason
+    'impact velocity v1- = ... <= 0: the mass does not arrive moving towards the stop ...'
     """
     from ..model import Model
     from ..orbits import period1_orbits as any_model

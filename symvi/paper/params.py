@@ -26,11 +26,47 @@ from ..numerics.tolerances import FORCING_RESONANCE_WARN as RESONANCE_WARN  # no
 
 @dataclass(frozen=True)
 class Params:
-    """Non-dimensional parameters of eq. (4): mass ratio, stiffness ratio,
-    force split, gap and coefficient of restitution.
+    """Non-dimensional parameters of the paper's two-mass model, eq. (4).
 
+    Mass ratio, stiffness ratio, force split, gap and coefficient of restitution of
+    ``M x'' + K x = P sin(omega t + tau)``, x1 < b, with M = diag(1, mu_m),
+    K = [[1, -1], [-1, 1 + mu_k]], P = (1 - f2, f2) (eq. (3)).
     Validated on construction: mu_m > 0, mu_k > 0, 0 < r <= 1, all finite,
-    and within the representable ranges MU_RANGE and ABS_MAX.
+    and within the representable ranges MU_RANGE and ABS_MAX.  Frozen and hashable;
+    every analysis takes it where it takes a :class:`symvi.Model`
+    (:meth:`as_model`).
+
+    Parameters
+    ----------
+    mu_m : float
+        Mass ratio m2 / m1, 1e-6 <= mu_m <= 1e6 (MU_RANGE).
+    mu_k : float
+        Stiffness ratio k2 / k1 (k1 couples the masses, k2 holds mass 2 to the
+        frame), 1e-6 <= mu_k <= 1e6.
+    f2 : float
+        Share of the forcing on mass 2 (mass 1 gets 1 - f2), ``abs(f2) <= 1e6``
+        (ABS_MAX).
+    b : float
+        The gap: mass 1 meets the stop at x1 = b, ``abs(b) <= 1e6``.
+    r : float
+        Coefficient of restitution of the impact law v1+ = -r v1-, eq. (2),
+        0 < r <= 1.
+
+    Raises
+    ------
+    ParameterError
+        A value not a finite real number or out of its range, naming it.
+
+    Examples
+    --------
+    >>> from symvi import Params
+    >>> p = Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)     # the paper's example 1
+    >>> p
+    Params(mu_m=2.0, mu_k=5.0, f2=0.0, b=1.5, r=0.8)
+    >>> Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=1.2)
+    Traceback (most recent call last):
+    ...
+    symvi.errors.ParameterError: r = 1.2 is invalid; valid range: 0 < r <= 1
     """
 
     mu_m: float
@@ -45,8 +81,23 @@ class Params:
             object.__setattr__(self, name, v)
 
     def as_model(self):
-        """The same system as a :class:`symvi.Model` (``Model.luo_xie``), built once: what
-        every analysis below the paper runs on (:meth:`symvi.Model.of`)."""
+        """The same system as a :class:`symvi.Model` (``Model.luo_xie``), built once.
+
+        What every analysis below the paper runs on (:meth:`symvi.Model.of`); the same
+        Model object for equal Params (cached), so its flows and compiled constants are
+        reused.
+
+        Returns
+        -------
+        Model
+            ``Model.luo_xie(mu_m, mu_k, f2, b, r)``.
+
+        Examples
+        --------
+        >>> from symvi import Params
+        >>> Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8).as_model()
+        Model.luo_xie(mu_m=2.0, mu_k=5.0, f2=0.0, b=1.5, r=0.8)
+        """
         return _as_model(self)
 
     def as_dict(self):
@@ -89,6 +140,33 @@ def modal(params, lib=FLOAT64):
 
     det(K - w^2 M) = 0 gives mu_m w^4 - (1 + mu_k + mu_m) w^2 + mu_k = 0.
     The mode for w_j^2 is (1, 1 - w_j^2) before normalisation.
+    The modal matrix psi is mass-normalised, psi^T M psi = I and
+    psi^T K psi = diag(omega1^2, omega2^2), omega1 < omega2, its first row positive.
+
+    Parameters
+    ----------
+    params : Params
+        The paper's parameters.
+    lib : backend, optional
+        The arithmetic: :data:`symvi.numerics.backend.FLOAT64` (the default, cached per
+        Params) or an mpmath backend, ``symvi.numerics.backend.backend(digits)``.
+
+    Returns
+    -------
+    Modal
+        ``omega1``, ``omega2`` (the natural frequencies, ascending); ``psi``, with
+        ``psi[i][j]`` = psi_{i+1, j+1}; ``F``, the modal forcing ``F[j] = psi_j^T P``
+        (eq. (6)); ``D = det psi``.  Numbers in the backend's type.
+
+    Examples
+    --------
+    >>> from symvi import Params, modal
+    >>> md = modal(Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8))
+    >>> round(md.omega1, 6), round(md.omega2, 6)
+    (0.880486, 1.795757)
+    >>> w = md.omega1 ** 2                                  # a root of the quartic
+    >>> abs(2 * w ** 2 - (1 + 5 + 2) * w + 5) < 1e-12
+    True
     """
     if lib is FLOAT64:
         return _modal_float(params)

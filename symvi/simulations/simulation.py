@@ -206,6 +206,68 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.
+
+    A run ends early, with its reason in ``stop``, on a grazing contact, on sticking (the
+    stop would hold the mass), on chatter (16 flights in a row shorter than 1e-3 forcing
+    periods), or when no impact follows within 1000 forcing periods; never with a hang
+    or a section point past an unresolved contact.
+
+    Parameters
+    ----------
+    params : Params or Model
+        The paper's parameters, or any :class:`symvi.Model` (several stops, lower stops,
+        stops between masses and elastic stops included).
+    omega : float
+        Forcing frequency, 1e-4 <= omega <= 1e4, not at the natural frequency of an
+        undamped mode.
+    y0 : sequence of float, optional
+        The start: a section point of the first stop, 2N numbers in the order of
+        :class:`symvi.Orbit`'s ``names`` (v_k+, x_j, v_j for j != k, tau), leaving the
+        stop (entering it, for an elastic stop) and outside every other stop;
+        ``abs(value) <= 1e6``.  Default None: y* + ``perturbation``, which needs a
+        model with one rigid upper stop on one mass and an admissible period-1 orbit at
+        omega; required for any other model.
+    n_impacts : int, optional
+        Impacts stored, 1 to 5e7 (default 5000).
+    transient : int, optional
+        Impacts dropped before the first stored one, 0 to 1e9 (default 0).
+    perturbation : sequence of float, optional
+        Added to y* for the default start: 2N finite numbers (default 1e-4 each).
+
+    Returns
+    -------
+    Simulation
+        ``section`` (n, 2N): the stored section points, tau in [0, 2 pi); ``t`` the
+        impact times since the start (transient included); ``impact_velocity`` the
+        approach speed before each stored impact; ``hits`` the stop (0-based) each
+        impact hit; ``stop`` why the run ended ("completed", "grazing", "chatter",
+        "sticking", "no-impact", "non-finite"); ``y0`` the start used; ``fixed_point``
+        y* when it exists (else None); ``params``, ``omega``, ``transient``; with an
+        elastic stop also ``exit_t``, ``exit_velocity`` and ``events``.  The arrays are
+        read-only.
+
+    Raises
+    ------
+    ParameterError
+        ``omega`` out of range, ``n_impacts`` or ``transient`` not an integer in range,
+        ``perturbation`` not 2N finite numbers, a ``y0`` that is not 2N finite numbers,
+        does not leave the stop or lies past another stop, or no ``y0`` for a model
+        with no period-1 closed form (several stops, a lower, elastic or between-masses
+        stop).
+    SingularCaseError
+        ``"forcing-resonance"`` (omega at an undamped natural frequency), or
+        ``"no-orbit"``: no ``y0`` and no admissible period-1 orbit at omega to start
+        from.
+
+    Examples
+    --------
+    >>> import symvi
+    >>> p = symvi.Params(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    >>> sim = symvi.simulate(p, 0.72, n_impacts=50, transient=500)
+    >>> sim.stop, sim.section.shape
+    ('completed', (50, 4))
+    >>> print(abs(sim.section - sim.fixed_point).max() < 1e-6)     # a stable orbit
+    True
     """
     model = Model.of(params)
     if model.elastic:                 # contact phases: the walk of symvi.flow.contact
