@@ -1,5 +1,5 @@
-"""Grazing curves in two parameters: the n-p orbits one of whose impacts arrives with zero
-velocity (issue 27, item 1, the first kind of grazing).
+"""Grazing curves in two parameters (issue 27, item 1): the n-p orbits one of whose
+impacts arrives with zero velocity, or one of whose flights touches a stop inside it.
 
 Unknowns X = (u, a, b), u the shooting unknowns of :mod:`symvi.orbits.periodic` (section
 points and flight times); equations::
@@ -13,6 +13,12 @@ the 1/v pole of the time-eliminated map (eq. (30)) is never met, and g is linear
 curve's points carry no multipliers; they carry the orbit's section points, flight times
 and the admissibility of every flight's interior (a flight that crosses a stop before its
 end makes the point inadmissible; the grazing impact's own zero speed does not).
+
+A flight that touches a stop inside it (the second kind) is the same point as an impact
+at zero velocity of the orbit with one more impact: flight i split at the touch, a point
+on the touched constraint's section inserted (speed 0, so the reset changes nothing).
+That (p + 1)-impact orbit's grazing curve is followed, and its points are reported as
+the n-p orbit's: the split flight joined again, the touch time beside it.
 """
 from dataclasses import dataclass, field
 
@@ -44,7 +50,7 @@ class GrazingSystem(CurveSystem):
 
     KINDS = ("grazing",)
 
-    def __init__(self, model, n, p, names, impact, omega=None, signature=None):
+    def __init__(self, model, n, p, names, impact, omega=None, signature=None, touch=False):
         if model.elastic:
             raise ParameterError("kind", "grazing", "a model of rigid stops (an elastic "
                                  "stop's entry at zero speed is a touch: its contact time "
@@ -53,6 +59,9 @@ class GrazingSystem(CurveSystem):
             raise ParameterError("impact", impact, f"an impact of the orbit, 0 .. {p - 1}")
         super().__init__(model, n, p, names, "grazing", omega=omega, signature=signature)
         self.impact = int(impact)
+        #: the second kind: impact ``impact`` is a touch inserted into a flight of the
+        #: n-(p-1) orbit (its points are reported without it)
+        self.touch = True if touch else None
         #: the unknown that vanishes: the first coordinate (v_k+) of section point j
         self.slot = ((self.impact + 1) % self.p) * self.d
 
@@ -86,11 +95,14 @@ class GrazingPoint:
     admissible: bool
     reason: str = ""
     u: np.ndarray = field(repr=False, default=None)
+    touch: dict = None          # second kind: {"flight", "stop" (1-based), "t"}
 
     def as_dict(self):
         out = {"params": dict(self.params), "admissible": bool(self.admissible),
                "y": [list(p) for p in self.y], "times": list(self.times),
                "impact_velocities": list(self.impact_velocities)}
+        if self.touch is not None:
+            out["touch"] = dict(self.touch)
         if self.reason:
             out["reason"] = self.reason
         return out
@@ -108,9 +120,18 @@ def grazing_point(system, X):
     speeds = pr.approach_speeds(fl, flow)
     ok, why = _interior_admissible(pr, fl, flow, F, T, speeds, system.impact,
                                    _shooting.CompiledFinder(flow) if pr.compiled else flow)
-    return GrazingPoint({a: float(X[m]), b: float(X[m + 1])},
-                        tuple(tuple(float(v) for v in y) for y in Y),
-                        tuple(float(t) for t in T), tuple(float(s) for s in speeds), ok, why, u)
+    Y = [tuple(float(v) for v in y) for y in Y]
+    T = [float(t) for t in T]
+    speeds = [float(s) for s in speeds]
+    touch = None
+    if system.touch is not None:          # the n-p orbit: the split flight joined again
+        i = system.impact
+        touch = {"flight": i + 1, "stop": int(pr.sig[i + 1]) + 1, "t": T[i]}
+        T[i:i + 2] = [T[i] + T[i + 1]]
+        del Y[i + 1]
+        del speeds[i]
+    return GrazingPoint({a: float(X[m]), b: float(X[m + 1])}, tuple(Y), tuple(T),
+                        tuple(speeds), ok, why, u, touch)
 
 
 def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
@@ -165,7 +186,8 @@ class GrazingCurve(Result):
     special: tuple = ()
     notes: tuple = ()
     states: tuple = field(repr=False, default=())
-    kind: str = "grazing"
+    of: str = "grazing"     # "grazing": impact ``impact`` at zero speed; "touch": flight
+    kind: str = "grazing"   # ``impact`` touches a stop inside it
 
     @property
     def stop_reasons(self):
@@ -184,8 +206,10 @@ class GrazingCurve(Result):
                 "bifurcation": [True] * n, "sides": [], "special": []}
 
     def as_dict(self):
-        return {"kind": "grazing", "params": list(self.names), "orbit": f"{self.n}-{self.p}",
-                "impact": self.impact, "signature": list(self.signature),
+        where = {"impact": self.impact} if self.of == "grazing" else {"flight": self.impact}
+        return {"kind": "grazing", "grazing": "impact" if self.of == "grazing" else "touch",
+                "params": list(self.names), "orbit": f"{self.n}-{self.p}", **where,
+                "signature": list(self.signature),
                 "fixed": dict(self.fixed),
                 "bounds": {k: list(v) for k, v in self.bounds.items()},
                 "normalisation": DEFINITION,
@@ -208,12 +232,19 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     coef = getattr(point, "coefficients", {}) or {}
     if getattr(point, "kind", "grazing") != "grazing":
         raise ParameterError("point", point.kind, "a grazing point")
+    touch = None
     if impact is None:
-        if "impact" not in coef:
+        if "impact" not in coef and "flight" not in coef:
             raise ParameterError("point", getattr(point, "detail", point),
-                                 "a grazing impact (an impact velocity through 0); a flight "
-                                 "touching a stop inside it starts no curve here")
-        impact = int(coef["impact"])
+                                 "a grazing point (an impact velocity through 0, or a flight "
+                                 "touching a stop)")
+        if coef.get("exit"):
+            raise ParameterError("point", point.detail, "a grazing impact or a touch of a "
+                                 "rigid stop (an elastic contact's edge starts no curve)")
+        if "impact" in coef:
+            impact = int(coef["impact"])
+        else:
+            touch = (int(coef["flight"]) - 1, float(coef["t"]), int(coef.get("stop", 1)) - 1)
     orbit = getattr(point, "orbit", point)
     # the model at the point (a branch in another parameter moved it), then ``fixed``
     model = Model.of(getattr(orbit, "model", None) or model)
@@ -228,9 +259,16 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     on_omega = any(par.is_forcing_frequency for par in pars)
     start_values = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
     box = _bounds(names, start_values, bounds)
-    system = GrazingSystem(model, orbit.n, orbit.p, pars, impact - 1,
-                           omega=None if on_omega else omega, signature=orbit.itinerary)
-    X0 = start(system, orbit, start_values)
+    if touch is None:
+        system = GrazingSystem(model, orbit.n, orbit.p, pars, impact - 1,
+                               omega=None if on_omega else omega, signature=orbit.itinerary)
+        u0 = orbit.u
+    else:
+        u0, sig = _split_at_touch(model, orbit, *touch)
+        impact = touch[0] + 1
+        system = GrazingSystem(model, orbit.n, orbit.p + 1, pars, touch[0],
+                               omega=None if on_omega else omega, signature=sig, touch=True)
+    X0 = start(system, u0, start_values)
     pts, states, ends = follow(system, X0, box, h=h, h_max=h_max, max_points=max_points,
                                both=both, through=through)
     fx = dict(fixed)
@@ -239,7 +277,27 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     notes = ("codimension-two points on grazing curves (resonant grazing, grazing-fold, "
              "-flip, -NS, double and degenerate grazing) are not located yet",)
     return GrazingCurve(names, orbit.n, orbit.p, impact, tuple(pts), tuple(ends), box, fx,
-                        tuple(orbit.signature_names), (), notes, tuple(states))
+                        tuple(orbit.signature_names), (), notes, tuple(states),
+                        "grazing" if touch is None else "touch")
+
+
+def _split_at_touch(model, orbit, i, t, k):
+    """(u, signature) of the n-(p+1) orbit that is ``orbit`` with flight i split at its
+    touch of constraint k at time t: the touch's section point inserted (its speed ~0)."""
+    from ..model import Signature
+    from ..orbits.periodic import Problem
+    pr = Problem(model, orbit.n, orbit.p, omega=orbit.omega, signature=orbit.itinerary)
+    fl, (_, flow, F) = pr.flights(orbit.u, None, check=False)
+    Y, T = pr.split(np.asarray(orbit.u, dtype=float))
+    z0, tau = fl[i][0], fl[i][1]
+    zt = flow.motion(F, z0, tau).state(t)               # flow order, as the frames
+    y = np.append(np.asarray(zt, dtype=float)[pr.frames[k]], tau + F.omega * t)
+    Y = np.insert(Y, i + 1, y, axis=0)
+    T = np.insert(T, i, t)
+    T[i + 1] -= t
+    hits = list(orbit.itinerary.hits)
+    hits.insert(i + 1, k)
+    return np.concatenate([Y.ravel(), T]), Signature(tuple(hits))
 
 
 class _GrazingRun(Client):
@@ -287,12 +345,12 @@ def follow(system, X0, box, *, h=None, h_max=None, max_points=2000, both=True, t
     return pts, states, ends
 
 
-def start(system, orbit, start_values):
-    """X0 = (u, a, b) on the grazing curve, corrected at fixed b from ``orbit`` (the orbit
-    of a located grazing point, whose impact speed is ~0 already)."""
+def start(system, u, start_values):
+    """X0 = (u, a, b) on the grazing curve, corrected at fixed b from the shooting unknowns
+    ``u`` of a located grazing point (its impact speed ~0 already)."""
     a, b = system.names
     m = system.m
-    X = np.concatenate([orbit.u, [start_values[a], start_values[b]]])
+    X = np.concatenate([u, [start_values[a], start_values[b]]])
     e = np.zeros(m + 2)
     e[-1] = 1.0
     res = correct(system, X, e, start_values[b])

@@ -60,9 +60,11 @@ def start_points(model, omega_min, omega_max, kind, *, branches=None):
         branches = omega_branches(model, omega_min, omega_max)
     for br in branches:
         for sp in br.special:
-            # a grazing point is inadmissible by nature: an impact velocity through 0
-            if sp.kind == kind and (sp.orbit.admissible if kind != "grazing"
-                                    else "impact" in sp.coefficients):
+            # a grazing point is inadmissible by nature: an impact velocity through 0 or a
+            # flight touching a stop (an elastic contact's edge starts no curve)
+            if sp.kind == kind and (sp.orbit.admissible if kind != "grazing" else
+                                    ("impact" in sp.coefficients or "flight" in
+                                     sp.coefficients) and not sp.coefficients.get("exit")):
                 if not any(abs(sp.value - o.value) < 1e-9 and o.orbit.p == sp.orbit.p
                            for o, _ in out):
                     out.append((sp, br))

@@ -116,3 +116,29 @@ def test_grazing_curves_refuse_what_they_do_not_follow(tmp_path):
     assert_bad_input(cli("curve", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5",
                          "--r", "0.8", "--range", "omega=0.70:0.76", "--params", "omega,b",
                          "--kind", "graze"), "--kind", "grazing")
+
+
+def test_a_touch_grazing_curve_of_the_papers_example_1_is_the_closed_forms():
+    """The second kind: example 1's period-1 orbit at omega = 0.75 touches the stop inside
+    its flight at b = 0.276. The curve in (omega, b) is followed as the 1-2 orbit with the
+    touch as a zero-speed impact, reported as the 1-1 orbit; at its points the closed-form
+    period-1 orbit (eqs. (10)-(18), no shooting) is the same orbit, and its own
+    admissibility check finds the touch at the same time."""
+    import symvi
+    m = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    sp = _grazing_on_branch(m, "b", 1.5, 0.1, omega=0.75)
+    assert sp.coefficients["flight"] == 1 and "impact" not in sp.coefficients
+    cv = continue_grazing(m, ("omega", "b"), sp, bounds={"omega": (0.6, 0.9), "b": (0.05, 1.5)})
+    d = cv.as_dict()
+    assert d["grazing"] == "touch" and d["flight"] == 1 and d["orbit"] == "1-1"
+    assert cv.ends == ("reached b = 0.05", "reached b = 1.5") and len(cv) > 100
+    assert all(pt.admissible and len(pt.y) == 1 and len(pt.times) == 1 for pt in cv.points)
+    for pt in cv.points[::50]:
+        w, b = pt.params["omega"], pt.params["b"]
+        assert pt.times[0] == pytest.approx(2 * np.pi / w, rel=1e-12)
+        orbits = symvi.period1_orbits(m.with_(b=b), w)
+        o = min(orbits, key=lambda o: np.linalg.norm(np.subtract(o.y, pt.y[0])))
+        assert np.linalg.norm(np.subtract(o.y, pt.y[0])) < 1e-10
+        assert not o.admissible and "grazing contact" in o.reason
+        t_closed = float(o.reason.rsplit("t = ", 1)[1])
+        assert t_closed == pytest.approx(pt.touch["t"], rel=1e-5)   # a double root
