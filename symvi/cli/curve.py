@@ -128,6 +128,11 @@ def run(args):
           f"the {start.kind} point omega = {start.value:.12g} ({start.orbit.n}-"
           f"{start.orbit.p} orbit)")
     print(f"{len(curve)} points; ends: {curve.ends[0]}  |  {curve.ends[-1]}")
+    if args.kind == "grazing":
+        d = curve.as_dict()
+        print(f"grazing: impact {d['impact']} arrives with zero velocity" if "impact" in d
+              else f"grazing: flight {d['flight']} touches the stop inside it (followed as "
+                   "an impact at zero velocity inserted there)")
     for note in curve.notes:
         print(f"note: {note}")
     for sp in curve.special:
