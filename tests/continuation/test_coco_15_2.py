@@ -33,13 +33,19 @@ def model():
 
 
 def _constants(model):
+    """(m, k, c, d, e) of the model file."""
     return (model.value("mass[1]"), model.value("stiffness[1,1]"),
             model.value("damping[1,1]"), model.value("gap"), model.value("restitution"))
 
 
+def _D(model, w):
+    """k - m w^2 + i c w: the harmonic response is A / |D| sin(w t + tau - arg D)."""
+    m, k, c, _, _ = _constants(model)
+    return k - m * w * w + 1j * c * w
+
+
 def _a_gr(model, w):
-    m, k, c, d, e = _constants(model)
-    return d * abs(k - m * w * w + 1j * c * w)
+    return model.value("gap") * abs(_D(model, w))
 
 
 @pytest.fixture(scope="module")
@@ -74,15 +80,15 @@ def test_the_branch_ends_at_the_closed_form_grazing_point(model, branches, w):
 def test_the_grazing_orbit_is_the_harmonic_response_at_its_maximum(model, branches, w):
     """The forcing phase at the grazing impact is pi/2 + arg D: the forcing is
     A sin(omega t + tau) (COCO's A cos x3 with tau = x3 + pi/2)."""
-    m, k, c, d, e = _constants(model)
     (br,) = branches[w]
     (g,) = [s for s in br.special if s.kind == "grazing"]
-    tau = math.pi / 2 + cmath.phase(k - m * w * w + 1j * c * w)
+    tau = math.pi / 2 + cmath.phase(_D(model, w))
     assert abs(cmath.phase(cmath.exp(1j * (g.orbit.y[1] - tau)))) < 1e-9
 
 
 def _kappa(model, w):
-    m, k, c, d, e = _constants(model)
+    """(1 + e) G_T(0) = (1 + e) Im(q / (1 - q)) / (m beta), q = exp((-alpha + i beta) T)."""
+    m, k, c, _, e = _constants(model)
     alpha = c / (2 * m)
     beta = math.sqrt(k / m - alpha ** 2)
     q = cmath.exp((-alpha + 1j * beta) * 2 * math.pi / w)
@@ -94,7 +100,7 @@ def test_the_arrival_speed_grows_linearly_with_slope_kappa(model, w):
     """On the period-1 orbit at A = A_GR (1 + eps sign(kappa)), (A - A_GR)/(|D| v-) is kappa
     up to O(v-): the relative error shrinks tenfold from eps = 1e-5 to 1e-6 (a square-root
     law v- ~ sqrt(A - A_GR) would make the ratio tend to 0 instead)."""
-    m, k, c, d, e = _constants(model)
+    d, e = model.value("gap"), model.value("restitution")
     a, kap = _a_gr(model, w), _kappa(model, w)
     err = []
     for eps in (1e-5, 1e-6):
@@ -115,7 +121,6 @@ def test_the_branch_grazes_from_kappas_side(model, branches, w):
     a = _a_gr(model, w)
     folds = [s for s in br.special if s.kind == "fold"]
     assert (_kappa(model, w) < 0) == any(s.value < a and s.orbit.admissible for s in folds)
-    (g,) = [s for s in br.special if s.kind == "grazing"]
     before = [pt for pt in br.points if pt.admissible][-1]   # the last before grazing
     assert not br.points[-1].admissible and br.points[-2] is before
     if _kappa(model, w) > 0:
