@@ -35,7 +35,7 @@ PAGES = [
     "gallery/index.html", "gallery/paper_examples.html", "gallery/chain3.html",
     "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
     "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
-    "gallery/plane_dask.html",
+    "gallery/plane_dask.html", "gallery/coco_15_2.html",
     "api/index.html", "api/symvi.html", "api/continuation.html",
     "limitations.html", "comparison.html", "changelog.html", "citation.html",
 ]
@@ -56,11 +56,16 @@ OUTPUTS = {
                                  "c1) = -0.097200709118  (this page)",
                                  "= -0.097200709118  (symvi.hopf_points)"],
     "howto/curves.html": ["CH   omega = 0.8164887222", "R3   omega = 0.7628671598"],
+    "gallery/coco_15_2.html": ["omega = 0.30: grazing at A = 0.9104943712",
+                               "omega = 1.00: grazing at A = 0.1000000000",
+                               "omega = 1.20: grazing at A = 0.4560701700",
+                               "fold below A_GR located: True", "grazing curve: "],
 }
 #: gallery pages that draw at least one figure
 FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html",
            "gallery/chain3.html", "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
-           "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html"]
+           "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
+           "gallery/coco_15_2.html"]
 
 
 @pytest.fixture(scope="module")
