@@ -15,9 +15,14 @@ temporary file renamed into place.
 """
 import os
 
+import sys
+
 import matplotlib
 
-matplotlib.use("Agg")
+# files only, no window: Agg, unless the user chose a backend already (a notebook's inline
+# one, MPLBACKEND, or pyplot imported), which must not be switched under them
+if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
+    matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 

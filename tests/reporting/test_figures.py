@@ -66,3 +66,17 @@ def test_curve_colours_are_not_the_map_colours():
             list(figures._ATTRACTOR_COLOUR.values())}
     assert colour.upper() not in maps and line.get_path_effects()
     assert any("NS curve" in t.get_text() for t in ax.get_legend().get_texts())
+
+
+def test_importing_figures_keeps_a_backend_the_user_chose():
+    """A notebook's inline backend (or any chosen before) is not switched to Agg."""
+    import subprocess
+    import sys
+    code = ("import matplotlib, matplotlib.pyplot; matplotlib.use('pdf'); "
+            "import symvi.reporting.figures; print(matplotlib.get_backend())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.stdout.strip() == "pdf", out.stderr
+    code = "import symvi.reporting.figures, matplotlib; print(matplotlib.get_backend())"
+    env = {k: v for k, v in __import__("os").environ.items() if k != "MPLBACKEND"}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert out.stdout.strip().lower() == "agg", out.stderr
