@@ -107,7 +107,6 @@ def test_chenciner_points_at_50_digits(curve_r, r):
     assert res.agreement["c1"] >= 9 and res.agreement["l1"] >= 9
     assert res.internal["c1: codim2 vs kuznetsov_l1"] >= 40
     assert res.internal["l1: codim2 vs kuznetsov_l1 (rel. |c1|)"] >= 40
-    assert res.times["total"] < 90
 
 
 @pytest.mark.slow

@@ -5,7 +5,6 @@ with a one-line message; nothing else (ValueError, OverflowError,
 ZeroDivisionError, numpy LinAlgError ...) and no NaN in a returned result.
 """
 import math
-import time
 import warnings
 
 import numpy as np
@@ -21,8 +20,6 @@ from symvi.normal_forms import normal_form as nf
 from .strategies import omega_typical, omega_wide, params_typical, params_wide
 
 SETTINGS = dict(deadline=None, suppress_health_check=[HealthCheck.too_slow])
-#: no single call may take longer than this (a hang shows up as a failure, not a stall)
-BUDGET_S = 20.0
 
 
 def finite(x):
@@ -37,7 +34,6 @@ def clean(exc):
 
 def chain(params, omega):
     """Orbit -> jet(3) -> normal form; returns the number of admissible orbits analysed."""
-    t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         warnings.simplefilter("error", RuntimeWarning)    # numpy overflow etc. must not leak
@@ -62,7 +58,6 @@ def chain(params, omega):
             except Exception as exc:   # noqa: BLE001
                 clean(exc)
             n += 1
-    assert time.perf_counter() - t0 < BUDGET_S
     return n
 
 
@@ -85,7 +80,6 @@ def test_chain_typical(params, omega):
 @given(params_typical, omega_typical, st.floats(1.001, 1.2))
 def test_hopf_points_never_crash(params, omega, factor):
     hopf = pytest.importorskip("symvi.analysis.hopf")
-    t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", NearSingularWarning)
         try:
@@ -95,7 +89,9 @@ def test_hopf_points_never_crash(params, omega, factor):
             return
     for pt in res.points:
         assert math.isfinite(pt.omega_c) and math.isfinite(pt.l1)
-    assert time.perf_counter() - t0 < BUDGET_S
+    # never a hang: the scan's work is bounded by its budget of orbit evaluations (a count,
+    # not a wall-clock time; MAX_SAMPLES plus SAMPLES_PER_CUT per cut)
+    assert res.samples <= hopf.MAX_SAMPLES + hopf.SAMPLES_PER_CUT * hopf.MAX_SINGULAR
 
 
 @pytest.mark.parametrize("args", [
