@@ -14,7 +14,9 @@ C omega sin phi = -(1-r) V / 2 (symvi's tau = phi + pi/2: its forcing is sin(ome
 and the impact map has det J = r^2, tr J = -2 r cos T + (1+r) sin T (cos phi - sigma) / V:
 flips where 1 + r^2 + tr J = 0 (at sigma = 0: tan^2(pi n/omega) = omega^2 - 1 - ((1-r)/(1+r))^2),
 folds where the discriminant vanishes,
-(1+r)^2 omega^2 cot^2(pi n/omega) = (1-r)^2 (sigma^2 (omega^2-1)^2 - 1).
+(1+r)^2 omega^2 cot^2(pi n/omega) = (1-r)^2 (sigma^2 (omega^2-1)^2 - 1).  With damping
+(:func:`closed_damped`) the same conditions are affine in V through the flow Phi(T), and
+det J = r^2 exp(-2 zeta T).
 
 Tolerances: an orbit is Newton's (its last correction below NEWTON_TOL = 1e-11 relative to
 1 + max|u| <= 20, the error after it quadratically smaller: 1e-9 relative to V >= 0.1 leaves a
@@ -83,6 +85,31 @@ def closed_folds(n, r, sigma, lo, hi):
     return [w for w in _roots(f, lo, hi) if sigma / math.tan(math.pi * n / w) < 0]
 
 
+def closed_damped(n, w, r, sigma, zeta):
+    """[(V, phi), ...] with damping: periodicity (sigma, V) - y_p(0) = Phi(T) [(sigma, -r V) -
+    y_p(0)] gives y_p(0) = alpha V + beta sigma, and the forced response's amplitude
+    x_p(0)^2 + (xdot_p(0) / omega)^2 = |H|^2, H = 1 / (1 - omega^2 + 2 i zeta omega), a quadratic
+    in V; x_p = |H| cos(omega t + phi + arg H)."""
+    T, wd = 2 * math.pi * n / w, math.sqrt(1 - zeta ** 2)
+    c, s = math.cos(wd * T), math.sin(wd * T)
+    Phi = math.exp(-zeta * T) * np.array([[c + zeta / wd * s, s / wd],
+                                          [-s / wd, c - zeta / wd * s]])
+    K = np.linalg.inv(np.eye(2) - Phi)
+    alpha = K @ (np.array([0.0, 1.0]) + r * Phi[:, 1])
+    beta = K @ (np.array([1.0, 0.0]) - Phi[:, 0])
+    H = 1 / complex(1 - w * w, 2 * zeta * w)
+    S = np.diag([1.0, 1 / w ** 2])
+    a, b = alpha @ S @ alpha, 2 * sigma * alpha @ S @ beta
+    disc = b * b - 4 * a * (sigma ** 2 * beta @ S @ beta - abs(H) ** 2)
+    roots = {(-b + math.sqrt(disc)) / (2 * a), (-b - math.sqrt(disc)) / (2 * a)} if disc >= 0 else ()
+    out = []
+    for V in sorted(roots, reverse=True):
+        if V > 0:
+            xp, vp = alpha * V + beta * sigma
+            out.append((V, math.atan2(-vp / w, xp) - math.atan2(H.imag, H.real)))
+    return out
+
+
 # --------------------------------------------------------------------------- the tests
 def test_the_model_file_is_budd_and_duxs_setting(model):
     """Undamped, r = 0.8, the stop at the rest position, unit forcing; not conservative."""
@@ -147,3 +174,30 @@ def test_no_fold_at_rest_and_the_fold_with_a_gap(model):
     assert abs(Va - Vb) < 1e-2 * Va
     assert closed_trace(2, w - 1e-7, r, 0.1, Va, pa) == pytest.approx(1 + r * r, abs=1e-2)
     assert closed_orbits(2, w + 1e-7, r, 0.1) == []
+
+
+def test_the_damped_closed_form_is_the_undamped_one_at_zeta_0():
+    for n, w, sigma in [(1, 1.6, 0.0), (2, 4.3, 0.0), (2, 3.7, 0.1), (3, 5.5, 0.1)]:
+        a, b = closed_orbits(n, w, 0.8, sigma), closed_damped(n, w, 0.8, sigma, 0.0)
+        assert len(a) == len(b) >= 1
+        for (Va, pa), (Vb, pb) in zip(a, b):
+            assert Vb == pytest.approx(Va, rel=1e-12)
+            assert abs((pa - pb + math.pi) % (2 * math.pi) - math.pi) < 1e-12
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_damped_orbits_match_the_closed_form(model, n):
+    """zeta = 0.05 (the file's damping[1,1] is 2 zeta): at omega = 2n and 2n - 0.4 the orbit a
+    run settles on has the closed form's V and tau, and det = r^2 exp(-2 zeta T)."""
+    zeta, r = 0.05, model.value("restitution")
+    damped = model.with_(**{"damping[1,1]": 2 * zeta})
+    for w in (2.0 * n, 2.0 * n - 0.4):
+        orb = from_simulation(symvi.simulate(damped, w, n_impacts=50, transient=2000))
+        assert (orb.n, orb.p) == (n, 1)
+        (V, phi), = closed_damped(n, w, r, 0.0, zeta)
+        assert orb.impact_velocities[0] == pytest.approx(V, rel=1e-9)
+        dtau = (orb.y[1] - (phi + math.pi / 2) + math.pi) % (2 * math.pi) - math.pi
+        assert abs(dtau) < 1e-9
+        T = 2 * math.pi * n / w
+        assert np.prod(orb.multipliers).real == pytest.approx(r * r * math.exp(-2 * zeta * T),
+                                                              rel=1e-9)
