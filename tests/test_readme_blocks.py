@@ -150,6 +150,9 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
                 rc, out, err = cli(*argv, cwd=tmp_path)
                 assert rc == 0, f"{where}: {printed}\n{err}"
                 assert "Traceback" not in err, err
+                # the README teaches the current flags: no deprecation notice (simulate's and
+                # sweep's JSON-without---json notice is for scripts: this is not a terminal)
+                assert "deprecated" not in err, f"{where}: {err}"
                 ran[run] = out
 
     def out_of(prefix):
@@ -166,7 +169,7 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
     assert o.names == ("v2+", "x1", "x3", "v1", "v3", "tau") and o.admissible
     assert j.d3.shape == (6, 6, 6, 6) and d.dJ_branch.shape == (6, 6)
     assert m["m2"].value("forcing[1]") == 0.3
-    hopf = out_of("symvi hopf --model chain3.toml --omega-min 0.99 --omega-max 1.06")
+    hopf = out_of("symvi hopf --model chain3.toml --range omega=0.99:1.06")
     assert "0.99971142" in hopf and "1.0459583" in hopf
     # the study: a report from a scene file, then every part from the cache
     md = (tmp_path / "chain3-report" / "report.md").read_text(encoding="utf-8")

@@ -12,13 +12,10 @@ import sys
 HERE = pathlib.Path(__file__).resolve().parent
 
 EXAMPLES = {
-    "oscillator_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.5", "--switch"],
-    "oscillator_elastic": ["--param", "omega", "--from", "0.5", "--to", "4.0",
-                           "--start-omega", "2.0", "--switch"],
-    "chain3_two_stops": ["--param", "omega", "--from", "1.0", "--to", "2.0",
-                         "--start-omega", "1.5", "--switch"],
-    "impact_damper": ["--param", "omega", "--from", "0.8", "--to", "1.2",
-                      "--start-omega", "1.0", "--switch"],
+    "oscillator_two_stops": ["--range", "omega=1.0:2.5", "--switch"],
+    "oscillator_elastic": ["--range", "omega=0.5:4.0", "--start-omega", "2.0", "--switch"],
+    "chain3_two_stops": ["--range", "omega=1.0:2.0", "--start-omega", "1.5", "--switch"],
+    "impact_damper": ["--range", "omega=0.8:1.2", "--start-omega", "1.0", "--switch"],
 }
 
 

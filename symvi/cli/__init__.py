@@ -98,6 +98,99 @@ NAMED = "gap, restitution, mass[i], stiffness[i,j], damping[i,j], forcing[i]"
 PRESET_NAMED = f"b, r, mu_m, mu_k, f2 for the preset; {NAMED}"
 
 
+#: the one form of a range on every command line (issue 26): ``--range``, the plane's
+#: ``--x`` and ``--y``, curve's ``--bounds``
+RANGE_FORM = "NAME=LO:HI"
+
+
+class Range(tuple):
+    """(name, lo, hi, n) of a ``NAME=LO:HI[:N]`` argument (n None without ``:N``)."""
+    __slots__ = ()
+
+    def __new__(cls, name, lo, hi, n=None):
+        return super().__new__(cls, (name, lo, hi, n))
+
+    name = property(lambda self: self[0])
+    lo = property(lambda self: self[1])
+    hi = property(lambda self: self[2])
+    n = property(lambda self: self[3])
+
+
+def range_form(steps=False, names=None):
+    """How a range is written: ``NAME=LO:HI[:N]``, NAME spelled out when only one is
+    allowed (``omega=LO:HI``)."""
+    head = names[0] if names is not None and len(names) == 1 else "NAME"
+    return f"{head}=LO:HI" + (":N" if steps else "")
+
+
+def parse_range(text, flag, *, steps=False, names=None, ordered=True, most=None):
+    """``NAME=LO:HI`` (with ``steps``: ``NAME=LO:HI:N``, N >= 2) -> :class:`Range`; one line
+    naming ``flag`` and the form otherwise. ``names``: the names allowed (None: any, the
+    model checks them); ``ordered``: LO < HI (else LO != HI: a direction, as continue's)."""
+    import math
+
+    from ..errors import ParameterError
+    form = range_form(steps, names)
+    need = (f"{form} with finite numbers " + ("LO < HI" if ordered else "LO != HI")
+            + (f" and an integer N in 2 .. {most}" if steps and most else
+               " and an integer N >= 2" if steps else ""))
+    name, eq, rest = str(text).partition("=")
+    name = name.strip()
+    parts = rest.split(":")
+    if not eq or not name or len(parts) != (3 if steps else 2):
+        raise ParameterError(flag, text, need, "no :N here" if eq and len(parts) == 3 else
+                             "the number of values :N is missing" if eq and steps
+                             and len(parts) == 2 else "")
+    try:
+        lo, hi = float(parts[0]), float(parts[1])
+        n = int(parts[2]) if steps else None
+    except ValueError:
+        raise ParameterError(flag, text, need) from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or (lo >= hi if ordered else lo == hi):
+        raise ParameterError(flag, text, need)
+    if steps and not (2 <= n and (most is None or n <= most)):
+        raise ParameterError(flag, text, need)
+    if names is not None and name not in names:
+        raise ParameterError(flag, text, form if len(names) == 1 else
+                             f"{form} with NAME one of {', '.join(names)}")
+    return Range(name, lo, hi, n)
+
+
+def deprecated(args, text):
+    """Say ``text`` (one line on stderr, "symvi: warning: ...") after the command's work:
+    a refused run stays one line, and an old flag keeps working for one release."""
+    args._deprecated = [*getattr(args, "_deprecated", []), text]
+
+
+def old_range(args, flag, old, *, name=None, **kwargs):
+    """The :class:`Range` of ``flag`` (``--range``), or of the deprecated flags ``old``
+    ({role: (dest, spelling)}, roles "name", "lo", "hi" and "n"; ``name`` fixes the name
+    where no flag gives it) with a deprecation notice; not both, not neither. Returns
+    (range, {role: the flag that gave it}) for the library's errors to name."""
+    from ..errors import ParameterError
+    form = range_form(kwargs.get("steps"), kwargs.get("names"))
+    text = getattr(args, flag.lstrip("-").replace("-", "_"))
+    given = [role for role, (dest, _) in old.items() if getattr(args, dest) is not None]
+    if text is not None:
+        if given:
+            dest, spell = old[given[0]]
+            raise ParameterError(spell, getattr(args, dest),
+                                 f"not with {flag} (the deprecated form of {flag} {form})")
+        return parse_range(text, flag, **kwargs), dict.fromkeys(("name", *old), flag)
+    if not given:
+        raise ParameterError(flag, None, form)
+    missing = [spell for role, (dest, spell) in old.items() if getattr(args, dest) is None]
+    if missing:
+        raise ParameterError(missing[0], None, f"given with {old[given[0]][1]} (or give "
+                                                f"{flag} {form} instead of both)")
+    value = {role: getattr(args, dest) for role, (dest, _) in old.items()}
+    spells = " ".join(spell for _, spell in old.values())
+    deprecated(args, f"{spells} are deprecated: give {flag} {form} (the one form of a range "
+                     "on every command)")
+    return (Range(value.get("name", name), value["lo"], value["hi"], value.get("n")),
+            {role: spell for role, (_, spell) in old.items()})
+
+
 def add_params(parser, defaults=None, model=False):
     """The five system parameters of eq. (4) as --mu-m --mu-k --f2 --b --r; with
     ``model``, ``--model FILE`` (a model file) as the alternative to all five."""
@@ -208,6 +301,19 @@ def print_special(kind, where, coefficients, detail, orbit, width):
     print(f"  {'':{width}s} {detail}")
 
 
+def wants_json(args):
+    """Whether ``simulate`` / ``sweep`` print JSON: with ``--json``; without it, as they
+    always did before issue 26, for one release where stdout is not a terminal (a script
+    reads it), with a deprecation notice; a terminal gets text."""
+    if args.json:
+        return True
+    if sys.stdout.isatty():
+        return False
+    deprecated(args, f"symvi {args.command} without --json prints JSON for one more release "
+                     "where its output is not a terminal; then text: add --json to keep JSON")
+    return True
+
+
 def print_json(obj):
     """Exactly one JSON object on stdout; NaN/inf are never emitted."""
     sys.stdout.write(json.dumps(obj, allow_nan=False) + "\n")
@@ -230,17 +336,22 @@ def build_parser():
     return parser
 
 
-def _warn_once(message, category, filename, lineno, file=None, line=None, _seen=set()):
-    # one line per distinct warning, without source locations
-    text = f"symvi: warning: {message}"
-    if text not in _seen:
-        _seen.add(text)
-        sys.stderr.write(text + "\n")
+def _warn_once():
+    """A ``warnings.showwarning`` printing one line per distinct warning of one command,
+    without source locations."""
+    seen = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = f"symvi: warning: {message}"
+        if text not in seen:
+            seen.add(text)
+            sys.stderr.write(text + "\n")
+    return show
 
 
 def main(argv=None):
     import warnings
-    warnings.showwarning = _warn_once
+    warnings.showwarning = _warn_once()
     parser = build_parser()
     args = parser.parse_args(argv)
     args._argv = list(sys.argv[1:] if argv is None else argv)     # recorded by some outputs
@@ -250,7 +361,10 @@ def main(argv=None):
     from .._compiled import announce_compiles
     announce_compiles()            # a compile is never silent (numba: cache misses only)
     try:
-        return int(args._module.run(args) or 0)
+        code = int(args._module.run(args) or 0)
+        for text in dict.fromkeys(getattr(args, "_deprecated", [])):
+            sys.stderr.write(f"symvi: warning: {text}\n")      # once each, every run
+        return code
     except SymviError as exc:
         sys.stderr.write(f"symvi: error: {exc}\n")
         return 2

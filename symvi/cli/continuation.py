@@ -1,26 +1,29 @@
 """``symvi continue``: continue n-p orbits in any named parameter, with fold, flip, NS and
 grazing points located (module named ``continuation``: ``continue`` is a Python keyword)."""
-from . import NAMED, add_params, describe, params_from, print_json, print_special
+import argparse
+
+from . import NAMED, add_params, describe, old_range, params_from, print_json, print_special
 
 
 def register(sub):
     p = sub.add_parser("continue", help="continue periodic orbits in a parameter; locate fold, "
                                         "flip, Neimark-Sacker and grazing points")
     add_params(p, model=True)
-    p.add_argument("--param", required=True, metavar="NAME",
-                   help="the continued parameter: omega or a named parameter of the model "
-                        f"({NAMED}; mu_m, mu_k, f2, b, r for the preset)")
-    p.add_argument("--from", dest="start", type=float, required=True, metavar="A",
-                   help="start value of the parameter")
-    p.add_argument("--to", dest="stop", type=float, required=True, metavar="B",
-                   help="end value (the branch stays between A and B)")
+    p.add_argument("--range", metavar="NAME=A:B",
+                   help="the continued parameter and its span: omega or a named parameter of "
+                        f"the model ({NAMED}; mu_m, mu_k, f2, b, r for the preset), from A "
+                        "to B (either order: the branch starts at A and stays in [A, B])")
+    p.add_argument("--param", help=argparse.SUPPRESS)       # deprecated forms of --range
+    p.add_argument("--from", dest="start", type=float, help=argparse.SUPPRESS)
+    p.add_argument("--to", dest="stop", type=float, help=argparse.SUPPRESS)
     p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="fix another parameter (omega included when it is not --param)")
+                   help="fix another parameter (omega included when --range is another)")
     p.add_argument("--orbit", default="1-1", metavar="n-p",
                    help="p impacts in n forcing periods (default 1-1)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--start-omega", type=float, metavar="W",
-                   help="with --param omega: start at W inside [A, B] and continue both ways")
+                   help="with --range omega=A:B: start at W inside [A, B] and continue both "
+                        "ways")
     g.add_argument("--from-section", metavar="FILE.npz",
                    help="start from the orbit a simulation (symvi simulate --out) settled on")
     p.add_argument("--switch", action="store_true",
@@ -34,10 +37,12 @@ def register(sub):
     return p
 
 
-#: how the library's arguments are called on this command line (its error messages)
-FLAGS = {"start": "--from", "stop": "--to", "param": "--param", "orbit": "--orbit",
-         "start_omega": "--start-omega", "simulation": "--from-section",
+#: how the library's arguments are called on this command line (its error messages; the
+#: range's by the form given, :func:`symvi.cli.old_range`)
+FLAGS = {"orbit": "--orbit", "start_omega": "--start-omega", "simulation": "--from-section",
          "max_points": "--max-points", "fixed": "--set", "omega": "--set omega"}
+#: the deprecated form of --range NAME=A:B (one release)
+OLD_RANGE = {"name": ("param", "--param"), "lo": ("start", "--from"), "hi": ("stop", "--to")}
 
 
 def _sets(items, model):
@@ -85,35 +90,41 @@ def run(args):
     from .._io import FIGURE_SUFFIXES, check_output
     from ..continuation import continue_orbits
     from ..model import Model
+    span, flags = old_range(args, "--range", OLD_RANGE, ordered=False)
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
-    branches = continue_orbits(model, args.param, args.start, args.stop, orbit=args.orbit,
-                               start_omega=args.start_omega, simulation=args.from_section,
-                               switch=args.switch, through=args.through,
-                               max_points=args.max_points, names=FLAGS, **fixed)
+    param = span.name
+    spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])
+    from ..progress import counting
+    with counting(f"continuing in {param}"):
+        branches = continue_orbits(model, param, span.lo, span.hi, orbit=args.orbit,
+                                   start_omega=args.start_omega,
+                                   simulation=args.from_section, switch=args.switch,
+                                   through=args.through, max_points=args.max_points,
+                                   names=spelled, **fixed)
     if args.plot:
         from ..reporting import figures
         names = branches[0].points[0].orbit.names
-        fig = figures.branches([b.curve(0) for b in branches], args.param, ylabel=names[0],
-                               title=f"{describe(model)}  ({args.param} continuation)")
+        fig = figures.branches([b.curve(0) for b in branches], param, ylabel=names[0],
+                               title=f"{describe(model)}  ({param} continuation)")
         figures.save(fig, args.plot)
     if args.json:
-        print_json(_as_json(args.param, branches, args.plot))
+        print_json(_as_json(param, branches, args.plot))
         return 0
-    print(f"model: {describe(model)}   {args.param} from {args.start:g} to {args.stop:g}")
+    print(f"model: {describe(model)}   {param} from {span.lo:g} to {span.hi:g}")
     for k, br in enumerate(branches):
         o = br.points[0].orbit
         sig = "" if o.signature is None or not (len(model.constraints) > 1 or model.elastic) else \
             " (signature " + ", ".join(o.signature_names) + (
                 "" if o.symmetric is None else
                 ", symmetric" if br.points[len(br) // 2].orbit.symmetric else ", asymmetric") + ")"
-        print(f"\nbranch {k + 1}: {br.n}-{br.p} orbits{sig}, {len(br)} points, {args.param} in "
+        print(f"\nbranch {k + 1}: {br.n}-{br.p} orbits{sig}, {len(br)} points, {param} in "
               f"[{br.values.min():.10g}, {br.values.max():.10g}]; end: {br.end}")
         for note in br.notes:
             print(f"  note: {note}")
         for sp in br.special:
-            print_special(sp.kind, f"{args.param} = {sp.value:.15g}", sp.coefficients,
+            print_special(sp.kind, f"{param} = {sp.value:.15g}", sp.coefficients,
                           sp.detail, sp.orbit, 13)
     if args.plot:
         print(f"\nplot: {args.plot}")

@@ -1,16 +1,19 @@
 """``symvi curve``: continue an NS, flip or fold curve in two parameters from the point of
-that kind found in [omega_min, omega_max], with its codimension-two points."""
-from . import (PRESET_NAMED, add_params, check_value, describe, params_from, print_json,
-               print_special)
+that kind found in an omega interval, with its codimension-two points."""
+import argparse
+
+from . import (PRESET_NAMED, add_params, check_value, describe, old_range, params_from,
+               print_json, print_special)
 
 
 def register(sub):
     p = sub.add_parser("curve", help="continue a Neimark-Sacker, flip or fold curve in two "
                                      "parameters; locate Chenciner, R1-R4, LPNS, PDNS points")
     add_params(p, model=True)
-    p.add_argument("--omega-min", type=float, required=True, metavar="A",
+    p.add_argument("--range", metavar="omega=A:B",
                    help="the start point is the NS (flip, fold) point found in [A, B]")
-    p.add_argument("--omega-max", type=float, required=True, metavar="B")
+    p.add_argument("--omega-min", type=float, help=argparse.SUPPRESS)   # deprecated forms
+    p.add_argument("--omega-max", type=float, help=argparse.SUPPRESS)   # of --range
     p.add_argument("--params", required=True, metavar="omega,NAME",
                    help="the two curve parameters: omega and a named parameter of the model "
                         f"({PRESET_NAMED})")
@@ -64,6 +67,10 @@ def parse_bounds(items, names, model=None):
     return out
 
 
+#: the deprecated form of --range omega=A:B (one release)
+OLD_RANGE = {"lo": ("omega_min", "--omega-min"), "hi": ("omega_max", "--omega-max")}
+
+
 def run(args):
     import warnings
 
@@ -71,20 +78,22 @@ def run(args):
     from ..curves import curve_from_interval, curve_params
     from ..errors import NearSingularWarning, ParameterError
     from ..model import Model
+    span, flags = old_range(args, "--range", OLD_RANGE, name="omega", names=("omega",))
     model = Model.of(params_from(args))
     names = curve_params(model, args.params)
     bounds = parse_bounds(args.bounds, names, model)
-    a, b = args.omega_min, args.omega_max
-    check_value(model, "omega", a, "--omega-min", resonance=False)
-    check_value(model, "omega", b, "--omega-max", resonance=False)
+    a, b = span.lo, span.hi
+    check_value(model, "omega", a, flags["lo"], resonance=False)
+    check_value(model, "omega", b, flags["hi"], resonance=False)
     if not a < b:
-        raise ParameterError("--omega-max", b, f"greater than --omega-min = {a:g}")
+        raise ParameterError(flags["hi"], b, f"greater than {flags['lo']} = {a:g}")
     if args.index < 1:
         raise ParameterError("--index", args.index, "an integer >= 1")
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
     if not 2 <= args.max_points <= 10 ** 6:
         raise ParameterError("--max-points", args.max_points, "an integer from 2 to 1000000")
-    with warnings.catch_warnings():
+    from ..progress import counting
+    with warnings.catch_warnings(), counting(f"{args.kind} curve"):
         warnings.simplefilter("ignore", NearSingularWarning)
         try:
             curve, start = curve_from_interval(model, a, b, names, kind=args.kind,

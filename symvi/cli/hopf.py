@@ -1,18 +1,20 @@
 """``symvi hopf``: every Neimark–Sacker point in an omega interval, with its normal form."""
-from . import add_params, describe, params_from, print_json
+import argparse
+
+from . import add_params, describe, old_range, params_from, print_json
 from ._kernels import HOPF, warm
 
 
 def register(sub):
-    p = sub.add_parser("hopf", help="Neimark-Sacker (Hopf) points in [omega-min, omega-max], "
+    p = sub.add_parser("hopf", help="Neimark-Sacker (Hopf) points in an omega interval, "
                                     "(H1)-(H3), l1 and f1, eqs. (39)-(60)")
     add_params(p, model=True)
-    p.add_argument("--omega-min", type=float, required=True,
-                   help="start of the interval (1e-4 .. 1e4); where the omega_j / n "
+    p.add_argument("--range", metavar="omega=LO:HI",
+                   help="the omega interval scanned (1e-4 .. 1e4); where the omega_j / n "
                         "accumulate, below the largest 300 of them, nothing is scanned and "
                         "the headline says so")
-    p.add_argument("--omega-max", type=float, required=True,
-                   help="end of the interval (1e-4 .. 1e4)")
+    p.add_argument("--omega-min", type=float, help=argparse.SUPPRESS)   # deprecated forms
+    p.add_argument("--omega-max", type=float, help=argparse.SUPPRESS)   # of --range
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--digits", type=int, default=None,
                    help="also re-run each point at this many digits (mpmath, 30..500): the "
@@ -21,10 +23,21 @@ def register(sub):
     return p
 
 
+#: the deprecated form of --range omega=LO:HI (one release)
+OLD_RANGE = {"lo": ("omega_min", "--omega-min"), "hi": ("omega_max", "--omega-max")}
+
+
+def _names(args):
+    """How the library's omega_min, omega_max are called on this command line."""
+    return {"omega_min": args.flags["lo"], "omega_max": args.flags["hi"]}
+
+
 def run(args):
-    from ..errors import ParameterError
     from ..analysis.hopf import CONSERVATIVE
+    from ..errors import ParameterError
     from ..paper.hopf import hopf_points
+    args.span, args.flags = old_range(args, "--range", OLD_RANGE, name="omega",
+                                      names=("omega",))
     params = params_from(args)
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
@@ -34,9 +47,9 @@ def run(args):
     # first run after install: compile the scan's kernels in parallel, and say so
     warm(HOPF, "the Hopf scan")
     try:
-        res = hopf_points(params, args.omega_min, args.omega_max)
+        res = hopf_points(params, args.span.lo, args.span.hi)
     except ParameterError as exc:
-        raise exc.renamed({"omega_min": "--omega-min", "omega_max": "--omega-max"}) from None
+        raise exc.renamed(_names(args)) from None
     checks = []
     if args.digits is not None:
         from ..studies.mpcheck import check_points
@@ -143,9 +156,9 @@ def _branch_scan(model, args):
                              "period-1 closed form (the mpmath chains check period-1 orbits "
                              "of one rigid stop)")
     try:
-        res = ns_scan(model, args.omega_min, args.omega_max)
+        res = ns_scan(model, args.span.lo, args.span.hi)
     except ParameterError as exc:
-        raise exc.renamed({"omega_min": "--omega-min", "omega_max": "--omega-max"}) from None
+        raise exc.renamed(_names(args)) from None
     if args.json:
         print_json(res.as_dict())
         return 0

@@ -1,15 +1,15 @@
 """``symvi plane``: the attractor over a grid of two parameters, on Dask, into zarr."""
-from . import PRESET_NAMED, add_engine, add_params, params_from, print_json
+from . import PRESET_NAMED, add_engine, add_params, deprecated, params_from, print_json
 
 
 def register(sub):
     p = sub.add_parser("plane", help="attractor, Lyapunov exponent, rotation number and "
                                      "impacts per period over a parameter plane (Dask, zarr)")
     add_params(p, model=True)
-    p.add_argument("--x", required=True, metavar="NAME:LO:HI:N",
+    p.add_argument("--x", required=True, metavar="NAME=LO:HI:N",
                    help=f"first axis: omega or a named parameter ({PRESET_NAMED}), N values "
                         "from LO to HI")
-    p.add_argument("--y", required=True, metavar="NAME:LO:HI:N", help="second axis")
+    p.add_argument("--y", required=True, metavar="NAME=LO:HI:N", help="second axis")
     p.add_argument("--omega", type=float, default=None,
                    help="forcing frequency, when neither axis is omega")
     p.add_argument("--impacts", type=int, required=True, metavar="K",
@@ -36,7 +36,6 @@ def register(sub):
 
 def run(args):
     import shlex
-    import warnings
 
     from .._io import check_output
     from ..model import Model
@@ -46,14 +45,17 @@ def run(args):
     spec = PlaneSpec(model=model, x=parse_axis(args.x, "--x"), y=parse_axis(args.y, "--y"),
                      impacts=args.impacts, transient=args.transient, follow=args.follow,
                      omega=args.omega, chunk_rows=args.chunk_rows)
+    old = [f for f, t in (("--x", args.x), ("--y", args.y)) if "=" not in t]
+    if old:
+        deprecated(args, f"{' '.join(old)} NAME:LO:HI:N is deprecated: give NAME=LO:HI:N "
+                         "(the one form of a range on every command)")
     enabled = {"auto": None, "always": True, "never": False}[args.progress]
     command = "symvi " + " ".join(shlex.quote(a) for a in args._argv)
     store = PlaneStore(args.out, spec)
     with store.lock():
         if not store.path.lower().endswith(".zarr"):
-            # after the checks: a refused run prints one line only
-            warnings.warn(f"--out {args.out!r}: a plane store name not ending in .zarr is "
-                          "deprecated and will be refused by a future version", FutureWarning)
+            deprecated(args, f"--out {args.out!r}: a plane store name not ending in .zarr is "
+                             "deprecated and will be refused by a future version")
         res = run_plane(spec, store.path, scheduler=args.scheduler, workers=args.workers,
                         progress=enabled, command=command)
     out = res.as_dict()

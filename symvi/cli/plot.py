@@ -1,5 +1,5 @@
 """``symvi plot``: draw a plane store (``symvi plane``) with the bifurcation curves over it."""
-from . import print_json
+from . import deprecated, print_json
 
 
 def register(sub):
@@ -37,7 +37,9 @@ def run(args):
     spec = st.spec
     if not args.no_curves:
         from ..curves import curves_of_plane
-        curves, notes = curves_of_plane(spec)
+        from ..progress import counting
+        with counting("curves over the plane"):
+            curves, notes = curves_of_plane(spec)
     title = os.path.basename(os.path.normpath(args.store))
     if done < spec.y.n:
         title += f" (incomplete: {done} of {spec.y.n} rows)"
@@ -53,8 +55,7 @@ def run(args):
         print(f"{args.plot}: {len(curves)} curves over {args.store}")
         for n in notes:
             print(f"  note: {n}")
-    if flag == "--out":                   # after the work: a refusal stays one line
-        import warnings
-        warnings.warn("symvi plot --out is deprecated: the figure flag of every command is "
-                      "--plot", FutureWarning)
+    if flag == "--out":
+        deprecated(args, "symvi plot --out is deprecated: the figure flag of every command is "
+                         "--plot")
     return 0

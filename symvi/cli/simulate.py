@@ -1,5 +1,6 @@
 """``symvi simulate``: iterate the Poincaré map and save the section (npz), optionally a plot."""
-from . import add_params, data_key, describe, params_from, print_json, save_npz, section_view
+from . import (add_params, data_key, deprecated, describe, params_from, print_json, save_npz,
+               section_view, wants_json)
 
 #: kept impacts below which --classify refuses (symvi.simulations.diagnostics.MIN_CLASSIFY;
 #: from symvi.numerics, so that registering the command imports nothing heavy)
@@ -23,6 +24,7 @@ def register(sub):
     p.add_argument("--plot", help="also draw projected sections to this .png/.pdf")
     p.add_argument("--classify", action="store_true",
                    help="report the attractor class and Lyapunov exponents")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
     return p
 
 
@@ -43,10 +45,8 @@ def run(args):
     if args.y0 is not None and len(args.y0) != len(names):
         raise ParameterError("--y0", args.y0, f"{len(names)} numbers: {' '.join(names)}")
     if not args.out.lower().endswith(".npz"):
-        # after every check: a refused run prints one line only
-        import warnings
-        warnings.warn(f"--out {args.out!r}: an output name not ending in .npz is deprecated "
-                      "and will be refused by a future version", FutureWarning)
+        deprecated(args, f"--out {args.out!r}: an output name not ending in .npz is deprecated "
+                         "and will be refused by a future version")
     try:
         sim = simulate(params, args.omega, y0=args.y0, n_impacts=args.impacts,
                        transient=args.transient)
@@ -88,8 +88,33 @@ def run(args):
         figures.save(figures.sections(points, title, sim.fixed_point, projections,
                                       labels=labels), args.plot)
         out["plot"] = args.plot
-    print_json(out)
+    if wants_json(args):
+        print_json(out)
+    else:
+        _print_text(out, describe(params))
     return 0
+
+
+def _print_text(out, system):
+    """The run as a few lines of text (the JSON's keys, in words)."""
+    print(f"model: {system}   omega = {out['omega']:.10g}")
+    print(f"{out['n']} impacts kept after {out['transient']} dropped; run ended: {out['stop']}")
+    if "impacts_per_stop" in out:
+        print("impacts per stop: " + ", ".join(f"{k} {v}" for k, v in
+                                                out["impacts_per_stop"].items()))
+    if "class" in out:
+        line = f"attractor: {out.get('attractor', out['class'])}"
+        if "impacts_per_orbit" in out:
+            line += f", {out['impacts_per_orbit']} impacts per orbit"
+        if "signature" in out:
+            line += f" ({', '.join(out['signature'])})"
+        print(line)
+        if out["lyapunov"] is not None:
+            print("Lyapunov exponents (per impact): "
+                  + ", ".join(f"{v:.6g}" for v in out["lyapunov"]))
+        if "rotation_number" in out:
+            print(f"rotation number: {out['rotation_number']:.8g}")
+    print("wrote: " + ", ".join(out[k] for k in ("out", "plot") if k in out))
 
 
 def check_paths(args):

@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from ..errors import SymviError
+from ..progress import tick
 
 #: largest turn of the tangent accepted in one step, as the cosine between consecutive
 #: tangents (else the step is halved).  One value for branches and curves (issue 24, item
@@ -349,6 +350,7 @@ def run(system, client, X, t, lo, hi, *, h, h_max, max_points, tracker=None, thr
             DF, Fb = renewed
         states.append(X)
         points.append(pt)
+        tick()                             # the command's bar, if any (symvi.progress)
         # the step may grow with the orbit's size (towards a resonance it diverges)
         cap = h_max * (1 + np.max(np.abs(X[:m]))) / scale0 if grow_with_orbit else h_max
         h = min(cap, h * (1.5 if its <= nominal else 1.0 if its <= nominal + 2 else 0.6))

@@ -455,18 +455,18 @@ def _nf_rows(params, pt, circle_evidence):
 
     # (A2)-(A3)
     dlam_fd = _dlam_branch(params, pt)
-    rows.append(_row("(A2)", "λ̃1 = (F11 ζ0, ζ0*) = dλ1/dv", complex(nf.dlam_dv), dlam_fd,
-                     tol=1e-6, evidence="symvi: dλ1/dv by Richardson central differences of the "
+    rows.append(_row("(A2)", "λ̃1 = (F11 ζ0, ζ0*) = dλ1/dω", complex(nf.dlam_dv), dlam_fd,
+                     tol=1e-6, evidence="symvi: dλ1/dω by Richardson central differences of the "
                                         "multiplier along the orbit branch (h = 1e-4, 2e-4)"))
     lit = (complex(nf.dlam_dv) * cmath.exp(-1j * lam.imag)).real
     arg = (complex(nf.dlam_dv) * cmath.exp(-1j * cmath.phase(lam))).real
     dmod_fd = (lb * dlam_fd).real / abs(lam)
     rows.append(_row(
-        "(A3)", "d|λ1|/dv, ω0 read as Im λ1 (the symbol ω of eq. 41)", lit, dmod_fd, tol=1e-6,
+        "(A3)", "d|λ1|/dω, ω0 read as Im λ1 (the symbol ω of eq. 41)", lit, dmod_fd, tol=1e-6,
         evidence=f"with ω0 read as arg λ0 (θ0) (A3) gives {arg:.8g} (rel. diff "
-                 f"{_disc(arg, dmod_fd)[1]:.1e}); symvi: Re(λ̄ dλ/dv)/|λ| from differences along "
+                 f"{_disc(arg, dmod_fd)[1]:.1e}); symvi: Re(λ̄ dλ/dω)/|λ| from differences along "
                  "the branch",
-        corrected=r"\frac{d|\lambda_1|}{dv}\Big|_{v_c}=\mathrm{Re}\big(\tilde\lambda_1"
+        corrected=r"\frac{d|\lambda_1|}{d\omega}\Big|_{\omega_c}=\mathrm{Re}\big(\tilde\lambda_1"
                   r"e^{-i\theta_0}\big),\ \lambda_0=e^{i\theta_0}",
         matters="only if ω0 is read as Im λ1; the paper's symbol is ambiguous (ω is Im λ1 in "
                 "eq. 41)"))
@@ -619,9 +619,9 @@ def _check_dmod(params, row, quick):
     st, units = _num_status(row["printed"], pt.dmod_domega)
     rel = abs(pt.dmod_domega - pt.dmod_domega_branch) / abs(pt.dmod_domega)
     return st, pt.dmod_domega, (
-        f"at v_c = {pt.omega_c:.9f}: {pt.dmod_domega:.6g} by eqs. (A1)–(A3), "
+        f"at ω_c = {pt.omega_c:.9f}: {pt.dmod_domega:.6g} by eqs. (A1)–(A3), "
         f"{pt.dmod_domega_branch:.6g} by differences of |λ1| along the branch (rel. diff "
-        f"{rel:.1e}); printed/symvi = {row['printed'] / pt.dmod_domega:.4g}; d|λ1|/dv "
+        f"{rel:.1e}); printed/symvi = {row['printed'] / pt.dmod_domega:.4g}; d|λ1|/dω "
         "depends on no normalisation, so this is not a convention")
 
 
@@ -661,7 +661,7 @@ def _check_interval(params, row, quick):
         d = np.diff(M, axis=0)
         inc12 = bool(np.all(d[:, 0] > 0))
         dec34 = bool(np.all(d[:, 2] < 0))
-        facts.append(f"one Hopf point, v_c = {vc:.6f}; all |λ| < 1 on [{a}, v_c): "
+        facts.append(f"one Hopf point, ω_c = {vc:.6f}; all |λ| < 1 on [{a}, ω_c): "
                      f"{'yes' if inside_ok else 'no'}; |λ3|, |λ4| < 1 throughout: "
                      f"{'yes' if others_ok else 'no'}; |λ1,2| increasing: "
                      f"{'yes' if inc12 else 'no'}; |λ3,4| decreasing: {'yes' if dec34 else 'no'}")
@@ -709,7 +709,7 @@ def _check_attractor(params, row, quick):
                 sec = np.asarray(sim.section)
                 k = int(np.argmax(hw[:3]))
                 meas = (sec[:, k].max() - sec[:, k].min()) / 2
-                why += (f"; μ = v − v_c = {mu:.3g}: half-width in {NAMES[k]} simulated "
+                why += (f"; μ = ω − ω_c = {mu:.3g}: half-width in {NAMES[k]} simulated "
                         f"{meas:.3g}, normal form {hw[k]:.3g}")
         except SymviError:
             pass

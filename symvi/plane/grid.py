@@ -41,13 +41,17 @@ class Axis:
         return np.linspace(self.lo, self.hi, self.n)
 
     def text(self):
+        # a store's form (resumed stores compare it): NAME:LO:HI:N
         return f"{self.name}:{self.lo!r}:{self.hi!r}:{self.n}"
 
 
 def parse_axis(text, flag):
-    """``NAME:LO:HI:N`` -> :class:`Axis`; an error names ``flag`` and the valid form."""
-    form = "NAME:LO:HI:N with numbers LO < HI and an integer N >= 2 (or N = 1 and LO = HI)"
-    parts = str(text).rsplit(":", 3)
+    """``NAME=LO:HI:N`` (the command line's one range form) or ``NAME:LO:HI:N`` (the
+    stores' form, and the command line's until issue 26) -> :class:`Axis`; an error names
+    ``flag`` and the valid form."""
+    form = "NAME=LO:HI:N with numbers LO < HI and an integer N >= 2 (or N = 1 and LO = HI)"
+    head, eq, rest = str(text).partition("=")
+    parts = [head, *rest.split(":")] if eq else str(text).rsplit(":", 3)
     if len(parts) != 4 or not parts[0].strip():
         raise ParameterError(flag, text, form)
     name = parts[0].strip()

@@ -253,7 +253,7 @@ def _summary(by_kind, parts=()):
             continue
         rows = p.result["rows"]
         bad = sorted({r["eq"] for r in rows if r["status"] == "differs"})
-        L.append(f"- Formula audit at {_code(p.output.params_name)} (v_c = "
+        L.append(f"- Formula audit at {_code(p.output.params_name)} (ω_c = "
                  f"{fmt(p.result.get('omega_c'), 10)}): {len(rows)} checks, "
                  f"{sum(r['status'] == 'agrees' for r in rows)} agree; differ: "
                  + (", ".join(bad) if bad else "none") + ".")
@@ -275,7 +275,7 @@ def _result_line(p):
         if not pts:
             return "no Hopf point" + (" (not certified everywhere)" if r.get("uncertified")
                                       else "")
-        return "; ".join(f"Hopf point at v_c = {_num(q['omega_c'], '.10g')}, l1 = "
+        return "; ".join(f"Hopf point at ω_c = {_num(q['omega_c'], '.10g')}, l1 = "
                          f"{_num(q['l1'], '.4g')} ({q['kind']})" for q in pts)
     if k == "curve":
         kinds = sorted({s["kind"] for s in r["special"]})
@@ -326,6 +326,9 @@ _CURVE_CONVENTIONS = ("Curves: solid where supercritical (l1 < 0) or the fold is
 def _conventions(by_kind):
     """Every normalisation the report's numbers use, said once (the parts refer here)."""
     L = ["## Conventions", ""]
+    if by_kind.get("numbers") or by_kind.get("audit"):
+        L.append("- ω: the forcing frequency, ω_c at a Neimark-Sacker point (the paper's "
+                 "Section 4 writes v and v_c; its eq. (41) uses ω for Im λ1)")
     for p in by_kind.get("hopf", []):
         pts = p.result.get("points", []) if p.available else []
         if pts and pts[0].get("normalisation"):
@@ -399,7 +402,7 @@ def _audit(parts):
 def _audit_rows(p):
     r0 = p.result
     L = [f"Orbit formulas at ω = {fmt(r0['omega_orbit'], 10)}; normal form at the Hopf "
-         f"point v_c = {fmt(r0['omega_c'], 12)} (branch {r0['branch']}).", "",
+         f"point ω_c = {fmt(r0['omega_c'], 12)} (branch {r0['branch']}).", "",
          "| eq. | quantity | as printed | symvi | abs | rel | status |",
          "|---|---|---|---|---|---|---|"]
     for r in r0["rows"]:
@@ -535,7 +538,7 @@ def _hopf_table(r):
         if r.get("uncertified"):
             return head + ["No Hopf point found where the scan is certified.", ""] + _uncertified(r)
         return head + ["No Hopf point in the interval.", ""]
-    L = head + ["| v_c | branch | λ1 | θ/2π | d\\|λ1\\|/dv (A1–A3) | along branch | l1 | f1 (60) as printed "
+    L = head + ["| ω_c | branch | λ1 | θ/2π | d\\|λ1\\|/dω (A1–A3) | along branch | l1 | f1 (60) as printed "
          "| f1 (60) corrected | kind | H1 | H2 | H3 |", "|" + "---|" * 13]
     for q in pts:
         L.append(f"| {_num(q['omega_c'], '.12f')} | {q['branch']} | "
@@ -547,7 +550,7 @@ def _hopf_table(r):
     for q in pts:       # what a number in the table does not mean as stated
         for key in ("dmod_domega_branch_caveat", "circle_caveat"):
             if q.get(key):
-                L += [f"Caution at v_c = {_num(q['omega_c'], '.10g')}: {_text(q[key])}.", ""]
+                L += [f"Caution at ω_c = {_num(q['omega_c'], '.10g')}: {_text(q[key])}.", ""]
     L += _uncertified(r)
     if r.get("events"):
         L += ["Events: " + "; ".join(f"{e.get('kind')} at ω = {e.get('omega'):.10g} "
@@ -579,7 +582,7 @@ def _num(x, spec):
 
 def _circle_table(r):
     names = r.get("variables", ["x1dot+", "x2", "x2dot", "tau"])
-    L = [f"v_c = {r['omega_c']:.12f}; d|λ1|/dv = {r['dmod_domega']:.6g}, l1 = {r['l1']:.6g} "
+    L = [f"ω_c = {r['omega_c']:.12f}; d|λ1|/dω = {r['dmod_domega']:.6g}, l1 = {r['l1']:.6g} "
          f"(‖q‖₂ = 1); predicted half-width = k·√μ.", "",
          "| μ | " + " | ".join(f"{n} sim | {n} nf | rel. err" for n in names) + " |",
          "|---|" + "---|---|---|" * len(names)]

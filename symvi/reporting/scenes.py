@@ -5,7 +5,7 @@ outputs it wants::
 
     [scene]
     name = "fig5"                  # [a-z0-9_-]+, used in file names
-    title = "Fig. 5: invariant circle at v = 0.7369"
+    title = "Fig. 5: invariant circle at ω = 0.7369"
     paper = "Fig. 5"               # optional: what it reproduces
     description = "..."            # optional
 

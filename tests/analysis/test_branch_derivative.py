@@ -179,7 +179,7 @@ def test_table_prints_the_error_and_the_caveat(capsys):
     with mock.patch.object(hopf, "dmod_along_branch",
                            lambda *a, **k: (real(*a, **k)[0], 1e-3)):
         assert main(["hopf", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r",
-                     "0.8", "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+                     "0.8", "--range", "omega=0.70:0.76"]) == 0
     out = capsys.readouterr().out
     assert "+/- 0.001 (along the branch)" in out
     assert "caution: d|lambda1|/domega uncertain along the branch: estimated error 1.0e-03" \

@@ -31,8 +31,8 @@ def test_budget_that_runs_out_is_no_negative_statement():
     headline; the text never says that nothing crosses."""
     with mock.patch.object(hopf, "MAX_SAMPLES", 3):
         res = hopf.hopf_points(EX1, 0.70, 0.76)
-        rc, out, err = cli("hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76")
-        rcj, outj, _ = cli("hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76",
+        rc, out, err = cli("hopf", *BASE, "--range", "omega=0.70:0.76")
+        rcj, outj, _ = cli("hopf", *BASE, "--range", "omega=0.70:0.76",
                            "--json")
     assert not res.complete and res.uncertified
     assert "orbit-evaluation budget ran out" in res.uncertified_reasons
@@ -93,7 +93,7 @@ def test_omega_range_checked_first(lo):
 def test_repeated_events_are_summarised(capsys):
     """Many events of one kind: one line for them in the text (all in the JSON)."""
     with mock.patch("symvi.cli.hopf.EVENT_LINES", 1):
-        rc, out, _ = cli("hopf", *BASE, "--omega-min", "0.40", "--omega-max", "0.62")
+        rc, out, _ = cli("hopf", *BASE, "--range", "omega=0.40:0.62")
     assert rc == 0
     assert "3 events 'singular' between omega = 0.4402428672 and 0.5985858215" in out
     assert "omega_1 / omega = 2" not in out
@@ -104,7 +104,7 @@ def test_paper_example_from_0_001():
     """The issue's reproduction: example 1 on [0.001, 0.76] finds omega_c = 0.7369 (it used
     to print "no complex pair ... crosses" after its budget ran out), and the region where
     the omega_j / n accumulate is declared uncertified in the headline."""
-    rc, out, _ = cli("hopf", *BASE, "--omega-min", "0.001", "--omega-max", "0.76", "--json")
+    rc, out, _ = cli("hopf", *BASE, "--range", "omega=0.001:0.76", "--json")
     obj = json.loads(out)
     assert rc == 0 and not obj["complete"]
     assert any(abs(p["omega_c"] - WC) < 1e-12 for p in obj["points"])

@@ -15,7 +15,7 @@ def run(*args):
 
 @pytest.mark.slow
 def test_json_contract():
-    r = run(*BASE, "--omega-min", "0.70", "--omega-max", "0.76", "--json")
+    r = run(*BASE, "--range", "omega=0.70:0.76", "--json")
     assert r.returncode == 0, r.stderr
     obj = json.loads(r.stdout)
     assert {"params", "points", "events"} <= set(obj)
@@ -28,19 +28,21 @@ def test_json_contract():
 
 def test_table(capsys):
     from symvi.cli import main
-    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    assert main(["hopf", *BASE, "--range", "omega=0.70:0.76"]) == 0
     out = capsys.readouterr().out
     assert "omega_c = 0.73687692209059" in out and "supercritical" in out
     assert "multiplier-1" in out
 
 
 @pytest.mark.parametrize("args,word", [
-    (["--omega-min", "0.76", "--omega-max", "0.70"], "--omega-max"),
-    (["--omega-min", "nan", "--omega-max", "0.70"], "--omega-min"),
+    (["--range", "omega=0.76:0.70"], "--range"),
+    (["--range", "omega=nan:0.70"], "--range"),
+    (["--range", "omega=1e-300:0.70"], "--range"),
+    (["--omega-min", "0.76", "--omega-max", "0.70"], "--omega-max"),   # the deprecated form
     (["--omega-min", "1e-300", "--omega-max", "0.70"], "--omega-min"),
-    (["--omega-min", "0.7", "--omega-max", "0.76", "--digits", "5"], "--digits"),
+    (["--range", "omega=0.7:0.76", "--digits", "5"], "--digits"),
     # an end at a natural frequency (inside the interval it is cut: test_hopf_conservative_resonance)
-    (["--omega-min", "0.7", "--omega-max", "0.8804857344718374"], "omega_1"),
+    (["--range", "omega=0.7:0.8804857344718374"], "omega_1"),
 ])
 def test_bad_input(args, word, capsys):
     from symvi.cli import main
@@ -54,7 +56,7 @@ def test_table_cautions_when_hypotheses_fail(capsys):
     multiplier outside the unit circle: the table must say the normal form does not apply."""
     from symvi.cli import main
     assert main(["hopf", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "2.8016416356",
-                 "--r", "0.8", "--omega-min", "0.66", "--omega-max", "0.69"]) == 0
+                 "--r", "0.8", "--range", "omega=0.66:0.69"]) == 0
     out = capsys.readouterr().out
     assert "(H2) NO" in out and "strong resonance 1:3" in out
     assert "(H1) NO" in out and "caution: (H1) fails" in out
@@ -65,7 +67,7 @@ def test_table_cautions_when_hypotheses_fail(capsys):
 
 def test_table_prints_the_circle_when_its_hypotheses_hold(capsys):
     from symvi.cli import main
-    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    assert main(["hopf", *BASE, "--range", "omega=0.70:0.76"]) == 0
     out = capsys.readouterr().out
     assert "circle (stable, omega > omega_c): radius 4.92278 sqrt|mu|" in out
     assert "not predicted" not in out and "NOT certified" not in out
@@ -73,5 +75,5 @@ def test_table_prints_the_circle_when_its_hypotheses_hold(capsys):
 
 def test_table_has_no_caution_when_hypotheses_hold(capsys):
     from symvi.cli import main
-    assert main(["hopf", *BASE, "--omega-min", "0.70", "--omega-max", "0.76"]) == 0
+    assert main(["hopf", *BASE, "--range", "omega=0.70:0.76"]) == 0
     assert "caution" not in capsys.readouterr().out

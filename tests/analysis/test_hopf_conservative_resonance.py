@@ -59,7 +59,7 @@ def test_end_at_a_natural_frequency_refused(p):
 
 def test_cli_interval_through_a_natural_frequency(capsys):
     from symvi.cli import main
-    args = ["hopf", *BASE, "--r", "0.8", "--omega-min", "0.7", "--omega-max", "1.0"]
+    args = ["hopf", *BASE, "--r", "0.8", "--range", "omega=0.7:1.0"]
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "forcing-resonance: natural frequency omega_1" in out and "Traceback" not in out
@@ -151,7 +151,7 @@ def test_h3_needs_a_resolved_crossing_speed():
 def test_cli_conservative_preset(capsys):
     from symvi.cli import main
     args = ["hopf", "--mu-m", "2", "--mu-k", "2", "--f2", "0", "--b", "0.3", "--r", "1",
-            "--omega-min", "0.5", "--omega-max", "3"]
+            "--range", "omega=0.5:3"]
     assert main(args) == 0
     out = capsys.readouterr().out
     assert "conservative model: " + CONSERVATIVE in out

@@ -38,10 +38,10 @@ def test_a_flag_given_twice_is_refused_naming_it():
 
 
 def test_repeatable_flags_repeat():
-    a = parse("continue", *PRESET, "--param", "b", "--from", "1", "--to", "2",
+    a = parse("continue", *PRESET, "--range", "b=1:2",
               "--set", "omega=1.2", "--set", "mass[1,2]=0.1")
     assert a.sets == ["omega=1.2", "mass[1,2]=0.1"]
-    a = parse("curve", *PRESET, "--omega-min", "0.7", "--omega-max", "0.76", "--params",
+    a = parse("curve", *PRESET, "--range", "omega=0.7:0.76", "--params",
               "omega,b", "--bounds", "b=1:2", "--bounds", "omega=0.5:1")
     assert a.bounds == ["b=1:2", "omega=0.5:1"]
 
@@ -54,7 +54,7 @@ def test_curve_params_split_outside_brackets():
         with pytest.raises(ParameterError, match="--params"):
             parse_params(bad)
     # the names reach the model: the next error is about --bounds, not --params
-    base = ["curve", *PRESET, "--omega-min", "0.7", "--omega-max", "0.76"]
+    base = ["curve", *PRESET, "--range", "omega=0.7:0.76"]
     assert_bad_input(cli(*base, "--params", "omega,stiffness[1,2]", "--bounds",
                          "stiffness[1,2]=nan:1"), "--bounds")
     assert_bad_input(cli(*base, "--params", "omega,stiffness[1,3]"), "--params",
@@ -64,19 +64,19 @@ def test_curve_params_split_outside_brackets():
 
 def test_continue_from_equal_to_is_an_error():
     """Was exit 0 with no branch."""
-    assert_bad_input(cli("continue", *PRESET, "--param", "omega", "--from", "1.2", "--to",
-                         "1.2"), "--to", "--from")
+    assert_bad_input(cli("continue", *PRESET, "--range", "omega=1.2:1.2"), "--range",
+                     "LO != HI")
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--param", "omega", "--from", "1.2", "--to", "nan"], ["--to", "omega"]),
-    (["--param", "r", "--from", "0.8", "--to", "1.5", "--set", "omega=1.2"],
-     ["--to", "0 < r <= 1"]),
-    (["--param", "mu_m", "--from", "2", "--to", "-1", "--set", "omega=1.2"],
-     ["--to", "mu_m > 0"]),
-    (["--param", "mass[1,2]", "--from", "0", "--to", "5", "--set", "omega=1.2"],
-     ["--to", "positive definite"]),
-    (["--param", "b", "--from", "1.5", "--to", "1.6", "--set", "omega=0.8804857344718374"],
+    (["--range", "omega=1.2:nan"], ["--range", "finite"]),
+    (["--range", "r=0.8:1.5", "--set", "omega=1.2"],
+     ["--range", "0 < r <= 1"]),
+    (["--range", "mu_m=2:-1", "--set", "omega=1.2"],
+     ["--range", "mu_m > 0"]),
+    (["--range", "mass[1,2]=0:5", "--set", "omega=1.2"],
+     ["--range", "positive definite"]),
+    (["--range", "b=1.5:1.6", "--set", "omega=0.8804857344718374"],
      ["--set omega", "natural frequency"]),
 ])
 def test_continue_range_checks_name_the_flag(args, words):
@@ -88,7 +88,7 @@ def test_continue_range_checks_name_the_flag(args, words):
     ("omega=0:1", ["--bounds", "omega"]), ("omega=0.5:0.6", ["--bounds", "start value"]),
 ])
 def test_curve_bounds_are_range_checked(bounds, words):
-    assert_bad_input(cli("curve", *PRESET, "--omega-min", "0.7", "--omega-max", "0.76",
+    assert_bad_input(cli("curve", *PRESET, "--range", "omega=0.7:0.76",
                          "--params", "omega,r", "--bounds", bounds, "--max-points", "20"),
                      *words)
 
@@ -144,10 +144,8 @@ def test_one_figure_flag_old_spellings_warn(tmp_path):
     stays one line)."""
     ex1 = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
     fig = tmp_path / "bif.png"
-    rc, out, err = cli("sweep", *ex1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps",
-                       "3", "--impacts", "5", "--transient", "10", "--out", fig)
+    rc, out, err = cli("sweep", *ex1, "--range", "omega=0.73:0.74:3", "--impacts", "5", "--transient", "10", "--out", fig)
     assert rc == 0 and fig.exists() and "deprecated" in err and "--plot" in err
-    rc, out, err = cli("sweep", *ex1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps",
-                       "3", "--impacts", "5", "--transient", "10", "--out", tmp_path / "b.npz",
+    rc, out, err = cli("sweep", *ex1, "--range", "omega=0.73:0.74:3", "--impacts", "5", "--transient", "10", "--out", tmp_path / "b.npz",
                        "--plot", tmp_path / "b2.png")
     assert rc == 0 and "deprecated" not in err and (tmp_path / "b2.png").exists()

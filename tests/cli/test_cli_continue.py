@@ -23,7 +23,7 @@ def _run(*args):
 
 def test_json_contract_and_plot(tmp_path, capsys):
     png = tmp_path / "b.png"
-    assert main(["continue", *PRESET, "--param", "omega", "--from", "1.3", "--to", "1.1",
+    assert main(["continue", *PRESET, "--range", "omega=1.3:1.1",
                  "--json", "--plot", str(png)]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["param"] == "omega"
@@ -42,13 +42,11 @@ def test_json_contract_and_plot(tmp_path, capsys):
 def test_model_file_other_parameter_and_switch(tmp_path, capsys):
     f = tmp_path / "one.toml"
     f.write_text(dumps(ONE_DAMPED_GAP0))
-    assert main(["continue", "--model", str(f), "--param", "omega", "--from", "2.0",
-                 "--to", "3.0", "--switch", "--json"]) == 0
+    assert main(["continue", "--model", str(f), "--range", "omega=2.0:3.0", "--switch", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     orbits = [b["orbit"] for b in d["branches"]]
     assert orbits[0] == "1-1" and "2-2" in orbits
-    assert main(["continue", "--model", str(f), "--param", "restitution", "--from", "0.8",
-                 "--to", "0.6", "--set", "omega=2.5", "--json"]) == 0
+    assert main(["continue", "--model", str(f), "--range", "restitution=0.8:0.6", "--set", "omega=2.5", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["param"] == "restitution" and d["points"][-1]["value"] <= 0.8
 
@@ -60,8 +58,7 @@ def test_from_section_starts_on_the_simulated_orbit(tmp_path, capsys):
     assert main(["simulate", "--model", str(f), "--omega", "2.69", "--impacts", "200",
                  "--transient", "3000", "--out", str(npz)]) == 0
     capsys.readouterr()
-    assert main(["continue", "--model", str(f), "--param", "omega", "--from", "2.66",
-                 "--to", "2.72", "--from-section", str(npz), "--json"]) == 0
+    assert main(["continue", "--model", str(f), "--range", "omega=2.66:2.72", "--from-section", str(npz), "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert all(b["orbit"] == "2-2" for b in d["branches"])
     sec = np.load(npz)["section"]
@@ -70,11 +67,11 @@ def test_from_section_starts_on_the_simulated_orbit(tmp_path, capsys):
 
 
 def test_errors_are_one_line_exit_2(tmp_path):
-    bad = [["--param", "nonsense", "--from", "1", "--to", "2", "--set", "omega=1"],
-           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--orbit", "x-1"],
-           ["--param", "b", "--from", "1.4", "--to", "1.6"],
-           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--set", "b"],
-           ["--param", "omega", "--from", "1.3", "--to", "1.1", "--from-section",
+    bad = [["--range", "nonsense=1:2", "--set", "omega=1"],
+           ["--range", "omega=1.3:1.1", "--orbit", "x-1"],
+           ["--range", "b=1.4:1.6"],
+           ["--range", "omega=1.3:1.1", "--set", "b"],
+           ["--range", "omega=1.3:1.1", "--from-section",
             str(tmp_path / "missing.npz")]]
     for args in bad:
         r = _run("continue", *PRESET, *args)
@@ -85,7 +82,7 @@ def test_errors_are_one_line_exit_2(tmp_path):
 
 def test_sweep_overlays_the_branches(tmp_path, capsys):
     png = tmp_path / "bif.png"
-    assert main(["sweep", *PRESET, "--omega-min", "0.70", "--omega-max", "0.76", "--steps", "12",
+    assert main(["sweep", *PRESET, "--range", "omega=0.70:0.76:12",
                  "--impacts", "20", "--transient", "200", "--out", str(png), "--branches",
                  "--progress", "never"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -99,10 +96,10 @@ def test_sweep_overlays_the_branches(tmp_path, capsys):
 
 
 def test_no_start_orbit_names_the_reason():
-    """--from where no period-1 orbit exists (the stop mass's anti-resonance): one line
-    naming --from, with the reason."""
+    """A start where no period-1 orbit exists (the stop mass's anti-resonance): one line
+    naming --range, with the reason."""
     from tests.fuzz._cli import assert_bad_input, cli
     line = assert_bad_input(cli("continue", "--mu-m", "0.3333333333333333", "--mu-k",
                                 "0.3333333333333333", "--f2", "0", "--b", "1.5", "--r", "0.8",
-                                "--param", "omega", "--from", "2", "--to", "2.1"), "--from")
+                                "--range", "omega=2:2.1"), "--range")
     assert "anti-resonance" in line

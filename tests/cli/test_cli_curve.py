@@ -9,7 +9,7 @@ from symvi.cli import main
 from ..fuzz._cli import cli
 
 PRESET = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
-BASE = ["curve", *PRESET, "--omega-min", "0.70", "--omega-max", "0.76"]
+BASE = ["curve", *PRESET, "--range", "omega=0.70:0.76"]
 
 
 def _run(*args):
@@ -67,6 +67,6 @@ def test_bad_input_is_one_line_and_exit_2(args, key):
 
 
 def test_no_start_point_is_a_clear_error():
-    r = _run("curve", *PRESET, "--omega-min", "1.3", "--omega-max", "1.31", "--params",
+    r = _run("curve", *PRESET, "--range", "omega=1.3:1.31", "--params",
              "omega,b", "--kind", "fold")
     assert r.returncode == 2 and "no admissible fold point" in r.stderr

@@ -11,8 +11,7 @@ SYM = EXAMPLES / "oscillator_two_stops.toml"
 
 
 def test_continue_a_symmetric_orbit_json(tmp_path):
-    rc, out, err = cli("continue", "--model", str(SYM), "--param", "omega", "--from", "1.0",
-                       "--to", "1.6", "--switch", "--json")
+    rc, out, err = cli("continue", "--model", str(SYM), "--range", "omega=1.0:1.6", "--switch", "--json")
     assert rc == 0, err
     d = json.loads(out)
     main = d["branches"][0]
@@ -29,8 +28,7 @@ def test_continue_a_symmetric_orbit_json(tmp_path):
 
 
 def test_continue_text_names_signature_and_symmetry():
-    rc, out, err = cli("continue", "--model", str(SYM), "--param", "omega", "--from", "1.0",
-                       "--to", "1.2")
+    rc, out, err = cli("continue", "--model", str(SYM), "--range", "omega=1.0:1.2")
     assert rc == 0, err
     assert "1-2 orbits (signature stop" in out and "symmetric)" in out
     assert "symmetry-breaking omega = 1.0082738" in out
@@ -42,10 +40,9 @@ def test_no_attractor_anywhere_is_one_line(tmp_path):
     f = tmp_path / "stuck.toml"
     # undamped: the run never settles on an attractor
     f.write_text(SYM.read_text().replace("damping = [[0.05]]", "damping = [[0.0]]"))
-    rc, out, err = cli("continue", "--model", str(f), "--param", "omega", "--from", "1.3",
-                       "--to", "1.31")
+    rc, out, err = cli("continue", "--model", str(f), "--range", "omega=1.3:1.31")
     assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1
-    assert "--from" in err and "Traceback" not in err
+    assert "--range" in err and "Traceback" not in err
 
 
 def test_the_worked_examples_are_current():
@@ -91,8 +88,7 @@ def test_orbit_and_branch_of_an_elastic_model():
     assert sorted(o["signature"]) == ["stop1:entry", "stop1:exit", "stop2:entry",
                                       "stop2:exit"]
     assert o["admissible"] and o["residual"] < 1e-12
-    rc, out, err = cli("continue", "--model", str(el), "--param", "stop[1].stiffness",
-                       "--from", "50", "--to", "80", "--set", "omega=2.0", "--json")
+    rc, out, err = cli("continue", "--model", str(el), "--range", "stop[1].stiffness=50:80", "--set", "omega=2.0", "--json")
     assert rc == 0, err
     d = json.loads(out)
     assert d["branches"][0]["signature"] == o["signature"]
@@ -128,12 +124,10 @@ def test_sweep_of_a_two_stop_model(tmp_path):
     """symvi sweep starts each omega of a several-stop model from the default start on
     stop 1; --classify labels each omega and names each periodic attractor's stops."""
     out = tmp_path / "sw.npz"
-    rc, text, err = cli("sweep", "--model", str(SYM), "--omega-min", "1.0", "--omega-max",
-                        "2.0", "--steps", "6", "--out", str(out))
+    rc, text, err = cli("sweep", "--model", str(SYM), "--range", "omega=1.0:2.0:6", "--out", str(out))
     assert rc == 0, err
     assert json.loads(text)["stops"] == {"completed": 6} and out.exists()
-    rc, text, err = cli("sweep", "--model", str(SYM), "--omega-min", "1.0", "--omega-max",
-                        "2.0", "--steps", "6", "--out", str(tmp_path / "c.npz"), "--classify")
+    rc, text, err = cli("sweep", "--model", str(SYM), "--range", "omega=1.0:2.0:6", "--out", str(tmp_path / "c.npz"), "--classify")
     assert rc == 0, err
     d = json.loads(text)
     assert len(d["classes"]) == len(d["signatures"]) == 6 and (tmp_path / "c.npz").exists()
@@ -145,8 +139,7 @@ def test_hopf_of_a_several_stop_model_is_an_uncertified_branch_scan():
     from the attractors found in the interval, each once, the same point as symvi continue
     locates (the impact damper's supercritical NS), and said not to be certified."""
     damper = EXAMPLES / "impact_damper.toml"
-    rc, out, err = cli("hopf", "--model", str(damper), "--omega-min", "0.8",
-                       "--omega-max", "1.2", "--json")
+    rc, out, err = cli("hopf", "--model", str(damper), "--range", "omega=0.8:1.2", "--json")
     assert rc == 0, err
     d = json.loads(out)
     assert d["complete"] is False and d["uncertified"] == [[0.8, 1.2]]
@@ -156,10 +149,9 @@ def test_hopf_of_a_several_stop_model_is_an_uncertified_branch_scan():
     ref = json.loads((EXAMPLES / "impact_damper.json").read_text())
     want = [s["value"] for s in ref["special"] if s["kind"] == "ns"]
     assert abs(ns[0]["value"] - want[0]) < 1e-9
-    rc, out, err = cli("hopf", "--model", str(damper), "--omega-min", "0.8",
-                       "--omega-max", "1.2")
+    rc, out, err = cli("hopf", "--model", str(damper), "--range", "omega=0.8:1.2")
     assert rc == 0 and "NOT CERTIFIED" in out and "NS point 1" in out
-    for bad in (["--omega-min", "1.2", "--omega-max", "0.8"],
-                ["--omega-min", "0.8", "--omega-max", "1.2", "--digits", "40"]):
+    for bad in (["--range", "omega=1.2:0.8"],
+                ["--range", "omega=0.8:1.2", "--digits", "40"]):
         rc, out, err = cli("hopf", "--model", str(damper), *bad)
         assert rc == 2 and out == "" and len(err.strip().splitlines()) == 1

@@ -65,7 +65,7 @@ def test_model_and_preset_flags_are_exclusive(tmp_path):
 def test_hopf_json_for_a_model_file(tmp_path, capsys):
     f = tmp_path / "m.toml"
     f.write_text(dumps(THREE_STOP2_GAP05))
-    assert main(["hopf", "--model", str(f), "--omega-min", "0.99", "--omega-max", "1.02",
+    assert main(["hopf", "--model", str(f), "--range", "omega=0.99:1.02",
                  "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["model"]["stop"]["mass"] == 2 and len(d["points"]) == 1
@@ -90,8 +90,7 @@ def test_simulate_and_sweep_with_a_model_file(tmp_path, capsys):
     y = np.array(admissible_orbits(THREE_STOP2_GAP05, 0.95)[0].y)
     assert np.abs(z["section"][-1] - y).max() < 1e-6
     sw = tmp_path / "sw.npz"
-    assert main(["sweep", "--model", str(f), "--omega-min", "0.9", "--omega-max", "0.95",
-                 "--steps", "3", "--impacts", "10", "--transient", "100", "--out", str(sw),
+    assert main(["sweep", "--model", str(f), "--range", "omega=0.9:0.95:3", "--impacts", "10", "--transient", "100", "--out", str(sw),
                  "--progress", "never"]) == 0
     assert np.load(sw)["section"].shape == (3, 10, 6)
 
@@ -102,8 +101,7 @@ def test_model_shaped_arguments_are_checked(tmp_path, args, name):
     f = tmp_path / "m.toml"
     f.write_text(dumps(THREE_STOP2_GAP05))
     cmd = ("simulate", "--omega", "0.95", "--out", str(tmp_path / "x.npz")) \
-        if name == "--y0" else ("sweep", "--omega-min", "0.9", "--omega-max", "0.95",
-                                "--steps", "3", "--out", str(tmp_path / "x.npz"))
+        if name == "--y0" else ("sweep", "--range", "omega=0.9:0.95:3", "--out", str(tmp_path / "x.npz"))
     r = _run(*cmd, "--model", str(f), *args)
     assert r.returncode == 2 and name in r.stderr and len(r.stderr.strip().splitlines()) == 1
 
@@ -132,9 +130,9 @@ def test_hopf_of_several_stops_says_it_is_not_certified(tmp_path):
     mpmath chains of period-1 orbits of one stop) is refused in one line, exit 2."""
     f = tmp_path / "two.toml"
     f.write_text(TWO_STOPS)
-    r = _run("hopf", "--model", str(f), "--omega-min", "0.9", "--omega-max", "1.1")
+    r = _run("hopf", "--model", str(f), "--range", "omega=0.9:1.1")
     assert r.returncode == 0 and "NOT CERTIFIED" in r.stdout
-    r = _run("hopf", "--model", str(f), "--omega-min", "0.9", "--omega-max", "1.1",
+    r = _run("hopf", "--model", str(f), "--range", "omega=0.9:1.1",
              "--digits", "40")
     assert r.returncode == 2 and r.stdout == ""
     assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr

@@ -14,7 +14,7 @@ from symvi.cli._kernels import HOPF, INSIDE, ORBIT
 from symvi.progress import shown
 
 HOPF_ARGS = ["hopf", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8",
-             "--omega-min", "0.70", "--omega-max", "0.76", "--json"]
+             "--range", "omega=0.70:0.76", "--json"]
 
 
 def _symvi(args, cache, progress="1"):

@@ -52,10 +52,14 @@ OUTPUTS = {
                                            "omega = 1.0852260"],
     "gallery/contact_chain_stops.html": ["flip"],
     "gallery/plane_dask.html": ["blocks computed on 1 worker", "0 blocks computed the second"],
+    "theory/normal-forms.html": ["||q||_2 = 1.000000000000000",
+                                 "c1) = -0.097200709118  (this page)",
+                                 "= -0.097200709118  (symvi.hopf_points)"],
+    "howto/curves.html": ["CH   omega = 0.8164887222", "R3   omega = 0.7628671598"],
 }
 #: gallery pages that draw at least one figure
-FIGURES = ["gallery/paper_examples.html", "gallery/chain3.html",
-           "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
+FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html",
+           "gallery/chain3.html", "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
            "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html"]
 
 

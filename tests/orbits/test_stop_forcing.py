@@ -118,10 +118,9 @@ def test_commands_on_such_models(tmp_path):
         assert rc == 0 and (tmp_path / "s.npz").exists(), err
         assert_bad_input(cli("simulate", *system, "--omega", "2", "--out", tmp_path / "t.npz"),
                          "pass y0 explicitly", "no period-1 one-impact orbit")
-        assert_bad_input(cli("sweep", *system, "--omega-min", "1.9", "--omega-max", "2.1",
-                             "--steps", "3", "--impacts", "5", "--transient", "5",
+        assert_bad_input(cli("sweep", *system, "--range", "omega=1.9:2.1:3", "--impacts", "5",
+                             "--transient", "5",
                              "--out", tmp_path / "w.npz", "--workers", "0"), "no-orbit")
-        assert_bad_input(cli("continue", *system, "--param", "omega", "--from", "1.9",
-                             "--to", "2.1"), "--from")
-    rc, out, err = cli("hopf", "--model", z, "--omega-min", "1.9", "--omega-max", "2.1")
+        assert_bad_input(cli("continue", *system, "--range", "omega=1.9:2.1"), "--range")
+    rc, out, err = cli("hopf", "--model", z, "--range", "omega=1.9:2.1")
     assert rc == 0 and "internal error" not in err, err

@@ -17,7 +17,7 @@ from tests.fuzz._cli import assert_bad_input, cli
 FLAGS = ["--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "0.8"]
 PLANE = ["plane", *FLAGS, "--x", "omega:0.7:0.8:4", "--y", "b:1.3:1.7:4", "--impacts", "20",
          "--transient", "20"]
-SWEEP = ["sweep", *FLAGS, "--omega-min", "0.73", "--omega-max", "0.75", "--steps", "4"]
+SWEEP = ["sweep", *FLAGS, "--range", "omega=0.73:0.75:4"]
 SHORT = 1.5   # long enough that a loaded machine still connects before it
 
 

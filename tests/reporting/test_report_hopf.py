@@ -45,4 +45,4 @@ def test_scene_hopf_carries_the_certificate(tmp_path):
     assert "Not certified" not in text and "Caution" not in text
     q = dict(r["points"][0], circle_caveat="(H1) fails: a multiplier <outside>")
     text = "\n".join(report._hopf_table(dict(r, points=[q])))
-    assert "Caution at v_c = 0.7368" in text and "&lt;outside&gt;" in text
+    assert "Caution at ω_c = 0.7368" in text and "&lt;outside&gt;" in text

@@ -46,8 +46,12 @@ def test_quick_report_lists_every_row_and_valid_pngs(quick_report):
     conv, _, body = rest.partition("\n## ")
     assert "||q||_2 = 1" in conv and "||q||_2 = 1" not in body
     summary = head.partition("## Summary")[2]
-    assert "Hopf point at v_c" in summary and "attractor:" in summary
+    assert "Hopf point at ω_c" in summary and "attractor:" in summary
     assert "{'" not in text and "{\"" not in text
+    # one symbol per quantity: the forcing frequency is ω (omega in ASCII), never v
+    assert "- ω: the forcing frequency" in conv
+    assert not re.search(r"\bv_c\b|\bv = \d|/dv\b|\bv in \[", body), \
+        re.findall(r".{30}(?:\bv_c\b|\bv = \d|/dv\b|\bv in \[).{30}", body)[:5]
     pngs = sorted(f for f in os.listdir(out) if f.endswith(".png"))
     assert len(pngs) >= 14
     for f in pngs:

@@ -177,16 +177,14 @@ def test_cli_simulate_and_sweep_classify(tmp_path):
     assert d["attractor"] == "period-1" and d["impacts_per_orbit"] == 2
     assert d["signature"] == ["stop1", "stop2"] and d["impacts_per_stop"] == [500, 500]
     assert max(d["lyapunov"]) < 0
-    rc, text, err = cli("sweep", "--model", str(SYM_FILE), "--omega-min", "1.34",
-                        "--omega-max", "2.0", "--steps", "3", "--impacts", "1000",
+    rc, text, err = cli("sweep", "--model", str(SYM_FILE), "--range", "omega=1.34:2.0:3", "--impacts", "1000",
                         "--transient", "3000", "--out", str(tmp_path / "w.npz"), "--classify")
     assert rc == 0, err
     d = json.loads(text)
     assert d["classes"] == ["period-1"] * 3
     assert d["signatures"][0] == ["stop1", "stop1", "stop2"]
     assert d["signatures"][2] == ["stop1", "stop2"]
-    rc, text, err = cli("sweep", "--model", str(SYM_FILE), "--omega-min", "1.34",
-                        "--omega-max", "2.0", "--steps", "3", "--impacts", "6",
+    rc, text, err = cli("sweep", "--model", str(SYM_FILE), "--range", "omega=1.34:2.0:3", "--impacts", "6",
                         "--out", str(tmp_path / "x.npz"), "--classify")
     assert rc == 2 and len(err.strip().splitlines()) == 1 and "--impacts" in err
     assert "4 per stop" in err and not (tmp_path / "x.npz").exists()

@@ -25,7 +25,7 @@ def test_simulate_writes_npz_and_plot(tmp_path, capsys):
 
 def test_sweep_writes_diagram_and_data(tmp_path, capsys):
     npz, pdf = tmp_path / "sw.npz", tmp_path / "sw.pdf"
-    rc = main(["sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.745", "--steps", "12",
+    rc = main(["sweep", *EX1, "--range", "omega=0.73:0.745:12",
                "--impacts", "50", "--transient", "500", "--out", str(npz), "--plot", str(pdf),
                "--progress", "always"])
     assert rc == 0
@@ -44,9 +44,9 @@ def test_sweep_writes_diagram_and_data(tmp_path, capsys):
     ["simulate", *EX1, "--omega", "abc", "--out", "x.npz"],
     ["simulate", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5", "--r", "1.5",
      "--omega", "0.74", "--out", "x.npz"],
-    ["sweep", *EX1, "--omega-min", "0.75", "--omega-max", "0.74", "--steps", "5", "--out", "x.npz"],
-    ["sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps", "1", "--out", "x.npz"],
-    ["sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.74", "--steps", "5", "--out", "x.txt"],
+    ["sweep", *EX1, "--range", "omega=0.75:0.74:5", "--out", "x.npz"],
+    ["sweep", *EX1, "--range", "omega=0.73:0.74:1", "--out", "x.npz"],
+    ["sweep", *EX1, "--range", "omega=0.73:0.74:5", "--out", "x.txt"],
 ])
 def test_bad_input_one_line_exit_2(argv, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
@@ -129,13 +129,14 @@ def test_full_disk_while_saving_is_one_line_and_keeps_the_old_file(tmp_path, mon
 
 
 @pytest.mark.parametrize("argv,flag", [
-    (["--steps", "100001"], "--steps"),
-    (["--steps", "100000", "--impacts", "200"], "--impacts"),
-    (["--steps", "10", "--impacts", "0"], "--impacts"),
-    (["--steps", "10", "--transient", "-1"], "--transient"),
+    (["--range", "omega=0.73:0.74:100001"], "--range"),
+    (["--range", "omega=0.73:0.74:100000", "--impacts", "200"], "--impacts"),
+    (["--range", "omega=0.73:0.74:10", "--impacts", "0"], "--impacts"),
+    (["--range", "omega=0.73:0.74:10", "--transient", "-1"], "--transient"),
+    (["--omega-min", "0.73", "--omega-max", "0.74", "--steps", "100001"], "--steps"),
 ])
 def test_sweep_sizes_bounded_before_allocating(tmp_path, argv, flag):
-    assert_bad_input(cli("sweep", *EX1, "--omega-min", "0.73", "--omega-max", "0.74", *argv,
+    assert_bad_input(cli("sweep", *EX1, *argv,
                          "--out", tmp_path / "s.npz"), flag)
     assert not list(tmp_path.iterdir())
 

@@ -145,18 +145,15 @@ def test_cli_sweep_of_an_elastic_model(tmp_path):
     from tests.cli.test_cli_itinerary import EXAMPLES
     from tests.fuzz._cli import cli
     f = str(EXAMPLES / "oscillator_elastic.toml")
-    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
-                        "--steps", "2", "--impacts", "40", "--transient", "300",
+    rc, text, err = cli("sweep", "--model", f, "--range", "omega=1.2:1.3:2", "--impacts", "40", "--transient", "300",
                         "--classify", "--out", str(tmp_path / "s.npz"))
     assert rc == 0, err
     got = json.loads(text)
     assert got["classes"] == ["period-1", "period-1"] and got["stops"] == {"completed": 2}
     assert got["signatures"][1] == ["stop1:entry", "stop1:exit", "stop2:entry", "stop2:exit"]
-    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
-                        "--steps", "2", "--impacts", "40", "--out", str(tmp_path / "t.npz"))
+    rc, text, err = cli("sweep", "--model", f, "--range", "omega=1.2:1.3:2", "--impacts", "40", "--out", str(tmp_path / "t.npz"))
     assert rc == 0, err
-    rc, text, err = cli("sweep", "--model", f, "--omega-min", "1.2", "--omega-max", "1.3",
-                        "--steps", "2", "--impacts", "15", "--classify",
+    rc, text, err = cli("sweep", "--model", f, "--range", "omega=1.2:1.3:2", "--impacts", "15", "--classify",
                         "--out", str(tmp_path / "u.npz"))
     assert rc == 2 and text == "" and len(err.strip().splitlines()) == 1
     assert "entries and exits" in err

@@ -49,7 +49,7 @@ def test_too_few_impacts_to_classify_is_refused():
 
 
 def test_cli_sweep_classify_adds_keys_only(tmp_path, capsys):
-    argv = ["sweep", *EX1, "--omega-min", "0.72", "--omega-max", "0.738", "--steps", "2",
+    argv = ["sweep", *EX1, "--range", "omega=0.72:0.738:2",
             "--impacts", "1000", "--transient", "2000"]
     assert main([*argv, "--out", str(tmp_path / "a.npz")]) == 0
     plain = json.loads(capsys.readouterr().out)
@@ -65,7 +65,7 @@ def test_cli_sweep_classify_adds_keys_only(tmp_path, capsys):
 
 
 def test_cli_sweep_classify_needs_four_impacts(tmp_path, capsys):
-    rc = main(["sweep", *EX1, "--omega-min", "0.72", "--omega-max", "0.738", "--steps", "2",
+    rc = main(["sweep", *EX1, "--range", "omega=0.72:0.738:2",
                "--impacts", "3", "--out", str(tmp_path / "a.npz"), "--classify"])
     assert rc == 2
     assert "--impacts" in capsys.readouterr().err
