@@ -35,7 +35,7 @@ PAGES = [
     "gallery/index.html", "gallery/paper_examples.html", "gallery/chain3.html",
     "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
     "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
-    "gallery/plane_dask.html", "gallery/coco_15_2.html",
+    "gallery/plane_dask.html", "gallery/coco_15_2.html", "gallery/budd_dux.html",
     "api/index.html", "api/symvi.html", "api/continuation.html",
     "limitations.html", "comparison.html", "changelog.html", "citation.html",
 ]
@@ -60,12 +60,14 @@ OUTPUTS = {
                                "omega = 1.00: grazing at A = 0.1000000000",
                                "omega = 1.20: grazing at A = 0.4560701700",
                                "fold below A_GR located: True", "grazing curve: "],
+    "gallery/budd_dux.html": ["omega = 3.3531782", "omega = 4.6418368", "omega = 3.9265536",
+                              "omega = 5.7820246", "closed form 3.1460730"],
 }
 #: gallery pages that draw at least one figure
 FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html",
            "gallery/chain3.html", "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
            "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
-           "gallery/coco_15_2.html"]
+           "gallery/coco_15_2.html", "gallery/budd_dux.html"]
 
 
 @pytest.fixture(scope="module")
