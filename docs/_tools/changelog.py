@@ -26,6 +26,7 @@ TITLES = {
     24: "Core: one hybrid core, the paper on top, one engine per job",
     25: "Contacts: several stops, two-sided stops, impacts between masses, elastic stops",
     26: "Docs: a documentation site and a command line with one set of conventions",
+    27: "Grazing: grazing, chatter and sticking, what happens where an impact has zero velocity",
 }
 
 
