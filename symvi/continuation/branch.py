@@ -85,9 +85,11 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     through : bool, optional
         Follow the branch on where its orbits are inadmissible (default False: end
         there).
-    signature : optional
-        Not used: the signature comes from ``orbit``, or from the simulation passed as
-        ``guess``, else every impact is on stop 1.
+    signature : Signature or sequence of int, optional
+        The constraint (0-based) each impact hits, for a ``guess`` that does not carry
+        it (a section point, an orbit passed as ``guess``); default: ``orbit``'s, or the
+        last p impacts of the simulation passed as ``guess``, else every impact on
+        stop 1.
     **fixed : float
         The other parameters' values: ``omega=...`` (required when ``param`` is not
         omega) and any named parameter of the model.
@@ -126,7 +128,7 @@ def continue_branch(model, param, start, stop, *, orbit=None, guess=None, n=1, p
     >>> continue_branch(m, "gap", 0.0, 0.1, omega=2.6).end     # another parameter
     'reached gap = 0.1'
     """
-    problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed)
+    problem, X0 = _start(model, param, start, stop, orbit, guess, n, p, fixed, signature)
     lo, hi = sorted((float(start), float(stop)))
     if not hi > lo:
         raise ParameterError("stop", stop, f"a value != start = {float(start)!r}")

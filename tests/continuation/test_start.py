@@ -149,3 +149,22 @@ def test_names_spell_the_arguments_as_a_front_end_does():
     assert str(e) == ("--set omega = None is invalid; valid range: a fixed forcing "
                       "frequency: give --set omega=VALUE when --param is not omega")
     assert set(NAMES) >= set(flags)
+
+
+def test_continue_branch_takes_the_signature_of_a_guess_that_has_none():
+    """``signature`` was accepted and ignored: a guess passed without it was solved as an
+    orbit on stop 1 only."""
+    from pathlib import Path
+
+    import symvi
+    from symvi.continuation import attractor_orbit, continue_branch
+    from symvi.errors import SymviError
+    m = symvi.load_model(Path(__file__).resolve().parents[2] / "examples" / "contacts"
+                         / "oscillator_two_stops.toml")
+    o = attractor_orbit(m, 2.0)
+    assert o.signature == (1, 0)
+    br = continue_branch(m, "omega", 2.0, 2.1, guess=o, n=o.n, p=o.p, signature=o.signature,
+                         max_points=20)
+    assert br.points[0].orbit.signature == (1, 0) and len(br.points) > 5
+    with pytest.raises(SymviError):       # the same guess read as two impacts on stop 1
+        continue_branch(m, "omega", 2.0, 2.1, guess=o, n=o.n, p=o.p, max_points=20)
