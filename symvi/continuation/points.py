@@ -92,7 +92,8 @@ class SpecialPoint(Located):
     detail : str
         What the point is, in words (super- or subcritical, ...).
     index : int
-        The index of the branch point after which it lies.
+        The index of the first branch point past it: it lies between the branch's points
+        ``index - 1`` and ``index``.
     """
 
     kind: str
@@ -100,7 +101,7 @@ class SpecialPoint(Located):
     orbit: PeriodicOrbit = field(repr=False)
     coefficients: dict
     detail: str
-    index: int = 0              # the branch point after which it lies
+    index: int = 0              # the first branch point past it
 
     def as_dict(self):
         co = {k: (float(v) if isinstance(v, (int, float, np.floating)) else v)

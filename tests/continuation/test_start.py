@@ -168,3 +168,15 @@ def test_continue_branch_takes_the_signature_of_a_guess_that_has_none():
     assert br.points[0].orbit.signature == (1, 0) and len(br.points) > 5
     with pytest.raises(SymviError):       # the same guess read as two impacts on stop 1
         continue_branch(m, "omega", 2.0, 2.1, guess=o, n=o.n, p=o.p, max_points=20)
+
+
+def test_a_special_points_index_is_the_first_branch_point_past_it():
+    """SpecialPoint.index: the point lies between the branch's points index - 1 and index
+    (as the docstring says; it said "after which it lies")."""
+    import symvi
+    from symvi.continuation import continue_branch
+    m = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    br = continue_branch(m, "omega", 1.3, 1.1)
+    for sp in br.special:
+        a, b = br.points[sp.index - 1].value, br.points[sp.index].value
+        assert min(a, b) <= sp.value <= max(a, b), (sp.kind, sp.index, a, sp.value, b)
