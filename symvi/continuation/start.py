@@ -429,7 +429,15 @@ def _settle(model, omega):
         from ..orbits._phases import event_run
         return event_run(model, omega, events=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
     y0 = None if model.one_rigid_stop else default_start(model, omega)
-    return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
+    try:
+        return simulate(model, omega, y0, n_impacts=SETTLE_IMPACTS, transient=SETTLE_TRANSIENT)
+    except SingularCaseError as exc:
+        if exc.kind != "no-orbit":
+            raise
+        # simulate's own hint (pass y0) names an argument continuation does not take
+        raise SingularCaseError("no-orbit", str(exc).split(": ", 1)[1].replace(
+            "to start from (pass y0 explicitly)", "to run the map from (start from a run of "
+            "your own: simulation=, or --from-section on the command line)")) from None
 
 
 def _attractor(model, par, start, stop, omega):

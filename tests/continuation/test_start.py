@@ -180,3 +180,15 @@ def test_a_special_points_index_is_the_first_branch_point_past_it():
     for sp in br.special:
         a, b = br.points[sp.index - 1].value, br.points[sp.index].value
         assert min(a, b) <= sp.value <= max(a, b), (sp.kind, sp.index, a, sp.value, b)
+
+
+def test_no_period1_orbit_to_settle_from_names_what_continuation_takes():
+    """The hint named simulate's y0, which continue_orbits does not take."""
+    import symvi
+    from symvi.continuation import continue_orbits
+    from symvi.errors import SingularCaseError
+    m = symvi.Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.0]], forcing=[1.0],
+                    stops=[symvi.Stop(mass=1, gap=0.1, restitution=0.8)])
+    with pytest.raises(SingularCaseError, match="simulation=, or --from-section") as e:
+        continue_orbits(m, "omega", 3.5, 4.5, orbit="2-1")
+    assert "y0" not in str(e.value)
