@@ -145,7 +145,7 @@ def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
             return False, (f"impact {i + 1} arrives with speed {s:.6g} <= 0 (a second "
                            "grazing impact, or penetration)")
     if len(pr.model.constraints) > 1:
-        return True, ""          # several stops: the interior is judged on branches only
+        return _several_admissible(pr, fl, flow, F, T, graze)
     k = finder.perm[0] + 1
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         v_end = 1.0 if i == graze else flow.approach(z)
@@ -298,6 +298,42 @@ def _split_at_touch(model, orbit, i, t, k):
     hits = list(orbit.itinerary.hits)
     hits.insert(i + 1, k)
     return np.concatenate([Y.ravel(), T]), Signature(tuple(hits))
+
+
+def _several_admissible(pr, fl, flow, F, T, graze):
+    """:func:`_interior_admissible` with several rigid stops: each flight walked by the
+    contact walk over every guard (:mod:`symvi.flow.contact`), from its start's stop, or
+    from a moment later, off every stop, where it leaves one at zero speed; it must end
+    on the stop its signature names."""
+    from ..flow import contact
+    from ..orbits.periodic import _ContactHit, _table
+    model, N, p = pr.model, pr.N, pr.p
+    ends, rows = pr._ends(flow), _table(flow)
+    G, lv = contact.guards(model, ())
+    walk = contact.phase(model, ())
+    for i, (z0, tau, z, *_rest) in enumerate(fl):
+        ka, kb = int(pr.sig[i]), int(pr.sig[(i + 1) % p])
+        t_end, start = T[i], ka
+        if (i - 1) % p == graze:
+            dt = START_SHIFT * T[i]
+            z0, tau, t_end, start = (flow.motion(F, z0, tau).state(dt), tau + F.omega * dt,
+                                     T[i] - dt, None)
+            v_start = -1.0
+        else:
+            v_start = float(rows[ka][3:3 + N] @ z0[N:])     # leaving ka: < 0
+        if i == graze:
+            t_end *= 1 - END_SHIFT
+        v_end = 1.0 if i == graze else float(ends[i][1] @ z[N:])
+        mo = walk.motion(F.omega, flow.to_mass(np.asarray(z0, dtype=float)), tau)
+
+        def first(t_max, mo=mo, start=start):
+            return _ContactHit(mo.first_event(G, lv, start=start, t_max=t_max))
+
+        ok, why = check_flight(first, t_end, v_start, v_end, mass=None, flight=i + 1,
+                               stops=(ka, kb))
+        if not ok:
+            return ok, why
+    return True, ""
 
 
 class _GrazingRun(Client):

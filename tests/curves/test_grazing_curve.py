@@ -142,3 +142,46 @@ def test_a_touch_grazing_curve_of_the_papers_example_1_is_the_closed_forms():
         assert not o.admissible and "grazing contact" in o.reason
         t_closed = float(o.reason.rsplit("t = ", 1)[1])
         assert t_closed == pytest.approx(pt.touch["t"], rel=1e-5)   # a double root
+
+
+def test_a_touch_grazing_curve_between_two_stops_is_a_touching_orbit():
+    """Two stops (examples/contacts/oscillator_two_stops.toml): the 1-2 orbit's flight 1
+    touches stop 2 at omega = 1.0083. Its curve in (omega, stop[2].gap) is walked over every
+    guard (the contact walk). At points of it, the reported 1-2 orbit (the split flight
+    joined) solves the 1-2 shooting system, and its flight, sampled densely by the exact
+    flow, comes to stop 2 with a maximum of zero at the touch time."""
+    from pathlib import Path
+
+    from scipy.optimize import minimize_scalar
+
+    import symvi
+    from symvi.orbits.periodic import Problem
+    m = symvi.load_model(Path(__file__).resolve().parents[2] / "examples" / "contacts"
+                         / "oscillator_two_stops.toml")
+    brs = continue_orbits(m, "omega", 1.0, 3.5, start_omega=2.0, switch=True)
+    sp = next(s for br in brs for s in br.special
+              if s.kind == "grazing" and s.coefficients.get("stop") == 2)
+    cv = continue_grazing(m, ("omega", "stop[2].gap"), sp,
+                          bounds={"omega": (0.8, 3.0), "stop[2].gap": (-1.5, -0.1)})
+    assert cv.as_dict()["grazing"] == "touch" and len(cv) > 50
+    assert all(pt.admissible and pt.touch["stop"] == 2 for pt in cv.points)
+    for pt in cv.points[::max(1, len(cv) // 5)]:
+        w, g = pt.params["omega"], pt.params["stop[2].gap"]
+        mg = m.with_(**{"stop[2].gap": g})
+        pr = Problem(mg, 1, 2, omega=w, signature=sp.orbit.itinerary)
+        u = np.concatenate([np.ravel(pt.y), pt.times])
+        G = pr.evaluate(u, None, jac=False)[0]
+        assert np.max(np.abs(G)) < 1e-9
+        fl, (_, flow, F) = pr.flights(u, None)
+        i = pt.touch["flight"] - 1
+        mo = flow.motion(F, fl[i][0], fl[i][1])
+        def x(t, mo=mo):
+            return float(flow.to_mass(mo.state(t))[0])
+
+        ts = np.linspace(0, pt.times[i], 4001)
+        xs = np.array([x(t) for t in ts])
+        # stop 2 is the lower one, at g; the flight starts on it: its interior minimum
+        k = min((j for j in range(1, 4000) if xs[j] <= xs[j - 1] and xs[j] <= xs[j + 1]),
+                key=lambda j: xs[j])
+        r = minimize_scalar(x, bracket=(ts[k - 1], ts[k], ts[k + 1]), tol=1e-12)
+        assert abs(r.fun - g) < 1e-9 and r.x == pytest.approx(pt.touch["t"], abs=1e-5)
