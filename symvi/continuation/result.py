@@ -29,6 +29,16 @@ EVENT_KINDS = {
     "LPNS": "fold-Neimark-Sacker point", "PDNS": "flip-Neimark-Sacker point",
     "NSNS": "double Neimark-Sacker point", "LPPD": "fold-flip point",
     "CP": "cusp point (fold with a = 0)", "GPD": "generalised flip point (flip with c = 0)",
+    # codimension two, located on grazing curves (symvi.curves.grazing)
+    "grazing-fold": "a grazing orbit (smooth at its touch) with a multiplier +1: the fold "
+                    "curve meets the grazing curve",
+    "grazing-flip": "a grazing orbit (smooth at its touch) with a multiplier -1: the flip "
+                    "curve meets the grazing curve",
+    "grazing-NS": "a grazing orbit (smooth at its touch) with a complex pair on the unit "
+                  "circle: the Neimark-Sacker curve meets the grazing curve",
+    "double-grazing": "a second impact of a grazing orbit arrives with zero velocity too",
+    "degenerate-grazing": "zero acceleration of the guard at the grazing: the tangency is "
+                          "not quadratic",
     # what the certified scan of closed-form branches meets (symvi.analysis.hopf)
     "multiplier+1": "the scan's sign change of prod(mu - 1): located as a branch-point",
     "multiplier-1": "the scan's sign change of prod(mu + 1): located as a flip",

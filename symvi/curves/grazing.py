@@ -26,7 +26,7 @@ import numpy as np
 
 from ..continuation import engine
 from ..continuation.engine import Client, correct, tangent
-from ..continuation.result import Result
+from ..continuation.result import EVENT_KINDS, Located, Result
 from ..errors import ParameterError, SymviError
 from ..orbits.admissibility import check_flight
 from .system import CurveSystem
@@ -50,7 +50,7 @@ class GrazingSystem(CurveSystem):
 
     KINDS = ("grazing",)
 
-    def __init__(self, model, n, p, names, impact, omega=None, signature=None, touch=False):
+    def __init__(self, model, n, p, names, impact, omega=None, signature=None, touch=None):
         if model.elastic:
             raise ParameterError("kind", "grazing", "a model of rigid stops (an elastic "
                                  "stop's entry at zero speed is a touch: its contact time "
@@ -61,7 +61,9 @@ class GrazingSystem(CurveSystem):
         self.impact = int(impact)
         #: the second kind: impact ``impact`` is a touch inserted into a flight of the
         #: n-(p-1) orbit (its points are reported without it)
-        self.touch = True if touch else None
+        self.touch = None if touch is None else True
+        #: the touch kind: the n-p orbit's signature (without the touch)
+        self.base_signature = touch
         #: the unknown that vanishes: the first coordinate (v_k+) of section point j
         self.slot = ((self.impact + 1) % self.p) * self.d
 
@@ -96,6 +98,11 @@ class GrazingPoint:
     reason: str = ""
     u: np.ndarray = field(repr=False, default=None)
     touch: dict = None          # second kind: {"flight", "stop" (1-based), "t"}
+    #: the touch kind's n-p orbit is smooth at its touch: its multipliers (None for the
+    #: impact kind, whose monodromy has the pole)
+    multipliers: tuple = None
+    #: the guard's second time derivative at the grazing (< 0: the flight turns back there)
+    acceleration: float = None
 
     def as_dict(self):
         out = {"params": dict(self.params), "admissible": bool(self.admissible),
@@ -103,6 +110,10 @@ class GrazingPoint:
                "impact_velocities": list(self.impact_velocities)}
         if self.touch is not None:
             out["touch"] = dict(self.touch)
+        if self.multipliers is not None:
+            out["multipliers"] = [[z.real, z.imag] for z in self.multipliers]
+        if self.acceleration is not None:
+            out["acceleration"] = self.acceleration
         if self.reason:
             out["reason"] = self.reason
         return out
@@ -123,15 +134,44 @@ def grazing_point(system, X):
     Y = [tuple(float(v) for v in y) for y in Y]
     T = [float(t) for t in T]
     speeds = [float(s) for s in speeds]
-    touch = None
+    i = system.impact
+    acc = _acceleration(pr, fl, flow, F, T, i)
+    touch = mult = None
     if system.touch is not None:          # the n-p orbit: the split flight joined again
-        i = system.impact
         touch = {"flight": i + 1, "stop": int(pr.sig[i + 1]) + 1, "t": T[i]}
         T[i:i + 2] = [T[i] + T[i + 1]]
         del Y[i + 1]
         del speeds[i]
+        mult = _smooth_multipliers(system, model, F.omega, np.concatenate([np.ravel(Y), T]))
     return GrazingPoint({a: float(X[m]), b: float(X[m + 1])}, tuple(Y), tuple(T),
-                        tuple(speeds), ok, why, u, touch)
+                        tuple(speeds), ok, why, u, touch, mult, acc)
+
+
+#: the time step of the central difference of the guard's speed (relative to the flight)
+ACC_STEP = 1e-5
+
+
+def _acceleration(pr, fl, flow, F, T, i):
+    """h'' at the end of flight i (the grazing impact or the touch) of the guard it ends
+    on: a central difference of the exact h' (error of order (ACC_STEP T)^2 times the
+    fourth derivative of h)."""
+    from ..orbits.periodic import _table
+    N = pr.N
+    g = _table(flow)[int(pr.sig[(i + 1) % pr.p])][3:3 + N]
+    mo = flow.motion(F, fl[i][0], fl[i][1])
+    dt = ACC_STEP * T[i]
+    vp, vm = (float(g @ np.asarray(mo.state(T[i] + e), dtype=float)[N:]) for e in (dt, -dt))
+    return (vp - vm) / (2 * dt)
+
+
+def _smooth_multipliers(system, model, omega, u):
+    """The multipliers of the touch kind's n-p orbit (the touch not an impact) of
+    ``model`` at ``omega`` (both parameters of the point set): smooth at the touch, so
+    finite, from its own shooting system."""
+    from ..orbits.periodic import Problem, eigenvalues
+    pr = Problem(model, system.n, system.p - 1, omega=omega, signature=system.base_signature)
+    _, Gu, _ = pr.evaluate(u, None, check=False)
+    return tuple(complex(z) for z in eigenvalues(pr.monodromy(u, Gu)[1]))
 
 
 def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
@@ -170,9 +210,9 @@ def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
 @dataclass(frozen=True)
 class GrazingCurve(Result):
     """A continued grazing curve of impact ``impact`` (1-based) of n-p orbits in the
-    parameters ``names``: the same shape as :class:`symvi.curves.curve.Curve` (its points
-    :class:`GrazingPoint`; ``special`` is empty: its codimension-two points are not
-    located yet)."""
+    parameters ``names`` (``of`` "touch": flight ``impact`` touches a stop): the same shape
+    as :class:`symvi.curves.curve.Curve`, its points :class:`GrazingPoint`, its
+    codimension-two points :class:`GrazingSpecial`."""
 
     names: tuple
     n: int
@@ -203,7 +243,9 @@ class GrazingCurve(Result):
         return {"kind": "grazing", "a": [pt.params[a] for pt in self.points],
                 "b": [pt.params[b] for pt in self.points], "subcritical": [False] * n,
                 "admissible": [bool(pt.admissible) for pt in self.points],
-                "bifurcation": [True] * n, "sides": [], "special": []}
+                "bifurcation": [True] * n, "sides": [],
+                "special": [(s.kind, s.params[a], s.params[b]) for s in self.special
+                            if s.kind != "unlocated"]}
 
     def as_dict(self):
         where = {"impact": self.impact} if self.of == "grazing" else {"flight": self.impact}
@@ -213,7 +255,8 @@ class GrazingCurve(Result):
                 "fixed": dict(self.fixed),
                 "bounds": {k: list(v) for k, v in self.bounds.items()},
                 "normalisation": DEFINITION,
-                "points": [pt.as_dict() for pt in self.points], "special": [],
+                "points": [pt.as_dict() for pt in self.points],
+                "special": [s.as_dict() for s in self.special],
                 "ends": list(self.ends), "notes": list(self.notes)}
 
 
@@ -267,17 +310,18 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
         u0, sig = _split_at_touch(model, orbit, *touch)
         impact = touch[0] + 1
         system = GrazingSystem(model, orbit.n, orbit.p + 1, pars, touch[0],
-                               omega=None if on_omega else omega, signature=sig, touch=True)
+                               omega=None if on_omega else omega, signature=sig,
+                               touch=orbit.itinerary)
     X0 = start(system, u0, start_values)
-    pts, states, ends = follow(system, X0, box, h=h, h_max=h_max, max_points=max_points,
-                               both=both, through=through)
+    pts, states, ends, special = follow(system, X0, box, h=h, h_max=h_max,
+                                        max_points=max_points, both=both, through=through)
     fx = dict(fixed)
     if not on_omega:
         fx["omega"] = float(omega)
-    notes = ("codimension-two points on grazing curves (resonant grazing, grazing-fold, "
-             "-flip, -NS, double and degenerate grazing) are not located yet",)
+    notes = ("resonant grazing is not located yet; grazing-fold, -flip and -NS are located "
+             "on touch curves only (an impact at zero velocity has no finite multipliers)",)
     return GrazingCurve(names, orbit.n, orbit.p, impact, tuple(pts), tuple(ends), box, fx,
-                        tuple(orbit.signature_names), (), notes, tuple(states),
+                        tuple(orbit.signature_names), tuple(special), notes, tuple(states),
                         "grazing" if touch is None else "touch")
 
 
@@ -336,6 +380,100 @@ def _several_admissible(pr, fl, flow, F, T, graze):
     return True, ""
 
 
+#: the codimension-two points of a grazing curve: test function -> kind (of
+#: :data:`symvi.continuation.result.EVENT_KINDS`, which says what each is)
+CODIM2 = {"LP": "grazing-fold", "PD": "grazing-flip", "NS": "grazing-NS",
+          "DG": "double-grazing", "AG": "degenerate-grazing"}
+
+
+@dataclass(frozen=True)
+class GrazingSpecial(Located):
+    """A located codimension-two point of a grazing curve: ``kind`` one of
+    :data:`CODIM2`'s, the point (``orbit``: its :class:`GrazingPoint`), between the
+    curve's points ``index`` and ``index + 1``."""
+
+    kind: str
+    params: dict
+    orbit: GrazingPoint = field(repr=False)
+    coefficients: dict
+    detail: str
+    index: int = 0
+
+    def as_dict(self):
+        return {"kind": self.kind, "params": dict(self.params),
+                "coefficients": dict(self.coefficients), "detail": self.detail,
+                "admissible": bool(self.orbit.admissible)}
+
+
+def _tests(pt, impact):
+    """The test functions of :data:`CODIM2` at a grazing point (None: not defined)."""
+    out = {"AG": pt.acceleration}
+    # the other impacts (the impact kind's own grazing impact is ~0 all along)
+    others = [v for k, v in enumerate(pt.impact_velocities)
+              if pt.touch is not None or k != impact]
+    out["DG"] = min(others) if others else None
+    mu = None if pt.multipliers is None else np.array(pt.multipliers)
+    if mu is None:
+        out.update(LP=None, PD=None, NS=None)
+    else:
+        out["LP"] = float(np.prod(mu - 1).real)
+        out["PD"] = float(np.prod(mu + 1).real)
+        n = len(mu)
+        out["NS"] = float(np.prod([mu[i] * mu[j] - 1 for i in range(n)
+                                   for j in range(i + 1, n)]).real) if n > 1 else None
+    return out
+
+
+class GrazingTracker(engine.Tracker):
+    """The codimension-two test functions along a grazing curve, and their zeros."""
+
+    def tests(self, X, t, pt):
+        return _tests(pt, self.system.impact)
+
+    def brackets(self, pa, pb, pta, ptb):
+        return [(name, {}) for name in CODIM2
+                if pa.get(name) is not None and pb.get(name) is not None
+                and engine.sign_change(pa[name], pb[name])]
+
+    def locate_event(self, kind, Xa, ta, Xb, index, **kw):
+        system = self.system
+        X, _, _ = self.root(lambda X, t, Gu: _tests(grazing_point(system, X),
+                                                    system.impact)[kind], Xa, ta, Xb)
+        pt = grazing_point(system, X)
+        name = CODIM2[kind]
+        what = EVENT_KINDS[name]
+        coef = {}
+        if kind in ("LP", "PD", "NS"):
+            target = {"LP": 1.0, "PD": -1.0}.get(kind)
+            mu = np.array(pt.multipliers)
+            if target is None:
+                pairs = [z for z in mu if z.imag > 1e-9]
+                if not pairs:
+                    return None            # a real pair with product 1: a neutral saddle
+                z = min(pairs, key=lambda z: abs(abs(z) - 1))
+                if abs(abs(z) - 1) > 1e-6:
+                    return None
+                coef = {"theta": float(np.angle(z)), "modulus": float(abs(z))}
+            else:
+                z = min(mu, key=lambda z: abs(z - target))
+                coef = {"multiplier": float(z.real)}
+        elif kind == "DG":
+            v = [(x, k) for k, x in enumerate(pt.impact_velocities)
+                 if pt.touch is not None or k != system.impact]
+            x, j = min(v)
+            coef = {"impact": j + 1, "impact_velocity": float(x)}
+        else:
+            coef = {"acceleration": float(pt.acceleration)}
+        return GrazingSpecial(name, dict(pt.params), pt, coef, what, index)
+
+    def unlocated(self, kind, Xa, Xb, index, exc):
+        name = CODIM2[kind]
+        pt = grazing_point(self.system, Xb)
+        return GrazingSpecial("unlocated", dict(pt.params), pt, {"kind": name},
+                              f"a {name} point between this curve point and the one "
+                              f"before could not be located: {exc}", index)
+
+
 class _GrazingRun(Client):
     """A grazing curve as a client of :func:`symvi.continuation.engine.run`."""
 
@@ -369,16 +507,28 @@ def follow(system, X0, box, *, h=None, h_max=None, max_points=2000, both=True, t
             e = np.zeros(m + 2)
             e[-2] = sgn
             t = tangent(DF, Fb, e)
-        halves.append(engine.run(system, _GrazingRun(system), X0, t, lo, hi, h=h,
-                                 h_max=h_max, max_points=max_points, through=through,
-                                 chord_first=True, first=first))
+        tracker = GrazingTracker(system)
+        run = engine.run(system, _GrazingRun(system), X0, t, lo, hi, h=h, h_max=h_max,
+                         max_points=max_points, through=through, chord_first=True,
+                         first=first, tracker=tracker)
+        halves.append((*run, tracker.special))
     pts, states, ends = list(halves[0][0]), list(halves[0][1]), [halves[0][2]]
+    # a tracker's index is that of the point after the event: the one before, in the join
+    special = [_at(s, s.index - 1) for s in halves[0][3]]
     if len(halves) == 2:
-        p2, s2, e2 = halves[1]
+        p2, s2, e2, sp2 = halves[1]
+        shift = len(p2) - 1
         pts = list(reversed(p2[1:])) + pts
         states = list(reversed(s2[1:])) + states
         ends = [e2, ends[0]]
-    return pts, states, ends
+        special = ([_at(s, shift - s.index) for s in sp2] +
+                   [_at(s, s.index + shift) for s in special])
+        special.sort(key=lambda s: s.index)
+    return pts, states, ends, special
+
+
+def _at(sp, index):
+    return GrazingSpecial(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, index)
 
 
 def start(system, u, start_values):

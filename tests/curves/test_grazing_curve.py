@@ -185,3 +185,40 @@ def test_a_touch_grazing_curve_between_two_stops_is_a_touching_orbit():
                 key=lambda j: xs[j])
         r = minimize_scalar(x, bracket=(ts[k - 1], ts[k], ts[k + 1]), tol=1e-12)
         assert abs(r.fun - g) < 1e-9 and r.x == pytest.approx(pt.touch["t"], abs=1e-5)
+
+
+def test_codimension_two_points_of_the_touch_curve_are_where_the_other_curves_graze():
+    """Example 1's touch curve in (omega, b) carries a grazing-NS point and two
+    grazing-flip points (the n-p orbit is smooth at its touch: its multipliers are
+    finite). The NS curve and the flip curves, continued on their own and ended at their
+    located grazing (the curve tracker's interior tangency), end at the same points."""
+    import symvi
+    from symvi.curves import continue_curve
+    m = symvi.Model.luo_xie(mu_m=2, mu_k=5, f2=0, b=1.5, r=0.8)
+    sp = _grazing_on_branch(m, "b", 1.5, 0.1, omega=0.75)
+    cv = continue_grazing(m, ("omega", "b"), sp, bounds={"omega": (0.6, 0.9), "b": (0.05, 1.5)})
+    kinds = [s.kind for s in cv.special]
+    assert kinds == ["grazing-NS", "grazing-flip", "grazing-flip"], kinds
+    ns = cv.special[0]
+    assert ns.coefficients["modulus"] == pytest.approx(1.0, abs=1e-9)
+    assert all(abs(s.coefficients["multiplier"] + 1) < 1e-9 for s in cv.special[1:])
+    assert [s.index for s in cv.special] == sorted(s.index for s in cv.special)
+    # the NS curve from example 1's NS point ends at its grazing: the same point
+    ns_curve, _ = curve_from_interval(m, 0.70, 0.76, ("omega", "b"),
+                                      bounds={"omega": (0.6, 0.9), "b": (0.2, 1.6)})
+    [end] = [s for s in ns_curve.special if s.kind == "grazing"]
+    for k in ("omega", "b"):
+        assert end.params[k] == pytest.approx(ns.params[k], abs=1e-10)
+    # the flip curve through a flip just above the first grazing-flip ends there
+    gf = cv.special[1]
+    b = gf.params["b"] + 0.01
+    brs = continue_orbits(m.with_(b=b), "omega", gf.params["omega"] + 0.03,
+                          gf.params["omega"] - 0.03, start_omega=gf.params["omega"])
+    flip = next(s for br in brs for s in br.special if s.kind == "flip")
+    fc = continue_curve(m.with_(b=b), "flip", ("omega", "b"), flip,
+                        bounds={"omega": (0.6, 0.9), "b": (0.05, 1.5)})
+    ends = [s for s in fc.special if s.kind == "grazing"]
+    assert any(all(abs(e.params[k] - gf.params[k]) < 1e-10 for k in ("omega", "b"))
+               for e in ends), [e.params for e in ends]
+    d = cv.as_dict()
+    assert [s["kind"] for s in d["special"]] == kinds and "multipliers" in d["points"][0]
