@@ -37,6 +37,8 @@ EVENT_KINDS = {
     "grazing-NS": "a grazing orbit (smooth at its touch) with a complex pair on the unit "
                   "circle: the Neimark-Sacker curve meets the grazing curve",
     "double-grazing": "a second impact of a grazing orbit arrives with zero velocity too",
+    "RG": "resonant grazing: the 1/v part of the monodromy's trace at a grazing impact "
+          "vanishes, where fold and flip curves of the impacting orbit meet the grazing curve",
     "degenerate-grazing": "zero acceleration of the guard at the grazing: the tangency is "
                           "not quadratic",
     # what the certified scan of closed-form branches meets (symvi.analysis.hopf)

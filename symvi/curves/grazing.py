@@ -103,6 +103,9 @@ class GrazingPoint:
     multipliers: tuple = None
     #: the guard's second time derivative at the grazing (< 0: the flight turns back there)
     acceleration: float = None
+    #: the impact kind: lim v tr(M) as the grazing impact's speed v -> 0 (in the units of
+    #: the shooting system's dg/dT), the 1/v part of the trace; 0 at resonant grazing
+    trace_residue: float = None
 
     def as_dict(self):
         out = {"params": dict(self.params), "admissible": bool(self.admissible),
@@ -114,6 +117,8 @@ class GrazingPoint:
             out["multipliers"] = [[z.real, z.imag] for z in self.multipliers]
         if self.acceleration is not None:
             out["acceleration"] = self.acceleration
+        if self.trace_residue is not None:
+            out["trace_residue"] = self.trace_residue
         if self.reason:
             out["reason"] = self.reason
         return out
@@ -136,15 +141,36 @@ def grazing_point(system, X):
     speeds = [float(s) for s in speeds]
     i = system.impact
     acc = _acceleration(pr, fl, flow, F, T, i)
-    touch = mult = None
+    touch = mult = res = None
     if system.touch is not None:          # the n-p orbit: the split flight joined again
         touch = {"flight": i + 1, "stop": int(pr.sig[i + 1]) + 1, "t": T[i]}
         T[i:i + 2] = [T[i] + T[i + 1]]
         del Y[i + 1]
         del speeds[i]
         mult = _smooth_multipliers(system, model, F.omega, np.concatenate([np.ravel(Y), T]))
+    else:
+        res = _trace_residue(pr, u, X[m], i)
     return GrazingPoint({a: float(X[m]), b: float(X[m + 1])}, tuple(Y), tuple(T),
-                        tuple(speeds), ok, why, u, touch, mult, acc)
+                        tuple(speeds), ok, why, u, touch, mult, acc, res)
+
+
+def _trace_residue(pr, u, lam, i):
+    """lim v tr(M) at a grazing impact i: with the time eliminated (eq. (30)), the map's
+    Jacobian of flight i is DP_i = dh/dy - (dh/dT)(dg/dy)/(dg/dT), and dg/dT -> 0 with the
+    impact's speed; (dg/dT) DP_i -> -(dh/dT)(dg/dy), a rank-1 matrix, and the other DP_j
+    are finite. So tr(DP_{p-1} .. [-(dh/dT)(dg/dy)] .. DP_0) is the 1/v part of the
+    monodromy's trace: where it vanishes the fold and flip conditions (tr M = +-(1 + det M)
+    in one degree of freedom) can hold at grazing, the resonant grazing point."""
+    _, Gu, _ = pr.evaluate(u, lam, check=False)
+    d, p = pr.d, pr.p
+    P = np.eye(d)
+    for j in range(p):
+        r0, ct = j * d, p * d + j
+        dhdy = Gu[r0:r0 + d, r0:r0 + d] + (np.eye(d) if p == 1 else 0)   # minus y_{j+1}
+        dhdt, dgdy, dgdt = Gu[r0:r0 + d, ct], Gu[ct, r0:r0 + d], Gu[ct, ct]
+        D = -np.outer(dhdt, dgdy) if j == i else dhdy - np.outer(dhdt, dgdy) / dgdt
+        P = D @ P
+    return float(np.trace(P))
 
 
 #: the time step of the central difference of the guard's speed (relative to the flight)
@@ -318,8 +344,10 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     fx = dict(fixed)
     if not on_omega:
         fx["omega"] = float(omega)
-    notes = ("resonant grazing is not located yet; grazing-fold, -flip and -NS are located "
-             "on touch curves only (an impact at zero velocity has no finite multipliers)",)
+    notes = ("grazing-fold, -flip and -NS are located on touch curves (an impact at zero "
+             "velocity has no finite multipliers), resonant grazing on impact curves; the "
+             "tangency coefficients kappa of the curves leaving a resonant grazing point are "
+             "not computed yet",)
     return GrazingCurve(names, orbit.n, orbit.p, impact, tuple(pts), tuple(ends), box, fx,
                         tuple(orbit.signature_names), tuple(special), notes, tuple(states),
                         "grazing" if touch is None else "touch")
@@ -383,7 +411,7 @@ def _several_admissible(pr, fl, flow, F, T, graze):
 #: the codimension-two points of a grazing curve: test function -> kind (of
 #: :data:`symvi.continuation.result.EVENT_KINDS`, which says what each is)
 CODIM2 = {"LP": "grazing-fold", "PD": "grazing-flip", "NS": "grazing-NS",
-          "DG": "double-grazing", "AG": "degenerate-grazing"}
+          "DG": "double-grazing", "AG": "degenerate-grazing", "RG": "RG"}
 
 
 @dataclass(frozen=True)
@@ -407,7 +435,7 @@ class GrazingSpecial(Located):
 
 def _tests(pt, impact):
     """The test functions of :data:`CODIM2` at a grazing point (None: not defined)."""
-    out = {"AG": pt.acceleration}
+    out = {"AG": pt.acceleration, "RG": pt.trace_residue}
     # the other impacts (the impact kind's own grazing impact is ~0 all along)
     others = [v for k, v in enumerate(pt.impact_velocities)
               if pt.touch is not None or k != impact]
@@ -457,6 +485,10 @@ class GrazingTracker(engine.Tracker):
             else:
                 z = min(mu, key=lambda z: abs(z - target))
                 coef = {"multiplier": float(z.real)}
+        elif kind == "RG":
+            coef = {"trace_residue": float(pt.trace_residue)}
+            what += ("; the quadratic tangency coefficients of the emanating fold and flip "
+                     "curves are not computed yet")
         elif kind == "DG":
             v = [(x, k) for k, x in enumerate(pt.impact_velocities)
                  if pt.touch is not None or k != system.impact]

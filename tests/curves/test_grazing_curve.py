@@ -222,3 +222,22 @@ def test_codimension_two_points_of_the_touch_curve_are_where_the_other_curves_gr
                for e in ends), [e.params for e in ends]
     d = cv.as_dict()
     assert [s["kind"] for s in d["special"]] == kinds and "multipliers" in d["points"][0]
+
+
+def test_resonant_grazing_points_of_the_damped_oscillator_are_at_2_omega_d_over_m():
+    """Issue 27's closed form: on the grazing curve of a damped 1-DOF oscillator with one
+    rigid stop, the resonant grazing points lie at omega* = 2 omega_d / m (omega_d the
+    damped natural frequency): the 1/v part of the monodromy's trace vanishes there."""
+    sp = _grazing_on_branch(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    cv = continue_grazing(coco(), ("omega", "forcing[1]"), sp,
+                          bounds={"omega": (0.3, 3.0), "forcing[1]": (0.05, 10.0)})
+    rg = [s for s in cv.special if s.kind == "RG"]
+    wd = np.sqrt(K - C ** 2 / 4)
+    expected = sorted(2 * wd / m for m in range(1, 7))       # all of them in [0.3, 3]
+    found = sorted(s.params["omega"] for s in rg)
+    assert len(found) == len(expected)
+    assert np.max(np.abs(np.array(found) - expected)) < 1e-9
+    assert [s.kind for s in cv.special] == ["RG"] * 6           # nothing else on this curve
+    d = cv.as_dict()["special"][0]
+    assert d["kind"] == "RG" and set(d["params"]) == {"omega", "forcing[1]"}
+    assert "trace_residue" in cv.as_dict()["points"][0]
