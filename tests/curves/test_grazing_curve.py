@@ -99,7 +99,8 @@ def test_symvi_curve_kind_grazing_json(tmp_path):
     assert rc == 0, err
     d = json.loads(out)
     assert d["kind"] == "grazing" and d["params"] == ["omega", "forcing[1]"]
-    assert d["start"]["kind"] == "grazing" and d["special"] == [] and d["notes"]
+    assert d["start"]["kind"] == "grazing" and d["notes"]
+    assert [s["kind"] for s in d["special"]] == ["RG"]          # at 2 omega_d = 1.9975
     p = d["points"][len(d["points"]) // 2]
     assert set(p) >= {"params", "admissible", "y", "times", "impact_velocities"}
     assert p["params"]["forcing[1]"] == pytest.approx(H(p["params"]["omega"]), rel=1e-10)
