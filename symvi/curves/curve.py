@@ -136,7 +136,8 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     directions = (1.0, -1.0) if both else (1.0,)
     for sgn in directions:
         tracker = Codim2Tracker(system) if locate else None
-        halves.append(_run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through))
+        half = _run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through)
+        halves.append(_land_end(system, half, box) if kind in ("fold", "flip") else half)
     pts, states, special, ends = _join(halves)
     notes = []
     if model.conservative:
@@ -340,6 +341,41 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     return points, states, (tracker.special if tracker else []), end
 
 
+def _land_end(system, half, box):
+    """A fold or flip curve that runs into grazing ends exactly there: where its last
+    point has an impact slower than grazing.LAND_SPEED, the resonant grazing point is
+    solved for by Newton on the regular test (:func:`symvi.curves.grazing.land`) and
+    becomes the curve's last event (RG) and its end."""
+    from .grazing import LAND_SPEED, GrazingSpecial, land
+    from ..continuation.result import EVENT_KINDS
+    points, states, special, end = half
+    if end.startswith("reached "):              # the box: not grazing
+        return half
+    size = 1 + max(abs(v) for pt in points for y in pt.orbit.points for v in y[:-1])
+    if min(points[-1].orbit.impact_velocities) > LAND_SPEED * size:
+        return half
+    got = land(system, states[-1], system.kind)
+    if got is None:
+        return half
+    X, gp, i = got
+    a, b = system.names
+    span = min(box[a][1] - box[a][0], box[b][1] - box[b][0])
+    gap = float(np.hypot(*(X[-2:] - states[-1][-2:])))
+    if not (box[a][0] <= X[-2] <= box[a][1] and box[b][0] <= X[-1] <= box[b][1]) or \
+            gap > 0.05 * span:
+        return half
+    # an admissibility change the last step met is this grazing, not located further
+    special = [s for s in special if not (s.kind == "admissibility"
+                                          and s.index >= len(points) - 1)]
+    rg = GrazingSpecial("RG", dict(gp.params), gp, {"impact": i + 1},
+                        EVENT_KINDS["RG"] + f"; the {system.kind} curve ends here, impact "
+                        f"{i + 1} arriving with zero velocity", len(points))
+    end = (f"reached grazing at the resonant grazing point {_where(system, X)} (impact "
+           f"{i + 1} at zero velocity; solved on the regular test, {gap:.2g} beyond the "
+           "last point)")
+    return points, states, special + [rg], end
+
+
 def _diagnosis(system, X):
     """Why the corrector may fail where a curve stops: a second singular direction of the
     test matrix (two pairs with product 1, as in the conservative limit r = 1 without
@@ -369,7 +405,8 @@ def _join(halves):
         shift = len(p2) - 1
         pts = list(reversed(p2[1:])) + pts
         states = list(reversed(s2[1:])) + states
-        special = [_reindex(s, shift - s.index) for s in sp2] + \
+        # (an event beyond the second half's last point, a landing, is before point 0)
+        special = [_reindex(s, max(0, shift - s.index)) for s in sp2] + \
                   [_reindex(s, s.index + shift) for s in special]
         ends = [e2, ends[0]]
         special.sort(key=lambda s: s.index)
@@ -377,7 +414,8 @@ def _join(halves):
 
 
 def _reindex(sp, i):
-    return Codim2Point(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, i)
+    import dataclasses
+    return dataclasses.replace(sp, index=i)
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release

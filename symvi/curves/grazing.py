@@ -576,3 +576,85 @@ def start(system, u, start_values):
         raise SymviError(f"no grazing orbit found near {a} = {start_values[a]:.12g} at {b} = "
                          f"{start_values[b]:.12g}: the start is not on a grazing curve")
     return res[0]
+
+
+# --------------------------------------------------------------------------- landing
+#: a fold or flip curve that ends (not at its box) with an impact slower than this,
+#: relative to its orbits' size 1 + max|y|, is landed on grazing (:func:`land`)
+LAND_SPEED = 1e-1
+#: Newton on the landing system: iterations, and the step of the test's differences
+LAND_MAXIT, LAND_STEP = 30, 1e-7
+
+
+def regular_test(pr, u, lam, kind, i):
+    """w det(M -+ I) of a fold (-) or flip (+) test, regular where impact i grazes: with
+    w = dg/dT of flight i (-> 0 with its speed) the time-eliminated DP_i has a 1/w part of
+    rank one, DP_i = dh/dy - a b^T / w, so det(M -+ I) = det([[C, a], [b^T, w]]) / w with
+    C = L (dh/dy) R -+ I, a = L dh/dT, b = R^T (dg/dy)^T, L and R the finite products
+    of the other flights' DP_j (the matrix determinant lemma). The bordered determinant
+    is smooth through w = 0, where it vanishes only at resonant grazing."""
+    _, Gu, _ = pr.evaluate(u, lam, check=False)
+    d, p = pr.d, pr.p
+    mats, blocks = [], None
+    for j in range(p):
+        r0, ct = j * d, p * d + j
+        dhdy = Gu[r0:r0 + d, r0:r0 + d] + (np.eye(d) if p == 1 else 0)   # minus y_{j+1}
+        dhdt, dgdy, dgdt = Gu[r0:r0 + d, ct], Gu[ct, r0:r0 + d], Gu[ct, ct]
+        if j == i:
+            blocks = (dhdy, dhdt, dgdy, dgdt)
+            mats.append(None)
+        else:
+            mats.append(dhdy - np.outer(dhdt, dgdy) / dgdt)
+    R, L = np.eye(d), np.eye(d)
+    for D in mats[:i]:
+        R = D @ R
+    for D in mats[i + 1:]:
+        L = D @ L
+    dhdy, dhdt, dgdy, w = blocks
+    A = np.empty((d + 1, d + 1))
+    A[:d, :d] = L @ dhdy @ R + (np.eye(d) if kind == "flip" else -np.eye(d))
+    A[:d, d], A[d, :d], A[d, d] = L @ dhdt, R.T @ dgdy, w
+    return float(np.linalg.det(A))
+
+
+def land(system, X, kind):
+    """The resonant grazing point near the end X = (u, a, b) of a fold or flip curve that
+    runs into grazing: Newton on G = 0, v_k+ = 0 after the slowest impact, and the regular
+    test :func:`regular_test` = 0 (m + 2 equations in m + 2 unknowns; the test's row by
+    central differences). Returns (X*, :class:`GrazingPoint`, impact) or None."""
+    m = system.m
+    pr = system.problem(X[-1])
+    fl, (_, flow, _) = pr.flights(X[:m], X[m], check=False)
+    speeds = pr.approach_speeds(fl, flow)
+    i = int(np.argmin(np.abs(speeds)))
+    graze = GrazingSystem(system.model, system.n, system.p, system.params, i,
+                          omega=system.omega, signature=system.signature)
+    X = np.array(X, dtype=float)
+
+    def phi(Z):
+        return regular_test(graze.problem(Z[-1]), Z[:m], Z[m], kind, i)
+
+    for _ in range(LAND_MAXIT):
+        F, DF, Fb = graze.evaluate(X[:-1], X[-1], dparam=True, check=False)
+        f = phi(X)
+        row = np.empty(m + 2)
+        for k in range(m + 2):
+            h = LAND_STEP * (1 + abs(X[k]))
+            e = np.zeros(m + 2)
+            e[k] = h
+            row[k] = (phi(X + e) - phi(X - e)) / (2 * h)
+        J = np.zeros((m + 2, m + 2))
+        J[:m + 1, :m + 1], J[:m + 1, m + 1], J[m + 1] = DF, Fb, row
+        try:
+            dX = np.linalg.solve(J, -np.append(F, f))
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(dX)):
+            return None
+        X = X + dX
+        if np.max(np.abs(dX)) <= 1e-13 * (1 + np.max(np.abs(X))):
+            F = graze.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
+            if np.max(np.abs(F)) > 1e-9 * (1 + np.max(np.abs(X))):
+                return None
+            return X, grazing_point(graze, X), i
+    return None

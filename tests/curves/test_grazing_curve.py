@@ -242,3 +242,28 @@ def test_resonant_grazing_points_of_the_damped_oscillator_are_at_2_omega_d_over_
     d = cv.as_dict()["special"][0]
     assert d["kind"] == "RG" and set(d["params"]) == {"omega", "forcing[1]"}
     assert "trace_residue" in cv.as_dict()["points"][0]
+
+
+def test_a_fold_curve_that_runs_into_grazing_ends_at_the_resonant_grazing_point():
+    """Issue 27: fold curves stopped 5e-7 .. 5e-5 short of grazing ("step below ...", a
+    multiplier cut). The damped oscillator's fold curve of impacting orbits from omega = 1.5
+    runs into grazing both ways; each end is now solved on the regular test (w det(M - I),
+    smooth through zero velocity) and is the resonant grazing point 2 omega_d / m that the
+    grazing curve locates on its own."""
+    from symvi.curves import continue_curve
+    brs = continue_orbits(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    fold = next(s for br in brs for s in br.special if s.kind == "fold")
+    cv = continue_curve(fold.orbit.model, "fold", ("omega", "forcing[1]"), fold,
+                        bounds={"omega": (0.3, 3.0), "forcing[1]": (0.01, 10.0)})
+    rg = [s for s in cv.special if s.kind == "RG"]
+    assert len(rg) == 2 and all(e.startswith("reached grazing at the resonant grazing point")
+                                for e in cv.ends), cv.ends
+    assert [s.index for s in rg] == [0, len(cv) - 1]
+    wd = np.sqrt(K - C ** 2 / 4)
+    ws = sorted(s.params["omega"] for s in rg)
+    assert ws == pytest.approx([wd, 2 * wd], abs=1e-9)
+    for s in rg:
+        w = s.params["omega"]
+        assert s.params["forcing[1]"] == pytest.approx(D * H(w), rel=1e-9)   # on A_GR
+        assert abs(s.orbit.impact_velocities[0]) < 1e-10
+    assert not any(s.kind == "admissibility" for s in cv.special)
