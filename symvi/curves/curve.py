@@ -346,7 +346,7 @@ def _land_end(system, half, box):
     point has an impact slower than grazing.LAND_SPEED, the resonant grazing point is
     solved for by Newton on the regular test (:func:`symvi.curves.grazing.land`) and
     becomes the curve's last event (RG) and its end."""
-    from .grazing import LAND_SPEED, GrazingSpecial, land
+    from .grazing import LAND_SPEED, GrazingSpecial, land, tangency
     from ..continuation.result import EVENT_KINDS
     points, states, special, end = half
     if end.startswith("reached "):              # the box: not grazing
@@ -367,7 +367,8 @@ def _land_end(system, half, box):
     # an admissibility change the last step met is this grazing, not located further
     special = [s for s in special if not (s.kind == "admissibility"
                                           and s.index >= len(points) - 1)]
-    rg = GrazingSpecial("RG", dict(gp.params), gp, {"impact": i + 1},
+    coef = {"impact": i + 1, **tangency(system, X, i)}
+    rg = GrazingSpecial("RG", dict(gp.params), gp, coef,
                         EVENT_KINDS["RG"] + f"; the {system.kind} curve ends here, impact "
                         f"{i + 1} arriving with zero velocity", len(points))
     end = (f"reached grazing at the resonant grazing point {_where(system, X)} (impact "

@@ -345,9 +345,8 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     if not on_omega:
         fx["omega"] = float(omega)
     notes = ("grazing-fold, -flip and -NS are located on touch curves (an impact at zero "
-             "velocity has no finite multipliers), resonant grazing on impact curves; the "
-             "tangency coefficients kappa of the curves leaving a resonant grazing point are "
-             "not computed yet",)
+             "velocity has no finite multipliers), resonant grazing with the tangency "
+             "coefficients kappa of the fold and flip curves leaving it on impact curves",)
     return GrazingCurve(names, orbit.n, orbit.p, impact, tuple(pts), tuple(ends), box, fx,
                         tuple(orbit.signature_names), tuple(special), notes, tuple(states),
                         "grazing" if touch is None else "touch")
@@ -486,9 +485,10 @@ class GrazingTracker(engine.Tracker):
                 z = min(mu, key=lambda z: abs(z - target))
                 coef = {"multiplier": float(z.real)}
         elif kind == "RG":
-            coef = {"trace_residue": float(pt.trace_residue)}
-            what += ("; the quadratic tangency coefficients of the emanating fold and flip "
-                     "curves are not computed yet")
+            coef = tangency(system, X, system.impact)
+            what += (f"; the curves leaving it: b = b_graze(a) + kappa (a - a*)^2 with "
+                     f"(a, b) = ({', '.join(system.names)})" if coef else
+                     "; no fold or flip curve tangent to the grazing curve was solved for")
         elif kind == "DG":
             v = [(x, k) for k, x in enumerate(pt.impact_velocities)
                  if pt.touch is not None or k != system.impact]
@@ -658,3 +658,80 @@ def land(system, X, kind):
                 return None
             return X, grazing_point(graze, X), i
     return None
+
+
+# --------------------------------------------------------------------------- kappa
+#: the steps in the first parameter (relative to 1 + |P1*|) of the tangency coefficient's
+#: symmetric differences, combined by Richardson extrapolation
+KAPPA_STEP = 1e-3
+
+
+def _solve_at(graze, X, a, kind, i):
+    """X = (u, a, b) on the grazing curve (``kind`` None) or on the fold / flip curve
+    (regular test) at the first parameter fixed to ``a``: Newton in (u, b) from X, or None."""
+    m = graze.m
+    X = np.array(X, dtype=float)
+    X[m] = a
+    for _ in range(LAND_MAXIT):
+        F, DF, Fb = graze.evaluate(X[:-1], X[-1], dparam=True, check=False)
+        J = np.zeros((m + 1, m + 1))
+        J[:m, :m], J[:m, m] = DF[:m, :m], Fb[:m]
+        if kind is None:
+            r = F
+            J[m, :m] = DF[m, :m]
+        else:
+            def phi(Z):
+                return regular_test(graze.problem(Z[-1]), Z[:m], Z[m], kind, i)
+            r = np.append(F[:m], phi(X))
+            for k in list(range(m)) + [m + 1]:
+                h = LAND_STEP * (1 + abs(X[k]))
+                e = np.zeros(m + 2)
+                e[k] = h
+                J[m, k if k < m else m] = (phi(X + e) - phi(X - e)) / (2 * h)
+        try:
+            d = np.linalg.solve(J, -r)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(d)):
+            return None
+        X[:m] += d[:m]
+        X[m + 1] += d[m]
+        if np.max(np.abs(d)) <= 1e-13 * (1 + np.max(np.abs(X))):
+            return X
+    return None
+
+
+def tangency(system, X, i):
+    """{"kappa_fold": ..., "kappa_flip": ...} at a resonant grazing point X = (u, a, b) of
+    impact i: the curve of each kind leaves the grazing curve as
+    b = b_graze(a) + kappa (a - a*)^2 + ..., kappa from symmetric second differences of
+    b_curve(a) - b_graze(a) at a* +- h and a* +- h/2, Richardson-extrapolated (each point
+    solved by Newton at fixed a: the grazing system, the regular fold or flip test). A key
+    is left out where that curve could not be solved for."""
+    graze = system if isinstance(system, GrazingSystem) else GrazingSystem(
+        system.model, system.n, system.p, system.params, i, omega=system.omega,
+        signature=system.signature)
+    m = graze.m
+    a0 = float(X[m])
+    h = KAPPA_STEP * (1 + abs(a0))
+    out = {}
+    for kind in ("fold", "flip"):
+        est, slope = [], None
+        for step in (h, h / 2):
+            diffs = []
+            for s in (step, -step):
+                g = _solve_at(graze, X, a0 + s, None, i)
+                c = _solve_at(graze, X, a0 + s, kind, i)
+                if g is None or c is None:
+                    break
+                diffs.append(c[-1] - g[-1])
+            if len(diffs) < 2:
+                break
+            est.append((diffs[0] + diffs[1]) / (2 * step * step))
+            slope = (diffs[0] - diffs[1]) / (2 * step)
+        if len(est) == 2:
+            kappa = (4 * est[1] - est[0]) / 3
+            # tangent: the first difference is of the cubic term's order, not kappa h's
+            if abs(slope) <= 0.1 * abs(kappa) * h:
+                out[f"kappa_{kind}"] = float(kappa)
+    return out

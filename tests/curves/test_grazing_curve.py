@@ -267,3 +267,34 @@ def test_a_fold_curve_that_runs_into_grazing_ends_at_the_resonant_grazing_point(
         assert s.params["forcing[1]"] == pytest.approx(D * H(w), rel=1e-9)   # on A_GR
         assert abs(s.orbit.impact_velocities[0]) < 1e-10
     assert not any(s.kind == "admissibility" for s in cv.special)
+
+
+def test_the_tangency_coefficients_kappa_at_resonant_grazing():
+    """kappa of b = b_graze(a) + kappa (a - a*)^2 for the fold and flip curves leaving the
+    damped oscillator's resonant grazing points. kappa_fold is checked against the fold
+    curve continued on its own (the ordinary test of M) and the closed form A_GR: a fit of
+    A_fold(omega) - A_GR(omega) on its points near omega* (no shared code with kappa's
+    Newton solves on the regular test)."""
+    from symvi.curves import continue_curve
+    sp = _grazing_on_branch(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    cv = continue_grazing(coco(), ("omega", "forcing[1]"), sp,
+                          bounds={"omega": (0.3, 3.0), "forcing[1]": (0.05, 10.0)})
+    rg = {round(s.params["omega"], 6): s for s in cv.special if s.kind == "RG"}
+    assert all({"kappa_fold", "kappa_flip"} <= set(s.coefficients) for s in rg.values())
+    brs = continue_orbits(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    fold = next(s for br in brs for s in br.special if s.kind == "fold")
+    fc = continue_curve(fold.orbit.model, "fold", ("omega", "forcing[1]"), fold,
+                        bounds={"omega": (0.3, 3.0), "forcing[1]": (0.01, 10.0)})
+    w, a = fc.values("omega"), fc.values("forcing[1]")
+    landed = [s for s in fc.special if s.kind == "RG"]
+    for end in landed:
+        ws = end.params["omega"]
+        near = rg[round(ws, 6)]
+        assert end.coefficients["kappa_fold"] == pytest.approx(near.coefficients["kappa_fold"],
+                                                               rel=1e-6)
+        dw = w - ws
+        sel = (np.abs(dw) > 2e-4) & (np.abs(dw) < 3e-3)
+        fit = np.linalg.lstsq(np.column_stack([dw[sel] ** 2, dw[sel] ** 3]),
+                              a[sel] - D * H(w[sel]), rcond=None)[0][0]
+        assert sel.sum() > 20
+        assert fit == pytest.approx(near.coefficients["kappa_fold"], rel=2e-3)
