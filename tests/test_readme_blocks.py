@@ -183,6 +183,14 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
     # curves: the two Chenciner points of example 1 in (omega, r), a flip curve
     cu = spaces["Two-parameter curves and codimension-two points"]
     assert len(cu["ch"]) == 2 and len(cu["curve2"]) > 10
+    # grazing: the resonant grazing points at 2 omega_d / m, kappa of the curves leaving one
+    gz = spaces["Grazing: where an impact has zero velocity"]
+    assert gz["g"].value == pytest.approx(abs(1 - 1.5 ** 2 + 0.15j), rel=1e-12)
+    wd = math.sqrt(1 - 0.1 ** 2 / 4)
+    assert [s.params["omega"] for s in gz["rg"]] == pytest.approx([2 * wd / 3, wd, 2 * wd],
+                                                                   abs=1e-9)
+    assert gz["kappas"]["kappa_fold"] == pytest.approx(-101.85, abs=0.01)
+    assert gz["kappas"]["kappa_flip"] == pytest.approx(7.32, abs=0.01)
     # planes: the stored grid, labelled
     pl = spaces["Parameter planes on Dask"]
     assert dict(pl["ds"].attractor.sizes) in ({"b": 12, "omega": 16}, {"omega": 16, "b": 12})

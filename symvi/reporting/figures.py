@@ -346,6 +346,10 @@ def two_parameter(curves, names, title="", ax=None):
             da, db = side[0] * spans[0] * 0.025, side[1] * spans[1] * 0.025
             ax.plot([a[i], a[i] + da], [b[i], b[i] + db], "-", color=col, lw=0.8)
         for kind, va, vb in c["special"]:
+            # a point two curves share (an RG on the grazing and the fold curve) once
+            if any(k == kind and abs(p[0] - va) <= 1e-9 * spans[0] and
+                   abs(p[1] - vb) <= 1e-9 * spans[1] for k, p, _ in labels):
+                continue
             ax.plot(va, vb, "o", color="k", ms=4, mfc="w")
             labels.append((kind, (va, vb), "k"))
     ax.set_xlabel(_axis_label(names[0]))

@@ -60,7 +60,10 @@ OUTPUTS = {
                                "omega = 1.00: grazing at A = 0.1000000000",
                                "omega = 1.20: grazing at A = 0.4560701700",
                                "fold below A_GR located: True", "grazing curve: ",
-                               "RG at omega = 0.998749217772"],
+                               "RG at omega = 0.998749217772",
+                               "RG omega = 1.997498436: kappa_fold = -101.847",
+                               "fold curve ends: reached grazing at the resonant grazing "
+                               "point omega = 0.998749217772"],
     "gallery/budd_dux.html": ["omega = 3.3531782", "omega = 4.6418368", "omega = 3.9265536",
                               "omega = 5.7820246", "closed form 3.1460730"],
 }
