@@ -26,9 +26,11 @@ import numpy as np
 
 from ..continuation import engine
 from ..continuation.engine import Client, correct, tangent
-from ..continuation.result import EVENT_KINDS, Located, Result
+from ..continuation.result import EVENT_KINDS
 from ..errors import ParameterError, SymviError
 from ..orbits.admissibility import check_flight
+from .curve import Curve
+from .points import Codim2Point
 from .system import CurveSystem
 
 #: what vanishes on a grazing curve (its "normalisation" in the JSON, as the other curves'
@@ -234,33 +236,15 @@ def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
 
 
 @dataclass(frozen=True)
-class GrazingCurve(Result):
+class GrazingCurve(Curve):
     """A continued grazing curve of impact ``impact`` (1-based) of n-p orbits in the
-    parameters ``names`` (``of`` "touch": flight ``impact`` touches a stop): the same shape
-    as :class:`symvi.curves.curve.Curve`, its points :class:`GrazingPoint`, its
-    codimension-two points :class:`GrazingSpecial`."""
+    parameters ``names`` (``of`` "touch": flight ``impact`` touches a stop inside it): a
+    :class:`symvi.curves.curve.Curve` whose points are :class:`GrazingPoint` and whose
+    codimension-two points are :class:`GrazingSpecial`."""
 
-    names: tuple
-    n: int
-    p: int
-    impact: int
-    points: tuple
-    ends: tuple
-    bounds: dict
-    fixed: dict
+    impact: int = 1
+    of: str = "grazing"
     signature: tuple = ()
-    special: tuple = ()
-    notes: tuple = ()
-    states: tuple = field(repr=False, default=())
-    of: str = "grazing"     # "grazing": impact ``impact`` at zero speed; "touch": flight
-    kind: str = "grazing"   # ``impact`` touches a stop inside it
-
-    @property
-    def stop_reasons(self):
-        return tuple(self.ends)
-
-    def values(self, name):
-        return np.array([pt.params[name] for pt in self.points])
 
     def plot_data(self, sides=24):
         """Plain data for :func:`symvi.reporting.figures.two_parameter`."""
@@ -347,9 +331,10 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     notes = ("grazing-fold, -flip and -NS are located on touch curves (an impact at zero "
              "velocity has no finite multipliers), resonant grazing with the tangency "
              "coefficients kappa of the fold and flip curves leaving it on impact curves",)
-    return GrazingCurve(names, orbit.n, orbit.p, impact, tuple(pts), tuple(ends), box, fx,
-                        tuple(orbit.signature_names), tuple(special), notes, tuple(states),
-                        "grazing" if touch is None else "touch")
+    return GrazingCurve("grazing", names, orbit.n, orbit.p, tuple(pts), tuple(special),
+                        tuple(ends), box, fx, notes, tuple(states), model, impact=impact,
+                        of="grazing" if touch is None else "touch",
+                        signature=tuple(orbit.signature_names))
 
 
 def _split_at_touch(model, orbit, i, t, k):
@@ -414,17 +399,10 @@ CODIM2 = {"LP": "grazing-fold", "PD": "grazing-flip", "NS": "grazing-NS",
 
 
 @dataclass(frozen=True)
-class GrazingSpecial(Located):
-    """A located codimension-two point of a grazing curve: ``kind`` one of
-    :data:`CODIM2`'s, the point (``orbit``: its :class:`GrazingPoint`), between the
-    curve's points ``index`` and ``index + 1``."""
-
-    kind: str
-    params: dict
-    orbit: GrazingPoint = field(repr=False)
-    coefficients: dict
-    detail: str
-    index: int = 0
+class GrazingSpecial(Codim2Point):
+    """A located codimension-two point of a grazing curve (or a fold or flip curve's
+    landing on one): ``kind`` one of :data:`CODIM2`'s, ``orbit`` its :class:`GrazingPoint`
+    (no multipliers at an impact's grazing)."""
 
     def as_dict(self):
         return {"kind": self.kind, "params": dict(self.params),
