@@ -28,7 +28,7 @@ from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
-from .points import NORMALISATION, Codim2Point, CurvePoint, first_lyapunov, mono
+from .points import NORMALISATION, CurvePoint, first_lyapunov, mono
 from .special import Codim2Tracker
 from .system import CurveSystem, kappa_pair, theta_of
 
@@ -318,27 +318,39 @@ class _CurveRun(Client):
         return end + _diagnosis(self.system, X) if end.startswith("step below") else end
 
 
-def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
-    m = system.m
+def steps(system, box, h, h_max):
+    """(lo, hi, h, h_max) of a curve in ``box``: the bounds of (a, b) and the first and
+    largest steps (by default a 200th and a 20th of the box's smaller side)."""
     a, b = system.names
     lo = np.array([box[a][0], box[b][0]])
     hi = np.array([box[a][1], box[b][1]])
     span = float(np.min(hi - lo))
     h_max = float(h_max) if h_max is not None else span / 20 + 0.02
-    h = float(h) if h is not None else min(h_max, span / 200)
+    return lo, hi, float(h) if h is not None else min(h_max, span / 200), h_max
+
+
+def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
+    lo, hi, h, h_max = steps(system, box, h, h_max)
     system.set_border(mono(system, X))
-    F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
-    e = np.zeros(m + 2)
-    e[-1] = sgn
-    t = tangent(DF, Fb, e)
-    if abs(t[-1]) < 1e-3:                       # the curve is parallel to b here: orient by a
-        e = np.zeros(m + 2)
-        e[-2] = sgn
-        t = tangent(DF, Fb, e)
+    t = first_tangent(system, X, sgn)
     points, states, end = engine.run(system, _CurveRun(system), X, t, lo, hi, h=h,
                                      h_max=h_max, max_points=max_points, tracker=tracker,
                                      through=through, chord_first=True, first=first)
     return points, states, (tracker.special if tracker else []), end
+
+
+def first_tangent(system, X, sgn):
+    """The unit tangent of a curve at X, pointing to increasing b for ``sgn`` = 1 (by a
+    where the curve is parallel to b)."""
+    F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
+    e = np.zeros(len(X))
+    e[-1] = sgn
+    t = tangent(DF, Fb, e)
+    if abs(t[-1]) < 1e-3:                       # the curve is parallel to b here: orient by a
+        e = np.zeros(len(X))
+        e[-2] = sgn
+        t = tangent(DF, Fb, e)
+    return t
 
 
 def _land_end(system, half, box):

@@ -25,11 +25,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..continuation import engine
-from ..continuation.engine import Client, correct, tangent
+from ..continuation.engine import Client, correct
 from ..continuation.result import EVENT_KINDS
 from ..errors import ParameterError, SymviError
 from ..orbits.admissibility import check_flight
-from .curve import Curve
+from .curve import Curve, _join, first_tangent, steps
 from .points import Codim2Point
 from .system import CurveSystem
 
@@ -499,46 +499,19 @@ def follow(system, X0, box, *, h=None, h_max=None, max_points=2000, both=True, t
     """The grazing curve of ``system`` through the solution X0, both ways within ``box``
     ({name: (lo, hi)}): (points, states, ends), the second direction reversed first; it
     ends where its orbit stops being admissible unless ``through``."""
-    m = system.m
-    a, b = system.names
-    lo = np.array([box[a][0], box[b][0]])
-    hi = np.array([box[a][1], box[b][1]])
-    span = float(np.min(hi - lo))
-    h_max = float(h_max) if h_max is not None else span / 20 + 0.02
-    h = float(h) if h is not None else min(h_max, span / 200)
+    lo, hi, h, h_max = steps(system, box, h, h_max)
     first = grazing_point(system, X0)
     halves = []
     for sgn in ((1.0, -1.0) if both else (1.0,)):
-        F, DF, Fb = system.evaluate(X0[:-1], X0[-1], dparam=True)
-        e = np.zeros(m + 2)
-        e[-1] = sgn
-        t = tangent(DF, Fb, e)
-        if abs(t[-1]) < 1e-3:                   # the curve is parallel to b: orient by a
-            e = np.zeros(m + 2)
-            e[-2] = sgn
-            t = tangent(DF, Fb, e)
+        t = first_tangent(system, X0, sgn)
         tracker = GrazingTracker(system)
-        run = engine.run(system, _GrazingRun(system), X0, t, lo, hi, h=h, h_max=h_max,
-                         max_points=max_points, through=through, chord_first=True,
-                         first=first, tracker=tracker)
-        halves.append((*run, tracker.special))
-    pts, states, ends = list(halves[0][0]), list(halves[0][1]), [halves[0][2]]
-    # a tracker's index is that of the point after the event: the one before, in the join
-    special = [_at(s, s.index - 1) for s in halves[0][3]]
-    if len(halves) == 2:
-        p2, s2, e2, sp2 = halves[1]
-        shift = len(p2) - 1
-        pts = list(reversed(p2[1:])) + pts
-        states = list(reversed(s2[1:])) + states
-        ends = [e2, ends[0]]
-        special = ([_at(s, shift - s.index) for s in sp2] +
-                   [_at(s, s.index + shift) for s in special])
-        special.sort(key=lambda s: s.index)
+        points, states, end = engine.run(system, _GrazingRun(system), X0, t, lo, hi, h=h,
+                                         h_max=h_max, max_points=max_points,
+                                         through=through, chord_first=True, first=first,
+                                         tracker=tracker)
+        halves.append((points, states, tracker.special, end))
+    pts, states, special, ends = _join(halves)
     return pts, states, ends, special
-
-
-def _at(sp, index):
-    return GrazingSpecial(sp.kind, sp.params, sp.orbit, sp.coefficients, sp.detail, index)
 
 
 def start(system, u, start_values):
