@@ -107,23 +107,8 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     from ..model import Model
     model = Model.of(model)
     orbit = _as_periodic(model, orbit)
-    names = tuple(names)
-    if len(names) != 2:
-        raise ParameterError("params", names, "two parameter names, e.g. omega,b")
-    fixed = dict(fixed)
-    omega = fixed.pop("omega", None)
-    if omega is None:
-        omega = orbit.omega
-    for nm in names:
-        if nm in fixed:                         # (omega was taken out of fixed above)
-            raise ParameterError(nm, fixed[nm], "not fixed: it is a curve parameter")
-    if fixed:
-        model = model.with_(**fixed)
-    # the names parsed once, here: the curve system gets the lenses
-    pars = tuple(model.parameter(nm) for nm in names)
-    on_omega = any(par.is_forcing_frequency for par in pars)
-    start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
-    box = _bounds(names, start, bounds)
+    names, model, omega, pars, on_omega, start, box, fixed = prepare(model, orbit, names,
+                                                                     fixed, bounds)
     system = CurveSystem(model, orbit.n, orbit.p, pars, kind,
                          omega=None if on_omega else omega, signature=orbit.itinerary)
     X0 = _first(system, orbit, start)
@@ -149,6 +134,30 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         fx["omega"] = float(omega)
     return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
                  box, fx, tuple(notes), tuple(states), model)
+
+
+def prepare(model, orbit, names, fixed, bounds):
+    """What a curve in ``names`` from ``orbit`` needs of its arguments, checked: (names,
+    the model with ``fixed`` set, omega (``fixed``'s or the orbit's), the parameters
+    parsed once, whether one is omega, their start values, the box, ``fixed`` without
+    omega)."""
+    names = tuple(names)
+    if len(names) != 2:
+        raise ParameterError("params", names, "two parameter names, e.g. omega,b")
+    fixed = dict(fixed)
+    omega = fixed.pop("omega", None)
+    if omega is None:
+        omega = orbit.omega
+    for nm in names:
+        if nm in fixed:                         # (omega was taken out of fixed above)
+            raise ParameterError(nm, fixed[nm], "not fixed: it is a curve parameter")
+    if fixed:
+        model = model.with_(**fixed)
+    # the names parsed once, here: the curve system gets the lenses
+    pars = tuple(model.parameter(nm) for nm in names)
+    on_omega = any(par.is_forcing_frequency for par in pars)
+    start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
+    return names, model, omega, pars, on_omega, start, _bounds(names, start, bounds), fixed
 
 
 def _as_periodic(model, start):

@@ -279,7 +279,7 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     ``fixed`` (1-based). ``bounds``, ``through`` and ``fixed`` as
     :func:`symvi.curves.continue_curve`."""
     from ..model import Model
-    from .curve import _bounds
+    from .curve import prepare
     fixed = dict(fixed)
     impact = fixed.pop("impact", None)
     coef = getattr(point, "coefficients", {}) or {}
@@ -301,17 +301,8 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     orbit = getattr(point, "orbit", point)
     # the model at the point (a branch in another parameter moved it), then ``fixed``
     model = Model.of(getattr(orbit, "model", None) or model)
-    names = tuple(names)
-    if len(names) != 2:
-        raise ParameterError("params", names, "two parameter names, e.g. omega,b")
-    omega = fixed.pop("omega", None)
-    omega = orbit.omega if omega is None else omega
-    if fixed:
-        model = model.with_(**fixed)
-    pars = tuple(model.parameter(nm) for nm in names)
-    on_omega = any(par.is_forcing_frequency for par in pars)
-    start_values = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
-    box = _bounds(names, start_values, bounds)
+    names, model, omega, pars, on_omega, start_values, box, fixed = prepare(
+        model, orbit, names, fixed, bounds)
     if touch is None:
         system = GrazingSystem(model, orbit.n, orbit.p, pars, impact - 1,
                                omega=None if on_omega else omega, signature=orbit.itinerary)
