@@ -16,19 +16,18 @@ and l1 (Kuznetsov, ||q||_2 = 1, <p, q> = 1), for flip curves c, for fold curves 
 plus the side of the curve on which the orbit is stable.  Codimension-two points
 are located on the way by :mod:`symvi.curves.special`.
 """
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..continuation import engine
-from ..continuation.engine import Client, correct, tangent
-from ..continuation.result import Result
+from ..continuation.engine import Client, correct
 from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
-from .points import NORMALISATION, CurvePoint, first_lyapunov, mono
+from .frame import first_tangent, join, prepare, steps
+from .points import NORMALISATION, CurvePoint, TwoParameter, first_lyapunov, mono
 from .special import Codim2Tracker
 from .system import CurveSystem, kappa_pair, theta_of
 
@@ -40,29 +39,9 @@ BORDER_EVERY = 8
 
 
 @dataclass(frozen=True)
-class Curve(Result):
+class Curve(TwoParameter):
     """A continued curve of ``kind`` (ns, flip, fold) in the parameters ``names`` (a
-    :class:`symvi.continuation.result.Result`: ``ends`` are its stop reasons)."""
-
-    kind: str
-    names: tuple
-    n: int
-    p: int
-    points: tuple
-    special: tuple
-    ends: tuple                 # why it ended on each side (first, last)
-    bounds: dict
-    fixed: dict
-    notes: tuple = ()
-    states: tuple = field(repr=False, default=())
-    model: object = field(repr=False, default=None)
-
-    @property
-    def stop_reasons(self):
-        return tuple(self.ends)
-
-    def values(self, name):
-        return np.array([pt.params[name] for pt in self.points])
+    :class:`symvi.curves.points.TwoParameter`: ``ends`` are its stop reasons)."""
 
     def plot_data(self, sides=24):
         """Plain data for :func:`symvi.reporting.figures.two_parameter`; the stable side computed at
@@ -123,7 +102,7 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         tracker = Codim2Tracker(system) if locate else None
         half = _run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through)
         halves.append(_land_end(system, half, box) if kind in ("fold", "flip") else half)
-    pts, states, special, ends = _join(halves)
+    pts, states, special, ends = join(halves)
     notes = []
     if model.conservative:
         notes.append("conservative model (r = 1, no damping): the map preserves volume and "
@@ -134,30 +113,6 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         fx["omega"] = float(omega)
     return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
                  box, fx, tuple(notes), tuple(states), model)
-
-
-def prepare(model, orbit, names, fixed, bounds):
-    """What a curve in ``names`` from ``orbit`` needs of its arguments, checked: (names,
-    the model with ``fixed`` set, omega (``fixed``'s or the orbit's), the parameters
-    parsed once, whether one is omega, their start values, the box, ``fixed`` without
-    omega)."""
-    names = tuple(names)
-    if len(names) != 2:
-        raise ParameterError("params", names, "two parameter names, e.g. omega,b")
-    fixed = dict(fixed)
-    omega = fixed.pop("omega", None)
-    if omega is None:
-        omega = orbit.omega
-    for nm in names:
-        if nm in fixed:                         # (omega was taken out of fixed above)
-            raise ParameterError(nm, fixed[nm], "not fixed: it is a curve parameter")
-    if fixed:
-        model = model.with_(**fixed)
-    # the names parsed once, here: the curve system gets the lenses
-    pars = tuple(model.parameter(nm) for nm in names)
-    on_omega = any(par.is_forcing_frequency for par in pars)
-    start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
-    return names, model, omega, pars, on_omega, start, _bounds(names, start, bounds), fixed
 
 
 def _as_periodic(model, start):
@@ -173,27 +128,6 @@ def _as_periodic(model, start):
                              "(continue_branch's special point, a HopfPoint) or a period-1 orbit")
     return periodic_orbit(model, n=1, p=1, guess=tuple(float(v) for v in y),
                           omega=float(omega))
-
-
-def _bounds(names, start, bounds):
-    bounds = dict(bounds or {})
-    out = {}
-    for nm in names:
-        if nm in bounds:
-            lo, hi = (float(v) for v in bounds.pop(nm))
-            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-                raise ParameterError(f"bounds[{nm}]", (lo, hi), "finite LO < HI")
-            if not lo <= start[nm] <= hi:
-                raise ParameterError(f"bounds[{nm}]", (lo, hi), f"an interval containing the "
-                                     f"start value {start[nm]:.12g}")
-        else:
-            v = start[nm]
-            lo, hi = (v / 2, 2 * v) if v > 0 else (2 * v, v / 2) if v < 0 else (-1.0, 1.0)
-        out[nm] = (lo, hi)
-    if bounds:
-        raise ParameterError("bounds", sorted(bounds), f"bounds of the curve's parameters "
-                             f"{', '.join(names)} only")
-    return out
 
 
 def _first(system, orbit, start):
@@ -327,17 +261,6 @@ class _CurveRun(Client):
         return end + _diagnosis(self.system, X) if end.startswith("step below") else end
 
 
-def steps(system, box, h, h_max):
-    """(lo, hi, h, h_max) of a curve in ``box``: the bounds of (a, b) and the first and
-    largest steps (by default a 200th and a 20th of the box's smaller side)."""
-    a, b = system.names
-    lo = np.array([box[a][0], box[b][0]])
-    hi = np.array([box[a][1], box[b][1]])
-    span = float(np.min(hi - lo))
-    h_max = float(h_max) if h_max is not None else span / 20 + 0.02
-    return lo, hi, float(h) if h is not None else min(h_max, span / 200), h_max
-
-
 def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
     lo, hi, h, h_max = steps(system, box, h, h_max)
     system.set_border(mono(system, X))
@@ -346,20 +269,6 @@ def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
                                      h_max=h_max, max_points=max_points, tracker=tracker,
                                      through=through, chord_first=True, first=first)
     return points, states, (tracker.special if tracker else []), end
-
-
-def first_tangent(system, X, sgn):
-    """The unit tangent of a curve at X, pointing to increasing b for ``sgn`` = 1 (by a
-    where the curve is parallel to b)."""
-    F, DF, Fb = system.evaluate(X[:-1], X[-1], dparam=True)
-    e = np.zeros(len(X))
-    e[-1] = sgn
-    t = tangent(DF, Fb, e)
-    if abs(t[-1]) < 1e-3:                       # the curve is parallel to b here: orient by a
-        e = np.zeros(len(X))
-        e[-2] = sgn
-        t = tangent(DF, Fb, e)
-    return t
 
 
 def _land_end(system, half, box):
@@ -415,29 +324,6 @@ def _diagnosis(system, X):
 def _where(system, X):
     a, b = system.names
     return f"{a} = {X[-2]:.12g}, {b} = {X[-1]:.12g}"
-
-
-def _join(halves):
-    """One curve from the two directions: the second reversed, then the first."""
-    pts, states, ends = list(halves[0][0]), list(halves[0][1]), [halves[0][3]]
-    # a tracker's index is that of the point after the special one: make it the one before
-    special = [_reindex(s, s.index - 1) for s in halves[0][2]]
-    if len(halves) == 2:
-        p2, s2, sp2, e2 = halves[1]
-        shift = len(p2) - 1
-        pts = list(reversed(p2[1:])) + pts
-        states = list(reversed(s2[1:])) + states
-        # (an event beyond the second half's last point, a landing, is before point 0)
-        special = [_reindex(s, max(0, shift - s.index)) for s in sp2] + \
-                  [_reindex(s, s.index + shift) for s in special]
-        ends = [e2, ends[0]]
-        special.sort(key=lambda s: s.index)
-    return pts, states, special, ends
-
-
-def _reindex(sp, i):
-    import dataclasses
-    return dataclasses.replace(sp, index=i)
 
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release

@@ -29,8 +29,8 @@ from ..continuation.engine import Client, correct
 from ..continuation.result import EVENT_KINDS
 from ..errors import ParameterError, SymviError
 from ..orbits.admissibility import check_flight
-from .curve import Curve, _join, first_tangent, steps
-from .points import Codim2Point
+from .frame import first_tangent, join, prepare, steps
+from .points import Codim2Point, TwoParameter
 from .system import CurveSystem
 
 #: what vanishes on a grazing curve (its "normalisation" in the JSON, as the other curves'
@@ -236,11 +236,11 @@ def _interior_admissible(pr, fl, flow, F, T, speeds, graze, finder):
 
 
 @dataclass(frozen=True)
-class GrazingCurve(Curve):
+class GrazingCurve(TwoParameter):
     """A continued grazing curve of impact ``impact`` (1-based) of n-p orbits in the
     parameters ``names`` (``of`` "touch": flight ``impact`` touches a stop inside it): a
-    :class:`symvi.curves.curve.Curve` whose points are :class:`GrazingPoint` and whose
-    codimension-two points are :class:`GrazingSpecial`."""
+    :class:`symvi.curves.points.TwoParameter` whose points are :class:`GrazingPoint` and
+    whose codimension-two points are :class:`GrazingSpecial`."""
 
     impact: int = 1
     of: str = "grazing"
@@ -279,7 +279,6 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     ``fixed`` (1-based). ``bounds``, ``through`` and ``fixed`` as
     :func:`symvi.curves.continue_curve`."""
     from ..model import Model
-    from .curve import prepare
     fixed = dict(fixed)
     impact = fixed.pop("impact", None)
     coef = getattr(point, "coefficients", {}) or {}
@@ -501,7 +500,7 @@ def follow(system, X0, box, *, h=None, h_max=None, max_points=2000, both=True, t
                                          through=through, chord_first=True, first=first,
                                          tracker=tracker)
         halves.append((points, states, tracker.special, end))
-    pts, states, special, ends = _join(halves)
+    pts, states, special, ends = join(halves)
     return pts, states, ends, special
 
 

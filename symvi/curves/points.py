@@ -5,7 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..continuation.result import Located
+from ..continuation.result import Located, Result
 from ..errors import NearSingularWarning, SymviError
 from ..normal_forms.normal_form import kuznetsov_resolved
 from ..orbits.periodic import PeriodicOrbit
@@ -65,6 +65,34 @@ class Codim2Point(Located):
                 "detail": self.detail, "admissible": bool(self.orbit.admissible),
                 "y": [float(v) for v in self.orbit.y],
                 "multipliers": [[z.real, z.imag] for z in self.orbit.multipliers]}
+
+
+@dataclass(frozen=True)
+class TwoParameter(Result):
+    """What every continued curve in two parameters ``names`` is (fold, flip, NS:
+    :class:`symvi.curves.curve.Curve`; grazing: :class:`symvi.curves.grazing.GrazingCurve`):
+    its points and located codimension-two points, why it ended on each side (its
+    ``stop_reasons``), its box and the model's fixed values."""
+
+    kind: str
+    names: tuple
+    n: int
+    p: int
+    points: tuple
+    special: tuple
+    ends: tuple                 # why it ended on each side (first, last)
+    bounds: dict
+    fixed: dict
+    notes: tuple = ()
+    states: tuple = field(repr=False, default=())
+    model: object = field(repr=False, default=None)
+
+    @property
+    def stop_reasons(self):
+        return tuple(self.ends)
+
+    def values(self, name):
+        return np.array([pt.params[name] for pt in self.points])
 
 
 def _plain(v):
