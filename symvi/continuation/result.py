@@ -30,15 +30,17 @@ EVENT_KINDS = {
     "NSNS": "double Neimark-Sacker point", "LPPD": "fold-flip point",
     "CP": "cusp point (fold with a = 0)", "GPD": "generalised flip point (flip with c = 0)",
     # codimension two, located on grazing curves (symvi.curves.grazing)
-    "grazing-fold": "a grazing orbit (smooth at its touch) with a multiplier +1: the fold "
-                    "curve meets the grazing curve",
-    "grazing-flip": "a grazing orbit (smooth at its touch) with a multiplier -1: the flip "
-                    "curve meets the grazing curve",
+    "grazing-fold": "the fold curve meets the grazing curve: a multiplier +1 of an orbit "
+                    "smooth at its touch, or the regular fold test w det(M - I) = 0 at an "
+                    "impact's zero velocity",
+    "grazing-flip": "the flip curve meets the grazing curve: a multiplier -1 of an orbit "
+                    "smooth at its touch, or the regular flip test w det(M + I) = 0 at an "
+                    "impact's zero velocity",
     "grazing-NS": "a grazing orbit (smooth at its touch) with a complex pair on the unit "
                   "circle: the Neimark-Sacker curve meets the grazing curve",
     "double-grazing": "a second impact of a grazing orbit arrives with zero velocity too",
-    "RG": "resonant grazing: the 1/v part of the monodromy's trace at a grazing impact "
-          "vanishes, where fold and flip curves of the impacting orbit meet the grazing curve",
+    "RG": "resonant grazing: a fold and a flip curve of the impacting orbit both leave the "
+          "grazing curve of an impact at zero velocity here, tangentially",
     "degenerate-grazing": "zero acceleration of the guard at the grazing: the tangency is "
                           "not quadratic",
     # what the certified scan of closed-form branches meets (symvi.analysis.hopf)

@@ -276,7 +276,7 @@ def _land_end(system, half, box):
     point has an impact slower than grazing.LAND_SPEED, the resonant grazing point is
     solved for by Newton on the regular test (:func:`symvi.curves.grazing.land`) and
     becomes the curve's last event (RG) and its end."""
-    from .grazing import LAND_SPEED, GrazingSpecial, land, tangency
+    from .grazing import LAND_SPEED, RG_TOL, GrazingSpecial, land, tangency
     from ..continuation.result import EVENT_KINDS
     points, states, special, end = half
     if end.startswith("reached "):              # the box: not grazing
@@ -297,13 +297,20 @@ def _land_end(system, half, box):
     # an admissibility change the last step met is this grazing, not located further
     special = [s for s in special if not (s.kind == "admissibility"
                                           and s.index >= len(points) - 1)]
-    coef = {"impact": i + 1, **tangency(system, X, i)}
-    rg = GrazingSpecial("RG", dict(gp.params), gp, coef,
-                        EVENT_KINDS["RG"] + f"; the {system.kind} curve ends here, impact "
+    # a resonant grazing point when the other curve (flip for a fold) meets it here too
+    other = "flip" if system.kind == "fold" else "fold"
+    mate = land(system, X, other)
+    both = mate is not None and all(abs(mate[0][k] - X[k]) <= RG_TOL * (1 + abs(X[k]))
+                                    for k in (-2, -1))
+    kind = "RG" if both else f"grazing-{system.kind}"
+    coef = {"impact": i + 1, **tangency(system, X, i, ("fold", "flip") if both
+                                        else (system.kind,))}
+    rg = GrazingSpecial(kind, dict(gp.params), gp, coef,
+                        EVENT_KINDS[kind] + f"; the {system.kind} curve ends here, impact "
                         f"{i + 1} arriving with zero velocity", len(points))
-    end = (f"reached grazing at the resonant grazing point {_where(system, X)} (impact "
-           f"{i + 1} at zero velocity; solved on the regular test, {gap:.2g} beyond the "
-           "last point)")
+    what = "the resonant grazing point" if both else f"a grazing-{system.kind} point"
+    end = (f"reached grazing at {what} {_where(system, X)} (impact {i + 1} at zero "
+           f"velocity; solved on the regular test, {gap:.2g} beyond the last point)")
     return points, states, special + [rg], end
 
 

@@ -105,9 +105,10 @@ class GrazingPoint:
     multipliers: tuple = None
     #: the guard's second time derivative at the grazing (< 0: the flight turns back there)
     acceleration: float = None
-    #: the impact kind: lim v tr(M) as the grazing impact's speed v -> 0 (in the units of
-    #: the shooting system's dg/dT), the 1/v part of the trace; 0 at resonant grazing
-    trace_residue: float = None
+    #: the impact kind: the regular fold and flip tests w det(M -+ I) at w = 0
+    #: (:func:`regular_test`): 0 where a fold or a flip curve meets the grazing curve
+    fold_test: float = None
+    flip_test: float = None
 
     def as_dict(self):
         out = {"params": dict(self.params), "admissible": bool(self.admissible),
@@ -119,8 +120,8 @@ class GrazingPoint:
             out["multipliers"] = [[z.real, z.imag] for z in self.multipliers]
         if self.acceleration is not None:
             out["acceleration"] = self.acceleration
-        if self.trace_residue is not None:
-            out["trace_residue"] = self.trace_residue
+        if self.fold_test is not None:
+            out["fold_test"], out["flip_test"] = self.fold_test, self.flip_test
         if self.reason:
             out["reason"] = self.reason
         return out
@@ -143,7 +144,8 @@ def grazing_point(system, X):
     speeds = [float(s) for s in speeds]
     i = system.impact
     acc = _acceleration(pr, fl, flow, F, T, i)
-    touch = mult = res = None
+    touch = mult = None
+    tests = (None, None)
     if system.touch is not None:          # the n-p orbit: the split flight joined again
         touch = {"flight": i + 1, "stop": int(pr.sig[i + 1]) + 1, "t": T[i]}
         T[i:i + 2] = [T[i] + T[i + 1]]
@@ -151,28 +153,9 @@ def grazing_point(system, X):
         del speeds[i]
         mult = _smooth_multipliers(system, model, F.omega, np.concatenate([np.ravel(Y), T]))
     else:
-        res = _trace_residue(pr, u, X[m], i)
+        tests = tuple(regular_test(pr, u, X[m], kind, i) for kind in ("fold", "flip"))
     return GrazingPoint({a: float(X[m]), b: float(X[m + 1])}, tuple(Y), tuple(T),
-                        tuple(speeds), ok, why, u, touch, mult, acc, res)
-
-
-def _trace_residue(pr, u, lam, i):
-    """lim v tr(M) at a grazing impact i: with the time eliminated (eq. (30)), the map's
-    Jacobian of flight i is DP_i = dh/dy - (dh/dT)(dg/dy)/(dg/dT), and dg/dT -> 0 with the
-    impact's speed; (dg/dT) DP_i -> -(dh/dT)(dg/dy), a rank-1 matrix, and the other DP_j
-    are finite. So tr(DP_{p-1} .. [-(dh/dT)(dg/dy)] .. DP_0) is the 1/v part of the
-    monodromy's trace: where it vanishes the fold and flip conditions (tr M = +-(1 + det M)
-    in one degree of freedom) can hold at grazing, the resonant grazing point."""
-    _, Gu, _ = pr.evaluate(u, lam, check=False)
-    d, p = pr.d, pr.p
-    P = np.eye(d)
-    for j in range(p):
-        r0, ct = j * d, p * d + j
-        dhdy = Gu[r0:r0 + d, r0:r0 + d] + (np.eye(d) if p == 1 else 0)   # minus y_{j+1}
-        dhdt, dgdy, dgdt = Gu[r0:r0 + d, ct], Gu[ct, r0:r0 + d], Gu[ct, ct]
-        D = -np.outer(dhdt, dgdy) if j == i else dhdy - np.outer(dhdt, dgdy) / dgdt
-        P = D @ P
-    return float(np.trace(P))
+                        tuple(speeds), ok, why, u, touch, mult, acc, *tests)
 
 
 #: the time step of the central difference of the guard's speed (relative to the flight)
@@ -385,7 +368,7 @@ def _several_admissible(pr, fl, flow, F, T, graze):
 #: the codimension-two points of a grazing curve: test function -> kind (of
 #: :data:`symvi.continuation.result.EVENT_KINDS`, which says what each is)
 CODIM2 = {"LP": "grazing-fold", "PD": "grazing-flip", "NS": "grazing-NS",
-          "DG": "double-grazing", "AG": "degenerate-grazing", "RG": "RG"}
+          "DG": "double-grazing", "AG": "degenerate-grazing"}
 
 
 @dataclass(frozen=True)
@@ -402,14 +385,14 @@ class GrazingSpecial(Codim2Point):
 
 def _tests(pt, impact):
     """The test functions of :data:`CODIM2` at a grazing point (None: not defined)."""
-    out = {"AG": pt.acceleration, "RG": pt.trace_residue}
+    out = {"AG": pt.acceleration}
     # the other impacts (the impact kind's own grazing impact is ~0 all along)
     others = [v for k, v in enumerate(pt.impact_velocities)
               if pt.touch is not None or k != impact]
     out["DG"] = min(others) if others else None
     mu = None if pt.multipliers is None else np.array(pt.multipliers)
-    if mu is None:
-        out.update(LP=None, PD=None, NS=None)
+    if mu is None:                     # an impact at zero speed: the regular tests
+        out.update(LP=pt.fold_test, PD=pt.flip_test, NS=None)
     else:
         out["LP"] = float(np.prod(mu - 1).real)
         out["PD"] = float(np.prod(mu + 1).real)
@@ -438,7 +421,15 @@ class GrazingTracker(engine.Tracker):
         name = CODIM2[kind]
         what = EVENT_KINDS[name]
         coef = {}
-        if kind in ("LP", "PD", "NS"):
+        if kind in ("LP", "PD") and pt.multipliers is None:
+            # an impact at zero speed: the fold (flip) curve meets the grazing curve here,
+            # tangentially; kappa of b = b_graze(a) + kappa (a - a*)^2
+            curve = "fold" if kind == "LP" else "flip"
+            coef = tangency(system, X, system.impact, (curve,))
+            what += (f"; it leaves as b = b_graze(a) + kappa (a - a*)^2, (a, b) = "
+                     f"({', '.join(system.names)})" if coef else
+                     f"; the {curve} curve found here is not tangent to the grazing curve")
+        elif kind in ("LP", "PD", "NS"):
             target = {"LP": 1.0, "PD": -1.0}.get(kind)
             mu = np.array(pt.multipliers)
             if target is None:
@@ -452,11 +443,6 @@ class GrazingTracker(engine.Tracker):
             else:
                 z = min(mu, key=lambda z: abs(z - target))
                 coef = {"multiplier": float(z.real)}
-        elif kind == "RG":
-            coef = tangency(system, X, system.impact)
-            what += (f"; the curves leaving it: b = b_graze(a) + kappa (a - a*)^2 with "
-                     f"(a, b) = ({', '.join(system.names)})" if coef else
-                     "; no fold or flip curve tangent to the grazing curve was solved for")
         elif kind == "DG":
             v = [(x, k) for k, x in enumerate(pt.impact_velocities)
                  if pt.touch is not None or k != system.impact]
@@ -501,7 +487,35 @@ def follow(system, X0, box, *, h=None, h_max=None, max_points=2000, both=True, t
                                          tracker=tracker)
         halves.append((points, states, tracker.special, end))
     pts, states, special, ends = join(halves)
-    return pts, states, ends, special
+    return pts, states, ends, resonant(system, special)
+
+
+#: a grazing-fold and a grazing-flip point closer than this (relative to the parameters'
+#: size) are one resonant grazing point
+RG_TOL = 1e-7
+
+
+def resonant(system, special):
+    """The located points with each grazing-fold and grazing-flip point of an impact that
+    lie together (both curves leave the grazing curve there: resonant grazing, as in one
+    degree of freedom at omega* = 2 omega_d / m) made one RG point with both kappas."""
+    out, used = [], set()
+    for k, s in enumerate(special):
+        if k in used:
+            continue
+        if s.kind == "grazing-fold" and s.orbit.multipliers is None:
+            mate = next((j for j, o in enumerate(special) if j not in used and j != k
+                         and o.kind == "grazing-flip" and all(
+                             abs(o.params[n] - s.params[n]) <= RG_TOL * (1 + abs(s.params[n]))
+                             for n in s.params)), None)
+            if mate is not None:
+                used.add(mate)
+                coef = {**s.coefficients, **special[mate].coefficients}
+                s = GrazingSpecial("RG", s.params, s.orbit, coef, EVENT_KINDS["RG"] + (
+                    f"; the curves leave it as b = b_graze(a) + kappa (a - a*)^2, (a, b) = "
+                    f"({', '.join(system.names)})"), s.index)
+        out.append(s)
+    return out
 
 
 def start(system, u, start_values):
@@ -642,7 +656,7 @@ def _solve_at(graze, X, a, kind, i):
     return None
 
 
-def tangency(system, X, i):
+def tangency(system, X, i, kinds=("fold", "flip")):
     """{"kappa_fold": ..., "kappa_flip": ...} at a resonant grazing point X = (u, a, b) of
     impact i: the curve of each kind leaves the grazing curve as
     b = b_graze(a) + kappa (a - a*)^2 + ..., kappa from symmetric second differences of
@@ -656,7 +670,7 @@ def tangency(system, X, i):
     a0 = float(X[m])
     h = KAPPA_STEP * (1 + abs(a0))
     out = {}
-    for kind in ("fold", "flip"):
+    for kind in kinds:
         est, slope = [], None
         for step in (h, h / 2):
             diffs = []

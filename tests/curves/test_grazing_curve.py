@@ -228,7 +228,8 @@ def test_codimension_two_points_of_the_touch_curve_are_where_the_other_curves_gr
 def test_resonant_grazing_points_of_the_damped_oscillator_are_at_2_omega_d_over_m():
     """Issue 27's closed form: on the grazing curve of a damped 1-DOF oscillator with one
     rigid stop, the resonant grazing points lie at omega* = 2 omega_d / m (omega_d the
-    damped natural frequency): the 1/v part of the monodromy's trace vanishes there."""
+    damped natural frequency): the regular fold and flip tests w det(M -+ I) vanish there
+    together (a grazing-fold and a grazing-flip point at once)."""
     sp = _grazing_on_branch(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
     cv = continue_grazing(coco(), ("omega", "forcing[1]"), sp,
                           bounds={"omega": (0.3, 3.0), "forcing[1]": (0.05, 10.0)})
@@ -241,7 +242,7 @@ def test_resonant_grazing_points_of_the_damped_oscillator_are_at_2_omega_d_over_
     assert [s.kind for s in cv.special] == ["RG"] * 6           # nothing else on this curve
     d = cv.as_dict()["special"][0]
     assert d["kind"] == "RG" and set(d["params"]) == {"omega", "forcing[1]"}
-    assert "trace_residue" in cv.as_dict()["points"][0]
+    assert {"fold_test", "flip_test"} <= set(cv.as_dict()["points"][0])
 
 
 def test_a_fold_curve_that_runs_into_grazing_ends_at_the_resonant_grazing_point():
@@ -298,3 +299,31 @@ def test_the_tangency_coefficients_kappa_at_resonant_grazing():
                               a[sel] - D * H(w[sel]), rcond=None)[0][0]
         assert sel.sum() > 20
         assert fit == pytest.approx(near.coefficients["kappa_fold"], rel=2e-3)
+
+
+def test_a_grazing_fold_point_of_a_three_mass_chain_is_where_its_fold_curve_ends():
+    """With several degrees of freedom the fold and flip curves meet the grazing curve at
+    different points (no resonant grazing): the 3-mass chain's impact grazing curve in
+    (omega, gap) has a grazing-fold point, and the fold curve from the branch's fold,
+    continued on its own, ends there (landed on the regular test), with the same kappa."""
+    from pathlib import Path
+
+    import symvi
+    from symvi.curves import continue_curve
+    ch = symvi.load_model(Path(__file__).resolve().parents[2] / "docs" / "gallery"
+                          / "chain3.toml")
+    brs = continue_orbits(ch, "omega", 0.6, 1.6)
+    g = next(s for br in brs for s in br.special if s.kind == "grazing" and
+             "impact" in s.coefficients)
+    f = next(s for br in brs for s in br.special if s.kind == "fold")
+    box = {"omega": (0.6, 3.0), "gap": (0.05, 3.0)}
+    cv = continue_grazing(ch, ("omega", "gap"), g, bounds=box)
+    [gf] = [s for s in cv.special if s.kind != "unlocated"]
+    assert gf.kind == "grazing-fold" and "kappa_fold" in gf.coefficients
+    fc = continue_curve(ch, "fold", ("omega", "gap"), f, bounds=box)
+    [end] = [s for s in fc.special if s.kind == "grazing-fold"]
+    assert fc.ends[0].startswith("reached grazing at a grazing-fold point")
+    for k in ("omega", "gap"):
+        assert end.params[k] == pytest.approx(gf.params[k], abs=1e-10)
+    assert end.coefficients["kappa_fold"] == pytest.approx(gf.coefficients["kappa_fold"],
+                                                           rel=1e-6)
