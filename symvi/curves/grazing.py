@@ -301,9 +301,11 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     fx = dict(fixed)
     if not on_omega:
         fx["omega"] = float(omega)
-    notes = ("grazing-fold, -flip and -NS are located on touch curves (an impact at zero "
-             "velocity has no finite multipliers), resonant grazing with the tangency "
-             "coefficients kappa of the fold and flip curves leaving it on impact curves",)
+    notes = ("grazing-fold and -flip points are located on both kinds of curve (at an "
+             "impact's zero velocity by the regular tests w det(M -+ I), with kappa), "
+             "grazing-NS on touch curves only (an impact at zero velocity has no finite "
+             "multipliers); a grazing-fold and a grazing-flip point together are one "
+             "resonant grazing point (RG)",)
     return GrazingCurve("grazing", names, orbit.n, orbit.p, tuple(pts), tuple(special),
                         tuple(ends), box, fx, notes, tuple(states), model, impact=impact,
                         of="grazing" if touch is None else "touch",
