@@ -61,11 +61,9 @@ class GrazingSystem(CurveSystem):
             raise ParameterError("impact", impact, f"an impact of the orbit, 0 .. {p - 1}")
         super().__init__(model, n, p, names, "grazing", omega=omega, signature=signature)
         self.impact = int(impact)
-        #: the second kind: impact ``impact`` is a touch inserted into a flight of the
-        #: n-(p-1) orbit (its points are reported without it)
-        self.touch = None if touch is None else True
-        #: the touch kind: the n-p orbit's signature (without the touch)
-        self.base_signature = touch
+        #: the second kind (a touch inserted as impact ``impact`` into a flight of the
+        #: n-(p-1) orbit, whose points are reported without it): that orbit's signature
+        self.touch = touch
         #: the unknown that vanishes: the first coordinate (v_k+) of section point j
         self.slot = ((self.impact + 1) % self.p) * self.d
 
@@ -106,7 +104,7 @@ class GrazingPoint:
     #: the guard's second time derivative at the grazing (< 0: the flight turns back there)
     acceleration: float = None
     #: the impact kind: the regular fold and flip tests w det(M -+ I) at w = 0
-    #: (:func:`regular_test`): 0 where a fold or a flip curve meets the grazing curve
+    #: (:func:`regular_tests`): 0 where a fold or a flip curve meets the grazing curve
     fold_test: float = None
     flip_test: float = None
 
@@ -153,7 +151,7 @@ def grazing_point(system, X):
         del speeds[i]
         mult = _smooth_multipliers(system, model, F.omega, np.concatenate([np.ravel(Y), T]))
     else:
-        tests = tuple(regular_test(pr, u, X[m], kind, i) for kind in ("fold", "flip"))
+        tests = regular_tests(pr, u, X[m], i)
     return GrazingPoint({a: float(X[m]), b: float(X[m + 1])}, tuple(Y), tuple(T),
                         tuple(speeds), ok, why, u, touch, mult, acc, *tests)
 
@@ -180,7 +178,7 @@ def _smooth_multipliers(system, model, omega, u):
     ``model`` at ``omega`` (both parameters of the point set): smooth at the touch, so
     finite, from its own shooting system."""
     from ..orbits.periodic import Problem, eigenvalues
-    pr = Problem(model, system.n, system.p - 1, omega=omega, signature=system.base_signature)
+    pr = Problem(model, system.n, system.p - 1, omega=omega, signature=system.touch)
     _, Gu, _ = pr.evaluate(u, None, check=False)
     return tuple(complex(z) for z in eigenvalues(pr.monodromy(u, Gu)[1]))
 
@@ -385,13 +383,18 @@ class GrazingSpecial(Codim2Point):
                 "admissible": bool(self.orbit.admissible)}
 
 
+def _others(pt, impact):
+    """[(speed, index)] of the point's impacts but the grazing one (the impact kind's own
+    is ~0 all along; the touch kind's points leave the touch out already)."""
+    return [(v, k) for k, v in enumerate(pt.impact_velocities)
+            if pt.touch is not None or k != impact]
+
+
 def _tests(pt, impact):
     """The test functions of :data:`CODIM2` at a grazing point (None: not defined)."""
     out = {"AG": pt.acceleration}
-    # the other impacts (the impact kind's own grazing impact is ~0 all along)
-    others = [v for k, v in enumerate(pt.impact_velocities)
-              if pt.touch is not None or k != impact]
-    out["DG"] = min(others) if others else None
+    others = _others(pt, impact)
+    out["DG"] = min(others)[0] if others else None
     mu = None if pt.multipliers is None else np.array(pt.multipliers)
     if mu is None:                     # an impact at zero speed: the regular tests
         out.update(LP=pt.fold_test, PD=pt.flip_test, NS=None)
@@ -446,9 +449,7 @@ class GrazingTracker(engine.Tracker):
                 z = min(mu, key=lambda z: abs(z - target))
                 coef = {"multiplier": float(z.real)}
         elif kind == "DG":
-            v = [(x, k) for k, x in enumerate(pt.impact_velocities)
-                 if pt.touch is not None or k != system.impact]
-            x, j = min(v)
+            x, j = min(_others(pt, system.impact))
             coef = {"impact": j + 1, "impact_velocity": float(x)}
         else:
             coef = {"acceleration": float(pt.acceleration)}
@@ -543,13 +544,14 @@ LAND_SPEED = 1e-1
 LAND_MAXIT, LAND_STEP = 30, 1e-7
 
 
-def regular_test(pr, u, lam, kind, i):
-    """w det(M -+ I) of a fold (-) or flip (+) test, regular where impact i grazes: with
-    w = dg/dT of flight i (-> 0 with its speed) the time-eliminated DP_i has a 1/w part of
-    rank one, DP_i = dh/dy - a b^T / w, so det(M -+ I) = det([[C, a], [b^T, w]]) / w with
-    C = L (dh/dy) R -+ I, a = L dh/dT, b = R^T (dg/dy)^T, L and R the finite products
-    of the other flights' DP_j (the matrix determinant lemma). The bordered determinant
-    is smooth through w = 0, where it vanishes only at resonant grazing."""
+def regular_tests(pr, u, lam, i, kinds=("fold", "flip")):
+    """w det(M -+ I) of the fold (-) and flip (+) tests, regular where impact i grazes:
+    with w = dg/dT of flight i (-> 0 with its speed) the time-eliminated DP_i has a 1/w
+    part of rank one, DP_i = dh/dy - a b^T / w, so det(M -+ I) = det([[C, a], [b^T, w]]) / w
+    with C = L (dh/dy) R -+ I, a = L dh/dT, b = R^T (dg/dy)^T, L and R the finite
+    products of the other flights' DP_j (the matrix determinant lemma). The bordered
+    determinant is smooth through w = 0; there it vanishes where the fold (flip) curve
+    meets the grazing curve. One value per kind of ``kinds``, from one evaluation."""
     _, Gu, _ = pr.evaluate(u, lam, check=False)
     d, p = pr.d, pr.p
     mats, blocks = [], None
@@ -569,16 +571,38 @@ def regular_test(pr, u, lam, kind, i):
         L = D @ L
     dhdy, dhdt, dgdy, w = blocks
     A = np.empty((d + 1, d + 1))
-    A[:d, :d] = L @ dhdy @ R + (np.eye(d) if kind == "flip" else -np.eye(d))
+    C = L @ dhdy @ R
     A[:d, d], A[d, :d], A[d, d] = L @ dhdt, R.T @ dgdy, w
-    return float(np.linalg.det(A))
+    out = []
+    for kind in kinds:
+        A[:d, :d] = C + (np.eye(d) if kind == "flip" else -np.eye(d))
+        out.append(float(np.linalg.det(A)))
+    return tuple(out)
+
+
+def _test_row(graze, X, kind, i, cols=None):
+    """(the regular ``kind`` test at X, its gradient in X = (u, a, b) by central
+    differences of step LAND_STEP (1 + |X_k|); only in the entries ``cols`` when given,
+    the others left 0)."""
+    m = graze.m
+
+    def phi(Z):
+        return regular_tests(graze.problem(Z[-1]), Z[:m], Z[m], i, (kind,))[0]
+
+    row = np.zeros(len(X))
+    for k in range(len(X)) if cols is None else cols:
+        h = LAND_STEP * (1 + abs(X[k]))
+        e = np.zeros(len(X))
+        e[k] = h
+        row[k] = (phi(X + e) - phi(X - e)) / (2 * h)
+    return phi(X), row
 
 
 def land(system, X, kind):
-    """The resonant grazing point near the end X = (u, a, b) of a fold or flip curve that
-    runs into grazing: Newton on G = 0, v_k+ = 0 after the slowest impact, and the regular
-    test :func:`regular_test` = 0 (m + 2 equations in m + 2 unknowns; the test's row by
-    central differences). Returns (X*, :class:`GrazingPoint`, impact) or None."""
+    """The point where the fold or flip curve whose end is X = (u, a, b) meets grazing:
+    Newton on G = 0, v_k+ = 0 after the slowest impact, and the regular ``kind`` test of
+    :func:`regular_tests` = 0 (m + 2 equations in m + 2 unknowns; the test's row by central
+    differences, :func:`_test_row`). Returns (X*, :class:`GrazingPoint`, impact) or None."""
     m = system.m
     pr = system.problem(X[-1])
     fl, (_, flow, _) = pr.flights(X[:m], X[m], check=False)
@@ -587,19 +611,9 @@ def land(system, X, kind):
     graze = GrazingSystem(system.model, system.n, system.p, system.params, i,
                           omega=system.omega, signature=system.signature)
     X = np.array(X, dtype=float)
-
-    def phi(Z):
-        return regular_test(graze.problem(Z[-1]), Z[:m], Z[m], kind, i)
-
     for _ in range(LAND_MAXIT):
         F, DF, Fb = graze.evaluate(X[:-1], X[-1], dparam=True, check=False)
-        f = phi(X)
-        row = np.empty(m + 2)
-        for k in range(m + 2):
-            h = LAND_STEP * (1 + abs(X[k]))
-            e = np.zeros(m + 2)
-            e[k] = h
-            row[k] = (phi(X + e) - phi(X - e)) / (2 * h)
+        f, row = _test_row(graze, X, kind, i)
         J = np.zeros((m + 2, m + 2))
         J[:m + 1, :m + 1], J[:m + 1, m + 1], J[m + 1] = DF, Fb, row
         try:
@@ -637,14 +651,9 @@ def _solve_at(graze, X, a, kind, i):
             r = F
             J[m, :m] = DF[m, :m]
         else:
-            def phi(Z):
-                return regular_test(graze.problem(Z[-1]), Z[:m], Z[m], kind, i)
-            r = np.append(F[:m], phi(X))
-            for k in list(range(m)) + [m + 1]:
-                h = LAND_STEP * (1 + abs(X[k]))
-                e = np.zeros(m + 2)
-                e[k] = h
-                J[m, k if k < m else m] = (phi(X + e) - phi(X - e)) / (2 * h)
+            f, row = _test_row(graze, X, kind, i, [*range(m), m + 1])
+            r = np.append(F[:m], f)
+            J[m, :m], J[m, m] = row[:m], row[m + 1]          # a is fixed
         try:
             d = np.linalg.solve(J, -r)
         except np.linalg.LinAlgError:
@@ -659,8 +668,8 @@ def _solve_at(graze, X, a, kind, i):
 
 
 def tangency(system, X, i, kinds=("fold", "flip")):
-    """{"kappa_fold": ..., "kappa_flip": ...} at a resonant grazing point X = (u, a, b) of
-    impact i: the curve of each kind leaves the grazing curve as
+    """{"kappa_fold": ..., "kappa_flip": ...} at a point X = (u, a, b) where the fold or
+    flip curve (each of ``kinds``) meets the grazing curve of impact i: it leaves as
     b = b_graze(a) + kappa (a - a*)^2 + ..., kappa from symmetric second differences of
     b_curve(a) - b_graze(a) at a* +- h and a* +- h/2, Richardson-extrapolated (each point
     solved by Newton at fixed a: the grazing system, the regular fold or flip test). A key
@@ -671,13 +680,15 @@ def tangency(system, X, i, kinds=("fold", "flip")):
     m = graze.m
     a0 = float(X[m])
     h = KAPPA_STEP * (1 + abs(a0))
+    # the grazing curve at each offset, once for every kind
+    graz = {s: _solve_at(graze, X, a0 + s, None, i) for s in (h, -h, h / 2, -h / 2)}
     out = {}
     for kind in kinds:
         est, slope = [], None
         for step in (h, h / 2):
             diffs = []
             for s in (step, -step):
-                g = _solve_at(graze, X, a0 + s, None, i)
+                g = graz[s]
                 c = _solve_at(graze, X, a0 + s, kind, i)
                 if g is None or c is None:
                     break
