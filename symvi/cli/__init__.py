@@ -6,6 +6,7 @@ Only the chosen subcommand's module does real work, so ``symvi orbit`` never
 imports second- or third-order generated code.
 """
 import argparse
+import collections
 import importlib
 import json
 import re
@@ -103,17 +104,8 @@ PRESET_NAMED = f"b, r, mu_m, mu_k, f2 for the preset; {NAMED}"
 RANGE_FORM = "NAME=LO:HI"
 
 
-class Range(tuple):
-    """(name, lo, hi, n) of a ``NAME=LO:HI[:N]`` argument (n None without ``:N``)."""
-    __slots__ = ()
-
-    def __new__(cls, name, lo, hi, n=None):
-        return super().__new__(cls, (name, lo, hi, n))
-
-    name = property(lambda self: self[0])
-    lo = property(lambda self: self[1])
-    hi = property(lambda self: self[2])
-    n = property(lambda self: self[3])
+#: (name, lo, hi, n) of a ``NAME=LO:HI[:N]`` argument (n None without ``:N``)
+Range = collections.namedtuple("Range", "name lo hi n", defaults=(None,))
 
 
 def range_form(steps=False, names=None):

@@ -3,7 +3,7 @@ that kind found in an omega interval, with its codimension-two points."""
 import argparse
 
 from . import (PRESET_NAMED, add_params, check_value, describe, old_range, params_from,
-               print_json, print_special)
+               parse_range, print_json, print_special)
 
 
 def register(sub):
@@ -36,22 +36,10 @@ def register(sub):
 def parse_bounds(items, names, model=None):
     """{name: (lo, hi)} of the ``--bounds NAME=LO:HI`` items: a curve parameter each, once,
     finite LO < HI inside the parameter's valid range (of ``model``, when given)."""
-    import math
-
     from ..errors import ParameterError
     out = {}
     for item in items:
-        name, eq, rng = item.partition("=")
-        name = name.strip()
-        lo, colon, hi = rng.partition(":")
-        try:
-            lo, hi = float(lo), float(hi)
-            ok = bool(eq and colon and name) and math.isfinite(lo) and math.isfinite(hi) \
-                and lo < hi
-        except ValueError:
-            ok = False
-        if not ok:
-            raise ParameterError("--bounds", item, "NAME=LO:HI with finite numbers LO < HI")
+        name, lo, hi, _ = parse_range(item, "--bounds")    # the one range form
         if name not in names:
             raise ParameterError("--bounds", item, f"a bound of a curve parameter "
                                  f"({', '.join(names)})")

@@ -108,11 +108,8 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         notes.append("conservative model (r = 1, no damping): the map preserves volume and "
                      "multipliers lie on the unit circle over whole intervals; (H3) has no "
                      "meaning and NS curves are not defined")
-    fx = {k: v for k, v in fixed.items()}
-    if not on_omega:
-        fx["omega"] = float(omega)
     return Curve(kind, names, orbit.n, orbit.p, tuple(pts), tuple(special), tuple(ends),
-                 box, fx, tuple(notes), tuple(states), model)
+                 box, fixed, tuple(notes), tuple(states), model)
 
 
 def _as_periodic(model, start):

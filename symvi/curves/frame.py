@@ -13,8 +13,8 @@ from ..errors import ParameterError
 def prepare(model, orbit, names, fixed, bounds):
     """What a curve in ``names`` from ``orbit`` needs of its arguments, checked: (names,
     the model with ``fixed`` set, omega (``fixed``'s or the orbit's), the parameters
-    parsed once, whether one is omega, their start values, the box, ``fixed`` without
-    omega)."""
+    parsed once, whether one is omega, their start values, the box, and the fixed values
+    a curve reports: ``fixed`` with omega when omega is not a curve parameter)."""
     names = tuple(names)
     if len(names) != 2:
         raise ParameterError("params", names, "two parameter names, e.g. omega,b")
@@ -31,6 +31,8 @@ def prepare(model, orbit, names, fixed, bounds):
     pars = tuple(model.parameter(nm) for nm in names)
     on_omega = any(par.is_forcing_frequency for par in pars)
     start = {nm: float(par.get(model, omega)) for nm, par in zip(names, pars)}
+    if not on_omega:
+        fixed["omega"] = float(omega)
     return names, model, omega, pars, on_omega, start, bounds_of(names, start, bounds), fixed
 
 

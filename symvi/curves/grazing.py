@@ -296,16 +296,13 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     X0 = start(system, u0, start_values)
     pts, states, ends, special = follow(system, X0, box, h=h, h_max=h_max,
                                         max_points=max_points, both=both, through=through)
-    fx = dict(fixed)
-    if not on_omega:
-        fx["omega"] = float(omega)
     notes = ("grazing-fold and -flip points are located on both kinds of curve (at an "
              "impact's zero velocity by the regular tests w det(M -+ I), with kappa), "
              "grazing-NS on touch curves only (an impact at zero velocity has no finite "
              "multipliers); a grazing-fold and a grazing-flip point together are one "
              "resonant grazing point (RG)",)
     return GrazingCurve("grazing", names, orbit.n, orbit.p, tuple(pts), tuple(special),
-                        tuple(ends), box, fx, notes, tuple(states), model, impact=impact,
+                        tuple(ends), box, fixed, notes, tuple(states), model, impact=impact,
                         of="grazing" if touch is None else "touch",
                         signature=tuple(orbit.signature_names))
 
