@@ -91,7 +91,7 @@ def run(args):
                                                through=args.through)
         except ParameterError as exc:
             # the library names its arguments; name the flags the user gave
-            flag = {"index": "--index"}.get(exc.name) or (
+            flag = {"index": "--index", "kind": "--kind"}.get(exc.name) or (
                 "--bounds" if str(exc.name).startswith("bounds") else None)
             if flag is None:
                 raise

@@ -53,10 +53,7 @@ class GrazingSystem(CurveSystem):
     KINDS = ("grazing",)
 
     def __init__(self, model, n, p, names, impact, omega=None, signature=None, touch=None):
-        if model.elastic:
-            raise ParameterError("kind", "grazing", "a model of rigid stops (an elastic "
-                                 "stop's entry at zero speed is a touch: its contact time "
-                                 "vanishes, and no curve of touches is followed)")
+        _rigid(model)
         if not 0 <= int(impact) < int(p):
             raise ParameterError("impact", impact, f"an impact of the orbit, 0 .. {p - 1}")
         super().__init__(model, n, p, names, "grazing", omega=omega, signature=signature)
@@ -82,6 +79,15 @@ class GrazingSystem(CurveSystem):
         if not dparam:
             return F, DF, None
         return F, DF, np.append(pr.derivative(u, a, self.params[1]), 0.0)
+
+
+def _rigid(model):
+    """Refuse elastic stops: their entry at zero speed is a touch whose contact time
+    vanishes, and no curve of touches is followed."""
+    if model.elastic:
+        raise ParameterError("kind", "grazing", "a model of rigid stops (an elastic "
+                             "stop's entry at zero speed is a touch: its contact time "
+                             "vanishes, and no curve of touches is followed)")
 
 
 @dataclass(frozen=True)
@@ -281,6 +287,7 @@ def continue_grazing(model, names, point, *, bounds=None, h=None, h_max=None,
     orbit = getattr(point, "orbit", point)
     # the model at the point (a branch in another parameter moved it), then ``fixed``
     model = Model.of(getattr(orbit, "model", None) or model)
+    _rigid(model)                     # before a touch is split on the rigid flow
     names, model, omega, pars, on_omega, start_values, box, fixed = prepare(
         model, orbit, names, fixed, bounds)
     if touch is None:

@@ -117,6 +117,11 @@ def test_grazing_curves_refuse_what_they_do_not_follow(tmp_path):
     assert_bad_input(cli("curve", "--mu-m", "2", "--mu-k", "5", "--f2", "0", "--b", "1.5",
                          "--r", "0.8", "--range", "omega=0.70:0.76", "--params", "omega,b",
                          "--kind", "graze"), "--kind", "grazing")
+    # from the command line, naming the flag (it failed inside the rigid flow before)
+    from pathlib import Path
+    el = Path(__file__).resolve().parents[2] / "examples" / "contacts" / "oscillator_elastic.toml"
+    assert_bad_input(cli("curve", "--model", el, "--range", "omega=0.5:4", "--params",
+                         "omega,stop[1].gap", "--kind", "grazing"), "--kind", "rigid stops")
 
 
 def test_a_touch_grazing_curve_of_the_papers_example_1_is_the_closed_forms():
