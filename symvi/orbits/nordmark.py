@@ -112,6 +112,16 @@ class DiscontinuityMap:
 
     Attributes
     ----------
+    model : Model
+        The orbit's model.
+    omega : float
+        The forcing frequency.
+    param, value : str, float
+        The branch parameter lambda and its value lambda* at grazing.
+    kind : str
+        "flight" (a touch inside a flight) or "impact" (an impact of zero velocity).
+    stop : int
+        The stop touched (0-based).
     names : tuple of str
         The coordinates xi on the section Pi = {g . v = 0}: ("h", positions, velocities,
         "phase"), h measured from the stop (> 0 past it).
@@ -143,8 +153,9 @@ class DiscontinuityMap:
         e_h . (I - N)^-1 E (the impacting period-1 orbit's coefficient).
     scenario : str
         The predicted local scenario past grazing, in words.
-    kind : str
-        "flight" (a touch inside a flight) or "impact" (an impact of zero velocity).
+    legs, n_periods : tuple, int
+        One period from the tangency: (duration, constraint hit at its end or None for
+        the return to Pi) per leg; the forcing periods n.
     """
 
     model: object = field(repr=False)
