@@ -273,7 +273,7 @@ def discontinuity_map(orbit, where, *, param="omega"):
     >>> nm.names
     ('h', 'x2', 'v2', 'phase')
     >>> print(nm.acceleration < 0, nm.past_direction)
-    True -1.0
+    True 1.0
     """
     coef = getattr(where, "coefficients", where)
     if not isinstance(coef, dict) or not ("impact" in coef or "flight" in coef):
