@@ -222,7 +222,8 @@ class DiscontinuityMap:
                 "normalisation": NORMALISATION}
 
 
-NORMALISATION = ("section Pi = {g . v = 0} at the tangency; xi = (h, other positions, other "
+NORMALISATION = ("section Pi = {h' = 0} (zero normal velocity) at the tangency; xi = (h, other "
+                 "positions, other "
                  "velocities, phase), h = g . x - level (> 0 past the stop, = -h_min); "
                  "P_N(x) = N x + E sqrt(h) + mu m for h > 0, N x + mu m else; E = N E0; "
                  "mu = sign(delta') (lambda - lambda*) > 0 past grazing")
