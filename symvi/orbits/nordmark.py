@@ -623,6 +623,18 @@ def descent_point(nm, xi, model, omega):
     return zt, phi0 + F.omega * t
 
 
+def other_speeds(nm):
+    """The approach speeds of the grazing orbit's other impacts, in the order of the legs
+    from the tangency (the speeds of the impacts the new one joins)."""
+    G = _grazing_of(nm)
+    z, phi, out = G.z, G.phi, []
+    for t_leg, k in nm.legs[:-1]:
+        g = G._row(G.rows, k)[0]
+        z, phi, _, _, _, f = G._leg(G.flow, G.F, G.rows, z, phi, t_leg, k)
+        out.append(float(g @ f[:G.N]))
+    return out
+
+
 _GRAZINGS = {}
 
 
@@ -651,4 +663,4 @@ def _grazing_of(nm):
 
 
 __all__ = ["DiscontinuityMap", "discontinuity_map", "scenario", "smooth_orbit",
-           "descent_point", "check_acceleration", "NORMALISATION"]
+           "descent_point", "other_speeds", "check_acceleration", "NORMALISATION"]

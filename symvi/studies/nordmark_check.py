@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..maps.section import Section
-from ..orbits.nordmark import descent_point, discontinuity_map, smooth_orbit
+from ..orbits.nordmark import descent_point, discontinuity_map, other_speeds, smooth_orbit
 from ..simulations.diagnostics import classify
 from ..simulations.simulation import simulate
 
@@ -75,7 +75,7 @@ def check(nm, mus=None, *, depths=DEFAULT_DEPTHS, n_impacts=400, transient=3000)
         raise ParameterError("map", f"stop {nm.stop + 1}", "a touch of the model's first stop")
     if mus is None:
         mus = [float(d) / abs(nm.delta_rate) for d in depths]
-    v_regular = _regular_speeds(nm)
+    v_regular = other_speeds(nm)
     cut = 0.5 * min(v_regular) if v_regular else math.inf
     rows = []
     for mu in mus:
@@ -139,19 +139,6 @@ def check_branch(model, param, start, stop, mus=None, *, depths=DEFAULT_DEPTHS,
 
 def _stop_mass(model):
     return model.constraints[0].coordinate
-
-
-def _regular_speeds(nm):
-    """The approach speeds of the grazing orbit's other impacts (the legs that end on one)."""
-    from ..orbits.nordmark import _grazing_of
-    G = _grazing_of(nm)
-    z, phi, out = G.z, G.phi, []
-    for t_leg, k in nm.legs[:-1]:
-        g = G._row(G.rows, k)[0]
-        zt, phi, _, _, _, f = G._leg(G.flow, G.F, G.rows, z, phi, t_leg, k)
-        out.append(float(g @ f[:G.N]))
-        z = zt
-    return out
 
 
 def study(params, spec, quick):
