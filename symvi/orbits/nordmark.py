@@ -256,10 +256,11 @@ def discontinuity_map(orbit, where, *, param="omega"):
     Raises
     ------
     ParameterError
-        ``where`` names no grazing, the orbit is not at grazing (|h| or |g . v| above
-        1e-6 of its scale at the named place), or the model has an elastic stop.
+        ``where`` names no grazing, the orbit is not at grazing (``abs(h)`` or
+        ``abs(g . v)`` above 1e-6 of its scale at the named place), or the model has an
+        elastic stop.
     SingularCaseError
-        ``"degenerate-grazing"``: the acceleration at the tangency is ~0 (|a| below
+        ``"degenerate-grazing"``: the acceleration at the tangency is ~0 (``abs(a)`` below
         1e-8 of the vector field); ``"not-grazing"``: a > 0, the stop would hold the
         mass (sticking, not a grazing).
 
