@@ -94,3 +94,17 @@ def test_refuses_a_nonpositive_mu():
     with pytest.raises(ParameterError, match="mus"):
         check(run(2.0).map, [0.0])
     assert np.isfinite(run(2.0).map.delta_rate)
+
+
+def test_immediate_chaos_above_two_thirds():
+    """lambda1 = e^{-0.382 * 2 pi / 8} = 0.74 > 2/3: every depth gives a chaotic attractor
+    at once, whose fastest new impact reaches the 1-D bound sqrt(2 |a| (1 - lambda1) delta)
+    (and never exceeds it), with more forcing periods between new impacts as mu shrinks."""
+    r = run(8.0)
+    assert r.map.scenario.startswith("immediate chaos")
+    assert 2 / 3 < r.map.multipliers[0].real < 1
+    for row in r.rows:
+        assert row["attractor"] == "chaos", row
+        assert 0.99 < row["v_new_ratio"] <= 1 + 1e-3, row
+    gaps = [row["periods_per_new_impact"] for row in r.rows]
+    assert gaps == sorted(gaps)
