@@ -62,6 +62,8 @@ throwing the next iterate away from the stop):
 * 1/4 < lambda1 < 2/3: period-adding with chaotic windows between the periodic ones;
 * 2/3 < lambda1 < 1: immediate chaos, a chaotic attractor of size O(mu) at once.
 
+The overdamped 1-DOF of ``tests/studies/test_nordmark_check.py`` shows each regime in
+simulation (lambda1 = 0.05, 0.30, 0.55, 0.74).
 Otherwise (|lambda1| >= 1: the grazing orbit is unstable, no local attractor; complex,
 negative or not dominant lambda1; gamma >= 0) the scenario says so and does not guess.
 
