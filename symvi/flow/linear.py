@@ -110,6 +110,7 @@ class LinearFlow:
     def __init__(self, model, bk, active=None):
         self.model, self.bk = model, bk
         n = model.n
+        model.require_linear()                     # nonlinear forces: flow/nonlinear.py
         if active is None:
             model.require_rigid_stops()            # what this flow takes (issue 25)
         else:

@@ -20,6 +20,18 @@ or, for several stops (or a stop between masses, on the lower side, or elastic),
     side = "upper"                  # or "lower" (s >= gap); "upper" by default
     restitution = 0.8               # rigid; or stiffness = 50.0 (and damping = 0.1): elastic
 
+Smooth nonlinear forces (issue 28), one expression per mass on the left-hand side
+(M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)), with their named parameters::
+
+    [model]
+    ...
+    nonlinear = ["beta*x1**3"]      # in x1..xN, v1..vN and the parameters below
+    [model.parameters]
+    beta = 0.5
+
+(:mod:`symvi.model._forces` parses them in a closed namespace; only ``simulate`` runs
+such a model for now.)
+
 (The dynamics take one rigid stop on one mass for now: :meth:`Model.require_one_rigid_stop`.)
 A bad file raises :class:`ModelFileError`: one line naming the file and the key.
 Sizes are bounded before anything is allocated: the file (MAX_BYTES), the nesting of
@@ -38,7 +50,7 @@ MAX_BYTES = 1 << 20
 #: arrays or inline tables nested deeper than this are refused (a matrix needs 2)
 MAX_DEPTH = 8
 
-_MODEL_KEYS = {"mass", "stiffness", "damping", "forcing"}
+_MODEL_KEYS = {"mass", "stiffness", "damping", "forcing", "nonlinear", "parameters"}
 _STOP_KEYS = {"mass", "between", "gap", "side", "restitution", "stiffness", "damping"}
 
 
@@ -66,6 +78,8 @@ def _key_of(field, where=None):
         return f"{where or '[stop]'} {field[5:]}"
     if field in ("stop", "stops"):
         return where or "[stop]"
+    if field.startswith("parameters"):
+        return "[model.parameters]" + (f" {field[11:]}" if field[11:] else "")
     return "[model] " + field
 
 
@@ -130,9 +144,13 @@ def model_from_dict(data, source="<model>"):
         stops = {"stops": [_stop(source, f"[[stop]] #{k}", t) for k, t in enumerate(s, 1)]}
     else:
         stops = {"stop": _stop(source, "[stop]", s)}
+    if "parameters" in m and "nonlinear" not in m:
+        raise ModelFileError(source, "[model.parameters]", "only with [model] nonlinear = "
+                             "[...] (the named parameters of the nonlinear forces)")
     try:
         return Model(mass=m["mass"], stiffness=m["stiffness"], damping=m.get("damping"),
-                     forcing=m["forcing"], **stops)
+                     forcing=m["forcing"], nonlinear=m.get("nonlinear"),
+                     parameters=m.get("parameters"), **stops)
     except ParameterError as exc:
         raise _invalid(source, exc) from None
 
@@ -317,6 +335,11 @@ def dumps(model):
     if model.damped:
         lines.append(f"damping = {mat(model.damping)}")
     lines.append(f"forcing = [{', '.join(repr(float(x)) for x in model.forcing)}]")
+    d = model.as_dict()
+    if "nonlinear" in d:                   # the forces' texts as given (checked: no quotes)
+        lines.append("nonlinear = [" + ", ".join(f'"{t}"' for t in d["nonlinear"]) + "]")
+        lines += ["", "[model.parameters]"]
+        lines += [f"{k} = {v!r}" for k, v in d["parameters"].items()]
     stops = model.as_dict()["stop"]        # one table for today's stop, else [[stop]]
     for t in (stops if isinstance(stops, list) else [stops]):
         lines += ["", "[[stop]]" if isinstance(stops, list) else "[stop]"]

@@ -46,7 +46,9 @@ from . import _preset
 from ._checks import DEF_TOL, _number, _short, _toml  # noqa: F401 (re-exported)
 from ._checks import _check_stops, _definite, _finite, _shown
 from ._constraint import SIDES, Constraint
-from .parameters import PresetParameter, StopParameter, Tangent  # noqa: F401 (Tangent: re-exported)
+from ._forces import Forces
+from .parameters import NamedParameter, PresetParameter, StopParameter
+from .parameters import Tangent  # noqa: F401 (re-exported)
 from .parameters import parse as _parse_parameter
 
 #: number of masses supported
@@ -411,10 +413,10 @@ class Model:
            [0., 2.]])
     """
 
-    __slots__ = ("_M", "_K", "_C", "_P", "_stops", "_preset", "_arrays", "_hash")
+    __slots__ = ("_M", "_K", "_C", "_P", "_stops", "_preset", "_arrays", "_hash", "_nl")
 
     def __init__(self, *, mass, stiffness, forcing, stop=None, stops=None, damping=None,
-                 _preset=None):
+                 nonlinear=None, parameters=None, _preset=None):
         stops = _stop_list(stop, stops)
         M = _matrix("mass", mass, diag_ok=True)
         n = M.shape[0]
@@ -427,6 +429,11 @@ class Model:
         if np.abs(P).max() > ABS_MAX:
             raise ParameterError("forcing", P.tolist(), f"|forcing[i]| <= {ABS_MAX:g}")
         _check_stops(stops, n, named=stop is None)
+        if nonlinear is None and parameters:
+            raise ParameterError("parameters", _shown(parameters), "named parameters of the "
+                                 "nonlinear forces, only with nonlinear=[...]")
+        forces = None if nonlinear is None else Forces.of(nonlinear, parameters, n)
+        object.__setattr__(self, "_nl", forces)
         object.__setattr__(self, "_M", _tup(M))
         object.__setattr__(self, "_K", _tup(K))
         object.__setattr__(self, "_C", _tup(C))
@@ -502,6 +509,23 @@ class Model:
         return self
 
     @property
+    def nonlinear(self):
+        """The smooth nonlinear forces f_1..f_N (SymPy expressions in x1..xN, v1..vN and the
+        named parameters), added to the left-hand side: M x'' + C x' + K x + f(x, v) =
+        P sin(omega t + tau) (issue 28); None for a linear model."""
+        return None if self._nl is None else self._nl.exprs(self.n)
+
+    def require_linear(self):
+        """``self``, or the one-line ParameterError of an analysis that rests on the exact
+        linear flow (orbits, continuation, curves, jets, planes, the Hopf scan): a model
+        with nonlinear forces runs in ``simulate`` only for now (issue 28).  Called where a
+        model enters the linear flow (:class:`symvi.flow.linear.LinearFlow`)."""
+        if self._nl is not None:
+            raise ParameterError("model", "nonlinear", "a linear model: nonlinear forces run "
+                                 "in simulate only (issue 28)")
+        return self
+
+    @property
     def elastic(self):
         """Whether a stop is elastic (a contact phase: :mod:`symvi.flow.contact`)."""
         return any(s.stiffness is not None for s in self._stops)
@@ -564,8 +588,10 @@ class Model:
         """A stable tuple of every number, for hashing and caching."""
         s = self._stops
         if len(s) == 1 and s[0].plain:
-            return (self._M, self._K, self._C, self._P) + s[0].key()
-        return (self._M, self._K, self._C, self._P, tuple(t.key() for t in s))
+            key = (self._M, self._K, self._C, self._P) + s[0].key()
+        else:
+            key = (self._M, self._K, self._C, self._P, tuple(t.key() for t in s))
+        return key if self._nl is None else key + ("nonlinear",) + self._nl.key(self.n)
 
     def __eq__(self, other):
         return isinstance(other, Model) and self.key() == other.key()
@@ -577,10 +603,12 @@ class Model:
         if self._preset is not None:
             p = self._preset
             return ("Model.luo_xie(" + ", ".join(f"{k}={p[k]!r}" for k in _PRESET) + ")")
+        nl = "" if self._nl is None else (f", nonlinear={list(self._nl.texts)!r}, "
+                                          f"parameters={dict(self._nl.parameters)!r}")
         return (f"Model(mass={[list(r) for r in self._M]}, stiffness={[list(r) for r in self._K]}, "
                 f"damping={[list(r) for r in self._C]}, forcing={list(self._P)}, "
-                + (f"stop={self._stops[0]!r})" if len(self._stops) == 1 else
-                   f"stops={list(self._stops)!r})"))
+                + (f"stop={self._stops[0]!r}" if len(self._stops) == 1 else
+                   f"stops={list(self._stops)!r}") + nl + ")")
 
     def as_dict(self):
         """The model as plain data (the ``[model]`` and ``[stop]`` tables of a model file):
@@ -592,6 +620,9 @@ class Model:
              "stop": s[0].fields(True) if len(s) == 1 and s[0].plain else [t.fields() for t in s]}
         if self._preset is not None:
             d["preset"] = dict(self._preset)
+        if self._nl is not None:
+            d["nonlinear"] = list(self._nl.texts)
+            d["parameters"] = dict(self._nl.parameters)
         return d
 
     # ---- the paper's preset ----------------------------------------------------
@@ -702,6 +733,8 @@ class Model:
         names += [f"forcing[{i + 1}]" for i in range(n)]
         if self._preset is not None:
             names = list(_PRESET) + names
+        if self._nl is not None:
+            names += list(self._nl.names)
         return names
 
     def parameter(self, name):
@@ -742,6 +775,8 @@ class Model:
         >>> m.parameter("stiffness[2,2]").get(m)
         6.0
         """
+        if self._nl is not None and str(name) in self._nl.names:
+            return NamedParameter(str(name), "named", n=len(self._P))
         par = _parse_parameter(name, len(self._P), self._preset is not None)
         if isinstance(par, StopParameter):
             par.stop_of(self)                     # the model has that stop, of that kind
@@ -817,6 +852,12 @@ class Model:
             (name, v), = changes.items()
             return self.parameter(name).apply(self, v)
         pars = {name: self.parameter(name) for name in changes}
+        named = {k: v for k, v in changes.items() if isinstance(pars[k], NamedParameter)}
+        if named:                                 # the forces' parameters, set last
+            new = self.with_(**{k: v for k, v in changes.items() if k not in named})
+            for name, v in named.items():
+                new = pars[name].apply(new, v)
+            return new
         preset = dict(self._preset) if self._preset else None
         if changes and all(isinstance(p, StopParameter) for p in pars.values()):
             new = self
@@ -847,7 +888,10 @@ class Model:
             else:
                 A = {"mass": M, "stiffness": K, "damping": C}[kind]
                 A[i, j] = A[j, i] = v
-        new = Model(mass=M, stiffness=K, damping=C, forcing=P, stops=self._stops)
+        nl = self._nl
+        new = Model(mass=M, stiffness=K, damping=C, forcing=P, stops=self._stops,
+                    **({} if nl is None else {"nonlinear": list(nl.texts),
+                                              "parameters": dict(nl.parameters)}))
         for name, v in on_stops.items():
             new = pars[name].apply(new, v)
         return new

@@ -279,12 +279,36 @@ class PresetParameter(Parameter):
         return 0.0, 0.0
 
 
+class NamedParameter(Parameter):
+    """A named parameter of the model's nonlinear forces (``beta`` of ``beta*x1**3``,
+    issue 28): read and set like the others; its tangent waits for the nonlinear jets."""
+
+    __slots__ = ()
+
+    def __reduce__(self):
+        return _named, (self.name, self.n)
+
+    def get(self, model, omega=None):
+        return model._nl.value(self.name)
+
+    def apply(self, model, value):
+        return _copy(model, preset=model._preset, _nl=model._nl.with_value(self.name, value))
+
+    def tangent(self, model=None):
+        raise ParameterError("parameter", self.name, "a parameter of the linear model: a "
+                             "nonlinear force's parameter has no tangent yet (issue 28)")
+
+
+def _named(name, n):
+    return NamedParameter(name, "named", n=n)
+
+
 def _copy(model, *, preset, **slots):
     """A copy of ``model`` with some fields (slot names: ``_M``, ``_stops``, ...) replaced,
     already validated by the caller."""
-    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stops", "_arrays"}, slots
+    assert set(slots) <= {"_M", "_K", "_C", "_P", "_stops", "_arrays", "_nl"}, slots
     new = object.__new__(type(model))
-    for slot in ("_M", "_K", "_C", "_P", "_stops"):
+    for slot in ("_M", "_K", "_C", "_P", "_stops", "_nl"):
         object.__setattr__(new, slot, slots.get(slot, getattr(model, slot)))
     object.__setattr__(new, "_preset", preset)
     object.__setattr__(new, "_arrays", slots.get("_arrays", {}))
