@@ -536,8 +536,11 @@ class NonlinearFlow:
     masses and elastic stops are refused for now (issue 28's later steps)."""
 
     def __init__(self, model):
-        model.require_rigid_stops()
         for k, s in enumerate(model.stops, 1):
+            if s.stiffness is not None:
+                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
+                                     "rigid stops (an elastic stop with nonlinear forces is "
+                                     "a later step of issue 28)")
             if s.mass is None:
                 raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
                                      "stops on masses (a stop between masses with nonlinear "

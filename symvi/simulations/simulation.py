@@ -205,7 +205,10 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).  A
     model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
-    runs the compiled loop of :mod:`symvi.flow.compiled`.
+    runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
+    (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
+    :mod:`symvi.flow.nonlinear` (rigid stops on masses), with the same records and stop
+    reasons.
 
     A run ends early, with its reason in ``stop``, on a grazing contact, on sticking (the
     stop would hold the mass), on chatter (16 flights in a row shorter than 1e-3 forcing
@@ -270,6 +273,8 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     True
     """
     model = Model.of(params)
+    if model.nonlinear is not None:   # the numerical flow of symvi.flow.nonlinear
+        return _simulate_nonlinear(model, omega, y0, n_impacts, transient)
     if model.elastic:                 # contact phases: the walk of symvi.flow.contact
         return _simulate_contacts(model, omega, y0, n_impacts, transient)
     omega = check_omega(params, omega)
@@ -296,6 +301,33 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     hits.flags.writeable = False
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
                       STOP_NAMES[code], transient, ys, hits)
+
+
+def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
+    """:func:`simulate` of a model with nonlinear forces (issue 28): the run of
+    :class:`symvi.flow.nonlinear.NonlinearFlow` (DOP853, every contact located on the
+    dense output), the same records and stop reasons as the compiled run.  ``y0`` is
+    required: there is no period-1 orbit in closed form to start from."""
+    from ..flow.nonlinear import NonlinearFlow
+    from ..maps import Section
+    from ..numerics.tolerances import OMEGA_RANGE
+    lo, hi = OMEGA_RANGE
+    if not (isinstance(omega, (int, float, np.floating)) and not isinstance(omega, bool)
+            and math.isfinite(omega) and lo <= omega <= hi):
+        raise ParameterError("omega", omega, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
+    n_impacts = _positive_int("n_impacts", n_impacts)
+    transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
+    flow = NonlinearFlow(model)                   # refuses what it cannot run yet
+    if y0 is None:
+        raise ParameterError("y0", None, f"a start on the first stop's section "
+                             f"({', '.join(Section.of(model).names)}): no period-1 orbit in "
+                             "closed form to start from with nonlinear forces")
+    y0 = _check_model_start(model, y0)
+    code, sec, t, vimp, hits, _ = flow.run(float(omega), y0, n_impacts, transient)
+    hits = np.ascontiguousarray(hits, dtype=np.int64)
+    hits.flags.writeable = False
+    return Simulation(model, float(omega), y0, _frozen(sec), _frozen(t), _frozen(vimp),
+                      STOP_NAMES[code], transient, None, hits)
 
 
 def _simulate_contacts(model, omega, y0, n_impacts, transient):
