@@ -340,6 +340,7 @@ class LinearFlow:
         from ..model import Model
         if not isinstance(model, Model):
             raise ParameterError("model", model, "a symvi.Model")
+        model.require_linear()              # before the caches shared by equal matrices
         if digits is None:
             return _flow_float(model)
         with mpmath.mp.workdps(digits):

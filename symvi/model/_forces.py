@@ -58,6 +58,10 @@ def _tokens(key, text):
         raise ParameterError(key, text, _ALLOWED, "empty")
     if len(text) > MAX_CHARS:
         raise ParameterError(key, f"{len(text)} characters", f"at most {MAX_CHARS} characters")
+    for name in re.findall(r"[A-Za-z_][A-Za-z0-9_]*", text):
+        if name in NON_SMOOTH:                  # said first: the syntax may not be ours
+            raise ParameterError(key, text, _ALLOWED,
+                                 f"{name} is not smooth (a force must be: the jets need it)")
     names, i = [], 0
     end = len(text.rstrip())
     while i < end:
@@ -93,9 +97,6 @@ def parse_force(key, text, symbols):
     import sympy
     from sympy.parsing.sympy_parser import auto_number, parse_expr
     for name in _tokens(key, text):
-        if name in NON_SMOOTH:
-            raise ParameterError(key, text, _ALLOWED,
-                                 f"{name} is not smooth (a force must be: the jets need it)")
         if name not in symbols and name not in FUNCTIONS and name != "pi":
             raise ParameterError(key, text, _ALLOWED, f"unknown symbol {name}")
     g = _namespace()

@@ -408,9 +408,13 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     :meth:`symvi.model.Signature.names`), the rest is judged on the entries into the stop
     met most often.
     """
+    from ..errors import ParameterError
     from ..model import Model
     from . import classifier as cl
-    Model.of(sim.params)
+    if Model.of(sim.params).nonlinear is not None:
+        raise ParameterError("classify", "nonlinear", "a run of a linear model: the "
+                             "classifier's Lyapunov exponents need the tangent map, which "
+                             "nonlinear forces do not have yet (issue 28)")
     if sim.stop != "completed":
         code = cl.code_of_stop(cf.STOP_NAMES.index(sim.stop))
         return Classification(f"stopped: {sim.stop}", None, None, None, None, code)
