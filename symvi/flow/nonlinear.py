@@ -246,9 +246,10 @@ def _error(Kst, y, ynew, h, rtol, atol):
             a3 += _E3[j] * Kst[j, i]
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
+    den = (e5 + 0.01 * e3) * dim
+    if den == 0.0:                          # both zero, or underflowed (a state at rest)
         return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * dim)
+    return abs(h) * e5 / math.sqrt(den)
 
 
 @nb.njit(cache=True)

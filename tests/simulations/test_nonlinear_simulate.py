@@ -1,0 +1,139 @@
+"""``simulate`` of a model with nonlinear forces (issue 28, first step): the impact Duffing
+oscillator against solve_ivp with events over 50 impacts, the Simulation it returns, the
+stop reasons, its start, and the one-line refusals of every analysis that rests on the
+exact linear flow."""
+import math
+
+import numpy as np
+import pytest
+
+import symvi
+from symvi.errors import ParameterError
+from symvi.model import Model, Stop, dumps
+from symvi.simulations.simulation import Simulation
+from tests.fuzz._cli import cli
+
+LIN = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
+           stop=Stop(mass=1, gap=0.5, restitution=0.8))
+DUFFING = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": 0.5})
+OMEGA, Y0 = 1.3, (-0.3, 0.1)
+
+
+def _reference(n, omega=OMEGA, y0=Y0, beta=0.5, gap=0.5, r=0.8):
+    """The same run by solve_ivp (DOP853, rtol 1e-13) with a terminal event per flight."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(t, y, tau):
+        return [y[1], math.sin(omega * t + tau) - 0.1 * y[1] - y[0] - beta * y[0] ** 3]
+    ev = lambda t, y, tau: y[0] - gap                              # noqa: E731
+    ev.terminal, ev.direction = True, 1
+    z, tau, out = np.array([gap, y0[0]]), y0[1], []
+    for _ in range(n):
+        s = solve_ivp(rhs, (0, 1000), z, method="DOP853", rtol=1e-13, atol=1e-13,
+                      events=ev, args=(tau,))
+        te, ze = s.t_events[0][0], s.y_events[0][0]
+        tau = (tau + omega * te) % (2 * math.pi)
+        z = np.array([gap, -r * ze[1]])
+        out.append((z[1], tau, te, ze[1]))
+    return np.array(out)
+
+
+def test_the_impact_duffing_oscillator_against_solve_ivp():
+    """50 impacts: section points (v+, tau), flight times and impact speeds to 1e-9."""
+    sim = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=50)
+    ref = _reference(50)
+    assert isinstance(sim, Simulation) and sim.stop == "completed" and sim.n == 50
+    assert np.abs(sim.section - ref[:, :2]).max() < 1e-9
+    assert np.abs(np.diff(np.concatenate([[0.0], sim.t])) - ref[:, 2]).max() < 1e-9
+    assert np.abs(sim.impact_velocity - ref[:, 3]).max() < 1e-9
+    assert sim.fixed_point is None and (np.asarray(sim.hits) == 0).all()
+    assert not sim.section.flags.writeable
+    # the cubic spring matters: the linear model's run is elsewhere
+    lin = symvi.simulate(Model(**LIN), OMEGA, y0=Y0, n_impacts=50)
+    assert np.abs(lin.section - sim.section).max() > 1e-2
+
+
+def test_transient_and_the_model_file(tmp_path):
+    """A transient drops images as the compiled run does; the CLI runs the model file."""
+    full = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=30)
+    tail = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=10, transient=20)
+    assert np.array_equal(tail.section, full.section[20:]) and tail.transient == 20
+    assert np.array_equal(tail.t, full.t[20:])
+    f = tmp_path / "duffing.toml"
+    f.write_text(dumps(DUFFING))
+    rc, out, err = cli("simulate", "--model", f, "--omega", OMEGA, "--y0", *Y0,
+                       "--impacts", 30, "--out", tmp_path / "o.npz", "--json")
+    assert rc == 0, err
+    assert np.array_equal(np.load(tmp_path / "o.npz")["section"], full.section)
+
+
+@pytest.mark.parametrize("kw, omega, y0, stop", [
+    # the equilibrium lies past the gap: the impacts accumulate and the stop holds the mass
+    (dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[0.05],
+          stop=Stop(mass=1, gap=-0.2, restitution=0.5)), 1.0, (-0.3, 0.0), "sticking"),
+    # no forcing: the motion dies before it reaches the stop again
+    (dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.3]], forcing=[0.0],
+          stop=Stop(mass=1, gap=0.5, restitution=0.5)), 1.0, (-0.1, 0.0), "no-impact"),
+])
+def test_the_stop_reasons_are_the_compiled_runs(kw, omega, y0, stop):
+    """beta = 0: the run ends for the linear run's reason, at the same time (the moment
+    the speed falls under the grazing speed may differ by an impact)."""
+    m = Model(**kw, nonlinear=["beta*x1**3"], parameters={"beta": 0.0})
+    sim = symvi.simulate(m, omega, y0=y0, n_impacts=200)
+    lin = symvi.simulate(Model(**kw), omega, y0=y0, n_impacts=200)
+    assert sim.stop == lin.stop == stop
+    assert abs(sim.n - lin.n) <= 1
+    if lin.n:
+        assert abs(sim.t[-1] - lin.t[-1]) < 1e-4
+
+
+def test_the_start_is_required_and_checked():
+    with pytest.raises(ParameterError, match=r"^y0 = None .*no period-1 orbit in closed "
+                                             "form to start from with nonlinear forces"):
+        symvi.simulate(DUFFING, OMEGA)
+    with pytest.raises(ParameterError, match="^y0 .*must leave the stop"):
+        symvi.simulate(DUFFING, OMEGA, y0=(0.3, 0.1))
+    with pytest.raises(ParameterError, match="^omega"):
+        symvi.simulate(DUFFING, float("nan"), y0=Y0)
+    with pytest.raises(ParameterError, match="^n_impacts"):
+        symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=0)
+
+
+REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: nonlinear forces " \
+          "run in simulate only (issue 28)"
+
+
+@pytest.mark.parametrize("argv", [
+    ("orbit", "--omega", "1.3"),
+    ("continue", "--range", "omega=1.0:1.5"),
+    ("continue", "--range", "beta=0.1:0.5", "--set", "omega=1.3"),
+    ("curve", "--range", "omega=1.0:1.5", "--params", "omega,gap"),
+    ("hopf", "--range", "omega=1.0:1.5"),
+    ("sweep", "--range", "omega=1.0:1.5:5", "--out", "sw.npz"),
+    ("plane", "--x", "omega=1:1.5:3", "--y", "beta=0.4:0.6:3", "--impacts", "50",
+     "--transient", "10", "--out", "p.zarr", "--workers", "0"),
+])
+def test_the_linear_analyses_refuse_a_nonlinear_model(tmp_path, argv):
+    """Exit 2 with one line naming what is not supported yet, never the linear part."""
+    f = tmp_path / "duffing.toml"
+    f.write_text(dumps(DUFFING))
+    rc, out, err = cli(*argv, "--model", f, "--json", cwd=tmp_path)
+    assert rc == 2
+    assert err.strip().splitlines()[-1] == f"symvi: error: {REFUSED}"
+    assert not (tmp_path / "sw.npz").exists() and not (tmp_path / "p.zarr").exists()
+
+
+def test_the_python_analyses_refuse_a_nonlinear_model():
+    from symvi.continuation import continue_orbits
+    from symvi.orbits import admissible_orbits
+    from symvi.simulations.diagnostics import classify, lyapunov
+    sim = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=60)
+    for call in (lambda: admissible_orbits(DUFFING, OMEGA),
+                 lambda: continue_orbits(DUFFING, "omega", 1.0, 1.5),
+                 lambda: symvi.jet(DUFFING, OMEGA),
+                 lambda: lyapunov(sim), lambda: symvi.poincare_map(DUFFING, OMEGA, (0.1, 0.2))):
+        with pytest.raises(ParameterError) as exc:
+            call()
+        assert str(exc.value) == REFUSED
+    with pytest.raises(ParameterError, match="^classify = 'nonlinear'.*tangent map"):
+        classify(sim)
