@@ -169,6 +169,11 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
     assert o.names == ("v2+", "x1", "x3", "v1", "v3", "tau") and o.admissible
     assert j.d3.shape == (6, 6, 6, 6) and d.dJ_branch.shape == (6, 6)
     assert m["m2"].value("forcing[1]") == 0.3
+    # nonlinear forces: the Duffing oscillator's period-1 attractor, stiffer with beta
+    assert m["run"].stop == "completed" and m["duffing"].value("beta") == 0.5
+    assert m["run"].section[-1] == pytest.approx([-1.24067276, 1.65383342], abs=1e-8)
+    assert m["stiffer"].section[-1][0] == pytest.approx(-1.16087092, abs=1e-8)
+    assert "completed" in out_of("symvi simulate --model duffing.toml")
     hopf = out_of("symvi hopf --model chain3.toml --range omega=0.99:1.06")
     assert "0.99971142" in hopf and "1.0459583" in hopf
     # the study: a report from a scene file, then every part from the cache

@@ -195,7 +195,9 @@ def add_params(parser, defaults=None, model=False):
                             help="model file (TOML: [model] mass, stiffness, damping, forcing; "
                                  "[stop] mass, gap, restitution, or one [[stop]] table per stop "
                                  "with mass or between, gap, side, restitution or "
-                                 "stiffness and damping), instead of the preset flags")
+                                 "stiffness and damping; nonlinear forces: [model] nonlinear "
+                                 "and [model.parameters], simulate only), instead of the "
+                                 "preset flags")
 
 
 def add_engine(parser, workers_default):
