@@ -212,7 +212,7 @@ def _rhs(sy, t, y, out):
 
 
 @nb.njit(cache=True)
-def _rk_step(sy, t, y, h, Kst, ynew, tmp):
+def _dop853(sy, t, y, h, Kst, ynew, tmp):
     """One DOP853 step of size h from (t, y), Kst[0] = f(t, y) given: ynew and the stages
     Kst[0.._NS] (the last: f at the end)."""
     dim = y.shape[0]
@@ -400,7 +400,7 @@ def _flight(sy, cons, z, just_hit, t_max, hmax, hh, work):
         if t >= t_max:
             return cf.NO_IMPACT, t, -1, 0.0, 0.0, steps
         h = min(h, hmax)
-        _rk_step(sy, t, y, h, Kst, ynew, tmp)
+        _dop853(sy, t, y, h, Kst, ynew, tmp)
         err = _error(Kst, y, ynew, h, rtol, atol)
         steps += 1
         if not math.isfinite(err):
@@ -436,7 +436,7 @@ def _flight(sy, cons, z, just_hit, t_max, hmax, hh, work):
             he = best * h
             for it in range(8):
                 he = max(he, 0.0)
-                _rk_step(sy, t, y, he, Kx, ye, tmp)   # Kx: scratch (Kx[0] = f(t, y))
+                _dop853(sy, t, y, he, Kx, ye, tmp)   # Kx: scratch (Kx[0] = f(t, y))
                 g = sign * (ye[k] - gap)
                 gd = sign * ye[n + k]
                 if gd <= 0.0:
@@ -561,9 +561,8 @@ class NonlinearFlow:
         w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
         self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
         self._depth = max(depth, 1)
-        from ..maps import Section
-        sec = Section.of(model)
-        self.perm = sec.perm
+        from .linear import frame_of
+        self.perm = frame_of(model)[0]            # the section layout's order of the masses
         # each constraint's section layout, as mass-order state indices
         self.sidx = np.empty((len(cons), 2 * n - 1), dtype=np.int64)
         for j, c in enumerate(cons):
@@ -656,7 +655,7 @@ def _integrate(sy, z, t_end, hmax, work):
     h = hmax
     while t < t_end:
         h = min(h, hmax, t_end - t)
-        _rk_step(sy, t, y, h, Kst, ynew, tmp)
+        _dop853(sy, t, y, h, Kst, ynew, tmp)
         err = _error(Kst, y, ynew, h, RTOL, ATOL)
         if err > 1.0 or not math.isfinite(err):
             h *= 0.2 if not math.isfinite(err) else max(0.2, 0.9 * err ** (-1.0 / 8.0))

@@ -391,6 +391,14 @@ class Model:
     damping : array_like, optional
         C: an N x N symmetric positive semi-definite matrix.  Default None: C = 0, as in
         the paper.
+    nonlinear : list of str, optional
+        Smooth nonlinear forces f_1..f_N added to the left-hand side (M x'' + C x' + K x +
+        f(x, v) = P sin(omega t + tau), issue 28): one expression per mass in x1..xN,
+        v1..vN and the named ``parameters`` (:mod:`symvi.model._forces`).  Default None:
+        a linear model.  Only ``simulate`` runs such a model for now.
+    parameters : dict, optional
+        The named parameters of the forces, ``{"beta": 0.5}`` (finite values, names not
+        clashing with a built-in one); only with ``nonlinear``.
 
     Raises
     ------
