@@ -12,10 +12,12 @@ forces are compiled once per model into a short postfix program (:func:`program`
 cached kernel interprets: no code is generated or compiled per model, and ``x**3`` at
 x = 0 is 0 (integer powers are products).
 
-Why DOP853 and not a Taylor method (the issue's other candidate): measured in
-``benchmarks/bench_nonlinear_flow.py``; the Taylor method needs the recurrences of each
-model's forces generated and compiled (or an automatic-differentiation interpreter), which
-this first step does not build.  See ``benchmarks/README.md``.
+Why DOP853 and not a Taylor method (the issue's other candidate): DOP853 needs only
+evaluations of the field, so one cached kernel serves every model; a Taylor method needs
+the recurrences of each model's forces generated and compiled (or a Taylor-arithmetic
+interpreter), which this first step does not build.  Its accuracy and speed, against
+mpmath, solve_ivp and the exact linear flow: ``benchmarks/bench_nonlinear_flow.py``,
+``benchmarks/README.md``.
 
 Events.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses, either side)
 is watched on every accepted step.  No contact of the dense output is stepped over: over
@@ -367,14 +369,6 @@ def _first_root(b0, stackb, lo_hi):
         lo_hi[top + 1, 1] = mid
         top += 2
     return -1.0
-
-
-@nb.njit(cache=True)
-def _poly(p, th):
-    v = 0.0
-    for i in range(7, -1, -1):
-        v = v * th + p[i]
-    return v
 
 
 @nb.njit(cache=True)
