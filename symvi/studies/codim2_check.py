@@ -195,6 +195,11 @@ class _MpModel:
         self._model.require_rigid_stops()
         return self
 
+    def require_linear(self):
+        """The checked model's answer (:meth:`symvi.model.Model.require_linear`)."""
+        self._model.require_linear()
+        return self
+
     @property
     def constraints(self):
         """The stop as the flow reads it (:meth:`symvi.model.Stop.constraint`), mpf gap and r."""
