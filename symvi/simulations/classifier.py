@@ -459,7 +459,7 @@ def _classify_one(c, y, k, n_keep, transient, sec, times, vimp, hits, glog, v, p
     omega = c[_OM]
     for i in range(dim):
         v[i] = 1.0 / math.sqrt(dim)
-    stop, kept, _, T0, k = _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v,
+    stop, kept, _, T0, k, _, _ = _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v,
                                      glog, ESCAPE_MAX)
     nan = np.nan
     vmax = -1.0
