@@ -468,16 +468,19 @@ def _safe_dt(h, h1, h2, h3, h4, M2, M5, S):
 
 @nb.njit(cache=True, inline="always")
 def _release_time(h1, h2, h3, M4, eps_h):
-    """How long a start with h = h' = 0 stays provably off the stop: a release from
-    sticking (:mod:`symvi.flow.sticking`), where the contact force vanished: h'' = 0 (to
-    rounding) and h3 = h'(3) < 0.  With |h'(4)| <= M4 (= M2 max(|lambda|, omega)^2),
-    h''(s) <= min(h2, 0) + h3 s + M4 s^2/2 < 0 for s < s*, so h' < 0 and h < 0 on
-    (0, s*/2], which is returned.  A rounding-sized h2 > 0 is dropped: its penetration,
-    ~h2^3/h3^2, is below eps_h.  0 when the start is not a release (h' > 0, h'' clearly
-    > 0, or h3 >= 0): the finder then reports grazing at t = 0 as before."""
-    if h1 > 0.0 or not h3 < 0.0 or M4 <= 0.0:
+    """How long a start with h = 0, h' = 0 (to rounding) stays provably off the stop: a
+    release from sticking (:mod:`symvi.flow.sticking`), where the contact force vanished:
+    h'' = 0 (to rounding) and h3 = h'(3) < 0, or h'' < 0.  With |h'(4)| <= M4
+    (= M2 max(|lambda|, omega)^2), h''(s) <= min(h2, 0) + h3 s + M4 s^2/2 < 0 for
+    0 < s < s*, so h' < 0 and h < 0 on (0, s*/2], which is returned.  A rounding-sized
+    h2 > 0 is dropped: its penetration, ~h2^3/h3^2, is below eps_h.  0 when the start is
+    no release (h'' clearly > 0, or h'' = 0 and h3 >= 0): the finder then reports
+    grazing at t = 0 as before."""
+    if M4 <= 0.0:
         return 0.0
     s_star = (-h3 + math.sqrt(h3 * h3 - 2.0 * M4 * min(h2, 0.0))) / M4
+    if not s_star > 0.0:
+        return 0.0
     if h2 > 0.0 and (h2 * (h2 / h3) ** 2 > eps_h or 6.0 * h2 / -h3 > 0.5 * s_star):
         return 0.0
     return 0.5 * s_star
@@ -537,11 +540,17 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
         s[q + _SS] = 0.5 / c[_LMAX]           # first horizon; adapted below
         s[q + _STP], s[q + _SHP], s[q + _SDP] = 0.0, h, h1
         if g == k:
-            if not h1 < 0.0:
+            if not h1 < -eps_h * c[_LMAX]:
+                # leaving at no speed (to rounding): a release, or grazing at t = 0
                 t_rel = _release_time(h1, h2, h3, M2 * c[_LMAX] * c[_LMAX], eps_h)
-                if t_rel <= 0.0:
-                    return GRAZING, 0.0, h2, 0, g
-                tg = t_rel
+                if t_rel <= 0.0 or h1 > eps_h * c[_LMAX]:
+                    if not h1 < 0.0:
+                        return GRAZING, 0.0, h2, 0, g
+                    t_rel = 0.0               # a slow departure: as before
+                    tg = -h1 / M2 if M2 > 0.0 else t_max + 1.0 / c[_LMAX]
+                else:
+                    tg = t_rel
+                    s[q + _SDP] = 0.0         # h' < 0 from here: no maximum behind
             else:
                 # vertex of the global bound: h < 0 up to here (h linear if M2 = 0: a
                 # free mass, unforced, leaving: never back)
