@@ -66,9 +66,10 @@ Phil. Trans. R. Soc. A 347 (1994) 365-389.
 """
 import math
 
+import numba as nb
 import numpy as np
-from scipy.optimize import brentq
 
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..numerics.backend import FLOAT64
 from ..numerics.tolerances import CONTACT_ULPS
 from ..numerics.tolerances import EPS64 as _EPS
@@ -95,6 +96,95 @@ def accumulation_time(w0, a, r, b=0.0, kappa=0.0):
     return (2.0 * w0 / (a * (1.0 - r))
             + 2.0 * w0 ** 2 * r * delta / (a * (1.0 - r) * (1.0 - r * r))
             - 4.0 * b * w0 ** 2 / (3.0 * a ** 3 * (1.0 - r * r)))
+
+
+@nb.njit(cache=True, inline="always")
+def _watched(lam, d, A, B, G, omega, tau, t, i):
+    """Watched function i at t: (F, F', M2 >= |F''| from t on), F = Re sum_j d_ij
+    e^{lambda_j t} + A_i sin + B_i cos + G_i (the phase omega t + tau)."""
+    F = F1 = M2 = 0.0
+    for j in range(lam.shape[0]):
+        e = np.exp(lam[j] * t)
+        de = d[i, j] * e
+        F += de.real
+        F1 += (de * lam[j]).real
+        M2 += abs(d[i, j]) * abs(lam[j]) ** 2 * math.exp(lam[j].real * t)
+    ph = omega * t + tau
+    sp, cp = math.sin(ph), math.cos(ph)
+    F += A[i] * sp + B[i] * cp + G[i]
+    F1 += omega * (A[i] * cp - B[i] * sp)
+    M2 += math.sqrt(A[i] * A[i] + B[i] * B[i]) * omega * omega
+    return F, F1, M2
+
+
+@nb.njit(cache=True)
+def _root_of(lam, d, A, B, G, omega, tau, i, ta, tb, Fb, F1b):
+    """The root of watched function i in (ta, tb] (F(ta) < 0, F(tb) >= -eps): regula falsi
+    (Illinois) on the bracket when F(tb) >= 0, else Newton from tb."""
+    if Fb >= 0.0:
+        if Fb == 0.0:
+            return tb
+        Fa = _watched(lam, d, A, B, G, omega, tau, ta, i)[0]
+        side = 0
+        for _ in range(200):
+            tm = (ta * Fb - tb * Fa) / (Fb - Fa)
+            if not ta < tm < tb:
+                tm = 0.5 * (ta + tb)
+            Fm = _watched(lam, d, A, B, G, omega, tau, tm, i)[0]
+            if Fm >= 0.0:
+                tb, Fb = tm, Fm
+                if side == 1:
+                    Fa *= 0.5
+                side = 1
+            else:
+                ta, Fa = tm, Fm
+                if side == -1:
+                    Fb *= 0.5
+                side = -1
+            if tb - ta <= 4.0 * _EPS * tb or Fm == 0.0:
+                break
+        return tb if abs(Fb) <= abs(Fa) else ta
+    t = tb
+    for _ in range(4):
+        F, F1, _ = _watched(lam, d, A, B, G, omega, tau, t, i)
+        if not F1 > 0.0:
+            break
+        dt = -F / F1
+        t += dt
+        if abs(dt) <= 4.0 * _EPS * max(t, 1.0):
+            break
+    return t
+
+
+@nb.njit(cache=True)
+def _held_event(lam, d, A, B, G, eps, omega, tau, t_max):
+    """The first event of the held motion: (i, t), i the watched function that reaches 0
+    first (-1: none before t_max).  Each step is the reference finder's safe step, the
+    first root of F + F' s + M2 s^2/2 over every watched function, so none is stepped
+    over."""
+    nf = A.shape[0]
+    t, t_prev = 0.0, 0.0
+    for _ in range(_MAX_STEPS):
+        best_i, best_t = -1, np.inf
+        step = np.inf
+        for i in range(nf):
+            F, F1, M2 = _watched(lam, d, A, B, G, omega, tau, t, i)
+            if F >= -eps[i]:
+                tr = _root_of(lam, d, A, B, G, omega, tau, i, t_prev, t, F, F1)
+                if tr < best_t:
+                    best_i, best_t = i, tr
+                continue
+            disc = F1 * F1 - 2.0 * M2 * F
+            if disc >= 0.0:
+                den = F1 + math.sqrt(disc)
+                if den > 0.0:
+                    step = min(step, -2.0 * F / den)
+        if best_i >= 0:
+            return best_i, best_t
+        if t > t_max or step == np.inf:
+            return -1, max(t, t_max)
+        t_prev, t = t, t + step
+    return -1, t
 
 
 def _row(c, j):
@@ -201,24 +291,6 @@ class Stuck:
         cc = self.Winv @ (Y0 - Yp0 - self.ys)
         return cc, (self.a @ self.W) * cc[None, :]
 
-    def _F(self, d, tau, t, m=2):
-        """The watched functions and their first m derivatives at t (rows)."""
-        e = np.exp(self.lam * t)
-        ph = self.omega * t + tau
-        s, co = math.sin(ph), math.cos(ph)
-        out = []
-        lm = np.ones_like(self.lam)
-        trig = (s, co, -s, -co)
-        for k in range(m + 1):
-            f = (d @ (lm * e)).real if d.size else np.zeros(len(self.A))
-            wk = self.omega ** k
-            f = f + wk * (self.A * trig[k % 4] + self.B * trig[(k + 1) % 4])
-            if k == 0:
-                f = f + self.G
-            out.append(f)
-            lm = lm * self.lam
-        return out
-
     def state(self, cc, tau, t):
         """The full state (flow order) at t of the held motion from coefficients cc."""
         n, nr, p = self.n, self.n - 1, self.p
@@ -238,53 +310,13 @@ class Stuck:
         n, nr = self.n, self.n - 1
         Y0 = np.concatenate([z0[self.o], z0[[n + i for i in self.o]]]) if nr else np.zeros(0)
         cc, d = self._coeffs(Y0, tau)
-        ad = np.abs(d)
-        l2 = np.abs(self.lam) ** 2
-        amp = np.hypot(self.A, self.B)
-        eps = CONTACT_ULPS * _EPS * (ad.sum(axis=1) + amp + np.abs(self.G) + 1e-300)
-        w2 = self.omega ** 2
-        t, t_prev = 0.0, 0.0
-        for _ in range(_MAX_STEPS):
-            F, F1, _ = self._F(d, tau, t)
-            hit = np.nonzero(F >= -eps)[0]
-            if hit.size:
-                best = None
-                for i in hit:
-                    ti = self._root(d, tau, i, t_prev, t, F[i], F1[i])
-                    if best is None or ti < best[1]:
-                        best = (i, ti)
-                i, te = best
-                return self.kinds[i], te, self.state(cc, tau, te)
-            if t > t_max:
-                return None, t, None
-            M2 = (ad * (l2 * np.exp(self.lam.real * t))[None, :]).sum(axis=1) + amp * w2
-            disc = F1 * F1 - 2.0 * M2 * F
-            with np.errstate(invalid="ignore", divide="ignore"):
-                den = F1 + np.sqrt(np.maximum(disc, 0.0))
-                s = np.where((disc >= 0.0) & (den > 0.0), -2.0 * F / den, np.inf)
-            step = float(s.min())
-            if not math.isfinite(step):
-                return None, t_max, None
-            t_prev, t = t, t + step
-        return None, t, None
-
-    def _root(self, d, tau, i, ta, tb, Fb, F1b):
-        """The first root of watched function i in (ta, tb], F(ta) < 0 <= F(tb) + eps."""
-        f = lambda t: self._F(d, tau, t, 0)[0][i]
-        if Fb >= 0.0 and tb > ta:
-            if Fb == 0.0:
-                return tb
-            return brentq(f, ta, tb, xtol=1e-300, rtol=4 * _EPS, maxiter=200)
-        t = tb                                          # within eps below: Newton
-        for _ in range(4):
-            F, F1, _ = self._F(d, tau, t)
-            if not F1[i] > 0.0:
-                break
-            dt = -F[i] / F1[i]
-            t += dt
-            if abs(dt) <= 4 * _EPS * max(t, 1.0):
-                break
-        return t
+        eps = CONTACT_ULPS * _EPS * (np.abs(d).sum(axis=1) + np.hypot(self.A, self.B)
+                                     + np.abs(self.G) + 1e-300)
+        i, te = _held_event(self.lam, np.ascontiguousarray(d), self.A, self.B, self.G, eps,
+                            self.omega, float(tau), float(t_max))
+        if i < 0:
+            return None, te, None
+        return self.kinds[i], te, self.state(cc, tau, te)
 
 
 def _section(z, p, n, tau):
