@@ -75,7 +75,7 @@ from ..numerics.tolerances import CONTACT_ULPS
 from ..numerics.tolerances import EPS64 as _EPS
 from . import compiled as cf
 from ._steady import steady_state
-from .linear import LinearFlow, modal_form
+from .linear import LinearFlow, modal_form, null_dim
 
 __all__ = ["accumulation_time", "accumulate", "Stuck", "run_through"]
 
@@ -264,12 +264,12 @@ class Stuck:
         self.gM = gM
         if nr:
             Mr, Kr, Cr = M[np.ix_(o, o)], K[np.ix_(o, o)], C[np.ix_(o, o)]
-            Mi = np.linalg.inv(Mr)
-            Ar = np.block([[np.zeros((nr, nr)), np.eye(nr)], [-Mi @ Kr, -Mi @ Cr]])
-            _, lam, W, Winv, nil = modal_form(FLOAT64, Mr, Kr, Cr, Ar, bool(np.any(Cr != 0)))
-            if nil is not None:
+            if null_dim(Kr):
                 raise ValueError(f"stop {g + 1}: the masses left free while it holds its "
                                  "mass have no spring (a free reduced system)")
+            Mi = np.linalg.inv(Mr)
+            Ar = np.block([[np.zeros((nr, nr)), np.eye(nr)], [-Mi @ Kr, -Mi @ Cr]])
+            _, lam, W, Winv, _ = modal_form(FLOAT64, Mr, Kr, Cr, Ar, bool(np.any(Cr != 0)))
             U, V = steady_state(Kr, Mr, Cr, P[o], self.omega)[:2]
             self.lam = np.asarray(lam, dtype=complex)
             self.W, self.Winv = np.asarray(W, dtype=complex), np.asarray(Winv, dtype=complex)
