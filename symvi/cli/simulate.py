@@ -62,6 +62,11 @@ def run(args):
            "transient": sim.transient, "out": args.out}
     if several:
         out["impacts_per_stop"] = sim.impacts_per_stop()
+    if sim.sticks is not None and len(sim.sticks):
+        # complete chatter and sticking went through: each phase (t_stick, t_release, stop)
+        out["sticks"] = [[float(a), float(b), int(k) + 1] for a, b, k in sim.sticks]
+    if sim.stop_reason:
+        out["stop_reason"] = sim.stop_reason
     if args.classify:
         from ..simulations.diagnostics import classify
         cl = classify(sim)
@@ -73,6 +78,10 @@ def run(args):
                 out["impacts_per_orbit"] = cl.impacts
             if cl.signature is not None:
                 out["signature"] = cl.signature_names
+            if "sticks" in out:
+                # the attractor holds sticking phases (its label stays period-k, as the
+                # plane's)
+                out["sticking"] = True
         # null only where the run stopped or was too short (the class says which)
         out["lyapunov"] = (None if cl.lyapunov is None
                            else [float(v) for v in cl.lyapunov.exponents])
@@ -102,8 +111,14 @@ def _print_text(out, system):
     if "impacts_per_stop" in out:
         print("impacts per stop: " + ", ".join(f"{k} {v}" for k, v in
                                                 out["impacts_per_stop"].items()))
+    if "sticks" in out:
+        print(f"sticking phases: {len(out['sticks'])} (chatter accumulated, held, released)")
+    if "stop_reason" in out:
+        print(f"why the run stopped: {out['stop_reason']}")
     if "class" in out:
         line = f"attractor: {out.get('attractor', out['class'])}"
+        if out.get("sticking"):
+            line += " with sticking"
         if "impacts_per_orbit" in out:
             line += f", {out['impacts_per_orbit']} impacts per orbit"
         if "signature" in out:
