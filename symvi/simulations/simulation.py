@@ -647,6 +647,12 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
         hi = min(m, lo + chunk)
         cd, ct, s, _, _, _ = cf.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
         sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
+        for i in lo + np.flatnonzero(cd == cf.STOP_STICKING):
+            # the same run again, on through its sticking phases (in Python)
+            codes[i], s_i = run_through(model, C[i], starts[i], n_impacts, transient)[:2]
+            counts[i] = len(s_i)
+            sec[i] = np.nan
+            sec[i, :len(s_i)] = s_i
         if progress is not None:
             progress(hi, m)
     res = Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
@@ -682,7 +688,7 @@ def classify_sweep(res):
         return classify_contacts([(model, float(w)) for w in res.omegas], n_keep,
                                  res.transient, starts=[_leaving(model, y) for y in res.starts])
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
-    return classify_runs(C, res.starts, n_keep, res.transient)
+    return classify_runs(C, res.starts, n_keep, res.transient, models=model)
 
 
 def symbol_count(model):
