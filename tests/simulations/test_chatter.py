@@ -68,8 +68,10 @@ def test_thousands_of_chatters_reach_the_sticking_orbit():
     T = 2 * math.pi / W
     st = s.sticks[np.isfinite(s.sticks[:, 1])]
     assert len(st) > 2500
+    # the times are sums of up to 60000 flight times: their rounding drifts by ~sqrt(n)
+    # ulps (~2e-9 at t ~ 4e4), what the tolerances on absolute times below allow for
     ph_release = (W * st[:, 1]) % (2 * math.pi)
-    assert np.allclose(ph_release, math.pi, atol=1e-9)
+    assert np.allclose(ph_release, math.pi, atol=1e-8)
     assert (st[:, 1] > st[:, 0]).all() and (st[:, 2] == 0).all()
     # one sticking phase a period, once settled
     assert np.allclose(np.diff(st[-50:, 0]), T, atol=1e-9)
@@ -77,10 +79,9 @@ def test_thousands_of_chatters_reach_the_sticking_orbit():
     t_rel = st[-2, 1]
     after = np.flatnonzero(s.t > t_rel)
     t1, v1, n_ref, t_acc = _reference_period(t_rel)
-    # times of ~4e4: their ulp is 7e-12
     assert s.t[after[0]] - t_rel == pytest.approx(t1 - t_rel, abs=1e-8)
-    assert s.impact_velocity[after[0]] == pytest.approx(v1, abs=1e-9)
-    assert st[-1, 0] == pytest.approx(t_acc, abs=1e-8)
+    assert s.impact_velocity[after[0]] == pytest.approx(v1, abs=1e-11)
+    assert st[-1, 0] == pytest.approx(t_acc, abs=2e-8)
     n_run = np.count_nonzero((s.t > t_rel) & (s.t < st[-1, 0]))
     assert abs(n_run - n_ref) <= 4          # both step to a small speed (1e-7 vs 1e-6)
 
