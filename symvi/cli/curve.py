@@ -27,7 +27,10 @@ def register(sub):
     p.add_argument("--max-points", type=int, default=2000,
                    help="points on each side of the start (default 2000)")
     p.add_argument("--through", action="store_true",
-                   help="follow the curve on where its orbit is not admissible")
+                   help="follow the curve on where its orbit is not admissible, past "
+                        "grazing (an NS curve on a regular test), to its next admissible "
+                        "piece; without it a curve ends where it grazes, at the located "
+                        "codimension-two point")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="draw the two-parameter diagram")
     return p

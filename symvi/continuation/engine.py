@@ -67,9 +67,12 @@ def tangent(Gu, Gl, t_prev):
 
 
 def correct(problem, Xp, t, c):
-    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None."""
+    """Newton on G(X) = 0, t . X = c from Xp; (X, G_u, G_lam, iterations) or None.  The
+    step's tolerance is CORR_TOL, or the problem's own ``corr_tol`` (a system whose
+    derivatives are differences: its steps stall at their noise, above CORR_TOL)."""
     X = Xp.copy()
     m = problem.size
+    tol = getattr(problem, "corr_tol", CORR_TOL)
     A = np.empty((m + 1, m + 1))
     F = np.empty(m + 1)
     problem.at(X[m])                      # validates the predicted parameter value once
@@ -84,12 +87,12 @@ def correct(problem, Xp, t, c):
         if not np.isfinite(dX).all():
             return None
         X = X + dX
-        if np.abs(dX).max() <= CORR_TOL * (1 + np.abs(X).max()):
+        if np.abs(dX).max() <= tol * (1 + np.abs(X).max()):
             # residual and derivatives at the final X itself: the multipliers, the tangent
             # and every test function of the point are then those of X, not of the last
             # iterate O(CORR_TOL) away (which moved located points by up to ~4e-12)
             G, Gu, Gl = problem.evaluate(X[:m], X[m], dparam=True, check=False)
-            if np.abs(G).max() <= 1e3 * CORR_TOL * (1 + np.abs(X).max()):
+            if np.abs(G).max() <= 1e3 * tol * (1 + np.abs(X).max()):
                 return X, Gu, Gl, it
             return None
     return None
@@ -110,6 +113,7 @@ def chord(system, Xp, t, c, lu):
     from scipy.linalg import lu_solve
     X = Xp.copy()
     system.at(X[-1])
+    tol = getattr(system, "corr_tol", CORR_TOL)
     for it in range(1, CHORD_MAXIT + 1):
         F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
         r = np.append(F, np.dot(t, X) - c)
@@ -117,9 +121,9 @@ def chord(system, Xp, t, c, lu):
             return None
         dX = lu_solve(lu, -r, check_finite=False)
         X = X + dX
-        if np.max(np.abs(dX)) <= CORR_TOL * (1 + np.max(np.abs(X))):
+        if np.max(np.abs(dX)) <= tol * (1 + np.max(np.abs(X))):
             F = system.evaluate(X[:-1], X[-1], jac=False, check=False)[0]
-            if np.max(np.abs(F)) <= 1e3 * CORR_TOL * (1 + np.max(np.abs(X))):
+            if np.max(np.abs(F)) <= 1e3 * tol * (1 + np.max(np.abs(X))):
                 return X, it
             return None
     return None

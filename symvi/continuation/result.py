@@ -37,7 +37,8 @@ EVENT_KINDS = {
                     "smooth at its touch, or the regular flip test w det(M + I) = 0 at an "
                     "impact's zero velocity",
     "grazing-NS": "a grazing orbit (smooth at its touch) with a complex pair on the unit "
-                  "circle: the Neimark-Sacker curve meets the grazing curve",
+                  "circle, or the regular test w det(M - e^{i theta} I) = 0 at an impact's "
+                  "zero velocity: the Neimark-Sacker curve meets the grazing curve",
     "double-grazing": "a second impact of a grazing orbit arrives with zero velocity too",
     "RG": "resonant grazing: a fold and a flip curve of the impacting orbit both leave the "
           "grazing curve of an impact at zero velocity here, tangentially",

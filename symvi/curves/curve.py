@@ -16,6 +16,7 @@ and l1 (Kuznetsov, ||q||_2 = 1, <p, q> = 1), for flip curves c, for fold curves 
 plus the side of the curve on which the orbit is stable.  Codimension-two points
 are located on the way by :mod:`symvi.curves.special`.
 """
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +35,11 @@ from .system import CurveSystem, kappa_pair, theta_of
 #: a multiplier beyond this modulus ends a curve: the orbit is close to grazing, where the
 #: impact map's Jacobian has a pole (eq. (30)) and no test function of M can be evaluated
 MULTIPLIER_CUT = 1e2
+#: the note of a curve followed near or past grazing on the regular test
+BRIDGED = ("near grazing the curve is followed on the regular test w det(M - z I) "
+           "(symvi.curves.regular; no multiplier cut there): those points carry theta "
+           "and their orbit, but no l1 or c (the jets have the 1/v pole), and past a "
+           "zero impact speed they are not admissible")
 #: accepted points between renewals of the bordering vectors
 BORDER_EVERY = 8
 
@@ -101,9 +107,15 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
     for sgn in directions:
         tracker = Codim2Tracker(system) if locate else None
         half = _run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through)
-        halves.append(_land_end(system, half, box) if kind in ("fold", "flip") else half)
+        if kind in ("fold", "flip"):
+            half = _land_end(system, half, box)
+        else:
+            half = _past_grazing(system, half, box, h, h_max, max_points, through, locate)
+        halves.append(half)
     pts, states, special, ends = join(halves)
     notes = []
+    if any(getattr(pt, "_bridged", False) for pt in pts):
+        notes.append(BRIDGED)
     if model.conservative:
         notes.append("conservative model (r = 1, no damping): the map preserves volume and "
                      "multipliers lie on the unit circle over whole intervals; (H3) has no "
@@ -258,10 +270,12 @@ class _CurveRun(Client):
         return end + _diagnosis(self.system, X) if end.startswith("step below") else end
 
 
-def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through):
+def _run(system, X, first, sgn, box, h, h_max, max_points, tracker, through, direction=None):
     lo, hi, h, h_max = steps(system, box, h, h_max)
     system.set_border(mono(system, X))
     t = first_tangent(system, X, sgn)
+    if direction is not None and float(np.dot(t, direction)) < 0:
+        t = -t                              # resumed: on in the direction it came
     points, states, end = engine.run(system, _CurveRun(system), X, t, lo, hi, h=h,
                                      h_max=h_max, max_points=max_points, tracker=tracker,
                                      through=through, chord_first=True, first=first)
@@ -309,6 +323,53 @@ def _land_end(system, half, box):
     end = (f"reached grazing at {what} {_where(system, X)} (impact {i + 1} at zero "
            f"velocity; solved on the regular test, {gap:.2g} beyond the last point)")
     return points, states, special + [rg], end
+
+
+#: an NS curve crosses grazing at most this many times on each side of its start
+MAX_BRIDGES = 8
+
+
+def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
+    """An NS curve that ends near grazing (an impact slower than grazing.LAND_SPEED
+    relative to the orbit's size, not at its box) is followed on on the regular test of
+    :mod:`symvi.curves.regular`: to the zero of that impact's speed, located and named
+    grazing-NS, where it ends; with ``through``, across the stretch where the orbit is not
+    admissible to the next admissible piece, where the standard test and its located
+    points take over again (as often as the curve crosses grazing, within the box and
+    ``max_points``)."""
+    from .grazing import LAND_SPEED
+    from .regular import bridge
+    points, states, special, end = half
+    lo, hi, hh, hm = steps(system, box, h, h_max)
+    for _ in range(MAX_BRIDGES):
+        if end.startswith("reached ") or len(points) < 2 or len(points) >= max_points:
+            break
+        size = 1 + max(abs(v) for y in points[-1].orbit.points for v in y[:-1])
+        if min(points[-1].orbit.impact_velocities) > LAND_SPEED * size:
+            break
+        theta = abs(float(np.angle(points[-1]._pair[0])))
+        try:
+            bp, bs, bsp, bend, direction, resumed = bridge(
+                system, states[-1], states[-2], lo, hi, h=hh, h_max=hm,
+                max_points=max_points - len(points) + 1, through=through, theta=theta)
+        except (SymviError, np.linalg.LinAlgError) as exc:
+            end += f"; not followed past grazing: {exc}"
+            break
+        special = special + [_shift(s, len(points)) for s in bsp]
+        points, states = points + bp, states + bs
+        if not resumed:
+            end = bend
+            break
+        tracker = Codim2Tracker(system) if locate else None
+        np_, ns_, nsp, end = _run(system, states[-1], points[-1], 1.0, box, h, h_max,
+                                  max_points - len(points) + 1, tracker, through, direction)
+        special = special + [_shift(s, len(points) - 1) for s in nsp]
+        points, states = points + list(np_[1:]), states + list(ns_[1:])
+    return points, states, special, end
+
+
+def _shift(sp, k):
+    return dataclasses.replace(sp, index=sp.index + k)
 
 
 def _diagnosis(system, X):

@@ -31,6 +31,7 @@ from ..errors import ParameterError, SymviError
 from ..orbits.admissibility import check_flight
 from .frame import first_tangent, join, prepare, steps
 from .points import Codim2Point, TwoParameter
+from .regular import regular_char
 from .system import CurveSystem
 
 #: what vanishes on a grazing curve (its "normalisation" in the JSON, as the other curves'
@@ -553,35 +554,12 @@ def regular_tests(pr, u, lam, i, kinds=("fold", "flip")):
     with w = dg/dT of flight i (-> 0 with its speed) the time-eliminated DP_i has a 1/w
     part of rank one, DP_i = dh/dy - a b^T / w, so det(M -+ I) = det([[C, a], [b^T, w]]) / w
     with C = L (dh/dy) R -+ I, a = L dh/dT, b = R^T (dg/dy)^T, L and R the finite
-    products of the other flights' DP_j (the matrix determinant lemma). The bordered
-    determinant is smooth through w = 0; there it vanishes where the fold (flip) curve
-    meets the grazing curve. One value per kind of ``kinds``, from one evaluation."""
-    _, Gu, _ = pr.evaluate(u, lam, check=False)
-    d, p = pr.d, pr.p
-    mats, blocks = [], None
-    for j in range(p):
-        r0, ct = j * d, p * d + j
-        dhdy = Gu[r0:r0 + d, r0:r0 + d] + (np.eye(d) if p == 1 else 0)   # minus y_{j+1}
-        dhdt, dgdy, dgdt = Gu[r0:r0 + d, ct], Gu[ct, r0:r0 + d], Gu[ct, ct]
-        if j == i:
-            blocks = (dhdy, dhdt, dgdy, dgdt)
-            mats.append(None)
-        else:
-            mats.append(dhdy - np.outer(dhdt, dgdy) / dgdt)
-    R, L = np.eye(d), np.eye(d)
-    for D in mats[:i]:
-        R = D @ R
-    for D in mats[i + 1:]:
-        L = D @ L
-    dhdy, dhdt, dgdy, w = blocks
-    A = np.empty((d + 1, d + 1))
-    C = L @ dhdy @ R
-    A[:d, d], A[d, :d], A[d, d] = L @ dhdt, R.T @ dgdy, w
-    out = []
-    for kind in kinds:
-        A[:d, :d] = C + (np.eye(d) if kind == "flip" else -np.eye(d))
-        out.append(float(np.linalg.det(A)))
-    return tuple(out)
+    products of the other flights' DP_j (the matrix determinant lemma; one owner:
+    :func:`symvi.curves.regular.regular_char`, q(z) = w det(M - z I) at z = +-1). The
+    bordered determinant is smooth through w = 0; there it vanishes where the fold (flip)
+    curve meets the grazing curve. One value per kind of ``kinds``, from one evaluation."""
+    zs = [1.0 if kind == "fold" else -1.0 for kind in kinds]
+    return tuple(float(v) for v in regular_char(pr, u, lam, i, zs))
 
 
 def _test_row(graze, X, kind, i, cols=None):
