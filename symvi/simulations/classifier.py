@@ -73,7 +73,9 @@ one reused (n_keep, 2N) buffer, then:
   orientation is arbitrary, as the argument of a multiplier in [0, pi]).  Defined
   for a completed run with at least 3 distinct points (periodic with q >= 3,
   circle, doubled torus, chaos), NaN otherwise.
-* stopped runs: no impact -> "no-impact"; sticking or chatter -> "sticking";
+* stopped runs: no impact -> "no-impact"; sticking or chatter -> "sticking" (with
+  ``models`` a run that sticks is run on through its sticking phases and judged on its
+  impacts instead: a periodic sticking orbit is period-k, ``Classified.sticking``);
   non-finite state, or |y| > 1e6 (escape; stop code "non-finite") -> "escape";
   grazing -> "grazing".  Their period, impacts are 0 and lyapunov, rotation,
   impacts_per_period NaN.

@@ -186,3 +186,47 @@ def test_a_free_reduced_system_is_refused_in_one_line():
     with pytest.raises(ValueError) as exc:
         sk.Stuck(c, LinearFlow.of(m), 0)
     assert "\n" not in str(exc.value) and "free" in str(exc.value)
+
+
+BETWEEN = Model(mass=[[1.0, 0], [0, 1.3]], stiffness=[[2.0, -1.0], [-1.0, 2.5]],
+                damping=[[0.03, 0], [0, 0.02]], forcing=[-0.5, 1.1],
+                stop=Stop(between=(1, 2), gap=0.0, restitution=0.5))
+
+
+def test_held_between_two_masses_against_the_joined_pair():
+    """A stop between masses (s = x2 - x1 <= 0, the flow's frame): held, the two masses
+    move as one, (m1 + m2) x'' + 1.C.1 x' + 1.K.1 x = (P1 + P2) sin; the contact force on
+    mass 2, lambda = P2 sin - (C v)_2 - (K x)_2 - m2 x'', is positive until the release,
+    found where it changes sign (DOP853 of the joined pair, independently of the frame)."""
+    from scipy.optimize import brentq
+    M, K, C = (np.asarray(a, float) for a in (BETWEEN.mass, BETWEEN.stiffness,
+                                              BETWEEN.damping))
+    Pv = np.asarray(BETWEEN.forcing, float)
+    m, k, cs, p = M.sum(), K.sum(), C.sum(), Pv.sum()
+    flow = LinearFlow.of(BETWEEN)
+    c = cf.constants(BETWEEN, W)
+    S = sk.Stuck(c, flow, 0)
+    tau0, x0, v0 = 2.0, 0.1, 0.05
+
+    def f(t, u):
+        return [u[1], (p * math.sin(W * t + tau0) - cs * u[1] - k * u[0]) / m]
+
+    def lam(t, u):
+        a = f(t, u)[1]
+        return (Pv[1] * math.sin(W * t + tau0) - (C[1, 0] + C[1, 1]) * u[1]
+                - (K[1, 0] + K[1, 1]) * u[0] - M[1, 1] * a)
+
+    assert lam(0.0, [x0, v0]) > 0
+    kind, t, zr = S.run(flow.to_flow(np.array([x0, x0, v0, v0])), tau0, 1e3)
+    assert kind == -1
+    sol = solve_ivp(f, (0, 2 * t), [x0, v0], method="DOP853", rtol=1e-12, atol=1e-13,
+                    dense_output=True)
+    ts = np.linspace(0, 2 * t, 4001)
+    lams = np.array([lam(s, sol.sol(s)) for s in ts])
+    j = np.flatnonzero(lams <= 0)[0]
+    t_ref = brentq(lambda s: lam(s, sol.sol(s)), ts[j - 1], ts[j], xtol=1e-14)
+    assert t == pytest.approx(t_ref, abs=1e-9)
+    zm = flow.to_mass(zr)
+    u = sol.sol(t)
+    assert zm[0] == pytest.approx(u[0], abs=1e-9) and zm[1] == pytest.approx(u[0], abs=1e-9)
+    assert zm[2] == pytest.approx(u[1], abs=1e-9) and zm[3] == pytest.approx(u[1], abs=1e-9)
