@@ -18,7 +18,8 @@ from .paper.params import modal as modal
 __version__ = "0.1.0"
 
 _LAZY = {"jet": "paper.jets", "Jet": "paper.jets", "hopf_points": "paper.hopf",
-         "simulate": "simulations.simulation", "poincare_map": "maps.impact", "Orbit": "orbits", "period1_orbits": "paper.orbit"}
+         "simulate": "simulations.simulation", "poincare_map": "maps.impact", "Orbit": "orbits", "period1_orbits": "paper.orbit",
+         "discontinuity_map": "orbits.nordmark"}
 
 
 def __getattr__(name):

@@ -17,13 +17,14 @@ plus the side of the curve on which the orbit is stable.  Codimension-two points
 are located on the way by :mod:`symvi.curves.special`.
 """
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._deprecated import moved_names as _moved_names
 from ..continuation import engine
 from ..continuation.engine import Client, correct
-from .._deprecated import moved_names as _moved_names
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
@@ -108,8 +109,9 @@ def continue_curve(model, kind, names, orbit, *, bounds=None, h=None, h_max=None
         tracker = Codim2Tracker(system) if locate else None
         half = _run(system, X0, first, sgn, box, h, h_max, max_points, tracker, through)
         if kind in ("fold", "flip"):
+            # landed on its resonant (grazing-fold, -flip) point; --through goes on past it
             half = _land_end(system, half, box)
-        else:
+        if kind == "ns" or through:
             half = _past_grazing(system, half, box, h, h_max, max_points, through, locate)
         halves.append(half)
     pts, states, special, ends = join(halves)
@@ -258,6 +260,12 @@ class _CurveRun(Client):
         return None
 
     def stop(self, X, pt):
+        v = min(pt.orbit.impact_velocities)
+        if v < 0:
+            # past an impact at zero speed (through=True; at resonant grazing the pole's
+            # residue vanishes and no multiplier grows): the regular test takes it on
+            return (f"past grazing at {_where(self.system, X)}: an impact arrives with "
+                    f"velocity {v:.3g} < 0")
         big = max(abs(z) for z in pt.orbit.multipliers)
         if big > MULTIPLIER_CUT:
             v = min(pt.orbit.impact_velocities)
@@ -287,8 +295,7 @@ def _land_end(system, half, box):
     point has an impact slower than grazing.LAND_SPEED, the resonant grazing point is
     solved for by Newton on the regular test (:func:`symvi.curves.grazing.land`) and
     becomes the curve's last event (RG) and its end."""
-    from .grazing import LAND_SPEED, RG_TOL, GrazingSpecial, land, tangency
-    from ..continuation.result import EVENT_KINDS
+    from .grazing import LAND_SPEED, land
     points, states, special, end = half
     if end.startswith("reached "):              # the box: not grazing
         return half
@@ -308,7 +315,19 @@ def _land_end(system, half, box):
     # an admissibility change the last step met is this grazing, not located further
     special = [s for s in special if not (s.kind == "admissibility"
                                           and s.index >= len(points) - 1)]
-    # a resonant grazing point when the other curve (flip for a fold) meets it here too
+    rg = _grazing_special(system, X, gp, i, len(points), "ends here")
+    what = "the resonant grazing point" if rg.kind == "RG" else f"a grazing-{system.kind} point"
+    end = (f"reached grazing at {what} {_where(system, X)} (impact {i + 1} at zero "
+           f"velocity; solved on the regular test, {gap:.2g} beyond the last point)")
+    return points, states, special + [rg], end
+
+
+def _grazing_special(system, X, gp, i, index, how):
+    """The located point where the fold or flip curve at X (on grazing, impact i: its
+    :class:`GrazingPoint` gp) meets the grazing curve: RG with both kappas when the other
+    curve (flip for a fold) meets it there too, else grazing-fold (-flip) with its own."""
+    from ..continuation.result import EVENT_KINDS
+    from .grazing import RG_TOL, GrazingSpecial, land, tangency
     other = "flip" if system.kind == "fold" else "fold"
     mate = land(system, X, other)
     both = mate is not None and all(abs(mate[0][k] - X[k]) <= RG_TOL * (1 + abs(X[k]))
@@ -316,13 +335,25 @@ def _land_end(system, half, box):
     kind = "RG" if both else f"grazing-{system.kind}"
     coef = {"impact": i + 1, **tangency(system, X, i, ("fold", "flip") if both
                                         else (system.kind,))}
-    rg = GrazingSpecial(kind, dict(gp.params), gp, coef,
-                        EVENT_KINDS[kind] + f"; the {system.kind} curve ends here, impact "
-                        f"{i + 1} arriving with zero velocity", len(points))
-    what = "the resonant grazing point" if both else f"a grazing-{system.kind} point"
-    end = (f"reached grazing at {what} {_where(system, X)} (impact {i + 1} at zero "
-           f"velocity; solved on the regular test, {gap:.2g} beyond the last point)")
-    return points, states, special + [rg], end
+    return GrazingSpecial(kind, dict(gp.params), gp, coef,
+                          EVENT_KINDS[kind] + f"; the {system.kind} curve {how}, impact "
+                          f"{i + 1} arriving with zero velocity", index)
+
+
+def _named_crossing(system, sp):
+    """A zero impact speed the bridge located on a fold or flip curve, solved again on its
+    regular test (:func:`symvi.curves.grazing.land`) and named as a landing is (RG or
+    grazing-fold/-flip, with kappa); the bridge's point when that fails."""
+    from .grazing import land
+    if system.kind == "ns" or sp.kind == "unlocated":
+        return sp
+    X = np.concatenate([np.asarray(sp.orbit.u, dtype=float),
+                        [sp.params[n] for n in system.names]])
+    got = land(system, X, system.kind)
+    if got is None:
+        return sp
+    X, gp, i = got
+    return _grazing_special(system, X, gp, i, sp.index, "crosses grazing here")
 
 
 #: an NS curve crosses grazing at most this many times on each side of its start
@@ -333,16 +364,18 @@ def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
     """An NS curve that ends near grazing (an impact slower than grazing.LAND_SPEED
     relative to the orbit's size, not at its box) is followed on on the regular test of
     :mod:`symvi.curves.regular`: to the zero of that impact's speed, located and named
-    grazing-NS, where it ends; with ``through``, across the stretch where the orbit is not
-    admissible to the next admissible piece, where the standard test and its located
-    points take over again (as often as the curve crosses grazing, within the box and
-    ``max_points``)."""
+    grazing-NS, where it ends; with ``through`` (any kind: a fold or flip curve after its
+    landing), across the stretch where the orbit is not admissible to the next admissible
+    piece, where the standard test and its located points take over again (as often as
+    the curve crosses grazing, within the box and ``max_points``); a fold or flip curve's
+    crossings are named as its landings are (RG or grazing-fold/-flip, with kappa)."""
     from .grazing import LAND_SPEED
     from .regular import bridge
     points, states, special, end = half
     lo, hi, hh, hm = steps(system, box, h, h_max)
     for _ in range(MAX_BRIDGES):
-        if end.startswith("reached ") or len(points) < 2 or len(points) >= max_points:
+        box_end = end.startswith("reached ") and not end.startswith("reached grazing")
+        if box_end or len(points) < 2 or len(points) >= max_points:
             break
         size = 1 + max(abs(v) for y in points[-1].orbit.points for v in y[:-1])
         if min(points[-1].orbit.impact_velocities) > LAND_SPEED * size:
@@ -355,6 +388,8 @@ def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
         except (SymviError, np.linalg.LinAlgError) as exc:
             end += f"; not followed past grazing: {exc}"
             break
+        # a zero speed the fold or flip curve was landed on already (RG) is not repeated
+        bsp = [_named_crossing(system, s) for s in bsp if not any(_same(s, o) for o in special)]
         special = special + [_shift(s, len(points)) for s in bsp]
         points, states = points + bp, states + bs
         if not resumed:
@@ -366,6 +401,13 @@ def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
         special = special + [_shift(s, len(points) - 1) for s in nsp]
         points, states = points + list(np_[1:]), states + list(ns_[1:])
     return points, states, special, end
+
+
+def _same(a, b):
+    """Two located points at one place (RG_TOL relative): a landing and its bridge."""
+    from .grazing import RG_TOL
+    return all(abs(a.params[n] - b.params.get(n, math.inf)) <= RG_TOL * 10 * (1 + abs(a.params[n]))
+               for n in a.params)
 
 
 def _shift(sp, k):

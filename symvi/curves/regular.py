@@ -44,7 +44,7 @@ from .system import CurveSystem
 #: the step of the central differences of q (relative to 1 + |X_k|)
 STEP = 1e-7
 #: the corrector's step tolerance on q (relative to 1 + max|X|)
-CORR_TOL = 1e-9
+BRIDGE_TOL = 1e-9
 #: the bridge hands over to the standard test where the orbit is admissible again and
 #: its multipliers are below this modulus (a quarter of the cut that ended the curve,
 #: :data:`symvi.curves.curve.MULTIPLIER_CUT`, so that the two do not alternate)
@@ -90,7 +90,7 @@ class RegularSystem(CurveSystem):
 
     #: the corrector's step tolerance: q's derivatives are differences, and its Newton
     #: steps stall at ~1e-10 (residuals at rounding), above the engine's CORR_TOL
-    corr_tol = CORR_TOL
+    corr_tol = BRIDGE_TOL
 
     def __init__(self, model, n, p, names, kind, impact, omega=None, signature=None):
         super().__init__(model, n, p, names, kind, omega=omega, signature=signature)

@@ -291,6 +291,10 @@ def _result_line(p):
         ag = r["agreement_digits"]
         return ("digits of agreement of two independent chains: "
                 + ", ".join(f"{q} {ag[q]['A-B']}" for q in ag))
+    if k == "nordmark":
+        m = r["map"]
+        return (f"grazing ({m['kind']}) at ω = {m['value']:.10g}; first new impact against "
+                f"c√μ: ratio {_num(r['rows'][-1]['v1_ratio'], '.4f')} at the smallest μ")
     if k == "section":
         att = r.get("attractor")
         return f"attractor: {att['kind']}" if att else f"{r['stored']} impacts ({r['stop']})"
@@ -466,6 +470,8 @@ def _part(p):
         L += _curve_table(r)
     elif k == "codim2_evidence":
         L += _evidence_text(r)
+    elif k == "nordmark":
+        L += _nordmark_text(r)
     if r.get("_figure"):
         L += [f"![{p.output.id}]({r['_figure']})", ""]
     if r.get("warnings"):
@@ -578,6 +584,46 @@ def _na(x, spec=".6g"):
 def _num(x, spec):
     # automatic precision reports an untrustworthy quantity as None: never print a number
     return "UNTRUSTED" if x is None else format(x, spec)
+
+
+def _nordmark_text(r):
+    """Nordmark's map at a grazing point and its check by simulation
+    (:mod:`symvi.studies.nordmark_check`)."""
+    m = r["map"]
+    names = m["names"]
+    vec = lambda v: "(" + ", ".join(f"{x:.6g}" for x in v) + ")"      # noqa: E731
+    mult = ", ".join(f"{complex(a, b):.4g}".strip("()") for a, b in m["multipliers"])
+    past = {1.0: "increasing", -1.0: "decreasing"}.get(m["past_direction"], "—")
+    how = "a touch inside a flight" if m["kind"] == "flight" else "an impact of zero velocity"
+    L = [f"Grazing ({how}) of stop {m['stop']} at {m['param']} = {m['value']:.12g}, phase "
+         f"{m['phase']:.6f}; acceleration at the tangency a = h'' = {m['acceleration']:.6g}, "
+         f"r = {m['restitution']:g}.", "",
+         "Normalisation: " + _text(m["normalisation"]) + ".", "",
+         "| quantity | value |", "|---|---|",
+         f"| section coordinates ξ | {', '.join(names)} |",
+         "| smooth part N (rows) | " + "; ".join(vec(row) for row in m["N"]) + " |",
+         f"| multipliers of N | {mult} |",
+         f"| E0 (discontinuity map on Π) | {vec(m['E0'])} |",
+         f"| E = N E0 (√h term of P_N) | {vec(m['E'])} |",
+         f"| m = dP/d{m['param']} | {vec(m['m']) if m['m'] else '—'} |",
+         f"| δ' (depth per unit {m['param']}) | {_num(m['delta_rate'], '.6g')}; past grazing: "
+         f"{m['param']} {past} |",
+         f"| c_first (v1 = c_first √μ) | {_num(m['c_first'], '.6g')} |",
+         f"| c_attractor (1-D bound) | {_na(m['c_attractor'])} |", "",
+         f"Predicted scenario past grazing: {_text(m['scenario'])}.", "",
+         f"Simulation past grazing (the run starts on the smooth orbit where it leaves the "
+         f"stop; v1 is its first new impact):", "",
+         f"| μ | {m['param']} | δ | v1 predicted | v1 measured | ratio | attractor | "
+         "new-impact max / bound |", "|---|---|---|---|---|---|---|---|"]
+    for row in r["rows"]:
+        L.append(f"| {row['mu']:.3e} | {row['value']:.10g} | {row['delta']:.2e} | "
+                 f"{row['v1_predicted']:.6g} | {_num(row['v1_measured'], '.6g')} | "
+                 f"{_num(row['v1_ratio'], '.5f')} | {_text(row['attractor'])} | "
+                 f"{_na(row['v_new_ratio'], '.4f')} |")
+    L += ["", "The ratio tends to 1 with an error O(√δ): v1 = √(2|a|δ)(1 + O(√δ)). "
+          "The attractor's bound applies only inside the 1-D reduction (a real, dominant "
+          "0 < λ1 < 1).", ""]
+    return L
 
 
 def _circle_table(r):

@@ -18,7 +18,7 @@ outputs it wants::
 
     [[output]]
     kind = "section"               # multipliers | hopf | section | bifurcation |
-    omega = 0.7369                 # circle_check | audit | numbers
+    omega = 0.7369                 # circle_check | audit | numbers | nordmark ...
     impacts = 5000
 
 Validation is strict: an unknown or missing key, a value of the wrong type, a
@@ -145,6 +145,12 @@ KINDS = {
     # 50-digit validation of the first Hopf point: chains A and B of symvi.studies.mpcheck
     "mpcheck": dict(omega_min=_OMEGA, omega_max=_OMEGA,
                     digits=Field("int", 50, check=_int_range(30, 200))),
+    # Nordmark's map at the first grazing point of the 1-1 branch in [omega_min, omega_max],
+    # checked by simulation past grazing (symvi.studies.nordmark_check)
+    "nordmark": dict(omega_min=_OMEGA, omega_max=_OMEGA,
+                     depths=Field("numbers", None, check=(
+                         lambda v: len(v) >= 1 and all(0 < d <= 0.1 for d in v),
+                         "one or more depths with 0 < delta <= 0.1"))),
 }
 
 CHECKS = {
@@ -492,6 +498,7 @@ ENTRY = {"multipliers": ("paper.orbit",),
          "audit": ("paper.audit",),
          "numbers": ("paper.audit", "simulations.diagnostics"),
          "mpcheck": ("studies.mpcheck",),
+         "nordmark": ("studies.nordmark_check",),
          "curve": ("curves", "normal_forms.codim2", "codegen.high"),
          "codim2_evidence": ("curves", "curves.evidence", "normal_forms.codim2", "codegen.high",
                              "simulations.simulation", "simulations.diagnostics")}
@@ -999,7 +1006,15 @@ def _mpcheck(params, spec, quick, scene):
     return res, {}
 
 
+def _nordmark(params, spec, quick, scene):
+    # no grazing point in the range, or one whose map cannot be formed: said in the report
+    try:
+        return _need("studies.nordmark_check").study(params, spec, quick), {}
+    except SymviError as exc:
+        raise NotAvailable(str(exc)) from None
+
+
 _COMPUTE = {"multipliers": _multipliers, "hopf": _hopf, "section": _section,
             "bifurcation": _bifurcation, "circle_check": _circle_check, "audit": _audit,
             "numbers": _numbers, "mpcheck": _mpcheck, "curve": _curve,
-            "codim2_evidence": _codim2_evidence}
+            "codim2_evidence": _codim2_evidence, "nordmark": _nordmark}

@@ -332,3 +332,34 @@ def test_a_grazing_fold_point_of_a_three_mass_chain_is_where_its_fold_curve_ends
         assert end.params[k] == pytest.approx(gf.params[k], abs=1e-10)
     assert end.coefficients["kappa_fold"] == pytest.approx(gf.coefficients["kappa_fold"],
                                                            rel=1e-6)
+
+
+@pytest.mark.slow
+def test_through_a_fold_curve_crosses_resonant_grazing_to_its_next_admissible_piece():
+    """With through=True the fold curve from omega = 1.5 goes on past the RG point at
+    omega_d (its impact speed through zero, the orbit not admissible beyond), on the
+    regular test w det(M - I), back to zero speed at the next resonant grazing point
+    2 omega_d / 3, where a second admissible piece of the same curve begins and the
+    standard test resumes."""
+    from symvi.curves import continue_curve
+    brs = continue_orbits(coco(), "forcing[1]", 2.0, 0.2, omega=1.5)
+    fold = next(s for br in brs for s in br.special if s.kind == "fold")
+    cv = continue_curve(fold.orbit.model, "fold", ("omega", "forcing[1]"), fold,
+                        bounds={"omega": (0.6, 1.6), "forcing[1]": (0.01, 10.0)},
+                        through=True)
+    wd = np.sqrt(K - C ** 2 / 4)
+    rg = sorted((s for s in cv.special if s.kind == "RG"), key=lambda s: -s.params["omega"])
+    assert [s.params["omega"] for s in rg] == pytest.approx([wd, 2 * wd / 3], abs=1e-9)
+    for s in rg:
+        assert s.params["forcing[1]"] == pytest.approx(D * H(s.params["omega"]), rel=1e-9)
+        assert "kappa_fold" in s.coefficients and "kappa_flip" in s.coefficients
+    # between the two: not admissible; past the second: admissible, on the standard test
+    w = np.array([p.params["omega"] for p in cv.points])
+    between = [p for p, x in zip(cv.points, w) if 2 * wd / 3 + 1e-3 < x < wd - 1e-3]
+    assert between and not any(p.admissible for p in between)
+    after = [p for p, x in zip(cv.points, w) if x < 2 * wd / 3 - 1e-3]
+    assert after and all(p.admissible for p in after)
+    std = [p for p in after if not getattr(p, "_bridged", False)]
+    assert std and all(p.coefficient is not None for p in std)
+    assert all(min(abs(z - 1) for z in p.orbit.multipliers) < 1e-8 for p in std[::10])
+    assert cv.ends[0].startswith("reached omega = 0.6")
