@@ -256,10 +256,10 @@ class Codim1Tracker(engine.Tracker):
             coef = {"impact": i + 1, "impact_velocity": self._vimp(X, i)}
             if pr.several:
                 coef["stop"] = int(pr.sig[(i + 1) % pr.p]) + 1
-            return SpecialPoint("grazing", float(X[m]), orbit, coef,
-                                f"impact {i + 1} of the orbit arrives with zero velocity "
-                                "(grazing impact): the impact velocity changes sign and the "
-                                "orbit is not admissible beyond", index)
+            return SpecialPoint("grazing", float(X[m]), orbit, *_nordmark(
+                pr, orbit, coef, f"impact {i + 1} of the orbit arrives with zero velocity "
+                "(grazing impact): the impact velocity changes sign and the orbit is not "
+                "admissible beyond"), index)
         # admissibility lost inside a flight: locate the interior tangency
         i, val, tm, k = self._worst_flight(bad)
         if val is None or val < -1e-9:
@@ -285,10 +285,10 @@ class Codim1Tracker(engine.Tracker):
                                 f"contact's edge with zero velocity at t = {tm:.9g} of "
                                 f"{orbit.times[i]:.9g}: the contact splits in two beyond",
                                 index)
-        return SpecialPoint("grazing", float(X[m]), orbit, coef,
-                            f"flight {i + 1} touches {stop} with zero velocity at t = "
-                            f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the "
-                            f"orbit penetrates {'the stop' if k is None else 'it'} beyond", index)
+        return SpecialPoint("grazing", float(X[m]), orbit, *_nordmark(
+            pr, orbit, coef, f"flight {i + 1} touches {stop} with zero velocity at t = "
+            f"{tm:.9g} of {orbit.times[i]:.9g} (grazing inside a flight): the orbit "
+            f"penetrates {'the stop' if k is None else 'it'} beyond"), index)
 
     def _touch(self, i, Xa, ta, Xb, index):
         """Flight i arrives at an elastic stop with zero speed: the contact that follows
@@ -442,6 +442,28 @@ def _unit_circle_resonance(mu, m):
         return None
     return float(np.prod([(z ** m).imag for z in on]))
 
+
+
+def _nordmark(pr, orbit, coef, detail):
+    """(coefficients, detail) of a rigid grazing point with Nordmark's map added
+    (:func:`symvi.orbits.nordmark.discontinuity_map`, its normalisation there): the
+    leading multiplier lambda1 of its smooth part, gamma of the 1-D reduction, the
+    coefficient c_first of the first new impact's speed c sqrt(mu), and d delta / d lambda;
+    the predicted scenario past grazing in the detail.  Where the map cannot be computed the
+    reason is stated in the detail instead."""
+    from ..orbits.nordmark import discontinuity_map
+    try:
+        nm = discontinuity_map(orbit, coef, param=pr.param or "omega")
+    except SymviError as exc:
+        return coef, detail + f"; Nordmark's map not computed: {exc}"
+    lam1 = nm.multipliers[0]
+    coef = dict(coef, lambda1_re=float(lam1.real), lambda1_im=float(lam1.imag),
+                acceleration=nm.acceleration)
+    for key in ("gamma", "c_first", "delta_rate"):
+        v = getattr(nm, key)
+        if v is not None and math.isfinite(v):
+            coef[key] = float(v)
+    return coef, detail + f"; Nordmark's map past grazing: {nm.scenario}"
 
 # names that moved to the one engine (issue 24, item 4): they warn for one release
 __getattr__ = _moved_names(__name__, __name__, {"Tracker": "Codim1Tracker"})

@@ -30,6 +30,7 @@ DOCS = ROOT / "docs"
 PAGES = [
     "index.html", "getting-started.html",
     "theory/map.html", "theory/jets.html", "theory/normal-forms.html", "theory/errata.html",
+    "theory/grazing.html",
     "howto/model-files.html", "howto/continuation.html", "howto/curves.html",
     "howto/planes.html", "howto/scenes.html", "howto/validation.html",
     "gallery/index.html", "gallery/paper_examples.html", "gallery/chain3.html",
@@ -55,6 +56,9 @@ OUTPUTS = {
     "theory/normal-forms.html": ["||q||_2 = 1.000000000000000",
                                  "c1) = -0.097200709118  (this page)",
                                  "= -0.097200709118  (symvi.hopf_points)"],
+    "theory/grazing.html": ["gap* = 0.1490711985 (|X| = 0.1490711985)",
+                            "period-adding cascade with chaotic windows",
+                            "1.0e-06  1.092047e-03  1.092048e-03  0.999998  period-6"],
     "howto/curves.html": ["CH   omega = 0.8164887222", "R3   omega = 0.7628671598"],
     "gallery/coco_15_2.html": ["omega = 0.30: grazing at A = 0.9104943712",
                                "omega = 1.00: grazing at A = 0.1000000000",
