@@ -92,7 +92,10 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     simulation : Simulation or str or os.PathLike, optional
         A :func:`symvi.simulate` run of ``model`` that settled on a periodic orbit, or
         the path of an ``.npz`` written by ``symvi simulate --out``: start from its
-        orbit.
+        orbit.  A run that settled on a sticking orbit (its ``sticks``: two complete
+        sticking phases, the last in its second half) gives the branch of that orbit
+        (:func:`symvi.continuation.sticking.continue_sticking`; ``orbit`` and
+        ``switch`` do not apply).
     switch : bool, optional
         Also follow the branch born at each flip point and at each branch point
         (default False).
@@ -194,6 +197,19 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         a, stops = start_omega, (lo, hi)
     else:
         a, stops = start, (stop,)
+    if simulation is not None and _sticks(simulation):
+        # a run that settled on a sticking orbit: its branch on the release section
+        from .sticking import continue_sticking
+        if par.is_forcing_frequency:
+            a = float(simulation.omega)
+            if not lo <= a <= hi:
+                raise ParameterError(N["simulation"], f"the simulation at omega = {a:g}",
+                                     f"a simulation at omega in [{lo}, {hi}]")
+            return [continue_sticking(at, param, a, b, guess=simulation,
+                                      max_points=max_points) for b in (lo, hi) if b != a]
+        return [continue_sticking(at, param, start, stop, guess=simulation,
+                                  max_points=max_points,
+                                  omega=fixed.get("omega", simulation.omega))]
     if simulation is not None:
         sim, shown = _simulation(simulation, N)
         if par.is_forcing_frequency:
@@ -393,6 +409,17 @@ def _real(value, shown, finite=True):
     if v is None or isinstance(value, bool) or (finite and not math.isfinite(v)):
         raise ParameterError(shown, value, "a finite real number" if finite else "a real number")
     return v
+
+
+def _sticks(simulation):
+    """Whether a Simulation settled on sticking: two complete sticking phases or more, the
+    last one in the second half of the run (an .npz path: no, it keeps no sticks)."""
+    import numpy as np
+    st = getattr(simulation, "sticks", None)
+    if st is None or len(st) < 2 or len(simulation.t) == 0:
+        return False
+    done = st[np.isfinite(st[:, 1])]
+    return len(done) >= 2 and done[-1, 0] > simulation.t[len(simulation.t) // 2]
 
 
 def _simulation(simulation, N):

@@ -120,7 +120,11 @@ def _watched(lam, d, A, B, G, omega, tau, t, i):
 @nb.njit(cache=True)
 def _root_of(lam, d, A, B, G, omega, tau, i, ta, tb, Fb, F1b):
     """The root of watched function i in (ta, tb] (F(ta) < 0, F(tb) >= -eps): regula falsi
-    (Illinois) on the bracket when F(tb) >= 0, else Newton from tb."""
+    (Illinois) on the bracket when F(tb) >= 0, else Newton from tb.  An empty bracket
+    (ta = tb: the event at the held phase's start, e.g. a contact force already zero at
+    the accumulation point) is its own root."""
+    if tb <= ta:
+        return tb
     if Fb >= 0.0:
         if Fb == 0.0:
             return tb

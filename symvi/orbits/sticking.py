@@ -156,7 +156,8 @@ class ReleaseMap:
         self.size = 2 * self.n - 1
         self._cache = {}
         self.p = None
-        self._setup(self._cache_key(None))
+        if self.parameter is None:
+            self._setup(None)
 
     # ---- the model at a parameter value
     def _cache_key(self, lam):
@@ -325,6 +326,11 @@ class StickingOrbit:
     @property
     def y(self):
         return self.xi
+
+    @property
+    def points(self):
+        """(xi,): the orbit's one section point, as a branch's curve reads it."""
+        return (self.xi,)
 
     @property
     def tau_release(self):
