@@ -124,7 +124,6 @@ def _chatter_start(t, speeds, stops, g):
             if i + 1 < len(t) and not t[i + 1] - t[i] < t[i] - t[j]:
                 break
         i = j
-    # the flight into the tail's first impact may itself be longer than the next one
     return i
 
 
@@ -408,11 +407,10 @@ def release_point(sim):
     """(xi, periods, stop) of the last complete sticking phase of a Simulation that sticks:
     the release state recomputed from the last impact before it (its chatter's)."""
     st = getattr(sim, "sticks", None)
-    if st is None or len(st) < 2 or not np.isfinite(st[-2:, 1]).all() and not (
-            len(st) >= 3 and np.isfinite(st[-3:-1, 1]).all()):
+    done = np.zeros((0, 3)) if st is None else st[np.isfinite(st[:, 1])]
+    if len(done) < 2:
         raise ParameterError("guess", "a simulation", "a Simulation with at least two "
                              "complete sticking phases (its sticks)")
-    done = st[np.isfinite(st[:, 1])]
     (ts, tr, g), tr_prev = done[-1], done[-2, 1]
     periods = max(1, int(round(sim.omega * (tr - tr_prev) / _TWO_PI)))
     i = np.flatnonzero(np.asarray(sim.t) < ts)

@@ -1,6 +1,7 @@
 """Branches of orbits with a sticking phase (issue 27, item 4:
 :mod:`symvi.continuation.sticking`), each point checked against a long run of
 ``symvi.simulate`` at its parameter value, and the end where the held phase vanishes."""
+import json
 import math
 
 import numpy as np
@@ -79,6 +80,8 @@ def test_two_masses_from_continue_orbits():
     assert [br.end for br in brs] == ["reached omega = 0.6", "reached omega = 0.8"]
     for br in brs:
         assert all(pt.admissible for pt in br.points) and br.n == 1
+        d = json.loads(json.dumps(br.as_dict()))          # the branches' one JSON shape
+        assert d["signature"] == "1-0+stick" and len(d["points"]) == len(br)
         pt = br.points[len(br) // 2]
         _, st = _settled(TWO, pt.value, (-0.5, 0.0, 0.0, 0.0))
         assert st[-1, 1] - st[-1, 0] == pytest.approx(pt.orbit.hold, abs=1e-8)
