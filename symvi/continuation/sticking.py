@@ -27,8 +27,14 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model import Model
-from ..orbits.sticking import ReleaseMap, StickingOrbit, StickingSignature, newton, \
-    orbit_at, release_point
+from ..orbits.sticking import (
+    ReleaseMap,
+    StickingOrbit,
+    StickingSignature,
+    newton,
+    orbit_at,
+    release_point,
+)
 from . import engine
 from .engine import Client, tangent
 from .points import Branch, BranchPoint

@@ -206,7 +206,7 @@ class ReleaseMap:
 
     def trip(self, xi, lam=None):
         """R(xi) at lam, with what the trip met (a :class:`Trip`)."""
-        model, omega, c, held = self._setup(self._cache_key(lam))
+        _, omega, c, held = self._setup(self._cache_key(lam))
         z, tau0 = self.release_state(xi, held)
         y = _section(z, held.p, self.n, tau0)
         return _trip(c, held, y, self.stop, tau0, omega)

@@ -47,7 +47,7 @@ def test_branch_points_against_simulations(up):
     vals = up.values
     for target in (0.52, 0.55, 0.56):
         pt = up.points[int(np.argmin(np.abs(vals - target)))]
-        run, st = _settled(ONE, pt.value, (-0.5, 0.0))
+        _, st = _settled(ONE, pt.value, (-0.5, 0.0))
         o = pt.orbit
         assert st[-1, 0] - st[-2, 1] == pytest.approx(o.t_stick, abs=1e-8)
         assert st[-1, 1] - st[-1, 0] == pytest.approx(o.hold, abs=1e-8)
