@@ -55,6 +55,10 @@ def run(args):
     several = sim.stops > 1
     # with several stops each point lies on the section of the stop it hit: "hits"
     extra = {"hits": sim.hits} if several else {}
+    if sim.sticks is not None and len(sim.sticks):
+        # the sticking phases (t_stick, t_release, stop 0-based) and each impact's stop:
+        # what symvi continue --from-section reads to solve the sticking orbit
+        extra.update(sticks=sim.sticks, hits=sim.hits)
     save_npz(args.out, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,
              y0=sim.y0, omega=sim.omega, stop=sim.stop, names=names, **extra,
              **data_key(params))

@@ -197,6 +197,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         a, stops = start_omega, (lo, hi)
     else:
         a, stops = start, (stop,)
+    simulation = _with_sticks(simulation, at, N)
     if simulation is not None and _sticks(simulation):
         # a run that settled on a sticking orbit: its branch on the release section
         from .sticking import continue_sticking
@@ -409,6 +410,41 @@ def _real(value, shown, finite=True):
     if v is None or isinstance(value, bool) or (finite and not math.isfinite(v)):
         raise ParameterError(shown, value, "a finite real number" if finite else "a real number")
     return v
+
+
+class _StickRun:
+    """What :func:`symvi.orbits.sticking.release_point` reads of a run saved with its
+    sticking phases (``symvi simulate --out``: the arrays sticks and hits)."""
+
+    def __init__(self, params, section, t, omega, hits, sticks):
+        self.params, self.section, self.t, self.omega = params, section, t, omega
+        self.hits, self.sticks = hits, sticks
+
+
+def _with_sticks(simulation, model, N):
+    """An .npz path of a run that stuck, as a :class:`_StickRun` of ``model`` (the model of
+    the command: an .npz keeps arrays, not the model); anything else as it is."""
+    import numpy as np
+    if not isinstance(simulation, (str, os.PathLike)):
+        return simulation
+    shown = os.fspath(simulation)
+    try:
+        with np.load(shown) as f:
+            if "sticks" not in f.files:
+                return simulation
+            run = _StickRun(model, np.array(f["section"], dtype=float),
+                            np.array(f["t"], dtype=float), float(f["omega"]),
+                            np.array(f["hits"], dtype=np.int64),
+                            np.array(f["sticks"], dtype=float).reshape(-1, 3))
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
+                             "--out (arrays section, t, omega; hits with sticks)",
+                             str(exc)) from None
+    if run.section.ndim != 2 or run.section.shape[1] != model.dim or \
+            len(run.t) != len(run.section) or len(run.hits) != len(run.section):
+        raise ParameterError(N["simulation"], shown, f"a run of this model: section of "
+                             f"{model.dim} columns, t and hits one per row")
+    return run
 
 
 def _sticks(simulation):
