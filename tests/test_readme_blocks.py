@@ -196,6 +196,12 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
                                                                    abs=1e-9)
     assert gz["kappas"]["kappa_fold"] == pytest.approx(-101.85, abs=0.01)
     assert gz["kappas"]["kappa_flip"] == pytest.approx(7.32, abs=0.01)
+    # orbits with a sticking phase: the release phase's closed form, the branch's end
+    assert str(gz["orb"].signature) == "1-0+stick"
+    assert gz["orb"].tau_release == pytest.approx(math.pi - math.asin(0.2), abs=1e-12)
+    assert round(gz["orb"].tau_release, 7) == 2.9402347
+    end = re.search(r"held phase vanishes near omega = ([0-9.]+)", gz["stick"].end)
+    assert float(end.group(1)) == pytest.approx(0.56424, abs=5e-6)
     # planes: the stored grid, labelled
     pl = spaces["Parameter planes on Dask"]
     assert dict(pl["ds"].attractor.sizes) in ({"b": 12, "omega": 16}, {"omega": 16, "b": 12})

@@ -115,11 +115,15 @@ def run(args):
     print(f"model: {describe(model)}   {param} from {span.lo:g} to {span.hi:g}")
     for k, br in enumerate(branches):
         o = br.points[0].orbit
-        sig = "" if o.signature is None or not (len(model.constraints) > 1 or model.elastic) else \
+        sticking = hasattr(o, "hold")
+        sig = "" if sticking or o.signature is None or not (
+            len(model.constraints) > 1 or model.elastic) else \
             " (signature " + ", ".join(o.signature_names) + (
                 "" if o.symmetric is None else
                 ", symmetric" if br.points[len(br) // 2].orbit.symmetric else ", asymmetric") + ")"
-        print(f"\nbranch {k + 1}: {br.n}-{br.p} orbits{sig}, {len(br)} points, {param} in "
+        # an orbit with a sticking phase names itself (n-j+stick: its StickingSignature)
+        kind = str(o.signature) if sticking else f"{br.n}-{br.p}"
+        print(f"\nbranch {k + 1}: {kind} orbits{sig}, {len(br)} points, {param} in "
               f"[{br.values.min():.10g}, {br.values.max():.10g}]; end: {br.end}")
         for note in br.notes:
             print(f"  note: {note}")

@@ -55,6 +55,10 @@ def run(args):
     several = sim.stops > 1
     # with several stops each point lies on the section of the stop it hit: "hits"
     extra = {"hits": sim.hits} if several else {}
+    if sim.sticks is not None and len(sim.sticks):
+        # the sticking phases (t_stick, t_release, stop 0-based) and each impact's stop:
+        # what symvi continue --from-section reads to solve the sticking orbit
+        extra.update(sticks=sim.sticks, hits=sim.hits)
     save_npz(args.out, section=sim.section, t=sim.t, impact_velocity=sim.impact_velocity,
              y0=sim.y0, omega=sim.omega, stop=sim.stop, names=names, **extra,
              **data_key(params))
@@ -62,6 +66,11 @@ def run(args):
            "transient": sim.transient, "out": args.out}
     if several:
         out["impacts_per_stop"] = sim.impacts_per_stop()
+    if sim.sticks is not None and len(sim.sticks):
+        # complete chatter and sticking went through: each phase (t_stick, t_release, stop)
+        out["sticks"] = [[float(a), float(b), int(k) + 1] for a, b, k in sim.sticks]
+    if sim.stop_reason:
+        out["stop_reason"] = sim.stop_reason
     if args.classify:
         from ..simulations.diagnostics import classify
         cl = classify(sim)
@@ -73,6 +82,10 @@ def run(args):
                 out["impacts_per_orbit"] = cl.impacts
             if cl.signature is not None:
                 out["signature"] = cl.signature_names
+            if "sticks" in out:
+                # the attractor holds sticking phases (its label stays period-k, as the
+                # plane's)
+                out["sticking"] = True
         # null only where the run stopped or was too short (the class says which)
         out["lyapunov"] = (None if cl.lyapunov is None
                            else [float(v) for v in cl.lyapunov.exponents])
@@ -102,8 +115,14 @@ def _print_text(out, system):
     if "impacts_per_stop" in out:
         print("impacts per stop: " + ", ".join(f"{k} {v}" for k, v in
                                                 out["impacts_per_stop"].items()))
+    if "sticks" in out:
+        print(f"sticking phases: {len(out['sticks'])} (chatter accumulated, held, released)")
+    if "stop_reason" in out:
+        print(f"why the run stopped: {out['stop_reason']}")
     if "class" in out:
         line = f"attractor: {out.get('attractor', out['class'])}"
+        if out.get("sticking"):
+            line += " with sticking"
         if "impacts_per_orbit" in out:
             line += f", {out['impacts_per_orbit']} impacts per orbit"
         if "signature" in out:

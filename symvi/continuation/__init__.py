@@ -16,7 +16,7 @@ _LAZY = {"Branch": "points", "BranchPoint": "points", "SpecialPoint": "points",
          "period1_branches": "branch", "same_branch": "branch",
          "diagram_branches": "branch", "continue_orbits": "start",
          "switch_at_branch_point": "branch", "attractor_orbit": "start",
-         "ns_scan": "start"}
+         "ns_scan": "start", "continue_sticking": "sticking"}
 __all__ = ["EVENT_KINDS", "Result", *_LAZY]
 
 

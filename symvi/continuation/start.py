@@ -92,7 +92,10 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
     simulation : Simulation or str or os.PathLike, optional
         A :func:`symvi.simulate` run of ``model`` that settled on a periodic orbit, or
         the path of an ``.npz`` written by ``symvi simulate --out``: start from its
-        orbit.
+        orbit.  A run that settled on a sticking orbit (its ``sticks``: two complete
+        sticking phases, the last in its second half) gives the branch of that orbit
+        (:func:`symvi.continuation.sticking.continue_sticking`; ``orbit`` and
+        ``switch`` do not apply).
     switch : bool, optional
         Also follow the branch born at each flip point and at each branch point
         (default False).
@@ -194,6 +197,20 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         a, stops = start_omega, (lo, hi)
     else:
         a, stops = start, (stop,)
+    simulation = _with_sticks(simulation, at, N)
+    if simulation is not None and _sticks(simulation):
+        # a run that settled on a sticking orbit: its branch on the release section
+        from .sticking import continue_sticking
+        if par.is_forcing_frequency:
+            a = float(simulation.omega)
+            if not lo <= a <= hi:
+                raise ParameterError(N["simulation"], f"the simulation at omega = {a:g}",
+                                     f"a simulation at omega in [{lo}, {hi}]")
+            return [continue_sticking(at, param, a, b, guess=simulation,
+                                      max_points=max_points) for b in (lo, hi) if b != a]
+        return [continue_sticking(at, param, start, stop, guess=simulation,
+                                  max_points=max_points,
+                                  omega=fixed.get("omega", simulation.omega))]
     if simulation is not None:
         sim, shown = _simulation(simulation, N)
         if par.is_forcing_frequency:
@@ -393,6 +410,52 @@ def _real(value, shown, finite=True):
     if v is None or isinstance(value, bool) or (finite and not math.isfinite(v)):
         raise ParameterError(shown, value, "a finite real number" if finite else "a real number")
     return v
+
+
+class _StickRun:
+    """What :func:`symvi.orbits.sticking.release_point` reads of a run saved with its
+    sticking phases (``symvi simulate --out``: the arrays sticks and hits)."""
+
+    def __init__(self, params, section, t, omega, hits, sticks):
+        self.params, self.section, self.t, self.omega = params, section, t, omega
+        self.hits, self.sticks = hits, sticks
+
+
+def _with_sticks(simulation, model, N):
+    """An .npz path of a run that stuck, as a :class:`_StickRun` of ``model`` (the model of
+    the command: an .npz keeps arrays, not the model); anything else as it is."""
+    import numpy as np
+    if not isinstance(simulation, (str, os.PathLike)):
+        return simulation
+    shown = os.fspath(simulation)
+    try:
+        with np.load(shown) as f:
+            if "sticks" not in f.files:
+                return simulation
+            run = _StickRun(model, np.array(f["section"], dtype=float),
+                            np.array(f["t"], dtype=float), float(f["omega"]),
+                            np.array(f["hits"], dtype=np.int64),
+                            np.array(f["sticks"], dtype=float).reshape(-1, 3))
+    except (OSError, KeyError, ValueError, TypeError) as exc:
+        raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
+                             "--out (arrays section, t, omega; hits with sticks)",
+                             str(exc)) from None
+    if run.section.ndim != 2 or run.section.shape[1] != model.dim or \
+            len(run.t) != len(run.section) or len(run.hits) != len(run.section):
+        raise ParameterError(N["simulation"], shown, f"a run of this model: section of "
+                             f"{model.dim} columns, t and hits one per row")
+    return run
+
+
+def _sticks(simulation):
+    """Whether a Simulation settled on sticking: two complete sticking phases or more, the
+    last one in the second half of the run (an .npz path: no, it keeps no sticks)."""
+    import numpy as np
+    st = getattr(simulation, "sticks", None)
+    if st is None or len(st) < 2 or len(simulation.t) == 0:
+        return False
+    done = st[np.isfinite(st[:, 1])]
+    return len(done) >= 2 and done[-1, 0] > simulation.t[len(simulation.t) // 2]
 
 
 def _simulation(simulation, N):

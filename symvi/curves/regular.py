@@ -206,7 +206,10 @@ class _Crossings(engine.Tracker):
         m = s.m
         a, b = s.names
         params = {a: float(X2[m]), b: float(X2[m + 1])}
-        coef = {"impact": i + 1, "spread": float(spread)}
+        # spread: the interpolation's; tolerance: the corrector's on the bridge (its
+        # derivatives are differences), the larger of the two bounds the point's error
+        coef = {"impact": i + 1, "spread": float(spread),
+                "tolerance": BRIDGE_TOL * (1 + float(np.max(np.abs(X))))}
         if s.extra:
             coef["theta"] = float(X[m])
         name = "grazing-NS" if s.kind == "ns" else f"grazing-{s.kind}"

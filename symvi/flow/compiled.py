@@ -55,7 +55,7 @@ from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED
 from ..numerics.tolerances import EPS64 as _EPS
 from .linear import LinearFlow
 
-__all__ = ["constants", "size", "pack", "first_impact_from", "step", "step_tangent",
+__all__ = ["constants", "size", "pack", "first_impact_from", "state_from", "step", "step_tangent",
            "jacobian_tangent", "run", "run_batch",
            "IMPACT", "GRAZING", "NO_IMPACT", "STATUS_NAMES", "COMPLETED", "STOP_GRAZING",
            "STOP_CHATTER", "STOP_STICKING", "STOP_NO_IMPACT", "STOP_NONFINITE", "STOP_NAMES",
@@ -466,6 +466,26 @@ def _safe_dt(h, h1, h2, h3, h4, M2, M5, S):
     return step, S
 
 
+@nb.njit(cache=True, inline="always")
+def _release_time(h1, h2, h3, M4, eps_h):
+    """How long a start with h = 0, h' = 0 (to rounding) stays provably off the stop: a
+    release from sticking (:mod:`symvi.flow.sticking`), where the contact force vanished:
+    h'' = 0 (to rounding) and h3 = h'(3) < 0, or h'' < 0.  With |h'(4)| <= M4
+    (= M2 max(|lambda|, omega)^2), h''(s) <= min(h2, 0) + h3 s + M4 s^2/2 < 0 for
+    0 < s < s*, so h' < 0 and h < 0 on (0, s*/2], which is returned.  A rounding-sized
+    h2 > 0 is dropped: its penetration, ~h2^3/h3^2, is below eps_h.  0 when the start is
+    no release (h'' clearly > 0, or h'' = 0 and h3 >= 0): the finder then reports
+    grazing at t = 0 as before."""
+    if M4 <= 0.0:
+        return 0.0
+    s_star = (-h3 + math.sqrt(h3 * h3 - 2.0 * M4 * min(h2, 0.0))) / M4
+    if not s_star > 0.0:
+        return 0.0
+    if h2 > 0.0 and (h2 * (h2 / h3) ** 2 > eps_h or 6.0 * h2 / -h3 > 0.5 * s_star):
+        return 0.0
+    return 0.5 * s_star
+
+
 @nb.njit(cache=True)
 def _near_max(c, d, e, x, n, m, tau, g, ta, ha, da, tb, hb, db, L):
     """Location of the max of guard g's h in (ta, tb) (h' > 0 at ta, <= 0 at tb) when it
@@ -508,6 +528,7 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
     _, _, _, oc, cb = _offsets(n)
     _modes_at(c, e, x, m, tau, 0.0)
     t = np.inf
+    t_rel = 0.0                               # a release start: guard k safe up to here
     for g in range(nc):
         ob = oc + g * cb
         h, h1, h2, h3, h4, M2, M5 = _guard_at(c, d, e, x, n, m, g)
@@ -519,11 +540,21 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
         s[q + _SS] = 0.5 / c[_LMAX]           # first horizon; adapted below
         s[q + _STP], s[q + _SHP], s[q + _SDP] = 0.0, h, h1
         if g == k:
-            if not h1 < 0.0:
-                return GRAZING, 0.0, h2, 0, g
-            # vertex of the global bound: h < 0 up to here (h linear if M2 = 0: a free
-            # mass, unforced, leaving: never back)
-            tg = -h1 / M2 if M2 > 0.0 else t_max + 1.0 / c[_LMAX]
+            if not h1 < -eps_h * c[_LMAX]:
+                # leaving at no speed (to rounding): a release, or grazing at t = 0
+                t_rel = _release_time(h1, h2, h3, M2 * c[_LMAX] * c[_LMAX], eps_h)
+                if t_rel <= 0.0 or h1 > eps_h * c[_LMAX]:
+                    if not h1 < 0.0:
+                        return GRAZING, 0.0, h2, 0, g
+                    t_rel = 0.0               # a slow departure: as before
+                    tg = -h1 / M2 if M2 > 0.0 else t_max + 1.0 / c[_LMAX]
+                else:
+                    tg = t_rel
+                    s[q + _SDP] = 0.0         # h' < 0 from here: no maximum behind
+            else:
+                # vertex of the global bound: h < 0 up to here (h linear if M2 = 0: a
+                # free mass, unforced, leaving: never back)
+                tg = -h1 / M2 if M2 > 0.0 else t_max + 1.0 / c[_LMAX]
         elif h >= -eps_h:
             # the start touches another stop too (a corner): no safe way on
             return GRAZING, 0.0, h2, 0, g
@@ -541,6 +572,10 @@ def _first_impact(c, d, e, x, amp, s, tau, t_max, k):
             h, h1, h2, h3, h4, M2, M5 = _guard_at(c, d, e, x, n, m, g)
             q = 8 * g
             eps_h = s[q + _SEPS]
+            if g == k and t < t_rel:          # still inside the release's safe start
+                s[q + _STP], s[q + _SHP], s[q + _SDP] = t, h, h1
+                step = min(step, t_rel - t)
+                continue
             if s[q + _SDP] > 0.0 and h1 <= 0.0 and h < -eps_h:
                 # a local max of h was stepped over; the reference (smaller steps)
                 # lands within eps_h of a near-tangency and calls it grazing: so do we
@@ -665,6 +700,23 @@ def first_impact_from(c, y, t_max=None, k=0):
     c = np.ascontiguousarray(c, dtype=np.float64)
     return _first_impact_from(c, np.ascontiguousarray(y, dtype=np.float64),
                               c[_TMAX] if t_max is None else float(t_max), k)
+
+
+@nb.njit(cache=True)
+def _state_from(c, y, k, t):
+    n, m = int(c[_NN]), int(c[_NM])
+    cc, d, e, x, amp, s, z, _ = _work(c)
+    tau = _start(c, y, k, cc, d, amp, z)
+    _modes_at(c, e, x, m, tau, t)
+    _state(c, cc, e, z)
+    return z
+
+
+def state_from(c, y, t, k=0):
+    """The state z(t) (flow order) of the free flight from point y of constraint k's
+    section, at time t (no finder: the caller knows the flight stays off every stop)."""
+    return _state_from(np.ascontiguousarray(c, dtype=np.float64),
+                       np.ascontiguousarray(y, dtype=np.float64), np.int64(k), float(t))
 
 
 @nb.njit(cache=True)
@@ -846,7 +898,8 @@ def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max
     Stops as the module docstring says (no impact, grazing, sticking, chatter,
     non-finite); on a stop y is left at the last section point accepted.  Returns
     (stop code, number stored, total finder steps, time at the start of the kept steps,
-    the constraint of y's section at the end).
+    the constraint of y's section at the end, the images accepted (transient included),
+    the time of y since the start).
     """
     n = int(c[_NN])
     dim = 2 * n
@@ -859,6 +912,7 @@ def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max
     short = 0
     t_chat = CHATTER_FLIGHT * _TWO_PI / c[_OM]
     steps = 0
+    g_prev, vm_prev = -1, np.inf
     for it in range(transient + n_keep):
         kept = it - transient
         if kept == 0:
@@ -872,9 +926,10 @@ def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max
             for i in range(dim):
                 y[i] = y_prev[i]
             if st == NO_IMPACT:
-                return STOP_NO_IMPACT, max(kept, 0), steps, T0, k
+                return STOP_NO_IMPACT, max(kept, 0), steps, T0, k, it, T
             # h'' > 0 at a contact with ~zero speed: the stop holds the mass
-            return (STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0, k
+            return ((STOP_STICKING if acc > 0.0 else STOP_GRAZING), max(kept, 0), steps, T0, k,
+                    it, T)
         ok = True
         for i in range(dim):
             ok = ok and math.isfinite(y[i]) and abs(y[i]) <= y_max
@@ -889,13 +944,19 @@ def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max
         if not ok:
             for i in range(dim):
                 y[i] = y_prev[i]
-            return STOP_NONFINITE, max(kept, 0), steps, T0, k
+            return STOP_NONFINITE, max(kept, 0), steps, T0, k, it, T
         k = g
         if tangent:
             for i in range(dim):
                 v[i] /= nv
         T += te
-        short = short + 1 if te < t_chat else 0
+        # a short flight counts toward a chatter stop unless the sequence converges: the
+        # same constraint, pushed into it (h'' > 0), a smaller approach speed; that one
+        # is followed to its grazing impact, whose sticking the caller continues
+        # (:func:`symvi.flow.sticking.run_through`)
+        conv = g == g_prev and acc > 0.0 and vm < vm_prev
+        short = short + 1 if te < t_chat and not conv else 0
+        g_prev, vm_prev = g, vm
         if kept >= 0:
             for i in range(dim):
                 sec[kept, i] = y[i]
@@ -906,8 +967,8 @@ def _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v, glog, y_max
             if tangent:
                 glog[kept] = math.log(nv)
         if short >= CHATTER_COUNT:
-            return STOP_CHATTER, max(kept + 1, 0), steps, T0, k
-    return COMPLETED, n_keep, steps, T0, k
+            return STOP_CHATTER, max(kept + 1, 0), steps, T0, k, it + 1, T
+    return COMPLETED, n_keep, steps, T0, k, transient + n_keep, T
 
 
 _NONE = np.empty(0)
@@ -925,8 +986,8 @@ def run(c, y0, n_keep, transient=0, k=0, hits=False):
     vimp = np.empty(n_keep)
     which = np.empty(n_keep if hits else 0, dtype=np.int64)
     y = np.array(np.asarray(y0, dtype=np.float64)[:dim])
-    code, kk, steps, _, _ = _run_into(c, y, np.int64(k), n_keep, transient, sec, times,
-                                      vimp, which, _NONE, _NONE, np.inf)
+    code, kk, steps, _, _, _, _ = _run_into(c, y, np.int64(k), n_keep, transient, sec, times,
+                                            vimp, which, _NONE, _NONE, np.inf)
     out = (code, sec[:kk], times[:kk], vimp[:kk], steps)
     return out + (which[:kk],) if hits else out
 
@@ -937,7 +998,7 @@ def _run_batch(C, Y0, n_keep, transient, sec, times, vimp, codes, counts, steps)
     no_hits = np.empty(0, dtype=np.int64)
     for i in nb.prange(C.shape[0]):
         y = Y0[i, :2 * int(C[i, _NN])].copy()
-        codes[i], counts[i], steps[i], _, _ = _run_into(
+        codes[i], counts[i], steps[i], _, _, _, _ = _run_into(
             C[i], y, 0, n_keep, transient, sec[i], times[i], vimp[i], no_hits, none, none,
             np.inf)
 

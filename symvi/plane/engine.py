@@ -56,8 +56,11 @@ def compute_block(spec_text, r0, r1):
         own = np.zeros(len(pts), dtype=bool)   # no period-1 orbit to start from
     else:
         C, Y0, own = block_inputs(spec, r0, r1)
+        # a run that sticks goes on through it (its model per point: the held motion)
+        nx = spec.x.n
+        models = lambda p: spec.point(r0 + p // nx, p % nx)[0]     # noqa: E731
         res = classify_runs(C, Y0, spec.impacts, spec.transient, follow=spec.follow,
-                            row_len=spec.x.n)
+                            row_len=spec.x.n, models=models)
     shape = (r1 - r0, spec.x.n)
     own = own & ~res.followed          # a followed point did not start from its own orbit
     return {"attractor": res.labels().astype("<U16").reshape(shape),
@@ -362,7 +365,8 @@ def _joined(parts):
     """One Classified of the tasks' ones, in order."""
     from ..simulations.classifier import Classified
     tuples = ("signature", "kinds")
-    return Classified(**{f.name: tuple(x for p in parts for x in getattr(p, f.name))
+    return Classified(**{f.name: None if any(getattr(p, f.name) is None for p in parts) else
+                         tuple(x for p in parts for x in getattr(p, f.name))
                          if f.name in tuples else
                          np.concatenate([getattr(p, f.name) for p in parts])
                          for f in dataclasses.fields(Classified)})

@@ -73,7 +73,9 @@ one reused (n_keep, 2N) buffer, then:
   orientation is arbitrary, as the argument of a multiplier in [0, pi]).  Defined
   for a completed run with at least 3 distinct points (periodic with q >= 3,
   circle, doubled torus, chaos), NaN otherwise.
-* stopped runs: no impact -> "no-impact"; sticking or chatter -> "sticking";
+* stopped runs: no impact -> "no-impact"; sticking or chatter -> "sticking" (with
+  ``models`` a run that sticks is run on through its sticking phases and judged on its
+  impacts instead: a periodic sticking orbit is period-k, ``Classified.sticking``);
   non-finite state, or |y| > 1e6 (escape; stop code "non-finite") -> "escape";
   grazing -> "grazing".  Their period, impacts are 0 and lyapunov, rotation,
   impacts_per_period NaN.
@@ -459,7 +461,7 @@ def _classify_one(c, y, k, n_keep, transient, sec, times, vimp, hits, glog, v, p
     omega = c[_OM]
     for i in range(dim):
         v[i] = 1.0 / math.sqrt(dim)
-    stop, kept, _, T0, k = _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v,
+    stop, kept, _, T0, k, _, _ = _run_into(c, y, k, n_keep, transient, sec, times, vimp, hits, v,
                                      glog, ESCAPE_MAX)
     nan = np.nan
     vmax = -1.0
@@ -543,6 +545,10 @@ class Classified:
     #: with an elastic stop, per point the kind of each event of :attr:`signature`
     #: ("impact", "entry", "exit"); None otherwise
     kinds: tuple = None
+    #: bool (m,): the run went through sticking phases (complete chatter, the mass held on
+    #: a stop, released: :mod:`symvi.flow.sticking`), its attractor judged on its impacts
+    #: (a periodic one is period-k); None when not asked (no ``models``)
+    sticking: np.ndarray = None
 
     def labels(self):
         """Names of the attractors: "period-3", "circle", ..."""
@@ -575,7 +581,7 @@ def min_kept(nc):
     return MIN_KEPT * max(int(nc), 1)
 
 
-def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
+def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None, models=None):
     """Run and classify one batch: rows of C (:func:`symvi.flow.compiled.constants`, one
     model size and number of stops) from the start points Y0 (m, 2N), each on the first
     stop's section, in one compiled serial loop.
@@ -584,6 +590,14 @@ def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     ones.  ``follow`` continues each row (``row_len`` points, the whole batch when None)
     from the previous point's attractor (module docstring).  With several stops the
     periodic attractors' signatures are in ``Classified.signature``.
+
+    ``models`` (one :class:`symvi.model.Model` per row, a function of the row giving it,
+    or one for all): a run that stops
+    at sticking goes on through it (:func:`symvi.flow.sticking.run_through`, in Python,
+    from the same start) and is judged on its impacts by :func:`_judge` without the
+    tangent map (no exponent across a held phase: ``lyapunov`` NaN, no chaos test);
+    ``Classified.sticking`` flags those points.  Without ``models`` such a run keeps the
+    label "sticking".
     """
     C = np.ascontiguousarray(np.atleast_2d(C), dtype=np.float64)
     Y0 = np.ascontiguousarray(np.atleast_2d(Y0), dtype=np.float64)
@@ -615,9 +629,48 @@ def classify_runs(C, Y0, n_keep, transient, *, follow=False, row_len=None):
     sigs = np.full((m, Q_MAX if nc > 1 else 0), -1, dtype=np.int64)
     _classify_batch(C, Y0, n_keep, transient, bool(follow), row_len, code, period, impacts,
                     floats, stop, y_end, followed, k_end, sigs)
+    sticking = None
+    if models is not None:
+        sticking = np.zeros(m, dtype=np.bool_)
+        for p in np.flatnonzero(stop == STOP_STICKING):
+            model = (models[p] if isinstance(models, (list, tuple)) else
+                     models(p) if callable(models) else models)
+            # the start the batch used: its own, or the previous point's end (never a
+            # sticking point's, so never one changed here)
+            y, k = (Y0[p, :2 * n], 0) if not followed[p] else (y_end[p - 1], k_end[p - 1])
+            _through(C[p], model, y, k, n_keep, transient, p, code, period, impacts, floats,
+                     stop, y_end, k_end, sigs, sticking)
     sig = None if nc == 1 else tuple(signature(row[:q]) for row, q in zip(sigs, impacts))
     return Classified(code, period, impacts, floats[0], floats[1], floats[2], floats[3], stop,
-                      y_end, followed, k_end, sig)
+                      y_end, followed, k_end, sig, sticking=sticking)
+
+
+def _through(c, model, y, k, n_keep, transient, p, code, period, impacts, floats, stop,
+             y_end, k_end, sigs, sticking):
+    """Point p again, through its sticking phases, judged on its impacts (row p of the
+    outputs of :func:`classify_runs` replaced)."""
+    from ..flow.sticking import run_through
+    st, sec, t, vimp, hits, sticks, _ = run_through(model, c, y, n_keep, transient, k)
+    nc = int(c[_NC])
+    stop[p] = st
+    sticking[p] = len(sticks) > 0
+    if len(sec):
+        y_end[p], k_end[p] = sec[-1], hits[-1]
+        floats[3, p] = np.max(np.abs(vimp))
+    if st != COMPLETED:
+        code[p] = code_of_stop(st)
+        return
+    h = np.ascontiguousarray(hits) if nc > 1 else np.empty(0, np.int64)
+    rot = np.empty(1)
+    dim = sec.shape[1]
+    cd, kk, q = _judge(np.ascontiguousarray(sec), np.ascontiguousarray(t), np.empty(0), h,
+                       n_keep, dim, float(c[_OM]), Q_MAX, TOL_CLOSED, LYAP_MIN,
+                       np.empty((n_keep, dim)), np.empty(n_keep), rot)
+    code[p], period[p], impacts[p] = cd, kk, q
+    floats[0, p], floats[1, p] = np.nan, rot[0]
+    floats[2, p] = n_keep / ((t[-1] - t[0]) * float(c[_OM]) / _TWO_PI) if n_keep > 1 else np.nan
+    if nc > 1 and cd == PERIOD:
+        sigs[p, :q] = hits[n_keep - q:]
 
 
 def classify_section(section, t, omega, logs, *, hits=None, max_period=Q_MAX,

@@ -439,8 +439,13 @@ def _judged(sim, max_period, tol, lyap_points, chaos_threshold):
     else:
         sec, t, hits = sim.section, sim.t, np.asarray(sim.hits) if several else None
     try:
-        logs, te = _logs(sim, lyap_points)
-        err = None
+        if sim.sticks is not None and len(sim.sticks):
+            # a sticking phase between two records: no map P joins them, no exponent
+            # (the period detector alone judges; :mod:`symvi.flow.sticking`)
+            logs, te, err = np.empty((0, model.dim)), np.empty(0), None
+        else:
+            logs, te = _logs(sim, lyap_points)
+            err = None
     except SingularCaseError as exc:     # a grazing point on the section: DP undefined
         logs, err = np.empty((0, 1)), exc
     except ValueError:                   # a short elastic run: no chunk of events repeats

@@ -11,12 +11,16 @@ with an elastic stop runs the exact walk of :mod:`symvi.flow.contact` through fr
 contact phases and rigid impacts instead, in Python (:func:`_simulate_contacts`: its
 records are rigid impacts and contact entries, with each contact's exit).
 
-A run ends early, with a stop reason, on
+A rigid run goes on through complete chatter and sticking (:mod:`symvi.flow.sticking`:
+the accumulation point of a converging impact sequence, the motion held on the stop, the
+release where the contact force changes sign; ``Simulation.sticks``).  It ends early,
+with a stop reason, on
 
 * ``grazing``  -- a contact with x1dot- below the grazing speed and x1'' < 0,
-* ``sticking`` -- such a contact with x1'' > 0: the stop would hold the mass,
+* ``sticking`` -- a sticking that cannot be continued (``Simulation.stop_reason`` says
+  why: r >= 1, a second stop met while held, held past the flight bound, ...),
 * ``chatter``  -- CHATTER_COUNT flights in a row shorter than CHATTER_FLIGHT
-  forcing periods (an accumulation of impacts),
+  forcing periods that do not converge to an accumulation point,
 * ``no-impact`` -- no return to the stop within 1000 forcing periods,
 
 never with a hang or a section point past an unresolved contact.
@@ -30,6 +34,7 @@ import numpy as np
 from ..errors import ParameterError, SingularCaseError
 from ..flow import check_omega
 from ..flow import compiled as cf
+from ..flow.sticking import run_through
 from ..model import Model
 from ..numerics.tolerances import ABS_MAX
 
@@ -64,6 +69,14 @@ class Simulation:
     #: constraint's section in the shooting layout, the constraints in contact after it),
     #: what the Lyapunov exponents and the classifier read.  None for a rigid-only model.
     events: object = None
+    #: every sticking phase of a rigid run (:mod:`symvi.flow.sticking`): rows (t_stick,
+    #: t_release, constraint), t_stick the accumulation point of the chatter before it (or
+    #: the zero-speed contact), t_release where the contact force changed sign (NaN: still
+    #: held when the run stopped); times since the start as ``t``.  Empty: never stuck.
+    sticks: np.ndarray = None
+    #: why a stopped run could not go on ("" for a completed one, or a stop the run loop
+    #: names itself: grazing, no impact, non-finite)
+    stop_reason: str = ""
 
     @property
     def n(self):
@@ -207,13 +220,15 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
-    :mod:`symvi.flow.nonlinear` (rigid stops on masses), with the same records and stop
-    reasons.
+    :mod:`symvi.flow.nonlinear` (rigid stops on masses), with the same records; it ends at
+    chatter and sticking (``stop_reason`` says so) instead of going through them.
 
-    A run ends early, with its reason in ``stop``, on a grazing contact, on sticking (the
-    stop would hold the mass), on chatter (16 flights in a row shorter than 1e-3 forcing
-    periods), or when no impact follows within 1000 forcing periods; never with a hang
-    or a section point past an unresolved contact.
+    A rigid run goes on through complete chatter and sticking (``sticks``: when each
+    sticking phase began and ended).  A run ends early, with its reason in ``stop``, on a
+    grazing contact, on a sticking that cannot be continued, on chatter that does not
+    converge (16 flights in a row shorter than 1e-3 forcing periods), or when no impact
+    follows within 1000 forcing periods (``stop_reason`` says why where the stop name
+    does not); never with a hang or a section point past an unresolved contact.
 
     Parameters
     ----------
@@ -246,8 +261,9 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
         impact hit; ``stop`` why the run ended ("completed", "grazing", "chatter",
         "sticking", "no-impact", "non-finite"); ``y0`` the start used; ``fixed_point``
         y* when it exists (else None); ``params``, ``omega``, ``transient``; with an
-        elastic stop also ``exit_t``, ``exit_velocity`` and ``events``.  The arrays are
-        read-only.
+        elastic stop also ``exit_t``, ``exit_velocity`` and ``events``; with rigid stops
+        ``sticks`` (m, 3): (t_stick, t_release, stop) of each sticking phase, and
+        ``stop_reason``.  The arrays are read-only.
 
     Raises
     ------
@@ -295,12 +311,14 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     if y0 is None:
         y0, ys = start_point(params, omega, perturbation)
     y0 = _check_system_start(params, y0)
-    c = cf.constants(Model.of(params), omega)
-    code, sec, t, vimp, _, hits = cf.run(c, y0, n_impacts, transient, hits=True)
+    c = cf.constants(model, omega)
+    # the run loop, continued through complete chatter and sticking
+    code, sec, t, vimp, hits, sticks, reason = run_through(model, c, y0, n_impacts, transient)
     hits = np.ascontiguousarray(hits, dtype=np.int64)
     hits.flags.writeable = False
     return Simulation(params, omega, y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      STOP_NAMES[code], transient, ys, hits)
+                      STOP_NAMES[code], transient, ys, hits, sticks=_frozen(sticks),
+                      stop_reason=reason)
 
 
 def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
@@ -326,8 +344,13 @@ def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     code, sec, t, vimp, hits, _ = flow.run(float(omega), y0, n_impacts, transient)
     hits = np.ascontiguousarray(hits, dtype=np.int64)
     hits.flags.writeable = False
+    stop = STOP_NAMES[code]
+    # the numerical flow stops at chatter and sticking (going through them: a later step)
+    reason = (f"{stop} with nonlinear forces: runs through chatter and sticking are a "
+              "later step of issue 28") if stop in ("chatter", "sticking") else ""
     return Simulation(model, float(omega), y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      STOP_NAMES[code], transient, None, hits)
+                      stop, transient, None, hits, sticks=_frozen(np.empty((0, 3))),
+                      stop_reason=reason)
 
 
 def _simulate_contacts(model, omega, y0, n_impacts, transient):
@@ -661,6 +684,12 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
         hi = min(m, lo + chunk)
         cd, ct, s, _, _, _ = cf.run_batch(C[lo:hi], starts[lo:hi], n_impacts, transient)
         sec[lo:hi], counts[lo:hi], codes[lo:hi] = s, ct, cd
+        for i in lo + np.flatnonzero(cd == cf.STOP_STICKING):
+            # the same run again, on through its sticking phases (in Python)
+            codes[i], s_i = run_through(model, C[i], starts[i], n_impacts, transient)[:2]
+            counts[i] = len(s_i)
+            sec[i] = np.nan
+            sec[i, :len(s_i)] = s_i
         if progress is not None:
             progress(hi, m)
     res = Sweep(params, _frozen(omegas), _frozen(sec), counts, tuple(STOP_NAMES[k] for k in codes),
@@ -696,7 +725,7 @@ def classify_sweep(res):
         return classify_contacts([(model, float(w)) for w in res.omegas], n_keep,
                                  res.transient, starts=[_leaving(model, y) for y in res.starts])
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
-    return classify_runs(C, res.starts, n_keep, res.transient)
+    return classify_runs(C, res.starts, n_keep, res.transient, models=model)
 
 
 def symbol_count(model):

@@ -103,3 +103,28 @@ def test_no_start_orbit_names_the_reason():
                                 "0.3333333333333333", "--f2", "0", "--b", "1.5", "--r", "0.8",
                                 "--range", "omega=2:2.1"), "--range")
     assert "anti-resonance" in line
+
+
+def test_from_section_of_a_run_that_sticks_continues_the_sticking_orbit(tmp_path, capsys):
+    """symvi simulate --out keeps the sticking phases (sticks, hits); symvi continue
+    --from-section then solves and continues the orbit with a sticking phase, whose release
+    phase is pi - asin(k gap / P) for one mass, to the held phase's end."""
+    model = symvi.Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
+                        stop=symvi.Stop(mass=1, gap=0.2, restitution=0.5))
+    f = tmp_path / "held.toml"
+    f.write_text(dumps(model))
+    npz = tmp_path / "held.npz"
+    assert main(["simulate", "--model", str(f), "--omega", "0.5", "--y0", "-0.5", "0",
+                 "--impacts", "2000", "--out", str(npz), "--json"]) == 0
+    capsys.readouterr()
+    saved = np.load(npz)
+    assert saved["sticks"].shape[1] == 3 and len(saved["hits"]) == len(saved["t"])
+    assert main(["continue", "--model", str(f), "--range", "omega=0.5:0.7",
+                 "--from-section", str(npz), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    (br,) = d["branches"]
+    assert "held phase vanishes" in br["end"]
+    first = min(d["points"], key=lambda p: abs(p["value"] - 0.5))
+    assert abs(first["value"] - 0.5) < 1e-12
+    assert first["signature"] == "1-0+stick"
+    assert abs(first["y"][-1] - (np.pi - np.arcsin(0.2))) < 1e-9

@@ -187,7 +187,8 @@ def test_no_contact_is_stepped_over_between_close_stops():
     c = cf.constants(model, omega)
     y0 = np.array([-0.5, 0.1])
     code, sec, times, _, _, hits = cf.run(c, y0, 400, hits=True)
-    assert code in (cf.COMPLETED, cf.STOP_CHATTER)
+    # a converging chatter is followed to its grazing impact (the loop's sticking stop)
+    assert code in (cf.COMPLETED, cf.STOP_CHATTER, cf.STOP_STICKING)
     flow = LinearFlow.of(model)
     F = flow.forcing(omega)
     k = 0
