@@ -166,12 +166,9 @@ class ReleaseMap:
         if lam in self._cache:
             return self._cache[lam]
         par = self.parameter
-        if par is None:
-            model, omega = self.model, self.omega
-        elif par.is_forcing_frequency:
-            model, omega = self.model, lam
-        else:
-            model, omega = par.apply(self.model, lam), self.omega
+        # the lens's set: omega for omega, the model for any other parameter
+        model, omega = (self.model, self.omega) if par is None else \
+            par.set(self.model, self.omega, lam)
         if omega is None:
             raise ParameterError("omega", None, "the forcing frequency (a float)")
         c = cf.constants(model, omega)
