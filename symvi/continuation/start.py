@@ -197,22 +197,23 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         a, stops = start_omega, (lo, hi)
     else:
         a, stops = start, (stop,)
-    simulation = _with_sticks(simulation, at, N)
-    if simulation is not None and _sticks(simulation):
+    sim = shown = None
+    if simulation is not None:
+        sim, shown = _simulation(simulation, N, at)
+    if sim is not None and _sticks(sim):
         # a run that settled on a sticking orbit: its branch on the release section
         from .sticking import continue_sticking
         if par.is_forcing_frequency:
-            a = float(simulation.omega)
+            a = float(sim.omega)
             if not lo <= a <= hi:
-                raise ParameterError(N["simulation"], f"the simulation at omega = {a:g}",
+                raise ParameterError(N["simulation"], shown,
                                      f"a simulation at omega in [{lo}, {hi}]")
-            return [continue_sticking(at, param, a, b, guess=simulation,
+            return [continue_sticking(at, param, a, b, guess=sim,
                                       max_points=max_points) for b in (lo, hi) if b != a]
-        return [continue_sticking(at, param, start, stop, guess=simulation,
+        return [continue_sticking(at, param, start, stop, guess=sim,
                                   max_points=max_points,
-                                  omega=fixed.get("omega", simulation.omega))]
-    if simulation is not None:
-        sim, shown = _simulation(simulation, N)
+                                  omega=fixed.get("omega", sim.omega))]
+    if sim is not None:
         if par.is_forcing_frequency:
             a, stops = sim.omega, (lo, hi)
             if not lo <= a <= hi:
@@ -351,10 +352,13 @@ def first_admissible(model, par, start, stop, omega=None, samples=SEARCH_SAMPLES
 # --------------------------------------------------------------------------- checks
 # --------------------------------------------------------------------------- simulations
 class _Run:
-    """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation."""
+    """What :func:`symvi.orbits.periodic.detect_period` reads of a simulation, and with its
+    sticking phases (``sticks``) what :func:`symvi.orbits.sticking.release_point` reads
+    (``params``: the run's model; an .npz keeps arrays, not the model)."""
 
-    def __init__(self, section, t, omega, hits=None):
+    def __init__(self, section, t, omega, hits=None, sticks=None, params=None):
         self.section, self.t, self.omega, self.hits = section, t, omega, hits
+        self.sticks, self.params = sticks, params
 
 
 def _names(names):
@@ -412,44 +416,9 @@ def _real(value, shown, finite=True):
     return v
 
 
-class _StickRun:
-    """What :func:`symvi.orbits.sticking.release_point` reads of a run saved with its
-    sticking phases (``symvi simulate --out``: the arrays sticks and hits)."""
-
-    def __init__(self, params, section, t, omega, hits, sticks):
-        self.params, self.section, self.t, self.omega = params, section, t, omega
-        self.hits, self.sticks = hits, sticks
-
-
-def _with_sticks(simulation, model, N):
-    """An .npz path of a run that stuck, as a :class:`_StickRun` of ``model`` (the model of
-    the command: an .npz keeps arrays, not the model); anything else as it is."""
-    import numpy as np
-    if not isinstance(simulation, (str, os.PathLike)):
-        return simulation
-    shown = os.fspath(simulation)
-    try:
-        with np.load(shown) as f:
-            if "sticks" not in f.files:
-                return simulation
-            run = _StickRun(model, np.array(f["section"], dtype=float),
-                            np.array(f["t"], dtype=float), float(f["omega"]),
-                            np.array(f["hits"], dtype=np.int64),
-                            np.array(f["sticks"], dtype=float).reshape(-1, 3))
-    except (OSError, KeyError, ValueError, TypeError) as exc:
-        raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
-                             "--out (arrays section, t, omega; hits with sticks)",
-                             str(exc)) from None
-    if run.section.ndim != 2 or run.section.shape[1] != model.dim or \
-            len(run.t) != len(run.section) or len(run.hits) != len(run.section):
-        raise ParameterError(N["simulation"], shown, f"a run of this model: section of "
-                             f"{model.dim} columns, t and hits one per row")
-    return run
-
-
 def _sticks(simulation):
-    """Whether a Simulation settled on sticking: two complete sticking phases or more, the
-    last one in the second half of the run (an .npz path: no, it keeps no sticks)."""
+    """Whether a run settled on sticking: two complete sticking phases or more, the last one
+    in the second half of the run."""
     import numpy as np
     st = getattr(simulation, "sticks", None)
     if st is None or len(st) < 2 or len(simulation.t) == 0:
@@ -458,8 +427,10 @@ def _sticks(simulation):
     return len(done) >= 2 and done[-1, 0] > simulation.t[len(simulation.t) // 2]
 
 
-def _simulation(simulation, N):
-    """(a simulation-like object, how errors show it) of a Simulation or an .npz path."""
+def _simulation(simulation, N, model):
+    """(a simulation-like object, how errors show it) of a Simulation or an .npz path; an
+    .npz's run is taken as one of ``model`` (the command's), with its sticking phases when
+    ``symvi simulate --out`` saved them (the arrays sticks and hits)."""
     import numpy as np
     if isinstance(simulation, (str, os.PathLike)):
         shown = os.fspath(simulation)
@@ -467,15 +438,23 @@ def _simulation(simulation, N):
             with np.load(shown) as f:
                 section, t, omega = f["section"], f["t"], float(f["omega"])
                 hits = f["hits"] if "hits" in f.files else None
+                sticks = (np.array(f["sticks"], dtype=float).reshape(-1, 3)
+                          if "sticks" in f.files else None)
         except (OSError, KeyError, ValueError, TypeError) as exc:
             raise ParameterError(N["simulation"], shown, "an .npz written by symvi simulate "
                                  "--out (arrays section, t, omega)", str(exc)) from None
-        return _Run(section, t, omega, hits), shown
+        if sticks is not None and (
+                hits is None or section.ndim != 2 or section.shape[1] != model.dim
+                or len(t) != len(section) or len(hits) != len(section)):
+            raise ParameterError(N["simulation"], shown, f"a run of this model: section of "
+                                 f"{model.dim} columns, t and hits one per row")
+        return _Run(section, t, omega, hits, sticks, model), shown
     try:
         hits = getattr(simulation, "hits", None)
         sim = _Run(np.asarray(simulation.section, dtype=float),
                    np.asarray(simulation.t, dtype=float), float(simulation.omega),
-                   None if hits is None else np.asarray(hits, dtype=np.int64))
+                   None if hits is None else np.asarray(hits, dtype=np.int64),
+                   getattr(simulation, "sticks", None), getattr(simulation, "params", model))
     except (AttributeError, TypeError, ValueError):
         raise ParameterError(N["simulation"], type(simulation).__name__, "a Simulation "
                              "(symvi.simulate) or the path of an .npz of one") from None
