@@ -16,7 +16,6 @@ and l1 (Kuznetsov, ||q||_2 = 1, <p, q> = 1), for flip curves c, for fold curves 
 plus the side of the curve on which the orbit is stable.  Codimension-two points
 are located on the way by :mod:`symvi.curves.special`.
 """
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -28,7 +27,7 @@ from ..continuation.engine import Client, correct
 from ..errors import ParameterError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient
 from ..orbits.periodic import PeriodicOrbit, orbit_of
-from .frame import first_tangent, join, prepare, steps
+from .frame import first_tangent, join, prepare, reindex, steps
 from .points import NORMALISATION, CurvePoint, TwoParameter, first_lyapunov, mono
 from .special import Codim2Tracker
 from .system import CurveSystem, kappa_pair, theta_of
@@ -390,7 +389,7 @@ def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
             break
         # a zero speed the fold or flip curve was landed on already (RG) is not repeated
         bsp = [_named_crossing(system, s) for s in bsp if not any(_same(s, o) for o in special)]
-        special = special + [_shift(s, len(points)) for s in bsp]
+        special = special + [reindex(s, s.index + len(points)) for s in bsp]
         points, states = points + bp, states + bs
         if not resumed:
             end = bend
@@ -398,7 +397,7 @@ def _past_grazing(system, half, box, h, h_max, max_points, through, locate):
         tracker = Codim2Tracker(system) if locate else None
         np_, ns_, nsp, end = _run(system, states[-1], points[-1], 1.0, box, h, h_max,
                                   max_points - len(points) + 1, tracker, through, direction)
-        special = special + [_shift(s, len(points) - 1) for s in nsp]
+        special = special + [reindex(s, s.index + len(points) - 1) for s in nsp]
         points, states = points + list(np_[1:]), states + list(ns_[1:])
     return points, states, special, end
 
@@ -408,10 +407,6 @@ def _same(a, b):
     from .grazing import RG_TOL
     return all(abs(a.params[n] - b.params.get(n, math.inf)) <= RG_TOL * 10 * (1 + abs(a.params[n]))
                for n in a.params)
-
-
-def _shift(sp, k):
-    return dataclasses.replace(sp, index=sp.index + k)
 
 
 def _diagnosis(system, X):

@@ -86,19 +86,20 @@ def join(halves):
     """One curve from the two directions: the second reversed, then the first."""
     pts, states, ends = list(halves[0][0]), list(halves[0][1]), [halves[0][3]]
     # a tracker's index is that of the point after the special one: make it the one before
-    special = [_reindex(s, s.index - 1) for s in halves[0][2]]
+    special = [reindex(s, s.index - 1) for s in halves[0][2]]
     if len(halves) == 2:
         p2, s2, sp2, e2 = halves[1]
         shift = len(p2) - 1
         pts = list(reversed(p2[1:])) + pts
         states = list(reversed(s2[1:])) + states
         # (an event beyond the second half's last point, a landing, is before point 0)
-        special = [_reindex(s, max(0, shift - s.index)) for s in sp2] + \
-                  [_reindex(s, s.index + shift) for s in special]
+        special = [reindex(s, max(0, shift - s.index)) for s in sp2] + \
+                  [reindex(s, s.index + shift) for s in special]
         ends = [e2, ends[0]]
         special.sort(key=lambda s: s.index)
     return pts, states, special, ends
 
 
-def _reindex(sp, i):
+def reindex(sp, i):
+    """The located point ``sp`` at index ``i`` of its curve's points."""
     return dataclasses.replace(sp, index=i)

@@ -27,7 +27,6 @@ test where the orbit is admissible again.  Its derivatives are central differenc
 step :data:`STEP` (the test is evaluated only on this stretch; the normal-form
 coefficients are not: the jets have the pole).
 """
-import dataclasses
 import math
 
 import numpy as np
@@ -37,7 +36,7 @@ from ..continuation.engine import Client, correct
 from ..continuation.result import EVENT_KINDS
 from ..errors import SymviError
 from ..orbits.periodic import orbit_of
-from .frame import first_tangent
+from .frame import first_tangent, reindex
 from .points import Codim2Point, CurvePoint
 from .system import CurveSystem
 
@@ -140,6 +139,13 @@ class RegularSystem(CurveSystem):
         """This system's X in the layout (u, a, b) of :class:`CurveSystem`."""
         return X if not self.extra else np.concatenate([X[:self.m], X[-2:]])
 
+    def point_at(self, X, admissibility=True):
+        """({a, b}, the PeriodicOrbit) at this system's X (the multipliers have the pole)."""
+        m, X2 = self.m, self.drop(X)
+        a, b = self.names
+        orbit = orbit_of(self.problem(X2[-1]), X2[:m], X2[m], admissibility=admissibility)
+        return {a: float(X2[m]), b: float(X2[m + 1])}, orbit
+
     def speeds(self, X):
         """The approach speed of each impact of the orbit at X."""
         m, pr = self.m, self.problem(X[-1])
@@ -158,13 +164,8 @@ class _Bridge(Client):
 
     def point(self, X, prev, Gu):
         s = self.system
-        m = s.m
-        X2 = s.drop(X)
-        pr = s.problem(X2[-1])
-        orbit = orbit_of(pr, X2[:m], X2[m])
-        a, b = s.names
-        params = {a: float(X2[m]), b: float(X2[m + 1])}
-        theta = float(X[m]) if s.extra else None
+        params, orbit = s.point_at(X)
+        theta = float(X[s.m]) if s.extra else None
         kappa = math.cos(theta) if s.extra else None
         pt = CurvePoint(params, orbit, kappa, theta, None, None, True)
         crit = complex(math.cos(theta), math.sin(theta)) if s.extra else \
@@ -190,7 +191,7 @@ class _Crossings(engine.Tracker):
         self.client = client
 
     def tests(self, X, t, pt):
-        return {"v": float(self.system.speeds(X)[self.system.impact])}
+        return {"v": float(pt.orbit.impact_velocities[self.system.impact])}
 
     def brackets(self, pa, pb, pta, ptb):
         return [("v", {})] if engine.sign_change(pa["v"], pb["v"]) else []
@@ -202,22 +203,18 @@ class _Crossings(engine.Tracker):
         # next to it): the root of the speed interpolated along the arc, with its spread
         X, spread = engine.interpolated_root(s, lambda X, Gu: float(s.speeds(X)[i]),
                                              Xa, ta, Xb)
-        X2 = s.drop(X)
-        m = s.m
+        params, orbit = s.point_at(X, admissibility=False)
         a, b = s.names
-        params = {a: float(X2[m]), b: float(X2[m + 1])}
         # spread: the interpolation's; tolerance: the corrector's on the bridge (its
         # derivatives are differences), the larger of the two bounds the point's error
         coef = {"impact": i + 1, "spread": float(spread),
                 "tolerance": BRIDGE_TOL * (1 + float(np.max(np.abs(X))))}
         if s.extra:
-            coef["theta"] = float(X[m])
+            coef["theta"] = float(X[s.m])
         name = "grazing-NS" if s.kind == "ns" else f"grazing-{s.kind}"
         what = (EVENT_KINDS[name] + f"; impact {i + 1} arrives with zero velocity (its "
                 "speed changes sign: the orbit is admissible on one side only); located "
                 "on the regular test w det(M - z I)")
-        pr = s.problem(X2[-1])
-        orbit = orbit_of(pr, X2[:m], X2[m], admissibility=False)
         sp = Codim2Point(name, params, orbit, coef, what, index)
         self.client.crossed = self.client.crossed or (
             f"reached grazing at a {name} point {a} = {params[a]:.12g}, {b} = {params[b]:.12g} "
@@ -227,15 +224,12 @@ class _Crossings(engine.Tracker):
 
     def unlocated(self, kind, Xa, Xb, index, exc):
         s = self.system
-        X2 = s.drop(Xb)
-        m = s.m
+        params, orbit = s.point_at(Xb, admissibility=False)
         a, b = s.names
         self.client.crossed = self.client.crossed or (
-            f"reached grazing near {a} = {X2[m]:.12g}, {b} = {X2[m + 1]:.12g} (impact "
+            f"reached grazing near {a} = {params[a]:.12g}, {b} = {params[b]:.12g} (impact "
             f"{s.impact + 1}'s speed changes sign; the point was not located: {exc})")
-        pr = s.problem(X2[-1])
-        orbit = orbit_of(pr, X2[:m], X2[m], admissibility=False)
-        return Codim2Point("unlocated", {a: float(X2[m]), b: float(X2[m + 1])}, orbit,
+        return Codim2Point("unlocated", params, orbit,
                            {"kind": "grazing-NS" if s.kind == "ns" else f"grazing-{s.kind}"},
                            f"a zero of impact {s.impact + 1}'s speed on the bridge could not "
                            f"be located: {exc}", index)
@@ -247,9 +241,10 @@ def bridge(system, X, prev, lo, hi, *, h, h_max, max_points, through, theta=None
 
     Without ``through`` it ends at the first zero of that impact's speed, located and named
     (the curve's end); with ``through`` it goes on until the orbit is admissible again with
-    its multipliers below HANDOVER_MULTIPLIER, where the standard test takes over.  Returns (points, states in the layout (u, a, b), located points, why it
-    ended, the tangent at the last state in that layout, resumed: bool); the first state
-    (X itself) is not among the points."""
+    its multipliers below HANDOVER_MULTIPLIER, where the standard test takes over.  Returns
+    (points, states in the layout (u, a, b), located points, why it ended, the direction of
+    its last step in that layout, resumed: bool); the first state (X itself) is not among
+    the points."""
     m = system.m
     pr = system.problem(X[-1])
     fl, (_, flow, _) = pr.flights(X[:m], X[m], check=False)
@@ -273,7 +268,7 @@ def bridge(system, X, prev, lo, hi, *, h, h_max, max_points, through, theta=None
                                      chord_first=True)
     # the start (X itself) dropped: an event's index is that of the point after it
     points, states = points[1:], [reg.drop(S) for S in states[1:]]
-    special = [dataclasses.replace(sp, index=sp.index - 1) for sp in tracker.special]
+    special = [reindex(sp, sp.index - 1) for sp in tracker.special]
     resumed = end == "resume"
     if not through and client.crossed:
         # the point past the zero speed is not the curve's: it ends at the located point
