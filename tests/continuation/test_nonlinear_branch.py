@@ -108,3 +108,28 @@ def test_continue_orbits_starts_a_nonlinear_model_from_a_run():
     kinds = sorted(s.kind for b in res for s in b.special)
     assert kinds.count("fold") == 2 and kinds.count("flip") >= 1
     assert "simulation" in res[0].notes[0]
+
+
+LX = dict(mass=[1.0, 2.0], stiffness=[[1.0, -1.0], [-1.0, 6.0]], damping=[[0, 0], [0, 0]],
+          forcing=[1.0, 0.0], stop=Stop(mass=1, gap=1.5, restitution=0.8))
+
+
+def test_nonlinearity_off_ns_point_is_the_papers():
+    """The Luo-Xie model (mu_m = 2, mu_k = 5, b = 1.5, r = 0.8) with a cubic spring at
+    beta = 0: the series branch locates the NS point and its l1 as the certified scan of
+    the exact flow does (symvi.hopf_points, generated jets), to 1e-10; beta = 0.05 moves
+    it (omega_c up, |l1| down), still supercritical."""
+    ref = symvi.hopf_points(Model(**LX), 0.70, 0.76).points[0]
+    got = {}
+    for beta in (0.0, 0.05):
+        nl = Model(**LX, nonlinear=["beta*x1**3", "0"], parameters={"beta": beta})
+        o = periodic_orbit(nl, n=1, p=1, guess=admissible_orbits(Model(**LX), 0.73)[0].y,
+                           omega=0.73)
+        br = continue_branch(nl, "omega", 0.73, 0.76, orbit=o)
+        ns = [s for s in br.special if s.kind == "ns"]
+        assert len(ns) == 1
+        got[beta] = ns[0]
+    assert abs(got[0.0].value - ref.omega_c) < 1e-10
+    assert abs(got[0.0].coefficients["l1"] - ref.l1) < 1e-10
+    assert got[0.05].value > ref.omega_c + 1e-4
+    assert ref.l1 < got[0.05].coefficients["l1"] < 0
