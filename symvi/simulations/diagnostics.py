@@ -141,9 +141,8 @@ def _series_logs(model, omega, sec, te, hits=None):
     first-order series (:func:`symvi.flow.nljet.map_jet`, ~0.5 ms a flight), the same QR
     steps in numpy; an impact without approach speed gives NaN (grazing)."""
     from ..errors import SingularCaseError
-    from ..flow.nljet import map_jet
-    from ..flow.nonlinear import NonlinearFlow
-    flow = NonlinearFlow(model)
+    from ..flow.nljet import FlowView, map_jet
+    flow = FlowView(model)
     m, d = len(te), sec.shape[1]
     if hits is None:
         hits = np.zeros(m + 1, dtype=np.int64)
