@@ -179,3 +179,25 @@ def test_an_impact_without_approach_speed_is_refused():
     from symvi.errors import SingularCaseError
     with pytest.raises(SingularCaseError, match="approach speed"):
         nljet.map_jet(FlowView(DUFFING), 1.3, (-0.6, 0.3), 0.05, 2)
+
+
+def test_nonlinearity_off_jets_between_two_stops():
+    """A two-sided clearance (stops on mass 1 above and below): the series jet of a flight
+    from the upper stop's section to the lower one's equals the generated several-
+    constraint jet of the exact flow (symvi.codegen.jets.flight_jet) to 1e-11."""
+    from symvi.codegen.jets import flight_jet
+    from symvi.flow.linear import LinearFlow
+    kw = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+              stops=[Stop(mass=1, gap=0.4, restitution=0.8),
+                     Stop(mass=1, gap=-0.4, side="lower", restitution=0.7)])
+    lin = Model(**kw)
+    nl = Model(**kw, nonlinear=["beta*x1**3"], parameters={"beta": 0.0})
+    view = FlowView(nl)
+    omega, y = 1.2, (-1.5, 2.0)
+    st, te, c, _ = view.nl.first_impact(omega, np.array([0.4, y[0]]), y[1], just_hit=0)
+    assert st == "impact" and c == 1
+    flow = LinearFlow.free(lin)
+    ref = flight_jet(flow, flow.forcing(omega), y, te, 3, 0, 1)
+    got = nljet.map_jet(view, omega, y, te, 3, 0, 1)
+    for k in ("J", "d2", "d3"):
+        assert _rel(got[k], ref[k]) < 1e-11, k
