@@ -627,6 +627,16 @@ class _Motion:
     def __init__(self, view, omega, z0, tau):
         self.view, self.omega, self.z0, self.tau = view, omega, z0, tau
 
+    def state(self, t):
+        """z(t) (flow order), the constraints ignored (:meth:`NonlinearFlow.state`)."""
+        return self.view.Sinv @ self.view.nl.state(self.omega, self.z0, self.tau, float(t))
+
+    def h(self, t):
+        """(h(t),): the first constraint's guard along the flight, as
+        :meth:`symvi.flow.linear.Motion.h` gives it (value only)."""
+        row, n = self.view.rows[0], self.view.n
+        return (float(row[3:3 + n] @ self.state(t)[:n] - row[2]),)
+
     def first_impact(self, t_max=None, max_steps=None):
         from .linear import GRAZING, IMPACT, NO_IMPACT, FirstImpact
         nl = self.view.nl
