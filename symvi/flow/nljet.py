@@ -4,8 +4,7 @@ The flight of :mod:`symvi.flow.nonlinear`, M x'' + C x' + K x + f(x, v) = P sin(
 tau), is integrated on truncated power series (:mod:`symvi.flow.tps`) in the variables
 delta: the start's free coordinates, the phase tau, and optionally omega and one named
 parameter p.  The same DOP853 steps as the flow's (:data:`symvi.flow.nonlinear._A` ...),
-with the error norm over every coefficient, so each order of the variational equations
-is integrated to the flow's tolerance.  The result is the flow's jet z(T; delta) at a
+with the state's error norm (:func:`_error`).  The result is the flow's jet z(T; delta) at a
 fixed time T to order K.
 
 The impact (eqs. (28)-(30) of the paper, generalised).  At the end the flight goes on in
@@ -199,12 +198,16 @@ def _step(sy, t, Y, h, Kst, Ynew, tmp, tser):
 
 @nb.njit(cache=True)
 def _error(Kst, Y, Ynew, h):
-    """DOP853's error norm over every coefficient of every component."""
-    dim, L = Y.shape
+    """DOP853's error norm of the state (the series' constant terms): the derivatives ride
+    on the state's steps, the variational equations integrated by the same Runge-Kutta
+    steps (internal differentiation).  Over every coefficient it took 92 steps for 66 on a
+    period of the Duffing benchmark, and the jets were no closer to the exact linear
+    flow's (tests/flow/test_nljet.py: 4e-15 either way)."""
+    dim = Y.shape[0]
     e5 = 0.0
     e3 = 0.0
     for i in range(dim):
-        for j in range(L):
+        for j in range(1):
             sc = ATOL + RTOL * max(abs(Y[i, j]), abs(Ynew[i, j]))
             a5 = 0.0
             a3 = 0.0
@@ -213,7 +216,7 @@ def _error(Kst, Y, Ynew, h):
                 a3 += _E3[q] * Kst[q, i, j]
             e5 += (a5 / sc) ** 2
             e3 += (a3 / sc) ** 2
-    den = (e5 + 0.01 * e3) * dim * L
+    den = (e5 + 0.01 * e3) * dim
     if den == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt(den)
@@ -351,20 +354,22 @@ def _bigger(alg):
 _BIG = {}
 
 
-def flight_series(flow, omega, z0, tau, T, order, free, *, omega_var=False, param=None):
-    """(alg, Y, sy): the flow's series z(T; delta) (mass order, rows) from z0 at phase tau.
+def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None):
+    """(alg, Y, sys, (tangent, pvar, ip)): the flow's series z(T; delta) (mass order,
+    rows) from z0 + B delta_state at phase tau.
 
-    Variables, in order: the state components ``free`` (mass-order indices), the phase,
-    then omega if ``omega_var``, then ``param`` (a :class:`symvi.model.parameters.Parameter`
-    other than omega) if given."""
-    d = len(free) + 1 + bool(omega_var) + (param is not None)
+    Variables, in order: the columns of ``B`` (dim x m: how the start moves with each),
+    the phase, then omega if ``omega_var``, then ``param`` (a
+    :class:`symvi.model.parameters.Parameter` other than omega) if given."""
+    B = np.asarray(B, dtype=float)
+    m = B.shape[1]
+    d = m + 1 + bool(omega_var) + (param is not None)
     alg = tps.algebra(d, order)
     dim = 2 * flow.n
     Y = np.zeros((dim, alg.L))
     Y[:, 0] = z0
-    for j, i in enumerate(free):
-        Y[i, 1 + j] += 1.0
-    itau = len(free)
+    Y[:, 1:1 + m] = B
+    itau = m
     iw = itau + 1 if omega_var else None
     ip = d - 1 if param is not None else None
     tau_s = _series(alg, tau, itau)
@@ -372,9 +377,8 @@ def flight_series(flow, omega, z0, tau, T, order, free, *, omega_var=False, para
     tangent, pslot, pvar = None, None, None
     if param is not None:
         pvar = _series(alg, 0.0, ip)
-        if param.name in flow.model._nl.names if flow.model._nl is not None else False:
-            pslot = list(flow.model._nl.names).index(param.name)
-        else:
+        pslot = _force_slot(flow.model, param)
+        if pslot is None:
             tangent = param.tangent(flow.model)
     sys = _System(flow, alg, om_s, tau_s, pvar, tangent, pslot)
     Kst = np.zeros((_NS + 1, dim, alg.L))
@@ -386,12 +390,18 @@ def flight_series(flow, omega, z0, tau, T, order, free, *, omega_var=False, para
     return alg, Y, sys, (tangent, pvar, ip)
 
 
+def _force_slot(model, param):
+    """The index of a named force parameter among the forces' parameters, else None."""
+    names = () if model._nl is None else model._nl.names
+    return list(names).index(param.name) if param.name in names else None
+
+
 def flight_first(flow, omega, z0, tau, T, *, omega_var=False, param=None):
     """(z, dz/dz0, dz/dtau, dz/dt, dz/dp) of the flight from z0 (mass order) over T: the
     first-order series (the variational equations); dz/dp along omega or ``param`` (None
     when neither is asked for)."""
     dim = 2 * flow.n
-    alg, Y, sys, _ = flight_series(flow, omega, z0, tau, T, 1, tuple(range(dim)),
+    alg, Y, sys, _ = flight_series(flow, omega, z0, tau, T, 1, np.eye(dim),
                                    omega_var=omega_var, param=param)
     z = Y[:, 0].copy()
     Phi = Y[:, 1:1 + dim].copy()
@@ -401,16 +411,17 @@ def flight_first(flow, omega, z0, tau, T, *, omega_var=False, param=None):
     return z, Phi, dzt, dzdt, dzp
 
 
-def impact_series(flow, omega, y, T, order, start, end, *, omega_var=False, param=None):
+def impact_series(view, omega, y, T, order, start, end, *, omega_var=False, param=None):
     """(alg, P, te, speed): the series of the impact map's section point after the flight
     from section point ``y`` of constraint ``start`` (its layout, last the phase) that ends
     on constraint ``end`` near time T (its exact time is solved here: the flight is
     integrated again to the impact when it lies farther than TIME_TOL T, at most
     TIME_TRIES times), in the variables (y, [omega], [p]); ``speed`` the approach speed
-    at the impact."""
+    at the impact.  ``view`` a :class:`FlowView`: the constraints' guards, resets and
+    section layouts are its flow order's."""
     T = float(T)
     for _ in range(TIME_TRIES):
-        out = _impact_series(flow, omega, y, T, order, start, end, omega_var, param)
+        out = _impact_series(view, omega, y, T, order, start, end, omega_var, param)
         if abs(out[2] - T) <= TIME_TOL * max(T, 1.0):
             return out[:4]
         T = out[2]
@@ -418,21 +429,25 @@ def impact_series(flow, omega, y, T, order, start, end, *, omega_var=False, para
                          f"the impact is {out[2] - T:.3g} away)")
 
 
-def _impact_series(flow, omega, y, T, order, start, end, omega_var, param):
+def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
+    flow = view.nl
     n, dim = flow.n, 2 * flow.n
-    cs = flow.cons
-    ka = int(cs[start, 0])
-    z0 = np.empty(dim)
-    z0[ka] = cs[start, 1]
-    free = [int(flow.sidx[start, i]) for i in range(dim - 1)]
-    for i, q in enumerate(free):
-        z0[q] = y[i]
+    rows = view.rows
+    pa, fa = view.positions[start], view.frames[start]
+    # the start in flow order: x_pa on its section, the other coordinates the point's
+    w0 = np.zeros(dim)
+    w0[pa] = rows[start][1]
+    w0[fa] = y[:-1]
+    E = np.zeros((dim, dim - 1))
+    E[fa, np.arange(dim - 1)] = 1.0
+    S = view.S
     alg, Y, sys, (tangent, pvar, ip) = flight_series(
-        flow, omega, z0, float(y[-1]), T, order, free, omega_var=omega_var, param=param)
-    db = (tangent.db if tangent is not None else 0.0)
-    if db and tangent.stop == start:           # the start's position moves with its gap
-        raise ParameterError("param", param.name, "a parameter of the forces, the linear "
-                             "part or omega (a gap's jets: a later step of issue 28)")
+        flow, omega, S @ w0, float(y[-1]), T, order, S @ E, omega_var=omega_var,
+        param=param)
+    if tangent is not None and (tangent.db or tangent.dr):
+        raise ParameterError("param", param.name, "omega, a parameter of the forces or an "
+                             "entry of M, K, C, P (a gap's or a restitution's jets with "
+                             "nonlinear forces: a later step of issue 28)")
     big, emb, src, dst, div, spow, sidx = _bigger(alg)
     # the field on series in (delta, s)
     om_b = np.zeros(big.L)
@@ -443,59 +458,54 @@ def _impact_series(flow, omega, y, T, order, start, end, omega_var, param):
     if param is not None:
         pv_b = np.zeros(big.L)
         pv_b[emb] = pvar
-    pslot = None
-    if tangent is None and param is not None:
-        pslot = list(flow.model._nl.names).index(param.name)
-    sysb = _System(flow, big, om_b, tau_b, pv_b, tangent, pslot)
+    sysb = _System(flow, big, om_b, tau_b, pv_b, tangent,
+                   None if param is None else _force_slot(flow.model, param))
     Z0 = np.zeros((dim, big.L))
     Z0[:, emb] = Y
     svar = _series(big, 0.0, big.d - 1)
     Zb, Fb = np.zeros_like(Z0), np.zeros_like(Z0)
     _picard(sysb.sy, Z0, float(T), svar, Zb, Fb, src, dst, div, alg.K)
-    # the impact time: h(Z(S(delta); delta)) = 0, h = sign (x_k - b)
-    kb, sign = int(cs[end, 0]), cs[end, 2]
-    H = sign * Zb[kb].copy()
-    H[0] -= sign * cs[end, 1]
+    Zb = view.Sinv @ Zb                          # flow order from here
+    # the impact time: h(Z(S(delta); delta)) = 0, h = guard . x - level
+    row = rows[end]
+    guard, level = row[3:3 + n], row[2]
+    H = guard @ Zb[:n]
+    H[0] -= level
     speed = float(H[big.index[(0,) * alg.d + (1,)]])
     if not speed > 0:
         raise SingularCaseError("grazing", f"the approach speed at the impact is {speed:.3g}: "
                                 "the impact time is not a smooth function of the start "
                                 "(grazing, eq. (30))")
-    S = np.zeros(alg.L)
+    St = np.zeros(alg.L)
     hs = np.zeros(alg.L)
     tmp, cj = np.zeros(alg.L), np.zeros(alg.L)
     MI, MJ, MK = alg.mul
     for _ in range(alg.K + 1):
-        _compose(H, S, hs, spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
-        S -= hs / speed
+        _compose(H, St, hs, spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
+        St -= hs / speed
     ze = np.zeros((dim, alg.L))
     for i in range(dim):
-        _compose(Zb[i], S, ze[i], spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
+        _compose(Zb[i], St, ze[i], spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
     # the reset v+ = R v- and the section point on constraint ``end``
-    R = flow.R[end]
+    R = row[3 + n:].reshape(n, n)
+    ze[n:] = R @ ze[n:]
     out = np.zeros((dim, alg.L))
-    zp = ze.copy()
-    zp[n:] = R @ ze[n:]
-    if tangent is not None and tangent.dr and tangent.stop == end:
-        raise ParameterError("param", param.name, "a parameter of the forces, the linear "
-                             "part or omega (a restitution's jets: a later step of issue 28)")
-    for i in range(dim - 1):
-        out[i] = zp[int(flow.sidx[end, i])]
+    out[:dim - 1] = ze[view.frames[end]]
     phase = sys.sy[13].copy()
-    tser = S.copy()
+    tser = St.copy()
     tser[0] += T
     tps.mul_add(sys.sy[12], tser, phase, MI, MJ, MK)
     out[dim - 1] = phase
-    return alg, out, float(T + S[0]), speed
+    return alg, out, float(T + St[0]), speed
 
 
-def map_jet(flow, omega, y, T, order, start=0, end=0, *, param=None):
+def map_jet(view, omega, y, T, order, start=0, end=0, *, param=None):
     """The jet of the impact map as :func:`symvi.codegen.jets.flight_jet` gives it: a dict
     with "P" (the image, phase not reduced), "J", "d2".."d<order>" (raw tensors over the
     section point), "te", "speed"; with ``param`` (a Parameter, omega included) also
     "dpP" = dP/dp and "dpJ" = dJ/dp at fixed y."""
     w = param is not None and param.is_forcing_frequency
-    alg, P, te, speed = impact_series(flow, omega, y, T, order, start, end, omega_var=w,
+    alg, P, te, speed = impact_series(view, omega, y, T, order, start, end, omega_var=w,
                                       param=None if (param is None or w) else param)
     m = len(y)
     ax = tuple(range(m))
@@ -551,15 +561,21 @@ class FlowView:
     free = False
 
     def __init__(self, model):
+        from .compiled import section_index
         from .linear import LinearFlow
         from .nonlinear import NonlinearFlow
         self.model = model
-        self.lin = LinearFlow.of(model.linear_part)
+        lin = self.lin = LinearFlow.of(model.linear_part)
         self.nl = NonlinearFlow(model)
-        n = model.n
-        perm = self.lin.perm
-        #: the mass-order index of each flow-order state component
-        self.fo = np.array(list(perm) + [n + q for q in perm], dtype=np.int64)
+        dim = 2 * model.n
+        #: z_mass = S z_flow (a permutation, or T^-1 on positions and on velocities)
+        self.S = np.array([lin.to_mass(e) for e in np.eye(dim)]).T
+        self.Sinv = np.array([lin.to_flow(e) for e in np.eye(dim)]).T
+        #: per constraint: (position, gap, level, guard, reset) in flow order, its position
+        #: and the flow-order index of each section coordinate
+        self.rows = [np.asarray(r, dtype=float) for r in lin.constraint_rows()]
+        self.positions = tuple(int(r[0]) for r in self.rows)
+        self.frames = tuple(section_index(model.n, q) for q in self.positions)
 
     def __getattr__(self, name):
         if name in FlowView.GEOMETRY:
@@ -572,27 +588,22 @@ class FlowView:
     def forcing(self, omega):
         return NonlinearForcing(float(omega))
 
-    def _mass(self, z):
-        out = np.empty(len(z))
-        out[self.fo] = z
-        return out
-
     def flight(self, forcing, z0, tau, t, param=None):
         """(z, dz/dz0, dz/dtau, dz/dt) at t of the flight from z0 (flow order) at phase
         tau, :meth:`symvi.flow.linear.LinearFlow.flight`'s layout; with ``param`` (a
         Parameter) the derivative along it is appended."""
-        fo = self.fo
+        S, Si = self.S, self.Sinv
         w = param is not None and param.is_forcing_frequency
         z, Phi, dzt, dzdt, dzp = flight_first(
-            self.nl, forcing.omega, self._mass(z0), float(tau), float(t), omega_var=w,
+            self.nl, forcing.omega, S @ z0, float(tau), float(t), omega_var=w,
             param=None if (param is None or w) else param)
-        out = (z[fo], Phi[np.ix_(fo, fo)], dzt[fo], dzdt[fo])
-        return out if param is None else out + (dzp[fo],)
+        out = (Si @ z, Si @ Phi @ S, Si @ dzt, Si @ dzdt)
+        return out if param is None else out + (Si @ dzp,)
 
     def motion(self, forcing, z0, tau):
         """The first contact of the flight from z0 (flow order), as
         :class:`symvi.flow.linear.Motion` gives it (``first_impact(t_max)``)."""
-        return _Motion(self, forcing.omega, self._mass(z0), float(tau))
+        return _Motion(self, forcing.omega, self.S @ z0, float(tau))
 
     def step(self, forcing, y, k=0):
         """(status, t, y') of the impact map from section point y of constraint k."""
@@ -616,6 +627,16 @@ class _Motion:
     def __init__(self, view, omega, z0, tau):
         self.view, self.omega, self.z0, self.tau = view, omega, z0, tau
 
+    def state(self, t):
+        """z(t) (flow order), the constraints ignored (:meth:`NonlinearFlow.state`)."""
+        return self.view.Sinv @ self.view.nl.state(self.omega, self.z0, self.tau, float(t))
+
+    def h(self, t):
+        """(h(t),): the first constraint's guard along the flight, as
+        :meth:`symvi.flow.linear.Motion.h` gives it (value only)."""
+        row, n = self.view.rows[0], self.view.n
+        return (float(row[3:3 + n] @ self.state(t)[:n] - row[2]),)
+
     def first_impact(self, t_max=None, max_steps=None):
         from .linear import GRAZING, IMPACT, NO_IMPACT, FirstImpact
         nl = self.view.nl
@@ -629,6 +650,6 @@ class _Motion:
         status = {"impact": IMPACT, "grazing": GRAZING}.get(st, NO_IMPACT)
         if status == NO_IMPACT and t_max is not None:
             te = max(te, t_max * (1 + 1e-9))   # ran to t_max: decided
-        hit = FirstImpact(status, te, ze[self.view.fo], 0)
+        hit = FirstImpact(status, te, self.view.Sinv @ ze, 0)
         object.__setattr__(hit, "constraint", c)
         return hit

@@ -631,11 +631,11 @@ class PeriodicOrbit:
         """:meth:`jet` of a nonlinear model: each impact's map from the series of its
         flight (:func:`symvi.flow.nljet.map_jet`), composed."""
         from ..flow.nljet import map_jet
-        nl = free_flow(self.model).nl
+        view = free_flow(self.model)
         sig = self.signature if self.signature is not None else (0,) * self.p
         jets = []
         for i in range(self.p):
-            v = map_jet(nl, self.omega, tuple(Y[i]), float(self.times[i]), max(order, 2),
+            v = map_jet(view, self.omega, tuple(Y[i]), float(self.times[i]), max(order, 2),
                         int(sig[i]), int(sig[(i + 1) % self.p]))
             jets.append((v["J"],) + tuple(v[f"d{k}"] for k in range(2, max(order, 2) + 1)))
         out = compose(jets)

@@ -11,6 +11,7 @@ import pytest
 from symvi.codegen.high import high_jet
 from symvi.codegen.jets import jet_at, parameter_derivatives
 from symvi.flow import nljet, tps
+from symvi.flow.nljet import FlowView
 from symvi.flow.nonlinear import NonlinearFlow
 from symvi.model import Model, Stop
 from symvi.orbits.period1 import admissible_orbits
@@ -116,7 +117,7 @@ def test_nonlinearity_off_jets_equal_the_generated_linear_jets(kw, forces, omega
     te = 2 * math.pi / omega
     ref = jet_at(lin, omega, o.y, te, order=3)
     hi = high_jet(lin, omega, o.y, te, order=5)
-    got = nljet.map_jet(NonlinearFlow(nl), omega, o.y, te, 5)
+    got = nljet.map_jet(FlowView(nl), omega, o.y, te, 5)
     assert _rel(got["P"][:-1], np.array(o.y)[:-1]) < 1e-12
     assert abs(got["te"] - te) < 1e-12 * te
     for k, want in ((1, ref.jacobian), (2, ref.d2), (3, ref.d3), (4, hi.d4), (5, hi.d5)):
@@ -133,7 +134,7 @@ def test_nonlinearity_off_parameter_derivatives(name):
     o = admissible_orbits(lin, omega)[0]
     te = 2 * math.pi / omega
     ref = parameter_derivatives(lin, omega, o.y, te, name, fixed_point=False)
-    got = nljet.map_jet(NonlinearFlow(nl), omega, o.y, te, 2, param=nl.parameter(name))
+    got = nljet.map_jet(FlowView(nl), omega, o.y, te, 2, param=nl.parameter(name))
     assert _rel(got["dpP"], ref.dP) < 1e-11
     assert _rel(got["dpJ"], ref.dJ) < 1e-11
 
@@ -141,33 +142,29 @@ def test_nonlinearity_off_parameter_derivatives(name):
 DUFFING = Model(**ONE, nonlinear=["beta*x1**3"], parameters={"beta": 0.5})
 
 
-def _P(flow, y, te, omega=1.3, model=DUFFING):
-    return nljet.map_jet(flow if model is DUFFING else NonlinearFlow(model), omega, y,
-                         te, 1)["P"]
-
-
 def test_nonlinear_jets_against_finite_differences_of_the_map():
     """beta = 0.5: J by central differences of P (h = 1e-5: error ~1e-10), d2 by central
     differences of J and d3 by those of d2; the beta-derivative by differences in beta."""
-    flow = NonlinearFlow(DUFFING)
+    view = FlowView(DUFFING)
+    flow = view.nl
     y = (-1.25, 1.65)
     st, te, _, _ = flow.first_impact(1.3, np.array([0.5, y[0]]), y[1], just_hit=0)
     assert st == "impact"
-    got = nljet.map_jet(flow, 1.3, y, te, 3, param=DUFFING.parameter("beta"))
+    got = nljet.map_jet(view, 1.3, y, te, 3, param=DUFFING.parameter("beta"))
     h = 1e-5
     for j in range(2):
         e = np.zeros(2)
         e[j] = h
-        lo = nljet.map_jet(flow, 1.3, np.add(y, -e), te, 2)
-        hi = nljet.map_jet(flow, 1.3, np.add(y, e), te, 2)
+        lo = nljet.map_jet(view, 1.3, np.add(y, -e), te, 2)
+        hi = nljet.map_jet(view, 1.3, np.add(y, e), te, 2)
         assert _rel((hi["P"] - lo["P"]) / (2 * h), got["J"][:, j]) < 1e-8
         assert _rel((hi["J"] - lo["J"]) / (2 * h), got["d2"][:, :, j]) < 1e-8
-        lo3 = nljet.map_jet(flow, 1.3, np.add(y, -e), te, 3)
-        hi3 = nljet.map_jet(flow, 1.3, np.add(y, e), te, 3)
+        lo3 = nljet.map_jet(view, 1.3, np.add(y, -e), te, 3)
+        hi3 = nljet.map_jet(view, 1.3, np.add(y, e), te, 3)
         assert _rel((hi3["d2"] - lo3["d2"]) / (2 * h), got["d3"][..., j]) < 1e-7
     par = DUFFING.parameter("beta")
-    lo = nljet.map_jet(NonlinearFlow(par.apply(DUFFING, 0.5 - h)), 1.3, y, te, 1)["P"]
-    hi = nljet.map_jet(NonlinearFlow(par.apply(DUFFING, 0.5 + h)), 1.3, y, te, 1)["P"]
+    lo = nljet.map_jet(FlowView(par.apply(DUFFING, 0.5 - h)), 1.3, y, te, 1)["P"]
+    hi = nljet.map_jet(FlowView(par.apply(DUFFING, 0.5 + h)), 1.3, y, te, 1)["P"]
     assert _rel((hi - lo) / (2 * h), got["dpP"]) < 1e-8
     # the image is the flow's own: the run of NonlinearFlow from y lands on it
     code, sec, t, *_ = flow.run(1.3, np.array(y), 1)
@@ -181,4 +178,26 @@ def test_an_impact_without_approach_speed_is_refused():
     refused in one line, never given a jet."""
     from symvi.errors import SingularCaseError
     with pytest.raises(SingularCaseError, match="approach speed"):
-        nljet.map_jet(NonlinearFlow(DUFFING), 1.3, (-0.6, 0.3), 0.05, 2)
+        nljet.map_jet(FlowView(DUFFING), 1.3, (-0.6, 0.3), 0.05, 2)
+
+
+def test_nonlinearity_off_jets_between_two_stops():
+    """A two-sided clearance (stops on mass 1 above and below): the series jet of a flight
+    from the upper stop's section to the lower one's equals the generated several-
+    constraint jet of the exact flow (symvi.codegen.jets.flight_jet) to 1e-11."""
+    from symvi.codegen.jets import flight_jet
+    from symvi.flow.linear import LinearFlow
+    kw = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+              stops=[Stop(mass=1, gap=0.4, restitution=0.8),
+                     Stop(mass=1, gap=-0.4, side="lower", restitution=0.7)])
+    lin = Model(**kw)
+    nl = Model(**kw, nonlinear=["beta*x1**3"], parameters={"beta": 0.0})
+    view = FlowView(nl)
+    omega, y = 1.2, (-1.5, 2.0)
+    st, te, c, _ = view.nl.first_impact(omega, np.array([0.4, y[0]]), y[1], just_hit=0)
+    assert st == "impact" and c == 1
+    flow = LinearFlow.free(lin)
+    ref = flight_jet(flow, flow.forcing(omega), y, te, 3, 0, 1)
+    got = nljet.map_jet(view, omega, y, te, 3, 0, 1)
+    for k in ("J", "d2", "d3"):
+        assert _rel(got[k], ref[k]) < 1e-11, k
