@@ -35,8 +35,8 @@ unwrapped (tau + omega t_e, so that nothing jumps at 2 pi), product stencils of 
 order ``acc`` = 4 (order <= 3) or 6 (orders 4, 5), one step delta = 10^-round(digits /
 (acc + order)) on every coordinate.  Error of a derivative of order m: truncation
 ~ delta^acc max |d^(m + acc) P| (with 40 digits, order 3: delta = 1e-6, ~1e-24 times the
-7th derivatives) plus rounding ~ 10^-digits W / delta^m (W <= 6 the stencil's weight sum:
-~1e-21 for m = 3); so ~1e-15 relative holds while the map's derivatives up to order 7
+7th derivatives) plus rounding ~ 10^-digits W / delta^m (W <= 8 the stencil's weight sum for
+orders <= 3: ~1e-21 for m = 3); so ~1e-15 relative holds while the map's derivatives up to order 7
 (order 11 for jets of order 5) are within ~1e6 of the tensor's own size, which is what a
 flight far from grazing gives (their growth near grazing is like 1/v_impact^k).  The
 tests show 1e-12 against the exact linear jets (beta = 0).

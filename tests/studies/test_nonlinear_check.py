@@ -165,6 +165,26 @@ def test_map_of_two_masses_against_the_nonlinear_flow():
     assert np.abs(np.array(got, dtype=float) - sec[1]).max() < 1e-12
 
 
+#: a force with every recurrence of the chain: exp, log, sqrt, a real power, a quotient,
+#: tan, tanh, atan, sin / sinh, cos / cosh, products with a velocity
+EVERY = ("g*(exp(x1/4) - 1) + g*tanh(v1) + g*atan(x1) + g*cos(x1) + g*log(2 + x1)"
+         " + g*sqrt(2 + x1) + g*tan(x1/4) + g*cosh(v1) + g/(2 + x1) + g*(2 + x1)**1.5"
+         " + g*sinh(x1)*x1**2")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("force, side, y", [(EVERY, "upper", (-1.3, 1.7)),
+                                            ("g*x1**3", "lower", (1.3, 1.7))],
+                         ids=["every-function-upper", "cubic-lower"])
+def test_forces_and_sides_against_the_nonlinear_flow(force, side, y):
+    model = Model(**{**LIN, "stop": Stop(mass=1, gap=0.5 if side == "upper" else -0.5,
+                                         restitution=0.8, side=side)},
+                  nonlinear=[force], parameters={"g": 0.05})
+    _, sec, _, _, _, _ = NonlinearFlow(model).run(OMEGA, np.array(y), 1)
+    got = NonlinearChain(model, OMEGA).map(y)
+    assert np.abs(np.array(got, dtype=float) - sec[0]).max() < 1e-12
+
+
 @pytest.mark.slow
 def test_duffing_period1_orbit():
     """The Duffing impact oscillator x'' + 0.1 x' + x + 0.5 x^3 = sin(1.5 t + tau), stop
