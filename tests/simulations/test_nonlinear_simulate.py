@@ -93,10 +93,12 @@ def test_a_run_that_never_returns_stops_as_no_impact():
     assert sim.stop == lin.stop == "no-impact" and sim.n == lin.n == 0
 
 
-def test_the_start_is_required_and_checked():
-    with pytest.raises(ParameterError, match=r"^y0 = None .*no period-1 orbit in closed "
-                                             "form to start from with nonlinear forces"):
-        symvi.simulate(DUFFING, OMEGA)
+def test_the_start_defaults_and_is_checked():
+    # no closed-form orbit to start near: the default start off the stop, as with several
+    from symvi.simulations.simulation import default_start
+    a, b = symvi.simulate(DUFFING, OMEGA, n_impacts=5), symvi.simulate(
+        DUFFING, OMEGA, y0=default_start(DUFFING, OMEGA), n_impacts=5)
+    assert a.n == 5 and np.array_equal(a.section, b.section)
     with pytest.raises(ParameterError, match="^y0 .*must leave the stop"):
         symvi.simulate(DUFFING, OMEGA, y0=(0.3, 0.1))
     with pytest.raises(ParameterError, match="^omega"):
