@@ -211,7 +211,7 @@ class _Recurrences:
                 v = ((ca[k] - fdot([j * q[j] for j in range(1, k)], ca[k - 1:0:-1]) / k)
                      / ca[0] if k else mpmath.log(ca[0]))
             elif kind == _ATAN:                # u' = a' w
-                q, cw = c[i], c[b]
+                cw = c[b]
                 v = (fdot([j * ca[j] for j in range(1, k + 1)], cw[k - 1::-1]) / k
                      if k else mpmath.atan(ca[0]))
             else:                              # s' = a' c, c' = -+ a' s
@@ -271,7 +271,7 @@ class NonlinearChain:
             # v+ = R v- (mass order), the constraint's reset at this precision
             self.R = con.reset_matrix(Mo, r=mp(con.restitution))
             self.tol = mp(10) ** -self.dps
-            self.degree = int(math.ceil(self.dps * math.log(10) / 2)) + 1
+            self.degree = math.ceil(self.dps * math.log(10) / 2) + 1
             forces = model._nl
             if forces is None:
                 self.forces = None

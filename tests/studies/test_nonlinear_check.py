@@ -145,7 +145,7 @@ def test_flight_against_solve_ivp(duffing, z0, tau):
 
 def test_map_against_the_nonlinear_flow(duffing):
     y = (-1.3, 1.7)
-    _, sec, _, _, hits, _ = NonlinearFlow(DUFFING).run(OMEGA, np.array(y), 3)
+    _, sec, _, _, _, _ = NonlinearFlow(DUFFING).run(OMEGA, np.array(y), 3)
     for p in (1, 3):
         assert np.abs(np.array(duffing.map_n(y, p), dtype=float) - sec[p - 1]).max() < 1e-12
     assert duffing.map(y) == duffing.map_n(y, 1)
