@@ -37,6 +37,10 @@ from .nonlinear import (_A, _B, _C, _E3, _E5, _NS, ATOL, MAX_STACK, OP_ADD, OP_C
 
 #: steps of one series flight before it gives up
 MAX_STEPS = 200_000
+#: how far (relative) the flight's end may lie from the impact the series solve for (the
+#: shift's series, cut at order K in s, is exact near 0 only), and how often it is moved
+TIME_TOL = 1e-12
+TIME_TRIES = 4
 
 
 # --------------------------------------------------------------------------- the field
@@ -293,8 +297,9 @@ class _System:
         n, L = flow.n, alg.L
         model = flow.model
         Z = np.zeros((n, n))
-        dM, dK, dC, dP = ((np.asarray(tangent.dM, float), np.asarray(tangent.dK, float),
-                           np.asarray(tangent.dC, float), np.asarray(tangent.dP, float))
+        # writeable copies: numba types a read-only array apart (a second compilation)
+        dM, dK, dC, dP = ((np.array(tangent.dM, float), np.array(tangent.dK, float),
+                           np.array(tangent.dC, float), np.array(tangent.dP, float))
                           if tangent is not None else (Z, Z, Z, np.zeros(n)))
         nvar = 2 * n + len(flow.pars)
         U = np.zeros((nvar, L))
@@ -399,8 +404,21 @@ def flight_first(flow, omega, z0, tau, T, *, omega_var=False, param=None):
 def impact_series(flow, omega, y, T, order, start, end, *, omega_var=False, param=None):
     """(alg, P, te, speed): the series of the impact map's section point after the flight
     from section point ``y`` of constraint ``start`` (its layout, last the phase) that ends
-    on constraint ``end`` at about time T (its exact time is solved here), in the
-    variables (y, [omega], [p]); ``speed`` the approach speed at the impact."""
+    on constraint ``end`` near time T (its exact time is solved here: the flight is
+    integrated again to the impact when it lies farther than TIME_TOL T, at most
+    TIME_TRIES times), in the variables (y, [omega], [p]); ``speed`` the approach speed
+    at the impact."""
+    T = float(T)
+    for _ in range(TIME_TRIES):
+        out = _impact_series(flow, omega, y, T, order, start, end, omega_var, param)
+        if abs(out[2] - T) <= TIME_TOL * max(T, 1.0):
+            return out[:4]
+        T = out[2]
+    raise ParameterError("te", T, "the flight's impact time (the guard is not 0 there: "
+                         f"the impact is {out[2] - T:.3g} away)")
+
+
+def _impact_series(flow, omega, y, T, order, start, end, omega_var, param):
     n, dim = flow.n, 2 * flow.n
     cs = flow.cons
     ka = int(cs[start, 0])

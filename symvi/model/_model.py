@@ -540,8 +540,8 @@ class Model:
         (:class:`symvi.flow.linear.LinearFlow`)."""
         if self._nl is not None:
             raise ParameterError("model", "nonlinear", "a linear model: with nonlinear "
-                                 "forces this analysis is a later step of issue 28 (simulate, "
-                                 "orbit and continue run them)")
+                                 "forces this analysis is a later step of issue 28 (simulate "
+                                 "and continue run them)")
         return self
 
     @property

@@ -179,7 +179,12 @@ class Problem:
             z0[self.frames[k]] = Y[i][:-1]
             tau = Y[i][-1]
             fi, Fi = phases[i]
-            out.append((z0, tau) + fi.flight(Fi, z0, tau, T[i]))
+            if self.nonlinear and self.parameter is not None:
+                # one series flight gives dz/dlam too (:meth:`_dparam_series` reads it)
+                *f, dzp = fi.flight(Fi, z0, tau, T[i], param=self.parameter)
+                out.append((z0, tau) + tuple(f) + (dzp,))
+            else:
+                out.append((z0, tau) + fi.flight(Fi, z0, tau, T[i]))
         self._last = (key, (out, (model, flow, F)))
 
     def _shoot(self, u, lam, check, jac, dom):
@@ -222,7 +227,7 @@ class Problem:
         G = np.empty(m)
         ends = self._ends(flow)
         Gu = np.zeros((m, m)) if jac else None
-        for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+        for i, (z0, tau, z, Phi, dzt, dzdt, *_) in enumerate(fl):
             j = (i + 1) % p
             E, g, level = ends[i]
             target = Y[j].copy()
@@ -400,9 +405,11 @@ class Problem:
                                      "or an entry of M, K, C, P (a gap or a restitution "
                                      "of a nonlinear model: a later step of issue 28)")
         ends = self._ends(flow)
-        for i, (z0, tau, z, *_rest) in enumerate(fl):
+        mine = self.parameter is not None and name.name == self.parameter.name
+        for i, (z0, tau, z, *rest) in enumerate(fl):
             E, g, _ = ends[i]
-            dz = flow.flight(F, z0, tau, T[i], param=name)[4]
+            dz = rest[3] if mine and len(rest) > 3 else \
+                flow.flight(F, z0, tau, T[i], param=name)[4]
             out[i * d:i * d + d - 1] = E @ dz
             out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
             out[p * d + i] = g @ dz[:N]
