@@ -249,3 +249,38 @@ def test_refusals(duffing):
         NonlinearChain(two, OMEGA)
     with pytest.raises(ParameterError, match="order"):
         duffing.jets(Y, 6)
+
+
+# --------------------------------------------------------------------------- symvi's jets
+def test_series_jets_against_the_chain():
+    """symvi's jets of the nonlinear map (series flights, :mod:`symvi.flow.nljet`) against
+    the chain's 40-digit differences at a period-1 orbit of the Duffing oscillator, orders
+    1 to 5 (1.1e-14, 4.2e-14, 4.4e-14, 6.6e-14, 1.2e-13 relative observed)."""
+    from symvi.orbits.periodic import periodic_orbit
+    orbit = periodic_orbit(DUFFING, n=1, p=1, guess=(-1.3355, 1.7458), omega=OMEGA)
+    got = orbit.jet(5)
+    ref = NonlinearChain(DUFFING, OMEGA).jets(orbit.y, order=5)
+    for k, (a, b) in enumerate(zip(got, ref), start=1):
+        b = np.array(b, dtype=float)
+        assert np.max(np.abs(a - b)) < 1e-12 * np.max(np.abs(b)), k
+
+
+def test_flip_coefficient_against_the_chain():
+    """The flip a branch of the Duffing impact oscillator (beta = 0.2, c = 0.05, stop at 0)
+    locates, and its cubic coefficient, against the chain at the flip's omega: the chain's
+    fixed point there has a multiplier -1 to the location's accuracy and its coefficient
+    (same normalisation: ||q|| = 1, <p, q> = 1) is the branch's."""
+    from symvi.continuation.branch import continue_branch
+    from symvi.orbits.periodic import periodic_orbit
+    m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+              stop=Stop(mass=1, gap=0.0, restitution=0.8), nonlinear=["beta*x1**3"],
+              parameters={"beta": 0.2})
+    sim = symvi.simulate(m, 2.6, n_impacts=50, transient=3000)
+    o = periodic_orbit(m, n=1, p=1, guess=sim, omega=2.6)
+    flip = [s for s in continue_branch(m, "omega", 2.6, 2.8, orbit=o).special
+            if s.kind == "flip"][0]
+    chain = NonlinearChain(m, flip.value)
+    fp = chain.fixed_point(flip.orbit.y)
+    assert min(abs(complex(z) + 1) for z in fp.multipliers) < 1e-9
+    nf = chain.normal_form(fp.y)
+    assert abs(nf.flip - flip.coefficients["c"]) < 1e-7 * abs(nf.flip)
