@@ -196,7 +196,7 @@ def add_params(parser, defaults=None, model=False):
                                  "[stop] mass, gap, restitution, or one [[stop]] table per stop "
                                  "with mass or between, gap, side, restitution or "
                                  "stiffness and damping; nonlinear forces: [model] nonlinear "
-                                 "and [model.parameters], simulate only), instead of the "
+                                 "and [model.parameters]: simulate, continue), instead of the "
                                  "preset flags")
 
 
