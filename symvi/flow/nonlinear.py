@@ -46,14 +46,15 @@ from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..numerics.tolerances import GRAZING_SPEED_FACTOR
 from . import compiled as cf
+from ._hull import ROOT_THETA, _bernstein, _first_root  # noqa: F401  (the hull's owner)
+from ._program import (FUNCS, MAX_STACK, OP_ADD, OP_CONST, OP_FUNC, OP_MUL,  # noqa: F401
+                       OP_POW, OP_POWI, OP_VAR, _eval, _func, program)
 
 #: relative and absolute tolerances of the step control (the issue's accuracy: ~1e-13)
 RTOL = 3e-14
 ATOL = 3e-14
 #: a step is at most this fraction of the shortest period (forcing, linear modes)
 STEP_BOUND = 1.0 / 16.0
-#: the width in theta down to which the Bernstein search halves
-ROOT_THETA = 1e-13
 #: steps of one flight before it gives up (as no impact)
 MAX_STEPS = 2_000_000
 
@@ -73,124 +74,6 @@ def _coefficients():
 
 
 _A, _B, _C, _E3, _E5, _D = _coefficients()
-
-# --- the forces as a postfix program -----------------------------------------------------
-OP_CONST, OP_VAR, OP_ADD, OP_MUL, OP_POWI, OP_POW, OP_FUNC = range(7)
-FUNCS = ("sin", "cos", "tan", "exp", "log", "sqrt", "sinh", "cosh", "tanh", "atan")
-#: the deepest stack a program may need
-MAX_STACK = 64
-
-
-def program(exprs, names):
-    """(ops (L, 2), offsets (N + 1,), stack depth): the postfix program of the forces
-    ``exprs`` (SymPy) over the variables ``names`` (x1..xN, v1..vN, the parameters; a
-    variable's index in ``names`` is its slot)."""
-    import sympy
-    index = {s: i for i, s in enumerate(names)}
-    ops, offsets = [], [0]
-    depth = [0, 0]
-
-    def push(op, arg, change):
-        ops.append((float(op), float(arg)))
-        depth[0] += change
-        depth[1] = max(depth[1], depth[0])
-
-    def emit(e):
-        if isinstance(e, sympy.Symbol):
-            push(OP_VAR, index[e.name], 1)
-        elif e.is_Number or isinstance(e, sympy.NumberSymbol):
-            push(OP_CONST, float(e), 1)
-        elif isinstance(e, (sympy.Add, sympy.Mul)):
-            for a in e.args:
-                emit(a)
-            push(OP_ADD if isinstance(e, sympy.Add) else OP_MUL, len(e.args), 1 - len(e.args))
-        elif isinstance(e, sympy.Pow):
-            emit(e.base)
-            if e.exp.is_Integer:
-                push(OP_POWI, int(e.exp), 0)
-            elif e.exp == sympy.Rational(1, 2):
-                push(OP_FUNC, FUNCS.index("sqrt"), 0)
-            else:
-                emit(e.exp)
-                push(OP_POW, 0, -1)
-        elif isinstance(e, sympy.Function) and type(e).__name__ in FUNCS and len(e.args) == 1:
-            emit(e.args[0])
-            push(OP_FUNC, FUNCS.index(type(e).__name__), 0)
-        else:
-            raise ParameterError("nonlinear", str(e), "a smooth elementary expression",
-                                 f"{type(e).__name__} cannot be evaluated")
-
-    for e in exprs:
-        emit(sympy.Integer(e) if isinstance(e, int) else e)
-        depth[0] = 0
-        offsets.append(len(ops))
-    if depth[1] > MAX_STACK:
-        raise ParameterError("nonlinear", f"nesting {depth[1]}", f"at most {MAX_STACK} "
-                             "nested operations")
-    return (np.array(ops, dtype=np.float64).reshape(-1, 2),
-            np.array(offsets, dtype=np.int64), depth[1])
-
-
-@nb.njit(cache=True)
-def _func(k, a):
-    if k == 0:
-        return math.sin(a)
-    if k == 1:
-        return math.cos(a)
-    if k == 2:
-        return math.tan(a)
-    if k == 3:
-        return math.exp(a)
-    if k == 4:
-        return math.log(a) if a > 0.0 else math.nan
-    if k == 5:
-        return math.sqrt(a) if a >= 0.0 else math.nan
-    if k == 6:
-        return math.sinh(a)
-    if k == 7:
-        return math.cosh(a)
-    if k == 8:
-        return math.tanh(a)
-    return math.atan(a)
-
-
-@nb.njit(cache=True)
-def _eval(ops, lo, hi, u, stack):
-    """One force: the postfix program ops[lo:hi] at the variables u."""
-    sp = 0
-    for i in range(lo, hi):
-        op = int(ops[i, 0])
-        arg = ops[i, 1]
-        if op == OP_CONST:
-            stack[sp] = arg
-            sp += 1
-        elif op == OP_VAR:
-            stack[sp] = u[int(arg)]
-            sp += 1
-        elif op == OP_ADD or op == OP_MUL:
-            m = int(arg)
-            acc = stack[sp - m]
-            for j in range(sp - m + 1, sp):
-                acc = acc + stack[j] if op == OP_ADD else acc * stack[j]
-            sp -= m
-            stack[sp] = acc
-            sp += 1
-        elif op == OP_POWI:
-            m = int(arg)
-            b = stack[sp - 1]
-            p = 1.0
-            for _ in range(abs(m)):
-                p *= b
-            stack[sp - 1] = p if m >= 0 else 1.0 / p
-        elif op == OP_POW:
-            e = stack[sp - 1]
-            sp -= 1
-            b = stack[sp - 1]
-            stack[sp - 1] = b ** e if b > 0.0 or e == int(e) else math.nan
-        else:
-            stack[sp - 1] = _func(int(arg), stack[sp - 1])
-    return stack[0]
-
 
 @nb.njit(cache=True)
 def _rhs(sy, t, y, out):
@@ -302,73 +185,6 @@ def _guard_poly(y, F, k, gap, sign, p):
     p[0] += y[k] - gap
     for i in range(8):
         p[i] *= sign
-
-
-@nb.njit(cache=True)
-def _bernstein(p, b):
-    """Bernstein coefficients (degree 7, on [0, 1]) of the monomial coefficients p."""
-    for k in range(8):
-        acc = 0.0
-        for i in range(k + 1):
-            acc += _BINOM[k, i] / _BINOM[7, i] * p[i]
-        b[k] = acc
-
-
-def _binom():
-    B = np.zeros((8, 8))
-    for k in range(8):
-        for i in range(k + 1):
-            B[k, i] = math.comb(k, i)
-    return B
-
-
-_BINOM = _binom()
-
-
-@nb.njit(cache=True)
-def _first_root(b0, stackb, lo_hi):
-    """The leftmost theta in [0, 1] where the polynomial with Bernstein coefficients b0 may
-    reach 0 (its hull does, down to ROOT_THETA), or -1.0 when its hull stays below 0."""
-    top = 0
-    for i in range(8):
-        stackb[0, i] = b0[i]
-    lo_hi[0, 0] = 0.0
-    lo_hi[0, 1] = 1.0
-    top = 1
-    while top > 0:
-        top -= 1
-        lo = lo_hi[top, 0]
-        hi = lo_hi[top, 1]
-        mx = -math.inf
-        for i in range(8):
-            mx = max(mx, stackb[top, i])
-        if mx < 0.0:
-            continue
-        if stackb[top, 0] >= 0.0:
-            return lo
-        if hi - lo <= ROOT_THETA or top + 2 >= stackb.shape[0]:
-            return 0.5 * (lo + hi)
-        # de Casteljau at 1/2: the left half to the top (examined first), the right below
-        w = stackb[top].copy()
-        right = np.empty(8)
-        left = np.empty(8)
-        left[0] = w[0]
-        right[7] = w[7]
-        for r in range(1, 8):
-            for i in range(8 - r):
-                w[i] = 0.5 * (w[i] + w[i + 1])
-            left[r] = w[0]
-            right[7 - r] = w[7 - r]
-        mid = 0.5 * (lo + hi)
-        for i in range(8):
-            stackb[top, i] = right[i]
-            stackb[top + 1, i] = left[i]
-        lo_hi[top, 0] = mid
-        lo_hi[top, 1] = hi
-        lo_hi[top + 1, 0] = lo
-        lo_hi[top + 1, 1] = mid
-        top += 2
-    return -1.0
 
 
 @nb.njit(cache=True)
