@@ -46,6 +46,8 @@ from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..numerics.tolerances import GRAZING_SPEED_FACTOR
 from . import compiled as cf
+from . import taylor
+from .taylor import _taylor_flight
 from ._hull import ROOT_THETA, _bernstein, _first_root  # noqa: F401  (the hull's owner)
 from ._program import (FUNCS, MAX_STACK, OP_ADD, OP_CONST, OP_FUNC, OP_MUL,  # noqa: F401
                        OP_POW, OP_POWI, OP_VAR, _eval, _func, program)
@@ -271,11 +273,13 @@ def _flight(sy, cons, z, just_hit, t_max, hmax, hh, work):
 
 
 @nb.njit(cache=True)
-def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, times, vimp,
-         hits, work):
+def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_max, sec,
+         times, vimp, hits, work, taylor):
     """The run of the nonlinear map from z (mass order, on constraint k's guard) at phase
-    tau: stores section points (constraint's section layout), times, approach speeds and
-    the constraint hit, as :func:`symvi.flow.compiled.run` does.  Returns (stop code,
+    tau: stores section points (SEC[c] z: constraint c's section layout), times, approach
+    speeds and the constraint hit, as :func:`symvi.flow.compiled.run` does.  The flight:
+    the Taylor method's (``taylor``, :func:`symvi.flow.taylor._taylor_flight`, scratch tj)
+    or DOP853's (:func:`_flight`, scratch work; stops on masses).  Returns (stop code,
     number stored, steps)."""
     dim = z.shape[0]
     n = dim // 2
@@ -292,13 +296,15 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         sy[9][0] = tau
         for i in range(dim):
             zs[i] = z[i]
-        st, te, c, vm, acc, ns = _flight(sy, cons, z, k, t_max, hmax, hh, work)
+        if taylor:
+            st, te, c, vm, acc, ns = _taylor_flight(sy, tj, cons, normals, z, k, t_max, hmax)
+        else:
+            st, te, c, vm, acc, ns = _flight(sy, cons, z, k, t_max, hmax, hh, work)
         steps += ns
         if st != cf.IMPACT:
             for i in range(dim):
                 z[i] = zs[i]
             return cf.STOP_NO_IMPACT if c == -1 else cf.STOP_NONFINITE, max(kept, 0), steps
-        kc = int(cons[c, 0])
         L = max(1.0, abs(cons[c, 1]))
         for i in range(n):
             L = max(L, abs(z[i]))
@@ -306,7 +312,7 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
             for i in range(dim):
                 z[i] = zs[i]
             return (cf.STOP_STICKING if acc > 0.0 else cf.STOP_GRAZING), max(kept, 0), steps
-        # v+ = R v- (the constraint's reset); the section: x_k = gap exactly
+        # v+ = R v- (the constraint's reset); on a mass's stop the section is x_k = gap
         for i in range(n):
             a = 0.0
             for j in range(n):
@@ -315,7 +321,9 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         ok = True
         for i in range(n):
             z[n + i] = v[i]
-        z[kc] = cons[c, 1]
+        kc = int(cons[c, 0])
+        if kc >= 0:
+            z[kc] = cons[c, 1]
         for i in range(dim):
             ok = ok and math.isfinite(z[i]) and abs(z[i]) <= 1e6
         if not ok:
@@ -328,7 +336,11 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         short = short + 1 if te < t_chat else 0
         if kept >= 0:
             for i in range(dim - 1):
-                sec[kept, i] = z[sidx[c, i]]
+                a = 0.0
+                for j in range(dim):
+                    if SEC[c, i, j] != 0.0:
+                        a += SEC[c, i, j] * z[j]
+                sec[kept, i] = a
             sec[kept, dim - 1] = tau
             times[kept] = T
             vimp[kept] = vm
@@ -336,121 +348,6 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         if short >= cf.CHATTER_COUNT:
             return cf.STOP_CHATTER, max(kept + 1, 0), steps
     return cf.COMPLETED, n_keep, steps
-
-
-class NonlinearFlow:
-    """The numerical flow of a model with nonlinear forces and rigid stops on masses.
-
-    ``NonlinearFlow(model)``; :meth:`state` integrates without events (a flight's
-    reference), :meth:`first_impact` finds the first contact, :meth:`run` iterates the
-    impact map from a section point (what :func:`symvi.simulate` runs).  Stops between
-    masses and elastic stops are refused for now (issue 28's later steps)."""
-
-    def __init__(self, model):
-        for k, s in enumerate(model.stops, 1):
-            if s.stiffness is not None:
-                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
-                                     "rigid stops (an elastic stop with nonlinear forces is "
-                                     "a later step of issue 28)")
-            if s.mass is None:
-                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
-                                     "stops on masses (a stop between masses with nonlinear "
-                                     "forces is a later step of issue 28)")
-        self.model = model
-        n = self.n = model.n
-        names = [f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
-        forces = model._nl
-        exprs = forces.exprs(n) if forces is not None else (0,) * n
-        pnames = list(forces.names) if forces is not None else []
-        self.ops, self.off, depth = program(exprs, names + pnames)
-        self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
-        self.Minv = np.linalg.inv(model.mass)
-        cons = model.constraints
-        self.cons = np.array([[c.coordinate, c.gap, c.sign] for c in cons], dtype=float)
-        self.R = np.array([c.reset_matrix(self.Minv) for c in cons], dtype=float)
-        w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
-        self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
-        self._depth = max(depth, 1)
-        from .linear import frame_of
-        self.perm = frame_of(model)[0]            # the section layout's order of the masses
-        # each constraint's section layout, as mass-order state indices
-        self.sidx = np.empty((len(cons), 2 * n - 1), dtype=np.int64)
-        for j, c in enumerate(cons):
-            p = self.perm.index(c.coordinate)
-            for i, q in enumerate(cf.section_index(n, p)):
-                self.sidx[j, i] = self.perm[q] if q < n else n + self.perm[q - n]
-
-    def _system(self, omega, tau):
-        n = self.n
-        u = np.empty(2 * n + len(self.pars))
-        u[2 * n:] = self.pars
-        return (self.Minv, np.ascontiguousarray(self.model.stiffness),
-                np.ascontiguousarray(self.model.damping),
-                np.ascontiguousarray(self.model.forcing), self.ops, self.off, u,
-                np.empty(self._depth + 1), np.array([float(omega)]), np.array([float(tau)]),
-                np.empty(n))
-
-    def _work(self):
-        dim = 2 * self.n
-        return (np.empty((_NS + 1, dim)), np.empty((_NX, dim)), np.empty((7, dim)),
-                np.empty(dim), np.empty(dim), np.empty(dim), np.empty(8), np.empty(8),
-                np.empty((96, 8)), np.empty((96, 2)), np.empty(dim))
-
-    def hmax(self, omega):
-        """The step bound: STEP_BOUND of the shortest period (forcing, linear modes)."""
-        return STEP_BOUND * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
-
-    def rhs(self, omega, tau, t, z):
-        """The vector field at (t, z), z = (x, v) in mass order."""
-        out = np.empty(2 * self.n)
-        _rhs(self._system(omega, tau), float(t), np.asarray(z, dtype=float), out)
-        return out
-
-    def first_impact(self, omega, z0, tau, t_max=None, just_hit=-1):
-        """(status, t_e, constraint, z_e-): the first contact from z0 (mass order) at phase
-        tau; status a name of :data:`symvi.flow.compiled.STATUS_NAMES` ("impact",
-        "no-impact"); z_e- the state just before the impact.  ``just_hit``: the constraint
-        z0 lies on (leaving it)."""
-        z = np.array(z0, dtype=float)
-        t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
-        h = self.hmax(omega)
-        st, te, c, _, _, _ = _flight(self._system(omega, tau), self.cons, z, int(just_hit),
-                                     t_max, h, np.array([h]), self._work())
-        return cf.STATUS_NAMES[st], te, c, z
-
-    def state(self, omega, z0, tau, t):
-        """z(t) from z0 (mass order) at phase tau, ignoring the constraints (a flight's
-        reference: the same steps, no events)."""
-        z = np.array(z0, dtype=float)
-        sy = self._system(omega, tau)
-        h = self.hmax(omega)
-        work = self._work()
-        return _integrate(sy, z, float(t), h, work)
-
-    def start(self, y0):
-        """The state (mass order) of a section point y0 of the first constraint."""
-        n = self.n
-        z = np.empty(2 * n)
-        z[int(self.cons[0, 0])] = self.cons[0, 1]
-        for i in range(2 * n - 1):
-            z[self.sidx[0, i]] = y0[i]
-        return z
-
-    def run(self, omega, y0, n_keep, transient=0):
-        """(code, section (n, 2N), t, approach speeds, hits, steps) of the run from y0, a
-        section point of the first constraint (:func:`symvi.flow.compiled.run`'s
-        layout)."""
-        dim = 2 * self.n
-        z = self.start(y0)
-        sec = np.empty((n_keep, dim))
-        times = np.empty(n_keep)
-        vimp = np.empty(n_keep)
-        hits = np.empty(n_keep, dtype=np.int64)
-        code, kk, steps = _run(self._system(omega, y0[-1]), self.cons, self.R, self.sidx, z,
-                               float(y0[-1]), 0, n_keep, transient, self.hmax(omega),
-                               1000 * 2 * math.pi / omega, sec, times, vimp, hits,
-                               self._work())
-        return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps
 
 
 @nb.njit(cache=True)
@@ -476,3 +373,150 @@ def _integrate(sy, z, t_end, hmax, work):
             Kst[0, i] = Kst[_NS, i]
         h *= 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
     return y.copy()
+
+
+#: the integrators of a flight: the Taylor method (the default, chosen by measurement: the
+#: module docstring) and DOP853
+METHODS = ("taylor", "dop853")
+
+
+class NonlinearFlow:
+    """The numerical flow of a model with nonlinear forces and rigid constraints.
+
+    ``NonlinearFlow(model, method="taylor")``; :meth:`state` integrates without events (a
+    flight's reference), :meth:`first_impact` finds the first contact, :meth:`run` iterates
+    the impact map from a section point (what :func:`symvi.simulate` runs).  Every rigid
+    constraint a Model carries: stops on masses, either side, and between masses (guard
+    c . x - g, reset :meth:`symvi.model.Constraint.reset_matrix`), section points in the
+    flow's frame (:func:`symvi.flow.linear.frame_of`) as the exact flow's; ``"dop853"``
+    takes stops on masses only.  Elastic stops are refused (issue 28's later steps)."""
+
+    def __init__(self, model, method="taylor"):
+        if method not in METHODS:
+            raise ParameterError("method", method, " or ".join(f'"{m}"' for m in METHODS))
+        for k, s in enumerate(model.stops, 1):
+            if s.stiffness is not None:
+                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
+                                     "rigid stops (an elastic stop with nonlinear forces is "
+                                     "a later step of issue 28)")
+        cons = model.constraints
+        if method == "dop853" and any(c.coordinate is None for c in cons):
+            raise ParameterError("method", method, '"taylor" for a stop between masses '
+                                 "(DOP853's events read stops on masses)")
+        self.model, self.method = model, method
+        n = self.n = model.n
+        names = [f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
+        forces = model._nl
+        exprs = forces.exprs(n) if forces is not None else (0,) * n
+        pnames = list(forces.names) if forces is not None else []
+        self.ops, self.off, depth = program(exprs, names + pnames)
+        self.tape = taylor.tape(self.ops, self.off, 2 * n)
+        self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
+        self.Minv = np.linalg.inv(model.mass)
+        self.cons = np.array([[-1 if c.coordinate is None else c.coordinate, c.gap, c.sign]
+                              for c in cons], dtype=float)
+        self.normals = np.array([c.normal for c in cons], dtype=float)
+        self.R = np.array([c.reset_matrix(self.Minv) for c in cons], dtype=float)
+        w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
+        self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
+        self._depth = max(depth, 1)
+        from .linear import frame_of
+        perm, T, _ = frame_of(model)           # the frame q = T x of the sections
+        self.T = np.eye(n)[list(perm)] if T is None else np.asarray(T, dtype=float)
+        self._Tinv = self.T.T if T is None else np.linalg.inv(self.T)   # exact: a permutation
+        # each constraint's section layout as rows over the mass-order state
+        self.SEC = np.zeros((len(cons), 2 * n - 1, 2 * n))
+        self._pos = []
+        for j, c in enumerate(cons):
+            p = next(i for i in range(n) if tuple(self.T[i]) == c.normal)
+            self._pos.append(p)
+            for i, q in enumerate(cf.section_index(n, p)):
+                if q < n:
+                    self.SEC[j, i, :n] = self.T[q]
+                else:
+                    self.SEC[j, i, n:] = self.T[q - n]
+
+    def _system(self, omega, tau):
+        n = self.n
+        u = np.empty(2 * n + len(self.pars))
+        u[2 * n:] = self.pars
+        return (self.Minv, np.ascontiguousarray(self.model.stiffness),
+                np.ascontiguousarray(self.model.damping),
+                np.ascontiguousarray(self.model.forcing), self.ops, self.off, u,
+                np.empty(self._depth + 1), np.array([float(omega)]), np.array([float(tau)]),
+                np.empty(n))
+
+    def _work(self):
+        dim = 2 * self.n
+        return (np.empty((_NS + 1, dim)), np.empty((_NX, dim)), np.empty((7, dim)),
+                np.empty(dim), np.empty(dim), np.empty(dim), np.empty(8), np.empty(8),
+                np.empty((96, 8)), np.empty((96, 2)), np.empty(dim))
+
+    def _taylor_work(self):
+        return taylor.work(*self.tape, 2 * self.n)
+
+    def hmax(self, omega):
+        """The step bound: a fraction of the shortest period (forcing, linear modes),
+        STEP_BOUND for DOP853, :data:`symvi.flow.taylor.STEP_CAP` for the Taylor method."""
+        frac = taylor.STEP_CAP if self.method == "taylor" else STEP_BOUND
+        return frac * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
+
+    def rhs(self, omega, tau, t, z):
+        """The vector field at (t, z), z = (x, v) in mass order."""
+        out = np.empty(2 * self.n)
+        _rhs(self._system(omega, tau), float(t), np.asarray(z, dtype=float), out)
+        return out
+
+    def first_impact(self, omega, z0, tau, t_max=None, just_hit=-1):
+        """(status, t_e, constraint, z_e-): the first contact from z0 (mass order) at phase
+        tau; status a name of :data:`symvi.flow.compiled.STATUS_NAMES` ("impact",
+        "no-impact"); z_e- the state just before the impact.  ``just_hit``: the constraint
+        z0 lies on (leaving it)."""
+        z = np.array(z0, dtype=float)
+        t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
+        h = self.hmax(omega)
+        sy = self._system(omega, tau)
+        if self.method == "taylor":
+            st, te, c, _, _, _ = taylor._taylor_flight(sy, self._taylor_work(), self.cons,
+                                                       self.normals, z, int(just_hit),
+                                                       t_max, h)
+        else:
+            st, te, c, _, _, _ = _flight(sy, self.cons, z, int(just_hit), t_max, h,
+                                         np.array([h]), self._work())
+        return cf.STATUS_NAMES[st], te, c, z
+
+    def state(self, omega, z0, tau, t):
+        """z(t) from z0 (mass order) at phase tau, ignoring the constraints (a flight's
+        reference: the same steps, no events)."""
+        z = np.array(z0, dtype=float)
+        sy = self._system(omega, tau)
+        h = self.hmax(omega)
+        if self.method == "taylor":
+            return taylor._taylor_integrate(sy, self._taylor_work(), z, float(t), h)
+        return _integrate(sy, z, float(t), h, self._work())
+
+    def start(self, y0):
+        """The state (mass order) of a section point y0 of the first constraint (the
+        flow's frame, :func:`symvi.flow.linear.frame_of`)."""
+        n = self.n
+        q = np.empty(2 * n)
+        q[self._pos[0]] = self.cons[0, 1]
+        for i, j in enumerate(cf.section_index(n, self._pos[0])):
+            q[j] = y0[i]
+        return np.concatenate([self._Tinv @ q[:n], self._Tinv @ q[n:]])
+
+    def run(self, omega, y0, n_keep, transient=0):
+        """(code, section (n, 2N), t, approach speeds, hits, steps) of the run from y0, a
+        section point of the first constraint (:func:`symvi.flow.compiled.run`'s
+        layout)."""
+        dim = 2 * self.n
+        z = self.start(y0)
+        sec = np.empty((n_keep, dim))
+        times = np.empty(n_keep)
+        vimp = np.empty(n_keep)
+        hits = np.empty(n_keep, dtype=np.int64)
+        code, kk, steps = _run(self._system(omega, y0[-1]), self._taylor_work(), self.cons,
+                               self.normals, self.R, self.SEC, z, float(y0[-1]), 0, n_keep,
+                               transient, self.hmax(omega), 1000 * 2 * math.pi / omega, sec,
+                               times, vimp, hits, self._work(), self.method == "taylor")
+        return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps

@@ -138,8 +138,10 @@ def test_what_it_does_not_take_yet():
         nl.NonlinearFlow(Model(**{**ONE, "stop": Stop(mass=1, gap=0.5, stiffness=50.0)},
                                nonlinear=["x1**3"]))
     two = {**TWO, "stops": [Stop(between=(1, 2), gap=0.3, restitution=0.8)]}
-    with pytest.raises(ParameterError, match="a stop between masses"):
-        nl.NonlinearFlow(Model(**two, nonlinear=["x1**3", "0"]))
+    with pytest.raises(ParameterError, match="^method = 'dop853'.*a stop between masses"):
+        nl.NonlinearFlow(Model(**two, nonlinear=["x1**3", "0"]), method="dop853")
+    with pytest.raises(ParameterError, match="^method = 'rk4'"):
+        nl.NonlinearFlow(Model(**ONE, nonlinear=["x1**3"]), method="rk4")
 
 
 def test_the_exact_linear_flow_refuses_a_nonlinear_model():
