@@ -170,8 +170,8 @@ def _check_model_start(model, y0, name="y0"):
         if sec.labels is None:
             x[list(sec.perm)] = z[:model.n]
         else:                                  # the flow's frame q = T x (a stop between masses)
-            from ..flow.linear import LinearFlow
-            x = LinearFlow.of(model).Tinv @ z[:model.n]
+            from ..flow.linear import frame_of
+            x = np.linalg.inv(frame_of(model)[1]) @ z[:model.n]
         for i, con in enumerate(model.constraints[1:], start=2):
             if not con.guard(x) < 0:
                 raise ParameterError(name, y0, f"a start outside every other stop "
