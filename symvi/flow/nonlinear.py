@@ -1,41 +1,53 @@
-"""A numerical flow of a model with smooth nonlinear forces (issue 28, first step).
+"""A numerical flow of a model with smooth nonlinear forces (issue 28).
 
 Between impacts::
 
     M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)
 
-with f the model's forces (:attr:`symvi.model.Model.nonlinear`), integrated by an explicit
-Runge-Kutta method of order 8, Dormand and Prince's DOP853 with its error estimator of
-orders 5 and 3 and its dense output of order 7 [Hairer, Norsett & Wanner, Solving ODEs I,
-II.10; the coefficients are SciPy's ``dop853_coefficients``], written in numba.  The
-forces are compiled once per model into a short postfix program (:func:`program`) that one
-cached kernel interprets: no code is generated or compiled per model, and ``x**3`` at
-x = 0 is 0 (integer powers are products).
+with f the model's forces (:attr:`symvi.model.Model.nonlinear`), compiled once per model
+into a short postfix program (:func:`symvi.flow._program.program`) that one cached kernel
+interprets: no code is generated or compiled per model, and ``x**3`` at x = 0 is 0
+(integer powers are products).  Two integrators of a flight, one run loop (:func:`_run`,
+the integrator by a flag):
 
-Why DOP853 and not a Taylor method (the issue's other candidate): DOP853 needs only
-evaluations of the field, so one cached kernel serves every model; a Taylor method needs
-the recurrences of each model's forces generated and compiled (or a Taylor-arithmetic
-interpreter), which this first step does not build.  Its accuracy and speed, against
-mpmath, solve_ivp and the exact linear flow: ``benchmarks/bench_nonlinear_flow.py``,
-``benchmarks/README.md``.
+* ``"taylor"`` (the default): the Taylor method of :mod:`symvi.flow.taylor` (the program
+  interpreted on series, Jorba & Zou's order 20 and step), events on the solution's own
+  polynomial over each step;
+* ``"dop853"``: Dormand and Prince's explicit Runge-Kutta method of order 8 with its error
+  estimator of orders 5 and 3 and its dense output of order 7 [Hairer, Norsett & Wanner,
+  Solving ODEs I, II.10; the coefficients are SciPy's ``dop853_coefficients``], events on
+  the dense output (stops on masses only).
 
-Events.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses, either side)
-is watched on every accepted step.  No contact of the dense output is stepped over: over
-a step the guard's interpolant is a polynomial of degree 7 in theta = (t - t_n) / h; its
-Bernstein coefficients bound it (the convex hull property), and the leftmost sub-interval
-whose hull reaches 0 is found by halving (de Casteljau) down to ROOT_THETA.  So a
-crossing of the interpolant is never missed, however short the excursion; steps are
-bounded by STEP_BOUND of the shortest period (forcing and linear modes), which keeps the
-interpolant within the step's accuracy.  The event time is then refined by Newton on
-full Runge-Kutta steps from the step's start (h(t_e) with h' = sign v_k), so it carries
-the integration's accuracy, not the interpolant's.  Just after an impact on constraint k
-its guard starts at 0 (x_k = b exactly) and its first step looks at h / theta.
+Chosen by measurement (``benchmarks/bench_nonlinear_flow.py``, ``benchmarks/README.md``;
+the 1-DOF impact Duffing oscillator, the same run): the Taylor method locates the first
+impact to 1.9e-16 relative against mpmath at 30 digits (DOP853: 7.5e-14), and runs 15
+times as many impacts a second (3.7e4 against 2.4e3; 19 steps an impact against 65, and
+no Runge-Kutta steps to refine an event).  It is still short of the issue's 2e5: its time
+is the 20 orders of series a step.
 
-At an impact v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`:
-v_k+ = -r v_k- on a diagonal M).  An approach speed at or below the grazing speed
-GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL max(1, |b|, |x|), is a grazing
-contact (sticking when h'' > 0 there): the run stops with the reasons of
-:mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact, non-finite).
+Events of DOP853.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses,
+either side) is watched on every accepted step.  No contact of the dense output is
+stepped over: over a step the guard's interpolant is a polynomial of degree 7 in theta =
+(t - t_n) / h; its Bernstein coefficients bound it (the convex hull property,
+:mod:`symvi.flow._hull`), and the leftmost sub-interval whose hull reaches 0 is found by
+halving (de Casteljau) down to ROOT_THETA.  So a crossing of the interpolant is never
+missed, however short the excursion; steps are bounded by STEP_BOUND of the shortest
+period (forcing and linear modes), which keeps the interpolant within the step's accuracy.
+The event time is then refined by Newton on full Runge-Kutta steps from the step's start
+(h(t_e) with h' = sign v_k), so it carries the integration's accuracy, not the
+interpolant's.  Just after an impact on constraint k its guard starts at 0 (x_k = b
+exactly) and its first step looks at h / theta.
+
+Constraints.  With the Taylor method every rigid constraint a Model carries: a guard
+h = sign (c . x - g) on any normal c (a stop on a mass, an impact between two masses, a
+two-sided clearance as two constraints); the section points are written in the flow's
+frame (:func:`symvi.flow.linear.frame_of`), as the exact flow's runs.  At an impact
+v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`: v_k+ =
+-r v_k- on a diagonal M, the two-body law along M^-1 c between masses).  An approach speed
+at or below the grazing speed GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL
+max(1, |b|, |x|), is a grazing contact (sticking when h'' > 0 there): the run stops with
+the reasons of :mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact,
+non-finite).
 """
 import math
 

@@ -220,7 +220,7 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
-    :mod:`symvi.flow.nonlinear` (rigid stops on masses), with the same records; it ends at
+    :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records; it ends at
     chatter and sticking (``stop_reason`` says so) instead of going through them.
 
     A rigid run goes on through complete chatter and sticking (``sticks``: when each
@@ -323,9 +323,9 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
 
 def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     """:func:`simulate` of a model with nonlinear forces (issue 28): the run of
-    :class:`symvi.flow.nonlinear.NonlinearFlow` (DOP853, every contact located on the
-    dense output), the same records and stop reasons as the compiled run.  ``y0`` is
-    required: there is no period-1 orbit in closed form to start from."""
+    :class:`symvi.flow.nonlinear.NonlinearFlow` (the Taylor method, every contact located
+    on the solution's polynomial), the same records and stop reasons as the compiled run.
+    ``y0`` is required: there is no period-1 orbit in closed form to start from."""
     from ..flow.nonlinear import NonlinearFlow
     from ..maps import Section
     from ..numerics.tolerances import OMEGA_RANGE
