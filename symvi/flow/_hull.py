@@ -78,34 +78,20 @@ def _push(b0, stackb, lo_hi):
 def _first_root(b0, stackb, lo_hi):
     """The leftmost theta in [0, 1] where the polynomial with Bernstein coefficients b0 may
     reach 0 (its hull does, down to ROOT_THETA), or -1.0 when its hull stays below 0."""
-    d = b0.shape[0] - 1
-    _push(b0, stackb, lo_hi)
-    top = 1
-    while top > 0:
-        top -= 1
-        lo = lo_hi[top, 0]
-        hi = lo_hi[top, 1]
-        mx = -math.inf
-        for i in range(d + 1):
-            mx = max(mx, stackb[top, i])
-        if mx < 0.0:
-            continue
-        if stackb[top, 0] >= 0.0:
-            return lo
-        if hi - lo <= ROOT_THETA or top + 2 >= stackb.shape[0]:
-            return 0.5 * (lo + hi)
-        _halve(stackb, lo_hi, top)
-        top += 2
-    return -1.0
+    out = np.empty(2)
+    st = _first_bracket(b0, stackb, lo_hi, out, False)
+    if st == 0:
+        return -1.0
+    return out[0] if st == 1 else 0.5 * (out[0] + out[1])
 
 
 @nb.njit(cache=True)
-def _first_bracket(b0, stackb, lo_hi, out):
+def _first_bracket(b0, stackb, lo_hi, out, one_root=True):
     """The first place in [0, 1] where the polynomial with Bernstein coefficients b0 may
     reach 0: 0 when it stays below 0; else out = (lo, hi) and 1 when p(lo) >= 0 (a contact
-    at lo), 2 when exactly one root lies in (lo, hi] and none before (p(lo) < 0 <= p(hi)
-    and one sign change of the hull), 3 when the hull reaches 0 on [lo, hi] of width
-    ROOT_THETA without deciding (a touch, taken as a contact)."""
+    at lo), 2 (with ``one_root``) when exactly one root lies in (lo, hi] and none before
+    (p(lo) < 0 <= p(hi) and one sign change of the hull), 3 when the hull reaches 0 on
+    [lo, hi] of width ROOT_THETA without deciding (a touch, taken as a contact)."""
     d = b0.shape[0] - 1
     _push(b0, stackb, lo_hi)
     top = 1
@@ -125,7 +111,7 @@ def _first_bracket(b0, stackb, lo_hi, out):
             continue
         if stackb[top, 0] >= 0.0:
             return 1
-        if changes == 1:                    # b0 < 0 <= bd: one root, the hull says so
+        if one_root and changes == 1:       # b0 < 0 <= bd: one root, the hull says so
             return 2
         if hi - lo <= ROOT_THETA or top + 2 >= stackb.shape[0]:
             return 3
