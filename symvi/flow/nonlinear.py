@@ -425,8 +425,11 @@ class NonlinearFlow:
         self.tape = taylor.tape(self.ops, self.off, 2 * n)
         self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
         self.Minv = np.linalg.inv(model.mass)
-        self.cons = np.array([[-1 if c.coordinate is None else c.coordinate, c.gap, c.sign]
-                              for c in cons], dtype=float)
+        #: one row per constraint: (the mass of a stop on a mass, NaN between masses; gap;
+        #: sign), and the kernels' copy with -1 for NaN
+        self.cons = np.array([[math.nan if c.coordinate is None else c.coordinate, c.gap,
+                               c.sign] for c in cons], dtype=float)
+        self._table = np.nan_to_num(self.cons, nan=-1.0)
         self.normals = np.array([c.normal for c in cons], dtype=float)
         self.R = np.array([c.reset_matrix(self.Minv) for c in cons], dtype=float)
         w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
@@ -436,6 +439,11 @@ class NonlinearFlow:
         perm, T, _ = frame_of(model)           # the frame q = T x of the sections
         self.T = np.eye(n)[list(perm)] if T is None else np.asarray(T, dtype=float)
         self._Tinv = self.T.T if T is None else np.linalg.inv(self.T)   # exact: a permutation
+        #: stops on masses only: each constraint's section layout as mass-order state
+        #: indices (None with a constraint between masses: read SEC)
+        self.sidx = None if T is not None else np.array(
+            [[perm[q] if q < n else n + perm[q - n] for q in
+              cf.section_index(n, perm.index(c.coordinate))] for c in cons], dtype=np.int64)
         # each constraint's section layout as rows over the mass-order state
         self.SEC = np.zeros((len(cons), 2 * n - 1, 2 * n))
         self._pos = []
@@ -467,11 +475,15 @@ class NonlinearFlow:
     def _taylor_work(self):
         return taylor.work(*self.tape, 2 * self.n)
 
-    def hmax(self, omega):
-        """The step bound: a fraction of the shortest period (forcing, linear modes),
-        STEP_BOUND for DOP853, :data:`symvi.flow.taylor.STEP_CAP` for the Taylor method."""
-        frac = taylor.STEP_CAP if self.method == "taylor" else STEP_BOUND
+    def hmax(self, omega, frac=STEP_BOUND):
+        """DOP853's step bound: STEP_BOUND (or ``frac``) of the shortest period (forcing,
+        linear modes)."""
         return frac * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
+
+    def _cap(self, omega):
+        """The step bound of this flow's method (:data:`symvi.flow.taylor.STEP_CAP` of the
+        shortest period for the Taylor method)."""
+        return self.hmax(omega, taylor.STEP_CAP if self.method == "taylor" else STEP_BOUND)
 
     def rhs(self, omega, tau, t, z):
         """The vector field at (t, z), z = (x, v) in mass order."""
@@ -486,14 +498,14 @@ class NonlinearFlow:
         z0 lies on (leaving it)."""
         z = np.array(z0, dtype=float)
         t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
-        h = self.hmax(omega)
+        h = self._cap(omega)
         sy = self._system(omega, tau)
         if self.method == "taylor":
-            st, te, c, _, _, _ = taylor._taylor_flight(sy, self._taylor_work(), self.cons,
+            st, te, c, _, _, _ = taylor._taylor_flight(sy, self._taylor_work(), self._table,
                                                        self.normals, z, int(just_hit),
                                                        t_max, h)
         else:
-            st, te, c, _, _, _ = _flight(sy, self.cons, z, int(just_hit), t_max, h,
+            st, te, c, _, _, _ = _flight(sy, self._table, z, int(just_hit), t_max, h,
                                          np.array([h]), self._work())
         return cf.STATUS_NAMES[st], te, c, z
 
@@ -502,7 +514,7 @@ class NonlinearFlow:
         reference: the same steps, no events)."""
         z = np.array(z0, dtype=float)
         sy = self._system(omega, tau)
-        h = self.hmax(omega)
+        h = self._cap(omega)
         if self.method == "taylor":
             return taylor._taylor_integrate(sy, self._taylor_work(), z, float(t), h)
         return _integrate(sy, z, float(t), h, self._work())
@@ -527,8 +539,8 @@ class NonlinearFlow:
         times = np.empty(n_keep)
         vimp = np.empty(n_keep)
         hits = np.empty(n_keep, dtype=np.int64)
-        code, kk, steps = _run(self._system(omega, y0[-1]), self._taylor_work(), self.cons,
+        code, kk, steps = _run(self._system(omega, y0[-1]), self._taylor_work(), self._table,
                                self.normals, self.R, self.SEC, z, float(y0[-1]), 0, n_keep,
-                               transient, self.hmax(omega), 1000 * 2 * math.pi / omega, sec,
+                               transient, self._cap(omega), 1000 * 2 * math.pi / omega, sec,
                                times, vimp, hits, self._work(), self.method == "taylor")
         return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps

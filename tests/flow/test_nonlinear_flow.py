@@ -179,6 +179,10 @@ def test_constraints_between_masses_with_the_nonlinearity_off(stops):
     assert np.array_equal(sim.hits, lin.hits) and len(set(sim.hits)) == len(stops)
     assert _rel(sim.section, lin.section) < 1e-12
     assert _rel(sim.t, lin.t) < 1e-12 and _rel(sim.impact_velocity, lin.impact_velocity) < 1e-12
+    # the table's mass column and the mass-order section indices are for stops on masses
+    flow = nl.NonlinearFlow(m)
+    assert np.isnan(flow.cons[0, 0]) and flow.sidx is None
+    assert nl.NonlinearFlow(Model(**ONE)).sidx.tolist() == [[1]]
 
 
 def _ivp_run(model, omega, z, tau, n, beta):
