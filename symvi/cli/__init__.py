@@ -240,8 +240,12 @@ def describe(params):
     from ..model import Model
     if isinstance(params, Model):
         stops = "; ".join(_stop_text(s) for s in params.stops)
+        d = params.as_dict()
+        forces = "" if "nonlinear" not in d else (
+            "  forces " + ", ".join(d["nonlinear"])
+            + "".join(f" {k}={v:g}" for k, v in d["parameters"].items()))
         return (f"N={params.n} {'stop' if len(params.stops) == 1 else 'stops'} {stops}"
-                + (" damped" if params.damped else ""))
+                + (" damped" if params.damped else "") + forces)
     return (f"mu_m={params.mu_m:g} mu_k={params.mu_k:g} f2={params.f2:g} b={params.b:g} "
             f"r={params.r:g}")
 

@@ -380,7 +380,8 @@ def _start(model, param, start, stop, orbit, guess, n, p, fixed, signature=None)
 def _resonance_bounds(problem, start, lo, hi):
     """An omega interval cut short of the undamped natural frequencies on either side of
     ``start`` (the steady-state response is infinite there): (lo, hi, cut or None)."""
-    if not problem.parameter.is_forcing_frequency or problem.model.damped:
+    if (not problem.parameter.is_forcing_frequency or problem.model.damped
+            or problem.nonlinear):         # a numerical flow: no steady state to blow up
         return lo, hi, None
     cut = None
     for w in (float(w) for w in LinearFlow.of(problem.model).omegas):
@@ -433,8 +434,8 @@ def _not_isolated(problem, X):
     """A reason to cut a one-impact branch where an undamped mode's period divides the
     orbit's: |1 - e^{i omega_j T}| -> 0 (eq. (15): 1 - cos(2 pi omega_j / omega) = 0), the
     orbit is not isolated there and its amplitude diverges."""
-    if problem.p != 1 or problem.model.damped:
-        return ""
+    if problem.p != 1 or problem.model.damped or problem.nonlinear:
+        return ""                      # (a linear flow's closed form: eq. (15))
     model, flow, F = problem.at(X[-1], check=False)
     if model.damped:
         return ""

@@ -399,7 +399,8 @@ class Codim1Tracker(engine.Tracker):
             mo = flow.motion(F, z0, tau)
             row = _table_row(flow, k, pr.N)
             h = lambda t: row[0] @ mo.state(t)[:pr.N] - row[1]   # noqa: E731
-        fast = max(float(np.max(np.abs(flow.lam))), float(F.omega))
+        rate = flow.nl.omega_max if pr.nonlinear else float(np.max(np.abs(flow.lam)))
+        fast = max(rate, float(F.omega))
         n = int(min(20000, max(400, 20 * T * fast / (2 * math.pi))))
         ts = np.linspace(0.0, T, n + 1)
         hs = np.array([h(t) for t in ts])

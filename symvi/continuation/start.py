@@ -235,7 +235,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
-        if (n, p) == (1, 1) and not at.one_rigid_stop:
+        if (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
             # no closed form to start from (several stops, a lower one): the periodic
             # attractor a run of the map settles on at the start, or else at the first of
             # SEARCH_RUNS values towards the stop where a run settles on one

@@ -186,10 +186,18 @@ class CurveSystem:
         Y, T = pr.split(u)
         names = self.names
         jets = []
-        tans = [None if par.is_forcing_frequency else par.tangent(model) for par in self.params]
+        tans = [None if par.is_forcing_frequency or pr.nonlinear else par.tangent(model)
+                for par in self.params]
         phases = pr.phase_flows(model, flow, F)       # each flight's contact phase
         for i in range(self.p):
             y, te = tuple(Y[i]), float(T[i])
+            if pr.nonlinear:          # the series of the flight, one per parameter
+                from ..flow.nljet import map_jet
+                ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
+                vs = [map_jet(flow, F.omega, y, te, 2, *ends, param=par)
+                      for par in self.params]
+                jets.append((vs[0]["J"], vs[0]["d2"], [v["dpJ"] for v in vs]))
+                continue
             if pr.several:            # a flight between two constraints' sections
                 ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
 

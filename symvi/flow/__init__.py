@@ -25,7 +25,11 @@ def check_omega(system, omega, name="omega", warn=True):
     elastic stops :meth:`~symvi.flow.linear.LinearFlow.contact`'s free phase)."""
     from ..model import Model
     from .linear import LinearFlow
-    return LinearFlow.free(Model.of(system)).check_omega(omega, name, warn=warn)
+    model = Model.of(system)
+    if model.nonlinear is not None:           # its range; no steady state to resonate
+        from .nljet import check_range
+        return check_range(omega, name)
+    return LinearFlow.free(model).check_omega(omega, name, warn=warn)
 
 
 def check_value(system, param, value, shown, *, resonance=True):

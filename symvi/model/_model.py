@@ -523,14 +523,25 @@ class Model:
         P sin(omega t + tau) (issue 28); None for a linear model."""
         return None if self._nl is None else self._nl.exprs(self.n)
 
+    @property
+    def linear_part(self):
+        """The model without its nonlinear forces: its constraints, frames and section
+        layouts are the linear part's (issue 28)."""
+        if self._nl is None:
+            return self
+        from .parameters import _copy
+        return _copy(self, preset=self._preset, _nl=None)
+
     def require_linear(self):
         """``self``, or the one-line ParameterError of an analysis that rests on the exact
-        linear flow (orbits, continuation, curves, jets, planes, the Hopf scan): a model
-        with nonlinear forces runs in ``simulate`` only for now (issue 28).  Called where a
-        model enters the linear flow (:class:`symvi.flow.linear.LinearFlow`)."""
+        linear flow: a model with nonlinear forces runs in simulate, orbits, continuation and
+        special points (the series of :mod:`symvi.flow.nljet`), not yet in the analyses that
+        call this (issue 28).  Called where a model enters the linear flow
+        (:class:`symvi.flow.linear.LinearFlow`)."""
         if self._nl is not None:
-            raise ParameterError("model", "nonlinear", "a linear model: nonlinear forces run "
-                                 "in simulate only (issue 28)")
+            raise ParameterError("model", "nonlinear", "a linear model: with nonlinear "
+                                 "forces this analysis is a later step of issue 28 (simulate "
+                                 "and continue run them)")
         return self
 
     @property

@@ -287,6 +287,7 @@ def discontinuity_map(orbit, where, *, param="omega"):
     if model.elastic:
         raise ParameterError("model", "elastic stop", "a model of rigid stops (an elastic "
                              "stop has no impact map: no Nordmark map)")
+    model.require_linear()         # its smooth part reads the exact flow's matrices
     par = model.parameter(param)
     G = _Grazing(orbit, coef)
     N, fX = G.smooth_jacobian()

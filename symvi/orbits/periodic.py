@@ -72,6 +72,11 @@ class Problem:
         _check_np(n, p)
         if not model.elastic:                # contact phases: LinearFlow.contact
             model.require_rigid_stops()
+        #: smooth nonlinear forces: the flights are the series of symvi.flow.nljet (its
+        #: FlowView), evaluated by the numpy reference
+        self.nonlinear = model.nonlinear is not None
+        if self.nonlinear:
+            self.compiled = False
         # the lens on (model, omega), parsed once: a bad name raises ParameterError here
         self.parameter = None if param is None else model.parameter(param)
         self.param = None if param is None else self.parameter.name
@@ -126,9 +131,9 @@ class Problem:
         if model is self.model:
             flow = self._flow
             if flow is None:
-                flow = self._flow = LinearFlow.free(model)
+                flow = self._flow = free_flow(model)
         else:
-            flow = LinearFlow.free(model)
+            flow = free_flow(model)
         if self.elastic and check:
             for S in set(self.phases):             # a forcing resonance of a contact phase
                 LinearFlow.contact(model, S).check_omega(omega, warn=False)
@@ -174,7 +179,12 @@ class Problem:
             z0[self.frames[k]] = Y[i][:-1]
             tau = Y[i][-1]
             fi, Fi = phases[i]
-            out.append((z0, tau) + fi.flight(Fi, z0, tau, T[i]))
+            if self.nonlinear and self.parameter is not None:
+                # one series flight gives dz/dlam too (:meth:`_dparam_series` reads it)
+                *f, dzp = fi.flight(Fi, z0, tau, T[i], param=self.parameter)
+                out.append((z0, tau) + tuple(f) + (dzp,))
+            else:
+                out.append((z0, tau) + fi.flight(Fi, z0, tau, T[i]))
         self._last = (key, (out, (model, flow, F)))
 
     def _shoot(self, u, lam, check, jac, dom):
@@ -217,7 +227,7 @@ class Problem:
         G = np.empty(m)
         ends = self._ends(flow)
         Gu = np.zeros((m, m)) if jac else None
-        for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
+        for i, (z0, tau, z, Phi, dzt, dzdt, *_) in enumerate(fl):
             j = (i + 1) % p
             E, g, level = ends[i]
             target = Y[j].copy()
@@ -345,6 +355,8 @@ class Problem:
         out = np.zeros(self.size)
         ends = self._ends(flow)
         phases = self.phase_flows(model, flow, F)
+        if self.nonlinear:
+            return self._dparam_series(fl, model, flow, F, T, name, out)
         if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 E, g, _ = ends[i]
@@ -379,6 +391,28 @@ class Problem:
             if dE[kb] is not None:
                 out[i * d:i * d + d - 1] += dE[kb] @ z
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
+        return out
+
+    def _dparam_series(self, fl, model, flow, F, T, name, out):
+        """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
+        series (:meth:`symvi.flow.nljet.FlowView.flight`); a gap or a restitution, which
+        move the section and the reset, are refused by name for now."""
+        d, p, N = self.d, self.p, self.N
+        if not name.is_forcing_frequency and name.name not in model._nl.names:
+            tan = name.tangent(model)
+            if tan.db or tan.dr:
+                raise ParameterError("param", name.name, "omega, a named force parameter "
+                                     "or an entry of M, K, C, P (a gap or a restitution "
+                                     "of a nonlinear model: a later step of issue 28)")
+        ends = self._ends(flow)
+        mine = self.parameter is not None and name.name == self.parameter.name
+        for i, (z0, tau, z, *rest) in enumerate(fl):
+            E, g, _ = ends[i]
+            dz = rest[3] if mine and len(rest) > 3 else \
+                flow.flight(F, z0, tau, T[i], param=name)[4]
+            out[i * d:i * d + d - 1] = E @ dz
+            out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
+            out[p * d + i] = g @ dz[:N]
         return out
 
     def _dreset_rows(self, flow, model, k, tan):
@@ -427,7 +461,7 @@ def _layout(model):
         N = model.n
         sec = Section.of(model)
         perm = sec.perm
-        flow = LinearFlow.free(model)
+        flow = LinearFlow.free(model.linear_part)
         positions = tuple(flow.position(c) for c in model.constraints)
         frames = np.array([section_index(N, q) for q in positions])
         sections = tuple(Section(N, (perm[q],) + tuple(perm[i] for i in range(N) if i != q),
@@ -562,9 +596,11 @@ class PeriodicOrbit:
         composed (:func:`compose`); order 2 or 3 returns (A, d2, d3) with d3 None for 2,
         as before; orders 4 and 5 (the jets of :mod:`symvi.codegen.high`, curves only)
         return (A, d2, d3, d4[, d5])."""
+        Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
+        if self.model.nonlinear is not None:
+            return self._series_jet(Y, order)
         flow = LinearFlow.free(self.model)
         F = flow.forcing(self.omega)
-        Y = self.u[:self.p * 2 * self.model.n].reshape(self.p, -1)
         jets = []
         several = len(self.model.constraints) > 1 or self.model.elastic
         # each flight in its phase's flow (the free flow without elastic stops)
@@ -590,6 +626,20 @@ class PeriodicOrbit:
                              order=order)
                 jets.append((h.jacobian, h.d2, h.d3, h.d4) + ((h.d5,) if order >= 5 else ()))
         return compose(jets)
+
+    def _series_jet(self, Y, order):
+        """:meth:`jet` of a nonlinear model: each impact's map from the series of its
+        flight (:func:`symvi.flow.nljet.map_jet`), composed."""
+        from ..flow.nljet import map_jet
+        view = free_flow(self.model)
+        sig = self.signature if self.signature is not None else (0,) * self.p
+        jets = []
+        for i in range(self.p):
+            v = map_jet(view, self.omega, tuple(Y[i]), float(self.times[i]), max(order, 2),
+                        int(sig[i]), int(sig[(i + 1) % self.p]))
+            jets.append((v["J"],) + tuple(v[f"d{k}"] for k in range(2, max(order, 2) + 1)))
+        out = compose(jets)
+        return out + (None,) if order == 2 else out
 
     def as_dict(self):
         return {"n": self.n, "p": self.p, "omega": self.omega,
@@ -700,6 +750,8 @@ def admissible(problem, fl, flow, F, T):
     if problem.elastic:
         return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T)
     if len(problem.model.constraints) > 1:
+        if problem.nonlinear:
+            return _admissible_series(problem, fl, flow, F, T)
         return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
     for i, (z0, tau, z, *_rest) in enumerate(fl):
@@ -745,6 +797,42 @@ class _ContactHit:
         from ..flow.linear import GRAZING, NO_IMPACT
         self.status = {"event": IMPACT, contact.GRAZING: GRAZING}.get(hit.status, NO_IMPACT)
         self.t, self.steps, self.constraint = hit.t, hit.steps, hit.guard
+
+
+def _admissible_series(problem, fl, flow, F, T):
+    """:func:`_admissible_stops` of a nonlinear model: its flow watches every guard."""
+    ends, N, p = problem._ends(flow), problem.N, problem.p
+    rows = _table(flow)
+    for i, (z0, tau, z, *_rest) in enumerate(fl):
+        ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
+        ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i],
+                               float(rows[ka][3:3 + N] @ z0[N:]), float(ends[i][1] @ z[N:]),
+                               mass=None, flight=i + 1, stops=(ka, kb))
+        if not ok:
+            return ok, why
+    return True, ""
+
+
+def free_flow(model):
+    """The free flight of ``model`` as the shooting system reads it: the exact linear flow
+    (:meth:`LinearFlow.free`), or for nonlinear forces the series' view of the nonlinear
+    flow (:class:`symvi.flow.nljet.FlowView`)."""
+    if model.nonlinear is None:
+        return LinearFlow.free(model)
+    from ..flow.nljet import FlowView
+    return _memo_view(model, FlowView)
+
+
+_VIEWS = {}
+
+
+def _memo_view(model, make):
+    v = _VIEWS.get(model)
+    if v is None:
+        if len(_VIEWS) > 64:
+            _VIEWS.clear()
+        v = _VIEWS[model] = make(model)
+    return v
 
 
 def _admissible_stops(problem, fl, flow, F, T):
@@ -874,11 +962,18 @@ def initial_guess(problem, guess):
         return np.concatenate([np.concatenate(Y), T])
     # flight times (and the missing points) from the map itself (compiled: its twin)
     several = len(model.constraints) > 1
-    c = _shooting.finder_constants(flow, F) if problem.compiled or several else None
+    c = (_shooting.finder_constants(flow, F) if (problem.compiled or several)
+         and not problem.nonlinear else None)
     T, Y = [], [np.array(pts[0], dtype=float)]
     cur = Y[0]
     for i in range(p):
-        if c is None:
+        if problem.nonlinear:
+            status, t, nxt, hit = flow.step(F, cur, int(problem.sig[i]))
+            want = int(problem.sig[(i + 1) % p])
+            if status == IMPACT and hit != want:
+                raise ConvergenceError(f"the guess meets stop {hit + 1} at impact {i + 1}, "
+                                       f"not stop {want + 1} as the signature says", math.inf)
+        elif c is None:
             s = step(flow, F, cur)
             status, t, nxt = s.status, s.t, np.array(s.y, dtype=float)
         else:

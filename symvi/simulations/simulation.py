@@ -325,7 +325,8 @@ def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     """:func:`simulate` of a model with nonlinear forces (issue 28): the run of
     :class:`symvi.flow.nonlinear.NonlinearFlow` (the Taylor method, every contact located
     on the solution's polynomial), the same records and stop reasons as the compiled run.
-    ``y0`` is required: there is no period-1 orbit in closed form to start from."""
+    Without ``y0`` it starts from :func:`default_start` (no period-1 orbit in closed form to
+    start near)."""
     from ..flow.nonlinear import NonlinearFlow
     from ..maps import Section
     from ..numerics.tolerances import OMEGA_RANGE
@@ -336,11 +337,8 @@ def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     flow = NonlinearFlow(model)                   # refuses what it cannot run yet
-    if y0 is None:
-        raise ParameterError("y0", None, f"a start on the first stop's section "
-                             f"({', '.join(Section.of(model).names)}): no period-1 orbit in "
-                             "closed form to start from with nonlinear forces")
-    y0 = _check_model_start(model, y0)
+    # no period-1 orbit in closed form to start near: the default start off the stop
+    y0 = _check_model_start(model, default_start(model, omega) if y0 is None else y0)
     code, sec, t, vimp, hits, _ = flow.run(float(omega), y0, n_impacts, transient)
     hits = np.ascontiguousarray(hits, dtype=np.int64)
     hits.flags.writeable = False

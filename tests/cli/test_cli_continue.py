@@ -128,3 +128,22 @@ def test_from_section_of_a_run_that_sticks_continues_the_sticking_orbit(tmp_path
     assert abs(first["value"] - 0.5) < 1e-12
     assert first["signature"] == "1-0+stick"
     assert abs(first["y"][-1] - (np.pi - np.arcsin(0.2))) < 1e-9
+
+
+def test_a_model_with_nonlinear_forces_continues(tmp_path, capsys):
+    """[model] nonlinear and [model.parameters]: the branch of a Duffing impact oscillator
+    in omega and in its named parameter, with its flip (issue 28)."""
+    from symvi import Model, Stop
+    m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+              stop=Stop(mass=1, gap=0.0, restitution=0.8), nonlinear=["beta*x1**3"],
+              parameters={"beta": 0.2})
+    f = tmp_path / "duffing.toml"
+    f.write_text(dumps(m))
+    assert main(["continue", "--model", str(f), "--range", "omega=2.6:2.8", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    flips = [s for s in d["special"] if s["kind"] == "flip"]
+    assert len(flips) == 1 and abs(flips[0]["value"] - 2.74735426190) < 1e-9
+    assert main(["continue", "--model", str(f), "--range", "beta=0.2:0.1", "--set",
+                 "omega=2.7", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["param"] == "beta" and len(d["points"]) > 5

@@ -152,7 +152,8 @@ def test_the_exact_linear_flow_refuses_a_nonlinear_model():
         with pytest.raises(ParameterError) as exc:
             make()
         assert str(exc.value) == ("model = 'nonlinear' is invalid; valid range: a linear "
-                                  "model: nonlinear forces run in simulate only (issue 28)")
+                                  "model: with nonlinear forces this analysis is a later "
+                                  "step of issue 28 (simulate and continue run them)")
 
 
 # --- every rigid constraint (issue 28, with issue 25's constraints) ------------------------

@@ -93,10 +93,12 @@ def test_a_run_that_never_returns_stops_as_no_impact():
     assert sim.stop == lin.stop == "no-impact" and sim.n == lin.n == 0
 
 
-def test_the_start_is_required_and_checked():
-    with pytest.raises(ParameterError, match=r"^y0 = None .*no period-1 orbit in closed "
-                                             "form to start from with nonlinear forces"):
-        symvi.simulate(DUFFING, OMEGA)
+def test_the_start_defaults_and_is_checked():
+    # no closed-form orbit to start near: the default start off the stop, as with several
+    from symvi.simulations.simulation import default_start
+    a, b = symvi.simulate(DUFFING, OMEGA, n_impacts=5), symvi.simulate(
+        DUFFING, OMEGA, y0=default_start(DUFFING, OMEGA), n_impacts=5)
+    assert a.n == 5 and np.array_equal(a.section, b.section)
     with pytest.raises(ParameterError, match="^y0 .*must leave the stop"):
         symvi.simulate(DUFFING, OMEGA, y0=(0.3, 0.1))
     with pytest.raises(ParameterError, match="^omega"):
@@ -105,14 +107,12 @@ def test_the_start_is_required_and_checked():
         symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=0)
 
 
-REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: nonlinear forces " \
-          "run in simulate only (issue 28)"
+REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: with nonlinear " \
+          "forces this analysis is a later step of issue 28 (simulate and continue run them)"
 
 
 @pytest.mark.parametrize("argv", [
     ("orbit", "--omega", "1.3"),
-    ("continue", "--range", "omega=1.0:1.5"),
-    ("continue", "--range", "beta=0.1:0.5", "--set", "omega=1.3"),
     ("curve", "--range", "omega=1.0:1.5", "--params", "omega,gap"),
     ("hopf", "--range", "omega=1.0:1.5"),
     ("sweep", "--range", "omega=1.0:1.5:5", "--out", "sw.npz"),
@@ -130,16 +130,26 @@ def test_the_linear_analyses_refuse_a_nonlinear_model(tmp_path, argv):
 
 
 def test_the_python_analyses_refuse_a_nonlinear_model():
-    from symvi.continuation import continue_orbits
     from symvi.orbits import admissible_orbits
-    from symvi.simulations.diagnostics import classify, lyapunov
-    sim = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=60)
     for call in (lambda: admissible_orbits(DUFFING, OMEGA),
-                 lambda: continue_orbits(DUFFING, "omega", 1.0, 1.5),
                  lambda: symvi.jet(DUFFING, OMEGA),
-                 lambda: lyapunov(sim), lambda: symvi.poincare_map(DUFFING, OMEGA, (0.1, 0.2))):
+                 lambda: symvi.poincare_map(DUFFING, OMEGA, (0.1, 0.2))):
         with pytest.raises(ParameterError) as exc:
             call()
         assert str(exc.value) == REFUSED
-    with pytest.raises(ParameterError, match="^classify = 'nonlinear'.*tangent map"):
-        classify(sim)
+
+
+def test_lyapunov_exponents_and_the_classifier_of_a_nonlinear_run():
+    """The exponents of a run settled on a period-1 orbit tend to log |mu| of its multipliers
+    (DP of each flight from its series), and the classifier names the orbit."""
+    from symvi.orbits.periodic import periodic_orbit
+    from symvi.simulations.diagnostics import classify, lyapunov
+    sim = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=200, transient=2000)
+    orbit = periodic_orbit(DUFFING, n=1, p=1, guess=sim, omega=OMEGA)
+    want = sorted((math.log(abs(z)) for z in orbit.multipliers), reverse=True)
+    got = lyapunov(sim).exponents
+    # the sum is log |det DP| at every step; each exponent converges like 1/n (QR)
+    assert abs(sum(got) - sum(want)) < 1e-9
+    assert np.allclose(got, want, atol=5e-3)
+    c = classify(sim)
+    assert c.kind == "period-1" and c.period == 1

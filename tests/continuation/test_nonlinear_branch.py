@@ -1,0 +1,135 @@
+"""Orbits, branches and special points of a model with nonlinear forces (issue 28): the
+shooting system on the series flights of :mod:`symvi.flow.nljet`.
+
+Checks that could fail: the nonlinearity off gives the exact linear flow's orbits; the
+determinant identity det DP = r^2 exp(-c T) holds at every point of a Duffing impact
+oscillator's branch (its cubic spring does not change the divergence); the flip located in
+omega is the flip located in beta; and the flip's cubic coefficient predicts the size of
+the period-2 orbit a simulation settles on past it."""
+import math
+
+import numpy as np
+import pytest
+
+import symvi
+from symvi.continuation import continue_orbits
+from symvi.continuation.branch import continue_branch
+from symvi.model import Model, Stop
+from symvi.orbits.period1 import admissible_orbits
+from symvi.orbits.periodic import detect_period, periodic_orbit
+
+ONE = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
+           stop=Stop(mass=1, gap=0.5, restitution=0.8))
+TWO = dict(mass=[1.0, 2.0], stiffness=[[2.0, -1.0], [-1.0, 1.5]],
+           damping=[[0.05, 0.0], [0.0, 0.05]], forcing=[1.0, 0.3],
+           stop=Stop(mass=2, gap=0.3, restitution=0.7))
+#: a Duffing impact oscillator: x'' + 0.05 x' + x + 0.2 x^3 = sin(omega t), stop at x = 0
+DUFFING = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                stop=Stop(mass=1, gap=0.0, restitution=0.8), nonlinear=["beta*x1**3"],
+                parameters={"beta": 0.2})
+
+
+@pytest.mark.parametrize("kw, forces, omega", [
+    (ONE, ["beta*x1**3"], 1.3),
+    (TWO, ["beta*x1**3", "beta*x2*v2**2 + beta*sin(x1)"], 1.1),
+])
+def test_nonlinearity_off_orbits_are_the_linear_ones(kw, forces, omega):
+    lin = Model(**kw)
+    nl = Model(**kw, nonlinear=forces, parameters={"beta": 0.0})
+    ref = periodic_orbit(lin, n=1, p=1, guess=admissible_orbits(lin, omega)[0].y, omega=omega)
+    got = periodic_orbit(nl, n=1, p=1, guess=ref.y, omega=omega)
+    assert np.max(np.abs(np.subtract(got.y, ref.y))) < 1e-12
+    assert abs(got.times[0] - ref.times[0]) < 1e-12
+    assert np.max(np.abs(np.subtract(got.multipliers, ref.multipliers))) < 1e-11
+    for a, b in zip(got.jet(3), ref.jet(3)):
+        assert np.max(np.abs(a - b)) < 1e-11 * max(1.0, np.max(np.abs(b)))
+    assert got.admissible
+
+
+@pytest.fixture(scope="module")
+def branch():
+    sim = symvi.simulate(DUFFING, 2.6, n_impacts=50, transient=3000)
+    o = periodic_orbit(DUFFING, n=1, p=1, guess=sim, omega=2.6)
+    return continue_branch(DUFFING, "omega", 2.6, 2.8, orbit=o)
+
+
+def test_determinant_identity_along_the_branch(branch):
+    """det DP = r^2 exp(-tr(M^-1 C) T) at every point: the cubic spring is conservative."""
+    assert len(branch.points) > 20
+    for pt in branch.points:
+        det = np.prod(pt.multipliers).real
+        want = 0.8 ** 2 * math.exp(-0.05 * pt.orbit.times[0])
+        assert abs(det - want) < 1e-10 * want
+
+
+def test_the_flip_in_omega_is_the_flip_in_beta(branch):
+    flips = [s for s in branch.special if s.kind == "flip"]
+    assert len(flips) == 1
+    w = flips[0].value
+    assert abs(flips[0].coefficients["multiplier"] + 1) < 1e-9
+    # at that omega, the branch in beta through 0.2 flips at beta = 0.2
+    at = flips[0].orbit
+    br = continue_branch(DUFFING, "beta", 0.2, 0.15, orbit=at, omega=w)
+    br2 = continue_branch(DUFFING, "beta", 0.2, 0.25, orbit=at, omega=w)
+    got = [s.value for b in (br, br2) for s in b.special if s.kind == "flip"]
+    assert got and min(abs(v - 0.2) for v in got) < 1e-8
+
+
+def test_the_flip_coefficient_predicts_the_doubled_orbit(branch):
+    """Past a supercritical flip (c > 0 in eta -> -(1 + mu) eta + c eta^3, ||q|| = 1,
+    <p, q> = 1) the map settles on a 2-cycle y* +- eta q with eta^2 = mu / c, mu = -1 - the
+    period-1 orbit's multiplier: its two points lie 2 sqrt(mu / c) apart.  Before the flip
+    the run settles on the period-1 orbit."""
+    sp = [s for s in branch.special if s.kind == "flip"][0]
+    c = sp.coefficients["c"]
+    assert c > 0 and "supercritical" in sp.detail
+    lam = np.array(sp.orbit.multipliers)
+    unstable = 1.0 if any(abs(z) > 1 for z in branch.points[-1].multipliers) else -1.0
+    before = symvi.simulate(DUFFING, sp.value - unstable * 0.004, n_impacts=16,
+                            transient=4000)
+    assert detect_period(before) == (1, 1)
+    w = sp.value + unstable * 0.001
+    run = symvi.simulate(DUFFING, w, n_impacts=16, transient=12000)
+    assert detect_period(run) == (2, 2)
+    a, b = run.section[-1], run.section[-2]
+    d = a - b
+    d[-1] = (d[-1] + math.pi) % (2 * math.pi) - math.pi
+    o = periodic_orbit(DUFFING, n=1, p=1, guess=a, omega=w)
+    mu = -1.0 - min(o.multipliers, key=lambda z: z.real).real
+    pred = 2 * math.sqrt(mu / c)
+    assert abs(np.linalg.norm(d) / pred - 1) < 0.03
+    assert abs(lam.real.min() + 1) < 1e-9
+
+
+def test_continue_orbits_starts_a_nonlinear_model_from_a_run():
+    """continue_orbits: no closed form to start from, so a run settles first; the branch
+    names its folds and its flip."""
+    res = continue_orbits(DUFFING, "omega", 2.2, 3.2)
+    kinds = sorted(s.kind for b in res for s in b.special)
+    assert kinds.count("fold") == 2 and kinds.count("flip") >= 1
+    assert "simulation" in res[0].notes[0]
+
+
+LX = dict(mass=[1.0, 2.0], stiffness=[[1.0, -1.0], [-1.0, 6.0]], damping=[[0, 0], [0, 0]],
+          forcing=[1.0, 0.0], stop=Stop(mass=1, gap=1.5, restitution=0.8))
+
+
+def test_nonlinearity_off_ns_point_is_the_papers():
+    """The Luo-Xie model (mu_m = 2, mu_k = 5, b = 1.5, r = 0.8) with a cubic spring at
+    beta = 0: the series branch locates the NS point and its l1 as the certified scan of
+    the exact flow does (symvi.hopf_points, generated jets), to 1e-10; beta = 0.05 moves
+    it (omega_c up, |l1| down), still supercritical."""
+    ref = symvi.hopf_points(Model(**LX), 0.70, 0.76).points[0]
+    got = {}
+    for beta in (0.0, 0.05):
+        nl = Model(**LX, nonlinear=["beta*x1**3", "0"], parameters={"beta": beta})
+        o = periodic_orbit(nl, n=1, p=1, guess=admissible_orbits(Model(**LX), 0.73)[0].y,
+                           omega=0.73)
+        br = continue_branch(nl, "omega", 0.73, 0.76, orbit=o)
+        ns = [s for s in br.special if s.kind == "ns"]
+        assert len(ns) == 1
+        got[beta] = ns[0]
+    assert abs(got[0.0].value - ref.omega_c) < 1e-10
+    assert abs(got[0.0].coefficients["l1"] - ref.l1) < 1e-10
+    assert got[0.05].value > ref.omega_c + 1e-4
+    assert ref.l1 < got[0.05].coefficients["l1"] < 0
