@@ -1,4 +1,4 @@
-"""Benchmark of the nonlinear flow (issue 28, first step): accuracy and impacts/s.
+"""Benchmark of the nonlinear flow (issue 28): its two integrators, accuracy and impacts/s.
 
 Run:  python benchmarks/bench_nonlinear_flow.py      (writes benchmarks/results_nonlinear_flow.md)
 
@@ -6,16 +6,16 @@ The model: the 1-DOF impact Duffing oscillator x'' + 0.1 x' + x + beta x^3 = sin
 tau), a rigid stop at x = 0.5 with r = 0.8, omega = 1.3, beta = 0.5.  Measured in the same
 run:
 
-* accuracy of :class:`symvi.flow.nonlinear.NonlinearFlow` (DOP853 in numba, events on the
-  dense output): the first impact of N_ACC flights from points of a run, against mpmath's
-  Taylor integrator (``mpmath.odefun``) at 30 digits, its event located by ``findroot``;
-  and against ``solve_ivp`` (DOP853, rtol = atol = 1e-13, an event);
-* impacts/s of one trajectory: the nonlinear flow (beta = 0.5 and beta = 0), the baseline
-  -- the exact linear flow's compiled run (``symvi.flow.compiled.run``) on the same model
-  with beta = 0 -- and ``solve_ivp`` with events, as a user would write it.
-
-The issue's other candidate, a Taylor method whose coefficients SymPy generates, is not
-built in this step (see benchmarks/README.md).
+* accuracy of :class:`symvi.flow.nonlinear.NonlinearFlow` with each of its integrators
+  -- the Taylor method (:mod:`symvi.flow.taylor`, events on the solution's polynomial) and
+  DOP853 (events on the dense output) --: the first impact of N_ACC flights from points of
+  a run, against mpmath's Taylor integrator (``mpmath.odefun``) at 30 digits, its event
+  located by ``findroot``; and against ``solve_ivp`` (DOP853, rtol = atol = 1e-13, an
+  event);
+* impacts/s of one trajectory: the nonlinear flow with each integrator (beta = 0.5 and
+  beta = 0), the baseline -- the exact linear flow's compiled run
+  (``symvi.flow.compiled.run``) on the same model with beta = 0 -- and ``solve_ivp`` with
+  events, as a user would write it.
 """
 import math
 import statistics
@@ -42,6 +42,7 @@ N_ACC = 10            # flights checked against mpmath
 N_RUN = 20000         # impacts of a timed run of the nonlinear flow
 N_LIN = 200000        # impacts of a timed run of the exact linear flow
 N_IVP = 40            # impacts of solve_ivp timed
+METHODS = {"taylor": "nonlinear flow, Taylor", "dop853": "nonlinear flow, DOP853"}
 
 
 def rhs(beta, omega, tau):
@@ -68,10 +69,10 @@ def ivp_impact(z0, tau, beta=BETA):
     return s.t_events[0][0], s.y_events[0][0][1]
 
 
-def accuracy():
+def accuracy(method):
     m = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": BETA})
-    flow = NonlinearFlow(m)
-    _, sec, *_ = flow.run(OMEGA, Y0, N_ACC)
+    flow = NonlinearFlow(m, method=method)
+    _, sec, *_ = NonlinearFlow(m).run(OMEGA, Y0, N_ACC)
     starts = [Y0] + [tuple(p) for p in sec[:N_ACC - 1]]
     e_mp, e_ivp = [], []
     for y in starts:
@@ -96,15 +97,17 @@ def rate(fn, n, reps=3):
 def speeds():
     m = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": BETA})
     m0 = m.with_(beta=0.0)
-    f, f0 = NonlinearFlow(m), NonlinearFlow(m0)
-    f.run(OMEGA, Y0, 10)                               # compile (or load the cache)
     c = cf.constants(Model(**LIN), OMEGA)
-    cf.run(c, Y0, 10)
-    out = {"nonlinear flow, beta = 0.5": rate(lambda: f.run(OMEGA, Y0, N_RUN), N_RUN),
-           "nonlinear flow, beta = 0": rate(lambda: f0.run(OMEGA, Y0, N_RUN), N_RUN),
-           "exact linear flow (baseline), beta = 0": rate(lambda: cf.run(c, Y0, N_LIN),
+    cf.run(c, Y0, 10)                                  # compile (or load the cache)
+    out = {"exact linear flow (baseline), beta = 0": rate(lambda: cf.run(c, Y0, N_LIN),
                                                            N_LIN)}
-    _, _, _, _, _, steps = f.run(OMEGA, Y0, N_RUN)
+    steps = {}
+    for method, name in METHODS.items():
+        f, f0 = NonlinearFlow(m, method=method), NonlinearFlow(m0, method=method)
+        f.run(OMEGA, Y0, 10)
+        out[f"{name}, beta = 0.5"] = rate(lambda: f.run(OMEGA, Y0, N_RUN), N_RUN)
+        out[f"{name}, beta = 0"] = rate(lambda: f0.run(OMEGA, Y0, N_RUN), N_RUN)
+        steps[name] = f.run(OMEGA, Y0, N_RUN)[5] / N_RUN
 
     def ivp():
         z, tau = (GAP, Y0[0]), Y0[1]
@@ -112,24 +115,26 @@ def speeds():
             te, ve = ivp_impact(z, tau)
             z, tau = (GAP, -0.8 * ve), (tau + OMEGA * te) % (2 * math.pi)
     out["solve_ivp DOP853 + events, beta = 0.5"] = rate(ivp, N_IVP, reps=1)
-    return out, steps / N_RUN
+    return out, steps
 
 
 def main():
-    e_mp, e_ivp = accuracy()
+    acc = {name: accuracy(method) for method, name in METHODS.items()}
     rates, steps = speeds()
     base = rates["exact linear flow (baseline), beta = 0"]
-    lines = ["# Nonlinear flow (issue 28, first step)", "",
+    lines = ["# Nonlinear flow (issue 28)", "",
              "`python benchmarks/bench_nonlinear_flow.py`: the 1-DOF impact Duffing oscillator "
              f"(omega = {OMEGA}, beta = {BETA}, gap {GAP}, r = 0.8).", "",
              "| accuracy of the first impact (t_e, v_e-), max relative over "
-             f"{N_ACC} flights | |", "|---|---|",
-             f"| against mpmath.odefun at 30 digits | {e_mp:.1e} |",
-             f"| against solve_ivp DOP853 rtol 1e-13 | {e_ivp:.1e} |", "",
-             "| one trajectory | impacts/s | / baseline |", "|---|---|---|"]
+             f"{N_ACC} flights | against mpmath.odefun at 30 digits | against solve_ivp "
+             "DOP853 rtol 1e-13 |", "|---|---|---|"]
+    for name, (e_mp, e_ivp) in acc.items():
+        lines.append(f"| {name} | {e_mp:.1e} | {e_ivp:.1e} |")
+    lines += ["", "| one trajectory | impacts/s | / baseline |", "|---|---|---|"]
     for k, v in rates.items():
         lines.append(f"| {k} | {v:.3g} | {v / base:.3g} |")
-    lines += ["", f"DOP853 steps per impact (beta = 0.5): {steps:.1f}", ""]
+    lines += ["", "steps per impact (beta = 0.5): " + ", ".join(
+        f"{k.split(', ')[1]} {v:.1f}" for k, v in steps.items()), ""]
     text = "\n".join(lines)
     print(text)
     write_text(HERE / "results_nonlinear_flow.md", text)

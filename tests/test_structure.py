@@ -105,9 +105,8 @@ def test_one_precision_backend():
 
 
 def test_one_run_loop():
-    """One run loop for the exact linear flow; the nonlinear flow's (issue 28, its first
-    step: simulation only, DOP853 flights) is the one other, until its flight is a kernel
-    the one loop takes by argument."""
+    """One run loop for the exact linear flow; the nonlinear flow's (issue 28: simulation
+    only; its Taylor or DOP853 flight by a flag) is the one other."""
     assert run_loops() == ["flow/compiled.py:_run_into", "flow/nonlinear.py:_run"]
 
 

@@ -4,7 +4,9 @@
   the state-space flow in modal form and the provably safe first-impact finder;
 * :mod:`symvi.flow.compiled` -- its numba twin: the map P and long runs;
 * :mod:`symvi.flow.nonlinear` -- a model with nonlinear forces (issue 28): a numerical
-  flow (DOP853, events on its dense output) and its runs, for ``simulate``.
+  flow (a Taylor method, events on the solution's polynomial) and its runs, for
+  ``simulate``;
+* :mod:`symvi.flow.taylor` -- that Taylor method (the forces' program on series).
 
 The paper's 2-DOF undamped modal form, eqs. (7)–(8), is the oracle of the paper
 (:mod:`symvi.paper.modal_flow`); its names here (``first_impact``, ``motion_from``, ...)

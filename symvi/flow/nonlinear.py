@@ -1,41 +1,53 @@
-"""A numerical flow of a model with smooth nonlinear forces (issue 28, first step).
+"""A numerical flow of a model with smooth nonlinear forces (issue 28).
 
 Between impacts::
 
     M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)
 
-with f the model's forces (:attr:`symvi.model.Model.nonlinear`), integrated by an explicit
-Runge-Kutta method of order 8, Dormand and Prince's DOP853 with its error estimator of
-orders 5 and 3 and its dense output of order 7 [Hairer, Norsett & Wanner, Solving ODEs I,
-II.10; the coefficients are SciPy's ``dop853_coefficients``], written in numba.  The
-forces are compiled once per model into a short postfix program (:func:`program`) that one
-cached kernel interprets: no code is generated or compiled per model, and ``x**3`` at
-x = 0 is 0 (integer powers are products).
+with f the model's forces (:attr:`symvi.model.Model.nonlinear`), compiled once per model
+into a short postfix program (:func:`symvi.flow._program.program`) that one cached kernel
+interprets: no code is generated or compiled per model, and ``x**3`` at x = 0 is 0
+(integer powers are products).  Two integrators of a flight, one run loop (:func:`_run`,
+the integrator by a flag):
 
-Why DOP853 and not a Taylor method (the issue's other candidate): DOP853 needs only
-evaluations of the field, so one cached kernel serves every model; a Taylor method needs
-the recurrences of each model's forces generated and compiled (or a Taylor-arithmetic
-interpreter), which this first step does not build.  Its accuracy and speed, against
-mpmath, solve_ivp and the exact linear flow: ``benchmarks/bench_nonlinear_flow.py``,
-``benchmarks/README.md``.
+* ``"taylor"`` (the default): the Taylor method of :mod:`symvi.flow.taylor` (the program
+  interpreted on series, Jorba & Zou's order 20 and step), events on the solution's own
+  polynomial over each step;
+* ``"dop853"``: Dormand and Prince's explicit Runge-Kutta method of order 8 with its error
+  estimator of orders 5 and 3 and its dense output of order 7 [Hairer, Norsett & Wanner,
+  Solving ODEs I, II.10; the coefficients are SciPy's ``dop853_coefficients``], events on
+  the dense output (stops on masses only).
 
-Events.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses, either side)
-is watched on every accepted step.  No contact of the dense output is stepped over: over
-a step the guard's interpolant is a polynomial of degree 7 in theta = (t - t_n) / h; its
-Bernstein coefficients bound it (the convex hull property), and the leftmost sub-interval
-whose hull reaches 0 is found by halving (de Casteljau) down to ROOT_THETA.  So a
-crossing of the interpolant is never missed, however short the excursion; steps are
-bounded by STEP_BOUND of the shortest period (forcing and linear modes), which keeps the
-interpolant within the step's accuracy.  The event time is then refined by Newton on
-full Runge-Kutta steps from the step's start (h(t_e) with h' = sign v_k), so it carries
-the integration's accuracy, not the interpolant's.  Just after an impact on constraint k
-its guard starts at 0 (x_k = b exactly) and its first step looks at h / theta.
+Chosen by measurement (``benchmarks/bench_nonlinear_flow.py``, ``benchmarks/README.md``;
+the 1-DOF impact Duffing oscillator, the same run): the Taylor method locates the first
+impact to 1.9e-16 relative against mpmath at 30 digits (DOP853: 7.5e-14), and runs 15
+times as many impacts a second (6.4e4 against 4.2e3, the exact linear flow 8.2e5 in the
+same run; 19 steps an impact against 65, and no Runge-Kutta steps to refine an event).
+It is still short of the issue's 2e5: its time is the 20 orders of series a step.
 
-At an impact v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`:
-v_k+ = -r v_k- on a diagonal M).  An approach speed at or below the grazing speed
-GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL max(1, |b|, |x|), is a grazing
-contact (sticking when h'' > 0 there): the run stops with the reasons of
-:mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact, non-finite).
+Events of DOP853.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses,
+either side) is watched on every accepted step.  No contact of the dense output is
+stepped over: over a step the guard's interpolant is a polynomial of degree 7 in theta =
+(t - t_n) / h; its Bernstein coefficients bound it (the convex hull property,
+:mod:`symvi.flow._hull`), and the leftmost sub-interval whose hull reaches 0 is found by
+halving (de Casteljau) down to ROOT_THETA.  So a crossing of the interpolant is never
+missed, however short the excursion; steps are bounded by STEP_BOUND of the shortest
+period (forcing and linear modes), which keeps the interpolant within the step's accuracy.
+The event time is then refined by Newton on full Runge-Kutta steps from the step's start
+(h(t_e) with h' = sign v_k), so it carries the integration's accuracy, not the
+interpolant's.  Just after an impact on constraint k its guard starts at 0 (x_k = b
+exactly) and its first step looks at h / theta.
+
+Constraints.  With the Taylor method every rigid constraint a Model carries: a guard
+h = sign (c . x - g) on any normal c (a stop on a mass, an impact between two masses, a
+two-sided clearance as two constraints); the section points are written in the flow's
+frame (:func:`symvi.flow.linear.frame_of`), as the exact flow's runs.  At an impact
+v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`: v_k+ =
+-r v_k- on a diagonal M, the two-body law along M^-1 c between masses).  An approach speed
+at or below the grazing speed GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL
+max(1, |b|, |x|), is a grazing contact (sticking when h'' > 0 there): the run stops with
+the reasons of :mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact,
+non-finite).
 """
 import math
 
@@ -46,14 +58,17 @@ from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..numerics.tolerances import GRAZING_SPEED_FACTOR
 from . import compiled as cf
+from . import taylor
+from .taylor import _taylor_flight
+from ._hull import ROOT_THETA, _bernstein, _first_root  # noqa: F401  (the hull's owner)
+from ._program import (FUNCS, MAX_STACK, OP_ADD, OP_CONST, OP_FUNC, OP_MUL,  # noqa: F401
+                       OP_POW, OP_POWI, OP_VAR, _eval, _func, program)
 
 #: relative and absolute tolerances of the step control (the issue's accuracy: ~1e-13)
 RTOL = 3e-14
 ATOL = 3e-14
 #: a step is at most this fraction of the shortest period (forcing, linear modes)
 STEP_BOUND = 1.0 / 16.0
-#: the width in theta down to which the Bernstein search halves
-ROOT_THETA = 1e-13
 #: steps of one flight before it gives up (as no impact)
 MAX_STEPS = 2_000_000
 
@@ -73,124 +88,6 @@ def _coefficients():
 
 
 _A, _B, _C, _E3, _E5, _D = _coefficients()
-
-# --- the forces as a postfix program -----------------------------------------------------
-OP_CONST, OP_VAR, OP_ADD, OP_MUL, OP_POWI, OP_POW, OP_FUNC = range(7)
-FUNCS = ("sin", "cos", "tan", "exp", "log", "sqrt", "sinh", "cosh", "tanh", "atan")
-#: the deepest stack a program may need
-MAX_STACK = 64
-
-
-def program(exprs, names):
-    """(ops (L, 2), offsets (N + 1,), stack depth): the postfix program of the forces
-    ``exprs`` (SymPy) over the variables ``names`` (x1..xN, v1..vN, the parameters; a
-    variable's index in ``names`` is its slot)."""
-    import sympy
-    index = {s: i for i, s in enumerate(names)}
-    ops, offsets = [], [0]
-    depth = [0, 0]
-
-    def push(op, arg, change):
-        ops.append((float(op), float(arg)))
-        depth[0] += change
-        depth[1] = max(depth[1], depth[0])
-
-    def emit(e):
-        if isinstance(e, sympy.Symbol):
-            push(OP_VAR, index[e.name], 1)
-        elif e.is_Number or isinstance(e, sympy.NumberSymbol):
-            push(OP_CONST, float(e), 1)
-        elif isinstance(e, (sympy.Add, sympy.Mul)):
-            for a in e.args:
-                emit(a)
-            push(OP_ADD if isinstance(e, sympy.Add) else OP_MUL, len(e.args), 1 - len(e.args))
-        elif isinstance(e, sympy.Pow):
-            emit(e.base)
-            if e.exp.is_Integer:
-                push(OP_POWI, int(e.exp), 0)
-            elif e.exp == sympy.Rational(1, 2):
-                push(OP_FUNC, FUNCS.index("sqrt"), 0)
-            else:
-                emit(e.exp)
-                push(OP_POW, 0, -1)
-        elif isinstance(e, sympy.Function) and type(e).__name__ in FUNCS and len(e.args) == 1:
-            emit(e.args[0])
-            push(OP_FUNC, FUNCS.index(type(e).__name__), 0)
-        else:
-            raise ParameterError("nonlinear", str(e), "a smooth elementary expression",
-                                 f"{type(e).__name__} cannot be evaluated")
-
-    for e in exprs:
-        emit(sympy.Integer(e) if isinstance(e, int) else e)
-        depth[0] = 0
-        offsets.append(len(ops))
-    if depth[1] > MAX_STACK:
-        raise ParameterError("nonlinear", f"nesting {depth[1]}", f"at most {MAX_STACK} "
-                             "nested operations")
-    return (np.array(ops, dtype=np.float64).reshape(-1, 2),
-            np.array(offsets, dtype=np.int64), depth[1])
-
-
-@nb.njit(cache=True)
-def _func(k, a):
-    if k == 0:
-        return math.sin(a)
-    if k == 1:
-        return math.cos(a)
-    if k == 2:
-        return math.tan(a)
-    if k == 3:
-        return math.exp(a)
-    if k == 4:
-        return math.log(a) if a > 0.0 else math.nan
-    if k == 5:
-        return math.sqrt(a) if a >= 0.0 else math.nan
-    if k == 6:
-        return math.sinh(a)
-    if k == 7:
-        return math.cosh(a)
-    if k == 8:
-        return math.tanh(a)
-    return math.atan(a)
-
-
-@nb.njit(cache=True)
-def _eval(ops, lo, hi, u, stack):
-    """One force: the postfix program ops[lo:hi] at the variables u."""
-    sp = 0
-    for i in range(lo, hi):
-        op = int(ops[i, 0])
-        arg = ops[i, 1]
-        if op == OP_CONST:
-            stack[sp] = arg
-            sp += 1
-        elif op == OP_VAR:
-            stack[sp] = u[int(arg)]
-            sp += 1
-        elif op == OP_ADD or op == OP_MUL:
-            m = int(arg)
-            acc = stack[sp - m]
-            for j in range(sp - m + 1, sp):
-                acc = acc + stack[j] if op == OP_ADD else acc * stack[j]
-            sp -= m
-            stack[sp] = acc
-            sp += 1
-        elif op == OP_POWI:
-            m = int(arg)
-            b = stack[sp - 1]
-            p = 1.0
-            for _ in range(abs(m)):
-                p *= b
-            stack[sp - 1] = p if m >= 0 else 1.0 / p
-        elif op == OP_POW:
-            e = stack[sp - 1]
-            sp -= 1
-            b = stack[sp - 1]
-            stack[sp - 1] = b ** e if b > 0.0 or e == int(e) else math.nan
-        else:
-            stack[sp - 1] = _func(int(arg), stack[sp - 1])
-    return stack[0]
-
 
 @nb.njit(cache=True)
 def _rhs(sy, t, y, out):
@@ -305,73 +202,6 @@ def _guard_poly(y, F, k, gap, sign, p):
 
 
 @nb.njit(cache=True)
-def _bernstein(p, b):
-    """Bernstein coefficients (degree 7, on [0, 1]) of the monomial coefficients p."""
-    for k in range(8):
-        acc = 0.0
-        for i in range(k + 1):
-            acc += _BINOM[k, i] / _BINOM[7, i] * p[i]
-        b[k] = acc
-
-
-def _binom():
-    B = np.zeros((8, 8))
-    for k in range(8):
-        for i in range(k + 1):
-            B[k, i] = math.comb(k, i)
-    return B
-
-
-_BINOM = _binom()
-
-
-@nb.njit(cache=True)
-def _first_root(b0, stackb, lo_hi):
-    """The leftmost theta in [0, 1] where the polynomial with Bernstein coefficients b0 may
-    reach 0 (its hull does, down to ROOT_THETA), or -1.0 when its hull stays below 0."""
-    top = 0
-    for i in range(8):
-        stackb[0, i] = b0[i]
-    lo_hi[0, 0] = 0.0
-    lo_hi[0, 1] = 1.0
-    top = 1
-    while top > 0:
-        top -= 1
-        lo = lo_hi[top, 0]
-        hi = lo_hi[top, 1]
-        mx = -math.inf
-        for i in range(8):
-            mx = max(mx, stackb[top, i])
-        if mx < 0.0:
-            continue
-        if stackb[top, 0] >= 0.0:
-            return lo
-        if hi - lo <= ROOT_THETA or top + 2 >= stackb.shape[0]:
-            return 0.5 * (lo + hi)
-        # de Casteljau at 1/2: the left half to the top (examined first), the right below
-        w = stackb[top].copy()
-        right = np.empty(8)
-        left = np.empty(8)
-        left[0] = w[0]
-        right[7] = w[7]
-        for r in range(1, 8):
-            for i in range(8 - r):
-                w[i] = 0.5 * (w[i] + w[i + 1])
-            left[r] = w[0]
-            right[7 - r] = w[7 - r]
-        mid = 0.5 * (lo + hi)
-        for i in range(8):
-            stackb[top, i] = right[i]
-            stackb[top + 1, i] = left[i]
-        lo_hi[top, 0] = mid
-        lo_hi[top, 1] = hi
-        lo_hi[top + 1, 0] = lo
-        lo_hi[top + 1, 1] = mid
-        top += 2
-    return -1.0
-
-
-@nb.njit(cache=True)
 def _flight(sy, cons, z, just_hit, t_max, hmax, hh, work):
     """Integrate from z (mass order, time 0) to the first contact of any constraint, or
     t_max.  On an impact z is the state just before it.  Returns (status, t_e, constraint,
@@ -455,11 +285,13 @@ def _flight(sy, cons, z, just_hit, t_max, hmax, hh, work):
 
 
 @nb.njit(cache=True)
-def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, times, vimp,
-         hits, work):
+def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_max, sec,
+         times, vimp, hits, work, taylor):
     """The run of the nonlinear map from z (mass order, on constraint k's guard) at phase
-    tau: stores section points (constraint's section layout), times, approach speeds and
-    the constraint hit, as :func:`symvi.flow.compiled.run` does.  Returns (stop code,
+    tau: stores section points (SEC[c] z: constraint c's section layout), times, approach
+    speeds and the constraint hit, as :func:`symvi.flow.compiled.run` does.  The flight:
+    the Taylor method's (``taylor``, :func:`symvi.flow.taylor._taylor_flight`, scratch tj)
+    or DOP853's (:func:`_flight`, scratch work; stops on masses).  Returns (stop code,
     number stored, steps)."""
     dim = z.shape[0]
     n = dim // 2
@@ -476,13 +308,15 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         sy[9][0] = tau
         for i in range(dim):
             zs[i] = z[i]
-        st, te, c, vm, acc, ns = _flight(sy, cons, z, k, t_max, hmax, hh, work)
+        if taylor:
+            st, te, c, vm, acc, ns = _taylor_flight(sy, tj, cons, normals, z, k, t_max, hmax)
+        else:
+            st, te, c, vm, acc, ns = _flight(sy, cons, z, k, t_max, hmax, hh, work)
         steps += ns
         if st != cf.IMPACT:
             for i in range(dim):
                 z[i] = zs[i]
             return cf.STOP_NO_IMPACT if c == -1 else cf.STOP_NONFINITE, max(kept, 0), steps
-        kc = int(cons[c, 0])
         L = max(1.0, abs(cons[c, 1]))
         for i in range(n):
             L = max(L, abs(z[i]))
@@ -490,7 +324,7 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
             for i in range(dim):
                 z[i] = zs[i]
             return (cf.STOP_STICKING if acc > 0.0 else cf.STOP_GRAZING), max(kept, 0), steps
-        # v+ = R v- (the constraint's reset); the section: x_k = gap exactly
+        # v+ = R v- (the constraint's reset); on a mass's stop the section is x_k = gap
         for i in range(n):
             a = 0.0
             for j in range(n):
@@ -499,7 +333,9 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         ok = True
         for i in range(n):
             z[n + i] = v[i]
-        z[kc] = cons[c, 1]
+        kc = int(cons[c, 0])
+        if kc >= 0:
+            z[kc] = cons[c, 1]
         for i in range(dim):
             ok = ok and math.isfinite(z[i]) and abs(z[i]) <= 1e6
         if not ok:
@@ -512,7 +348,11 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         short = short + 1 if te < t_chat else 0
         if kept >= 0:
             for i in range(dim - 1):
-                sec[kept, i] = z[sidx[c, i]]
+                a = 0.0
+                for j in range(dim):
+                    if SEC[c, i, j] != 0.0:
+                        a += SEC[c, i, j] * z[j]
+                sec[kept, i] = a
             sec[kept, dim - 1] = tau
             times[kept] = T
             vimp[kept] = vm
@@ -520,121 +360,6 @@ def _run(sy, cons, R, sidx, z, tau, k, n_keep, transient, hmax, t_max, sec, time
         if short >= cf.CHATTER_COUNT:
             return cf.STOP_CHATTER, max(kept + 1, 0), steps
     return cf.COMPLETED, n_keep, steps
-
-
-class NonlinearFlow:
-    """The numerical flow of a model with nonlinear forces and rigid stops on masses.
-
-    ``NonlinearFlow(model)``; :meth:`state` integrates without events (a flight's
-    reference), :meth:`first_impact` finds the first contact, :meth:`run` iterates the
-    impact map from a section point (what :func:`symvi.simulate` runs).  Stops between
-    masses and elastic stops are refused for now (issue 28's later steps)."""
-
-    def __init__(self, model):
-        for k, s in enumerate(model.stops, 1):
-            if s.stiffness is not None:
-                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
-                                     "rigid stops (an elastic stop with nonlinear forces is "
-                                     "a later step of issue 28)")
-            if s.mass is None:
-                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
-                                     "stops on masses (a stop between masses with nonlinear "
-                                     "forces is a later step of issue 28)")
-        self.model = model
-        n = self.n = model.n
-        names = [f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
-        forces = model._nl
-        exprs = forces.exprs(n) if forces is not None else (0,) * n
-        pnames = list(forces.names) if forces is not None else []
-        self.ops, self.off, depth = program(exprs, names + pnames)
-        self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
-        self.Minv = np.linalg.inv(model.mass)
-        cons = model.constraints
-        self.cons = np.array([[c.coordinate, c.gap, c.sign] for c in cons], dtype=float)
-        self.R = np.array([c.reset_matrix(self.Minv) for c in cons], dtype=float)
-        w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
-        self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
-        self._depth = max(depth, 1)
-        from .linear import frame_of
-        self.perm = frame_of(model)[0]            # the section layout's order of the masses
-        # each constraint's section layout, as mass-order state indices
-        self.sidx = np.empty((len(cons), 2 * n - 1), dtype=np.int64)
-        for j, c in enumerate(cons):
-            p = self.perm.index(c.coordinate)
-            for i, q in enumerate(cf.section_index(n, p)):
-                self.sidx[j, i] = self.perm[q] if q < n else n + self.perm[q - n]
-
-    def _system(self, omega, tau):
-        n = self.n
-        u = np.empty(2 * n + len(self.pars))
-        u[2 * n:] = self.pars
-        return (self.Minv, np.ascontiguousarray(self.model.stiffness),
-                np.ascontiguousarray(self.model.damping),
-                np.ascontiguousarray(self.model.forcing), self.ops, self.off, u,
-                np.empty(self._depth + 1), np.array([float(omega)]), np.array([float(tau)]),
-                np.empty(n))
-
-    def _work(self):
-        dim = 2 * self.n
-        return (np.empty((_NS + 1, dim)), np.empty((_NX, dim)), np.empty((7, dim)),
-                np.empty(dim), np.empty(dim), np.empty(dim), np.empty(8), np.empty(8),
-                np.empty((96, 8)), np.empty((96, 2)), np.empty(dim))
-
-    def hmax(self, omega):
-        """The step bound: STEP_BOUND of the shortest period (forcing, linear modes)."""
-        return STEP_BOUND * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
-
-    def rhs(self, omega, tau, t, z):
-        """The vector field at (t, z), z = (x, v) in mass order."""
-        out = np.empty(2 * self.n)
-        _rhs(self._system(omega, tau), float(t), np.asarray(z, dtype=float), out)
-        return out
-
-    def first_impact(self, omega, z0, tau, t_max=None, just_hit=-1):
-        """(status, t_e, constraint, z_e-): the first contact from z0 (mass order) at phase
-        tau; status a name of :data:`symvi.flow.compiled.STATUS_NAMES` ("impact",
-        "no-impact"); z_e- the state just before the impact.  ``just_hit``: the constraint
-        z0 lies on (leaving it)."""
-        z = np.array(z0, dtype=float)
-        t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
-        h = self.hmax(omega)
-        st, te, c, _, _, _ = _flight(self._system(omega, tau), self.cons, z, int(just_hit),
-                                     t_max, h, np.array([h]), self._work())
-        return cf.STATUS_NAMES[st], te, c, z
-
-    def state(self, omega, z0, tau, t):
-        """z(t) from z0 (mass order) at phase tau, ignoring the constraints (a flight's
-        reference: the same steps, no events)."""
-        z = np.array(z0, dtype=float)
-        sy = self._system(omega, tau)
-        h = self.hmax(omega)
-        work = self._work()
-        return _integrate(sy, z, float(t), h, work)
-
-    def start(self, y0):
-        """The state (mass order) of a section point y0 of the first constraint."""
-        n = self.n
-        z = np.empty(2 * n)
-        z[int(self.cons[0, 0])] = self.cons[0, 1]
-        for i in range(2 * n - 1):
-            z[self.sidx[0, i]] = y0[i]
-        return z
-
-    def run(self, omega, y0, n_keep, transient=0):
-        """(code, section (n, 2N), t, approach speeds, hits, steps) of the run from y0, a
-        section point of the first constraint (:func:`symvi.flow.compiled.run`'s
-        layout)."""
-        dim = 2 * self.n
-        z = self.start(y0)
-        sec = np.empty((n_keep, dim))
-        times = np.empty(n_keep)
-        vimp = np.empty(n_keep)
-        hits = np.empty(n_keep, dtype=np.int64)
-        code, kk, steps = _run(self._system(omega, y0[-1]), self.cons, self.R, self.sidx, z,
-                               float(y0[-1]), 0, n_keep, transient, self.hmax(omega),
-                               1000 * 2 * math.pi / omega, sec, times, vimp, hits,
-                               self._work())
-        return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps
 
 
 @nb.njit(cache=True)
@@ -660,3 +385,162 @@ def _integrate(sy, z, t_end, hmax, work):
             Kst[0, i] = Kst[_NS, i]
         h *= 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
     return y.copy()
+
+
+#: the integrators of a flight: the Taylor method (the default, chosen by measurement: the
+#: module docstring) and DOP853
+METHODS = ("taylor", "dop853")
+
+
+class NonlinearFlow:
+    """The numerical flow of a model with nonlinear forces and rigid constraints.
+
+    ``NonlinearFlow(model, method="taylor")``; :meth:`state` integrates without events (a
+    flight's reference), :meth:`first_impact` finds the first contact, :meth:`run` iterates
+    the impact map from a section point (what :func:`symvi.simulate` runs).  Every rigid
+    constraint a Model carries: stops on masses, either side, and between masses (guard
+    c . x - g, reset :meth:`symvi.model.Constraint.reset_matrix`), section points in the
+    flow's frame (:func:`symvi.flow.linear.frame_of`) as the exact flow's; ``"dop853"``
+    takes stops on masses only.  Elastic stops are refused (issue 28's later steps)."""
+
+    def __init__(self, model, method="taylor"):
+        if method not in METHODS:
+            raise ParameterError("method", method, " or ".join(f'"{m}"' for m in METHODS))
+        for k, s in enumerate(model.stops, 1):
+            if s.stiffness is not None:
+                raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
+                                     "rigid stops (an elastic stop with nonlinear forces is "
+                                     "a later step of issue 28)")
+        cons = model.constraints
+        if method == "dop853" and any(c.coordinate is None for c in cons):
+            raise ParameterError("method", method, '"taylor" for a stop between masses '
+                                 "(DOP853's events read stops on masses)")
+        self.model, self.method = model, method
+        n = self.n = model.n
+        names = [f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
+        forces = model._nl
+        exprs = forces.exprs(n) if forces is not None else (0,) * n
+        pnames = list(forces.names) if forces is not None else []
+        self.ops, self.off, depth = program(exprs, names + pnames)
+        self.tape = taylor.tape(self.ops, self.off, 2 * n)
+        self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
+        self.Minv = np.linalg.inv(model.mass)
+        #: one row per constraint: (the mass of a stop on a mass, NaN between masses; gap;
+        #: sign), and the kernels' copy with -1 for NaN
+        self.cons = np.array([[math.nan if c.coordinate is None else c.coordinate, c.gap,
+                               c.sign] for c in cons], dtype=float)
+        self._table = np.nan_to_num(self.cons, nan=-1.0)
+        self.normals = np.array([c.normal for c in cons], dtype=float)
+        self.R = np.array([c.reset_matrix(self.Minv) for c in cons], dtype=float)
+        w2 = np.linalg.eigvals(self.Minv @ model.stiffness).real
+        self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
+        self._depth = max(depth, 1)
+        from .linear import frame_of
+        perm, T, _ = frame_of(model)           # the frame q = T x of the sections
+        self.T = np.eye(n)[list(perm)] if T is None else np.asarray(T, dtype=float)
+        self._Tinv = self.T.T if T is None else np.linalg.inv(self.T)   # exact: a permutation
+        #: stops on masses only: each constraint's section layout as mass-order state
+        #: indices (None with a constraint between masses: read SEC)
+        self.sidx = None if T is not None else np.array(
+            [[perm[q] if q < n else n + perm[q - n] for q in
+              cf.section_index(n, perm.index(c.coordinate))] for c in cons], dtype=np.int64)
+        # each constraint's section layout as rows over the mass-order state
+        self.SEC = np.zeros((len(cons), 2 * n - 1, 2 * n))
+        self._pos = []
+        for j, c in enumerate(cons):
+            p = next(i for i in range(n) if tuple(self.T[i]) == c.normal)
+            self._pos.append(p)
+            for i, q in enumerate(cf.section_index(n, p)):
+                if q < n:
+                    self.SEC[j, i, :n] = self.T[q]
+                else:
+                    self.SEC[j, i, n:] = self.T[q - n]
+
+    def _system(self, omega, tau):
+        n = self.n
+        u = np.empty(2 * n + len(self.pars))
+        u[2 * n:] = self.pars
+        return (self.Minv, np.ascontiguousarray(self.model.stiffness),
+                np.ascontiguousarray(self.model.damping),
+                np.ascontiguousarray(self.model.forcing), self.ops, self.off, u,
+                np.empty(self._depth + 1), np.array([float(omega)]), np.array([float(tau)]),
+                np.empty(n))
+
+    def _work(self):
+        dim = 2 * self.n
+        return (np.empty((_NS + 1, dim)), np.empty((_NX, dim)), np.empty((7, dim)),
+                np.empty(dim), np.empty(dim), np.empty(dim), np.empty(8), np.empty(8),
+                np.empty((96, 8)), np.empty((96, 2)), np.empty(dim))
+
+    def _taylor_work(self):
+        return taylor.work(*self.tape, 2 * self.n)
+
+    def hmax(self, omega, frac=STEP_BOUND):
+        """DOP853's step bound: STEP_BOUND (or ``frac``) of the shortest period (forcing,
+        linear modes)."""
+        return frac * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
+
+    def _cap(self, omega):
+        """The step bound of this flow's method (:data:`symvi.flow.taylor.STEP_CAP` of the
+        shortest period for the Taylor method)."""
+        return self.hmax(omega, taylor.STEP_CAP if self.method == "taylor" else STEP_BOUND)
+
+    def rhs(self, omega, tau, t, z):
+        """The vector field at (t, z), z = (x, v) in mass order."""
+        out = np.empty(2 * self.n)
+        _rhs(self._system(omega, tau), float(t), np.asarray(z, dtype=float), out)
+        return out
+
+    def first_impact(self, omega, z0, tau, t_max=None, just_hit=-1):
+        """(status, t_e, constraint, z_e-): the first contact from z0 (mass order) at phase
+        tau; status a name of :data:`symvi.flow.compiled.STATUS_NAMES` ("impact",
+        "no-impact"); z_e- the state just before the impact.  ``just_hit``: the constraint
+        z0 lies on (leaving it)."""
+        z = np.array(z0, dtype=float)
+        t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
+        h = self._cap(omega)
+        sy = self._system(omega, tau)
+        if self.method == "taylor":
+            st, te, c, _, _, _ = taylor._taylor_flight(sy, self._taylor_work(), self._table,
+                                                       self.normals, z, int(just_hit),
+                                                       t_max, h)
+        else:
+            st, te, c, _, _, _ = _flight(sy, self._table, z, int(just_hit), t_max, h,
+                                         np.array([h]), self._work())
+        return cf.STATUS_NAMES[st], te, c, z
+
+    def state(self, omega, z0, tau, t):
+        """z(t) from z0 (mass order) at phase tau, ignoring the constraints (a flight's
+        reference: the same steps, no events)."""
+        z = np.array(z0, dtype=float)
+        sy = self._system(omega, tau)
+        h = self._cap(omega)
+        if self.method == "taylor":
+            return taylor._taylor_integrate(sy, self._taylor_work(), z, float(t), h)
+        return _integrate(sy, z, float(t), h, self._work())
+
+    def start(self, y0):
+        """The state (mass order) of a section point y0 of the first constraint (the
+        flow's frame, :func:`symvi.flow.linear.frame_of`)."""
+        n = self.n
+        q = np.empty(2 * n)
+        q[self._pos[0]] = self.cons[0, 1]
+        for i, j in enumerate(cf.section_index(n, self._pos[0])):
+            q[j] = y0[i]
+        return np.concatenate([self._Tinv @ q[:n], self._Tinv @ q[n:]])
+
+    def run(self, omega, y0, n_keep, transient=0):
+        """(code, section (n, 2N), t, approach speeds, hits, steps) of the run from y0, a
+        section point of the first constraint (:func:`symvi.flow.compiled.run`'s
+        layout)."""
+        dim = 2 * self.n
+        z = self.start(y0)
+        sec = np.empty((n_keep, dim))
+        times = np.empty(n_keep)
+        vimp = np.empty(n_keep)
+        hits = np.empty(n_keep, dtype=np.int64)
+        code, kk, steps = _run(self._system(omega, y0[-1]), self._taylor_work(), self._table,
+                               self.normals, self.R, self.SEC, z, float(y0[-1]), 0, n_keep,
+                               transient, self._cap(omega), 1000 * 2 * math.pi / omega, sec,
+                               times, vimp, hits, self._work(), self.method == "taylor")
+        return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps

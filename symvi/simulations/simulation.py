@@ -170,8 +170,8 @@ def _check_model_start(model, y0, name="y0"):
         if sec.labels is None:
             x[list(sec.perm)] = z[:model.n]
         else:                                  # the flow's frame q = T x (a stop between masses)
-            from ..flow.linear import LinearFlow
-            x = LinearFlow.of(model).Tinv @ z[:model.n]
+            from ..flow.linear import frame_of
+            x = np.linalg.inv(frame_of(model)[1]) @ z[:model.n]
         for i, con in enumerate(model.constraints[1:], start=2):
             if not con.guard(x) < 0:
                 raise ParameterError(name, y0, f"a start outside every other stop "
@@ -220,7 +220,7 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
-    :mod:`symvi.flow.nonlinear` (rigid stops on masses), with the same records; it ends at
+    :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records; it ends at
     chatter and sticking (``stop_reason`` says so) instead of going through them.
 
     A rigid run goes on through complete chatter and sticking (``sticks``: when each
@@ -323,9 +323,10 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
 
 def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     """:func:`simulate` of a model with nonlinear forces (issue 28): the run of
-    :class:`symvi.flow.nonlinear.NonlinearFlow` (DOP853, every contact located on the
-    dense output), the same records and stop reasons as the compiled run.  Without ``y0``
-    it starts from :func:`default_start` (no period-1 orbit in closed form to start near)."""
+    :class:`symvi.flow.nonlinear.NonlinearFlow` (the Taylor method, every contact located
+    on the solution's polynomial), the same records and stop reasons as the compiled run.
+    Without ``y0`` it starts from :func:`default_start` (no period-1 orbit in closed form to
+    start near)."""
     from ..flow.nonlinear import NonlinearFlow
     from ..maps import Section
     from ..numerics.tolerances import OMEGA_RANGE

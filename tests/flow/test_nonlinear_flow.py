@@ -1,8 +1,9 @@
-"""The numerical flow of a model with nonlinear forces (issue 28, first step,
-:mod:`symvi.flow.nonlinear`): the nonlinearity off against the exact linear flow, one
-flight against mpmath's Taylor integrator at 30 digits and against SciPy's DOP853, the
-forces' program against SymPy, and the Bernstein bound that finds every contact of the
-dense output."""
+"""The numerical flow of a model with nonlinear forces (issue 28,
+:mod:`symvi.flow.nonlinear`, its Taylor method by default): the nonlinearity off against
+the exact linear flow, one flight against mpmath's Taylor integrator at 30 digits and
+against SciPy's DOP853, the forces' program against SymPy, the Bernstein bound that finds
+every contact of DOP853's dense output, and every rigid constraint (between masses, a
+two-sided clearance) against the exact flow and solve_ivp with events."""
 import math
 
 import mpmath
@@ -138,8 +139,10 @@ def test_what_it_does_not_take_yet():
         nl.NonlinearFlow(Model(**{**ONE, "stop": Stop(mass=1, gap=0.5, stiffness=50.0)},
                                nonlinear=["x1**3"]))
     two = {**TWO, "stops": [Stop(between=(1, 2), gap=0.3, restitution=0.8)]}
-    with pytest.raises(ParameterError, match="a stop between masses"):
-        nl.NonlinearFlow(Model(**two, nonlinear=["x1**3", "0"]))
+    with pytest.raises(ParameterError, match="^method = 'dop853'.*a stop between masses"):
+        nl.NonlinearFlow(Model(**two, nonlinear=["x1**3", "0"]), method="dop853")
+    with pytest.raises(ParameterError, match="^method = 'rk4'"):
+        nl.NonlinearFlow(Model(**ONE, nonlinear=["x1**3"]), method="rk4")
 
 
 def test_the_exact_linear_flow_refuses_a_nonlinear_model():
@@ -151,3 +154,81 @@ def test_the_exact_linear_flow_refuses_a_nonlinear_model():
         assert str(exc.value) == ("model = 'nonlinear' is invalid; valid range: a linear "
                                   "model: with nonlinear forces this analysis is a later "
                                   "step of issue 28 (simulate and continue run them)")
+
+
+# --- every rigid constraint (issue 28, with issue 25's constraints) ------------------------
+MASSES = dict(mass=[1.0, 2.0], stiffness=[[2.0, -1.0], [-1.0, 1.5]],
+              damping=[[0.05, 0.0], [0.0, 0.05]], forcing=[1.0, 0.3])
+BETWEEN = Stop(between=(1, 2), gap=0.3, restitution=0.8)
+CLEARANCE = [BETWEEN, Stop(between=(1, 2), gap=-0.3, side="lower", restitution=0.7)]
+CUBIC = ["beta*x1**3", "beta*(x2 - x1)**3"]
+
+
+@pytest.mark.parametrize("stops", [[BETWEEN], CLEARANCE,
+                                   [BETWEEN, Stop(mass=1, gap=0.6, restitution=0.9)]])
+def test_constraints_between_masses_with_the_nonlinearity_off(stops):
+    """An impact between the masses (guard x2 - x1 - g), a two-sided clearance as two
+    constraints, and one with a stop on a mass: beta = 0 gives symvi.simulate's exact
+    linear run of the same model without forces (section points in the flow's frame,
+    times, impact speeds, constraints hit) to 1e-12 over 100 impacts."""
+    import symvi
+    y0 = (-0.3, 0.1, 0.0, 0.2)
+    lin = symvi.simulate(Model(**MASSES, stops=stops), 1.1, y0=y0, n_impacts=100)
+    m = Model(**MASSES, stops=stops, nonlinear=CUBIC, parameters={"beta": 0.0})
+    sim = symvi.simulate(m, 1.1, y0=y0, n_impacts=100)
+    assert sim.stop == lin.stop == "completed" and sim.n == lin.n == 100
+    assert np.array_equal(sim.hits, lin.hits) and len(set(sim.hits)) == len(stops)
+    assert _rel(sim.section, lin.section) < 1e-12
+    assert _rel(sim.t, lin.t) < 1e-12 and _rel(sim.impact_velocity, lin.impact_velocity) < 1e-12
+    # the table's mass column and the mass-order section indices are for stops on masses
+    flow = nl.NonlinearFlow(m)
+    assert np.isnan(flow.cons[0, 0]) and flow.sidx is None
+    assert nl.NonlinearFlow(Model(**ONE)).sidx.tolist() == [[1]]
+
+
+def _ivp_run(model, omega, z, tau, n, beta):
+    """n impacts by solve_ivp (DOP853, rtol 1e-13) with a terminal event on every guard and
+    the constraint's reset: (flight time, constraint, approach speed) of each."""
+    from scipy.integrate import solve_ivp
+    M, K, C, P = model.mass, model.stiffness, model.damping, model.forcing
+    Minv = np.linalg.inv(M)
+    cons = model.constraints
+
+    def rhs(t, y, tau):
+        x, v = y[:2], y[2:]
+        f = beta * np.array([x[0] ** 3, (x[1] - x[0]) ** 3])
+        return np.concatenate([v, Minv @ (P * math.sin(omega * t + tau) - C @ v - K @ x - f)])
+    events = []
+    for c in cons:
+        ev = (lambda c: lambda t, y, tau: c.guard(y[:2]))(c)
+        ev.terminal, ev.direction = True, 1
+        events.append(ev)
+    out = []
+    for _ in range(n):
+        s = solve_ivp(rhs, (0, 200), z, method="DOP853", rtol=1e-13, atol=1e-13,
+                      events=events, args=(tau,))
+        k = min((i for i in range(len(cons)) if len(s.t_events[i])),
+                key=lambda i: s.t_events[i][0])
+        te, ze = s.t_events[k][0], s.y_events[k][0]
+        out.append((te, k, cons[k].approach(ze[2:])))
+        z = np.concatenate([ze[:2], cons[k].reset_matrix(Minv) @ ze[2:]])
+        tau = (tau + omega * te) % (2 * math.pi)
+    return np.array(out)
+
+
+def test_an_impact_between_masses_with_cubic_forces_against_solve_ivp():
+    """Two masses, cubic springs to the ground and between them, a two-sided clearance
+    between the masses with the two-body impact law (v+ = R v-, R = (I - Q) - r Q): 30
+    impacts as solve_ivp's with events, flight times and impact speeds to 1e-9."""
+    m = Model(**MASSES, stops=CLEARANCE, nonlinear=CUBIC, parameters={"beta": 0.5})
+    flow = nl.NonlinearFlow(m)
+    y0 = (-0.3, 0.1, 0.0, 0.2)
+    code, sec, t, vimp, hits, _ = flow.run(1.1, y0, 30)
+    ref = _ivp_run(m, 1.1, flow.start(y0), y0[-1], 30, 0.5)
+    assert code == cf.COMPLETED and set(hits) == {0, 1}
+    assert np.array_equal(hits, ref[:, 1].astype(int))
+    assert np.abs(np.diff(np.concatenate([[0.0], t])) - ref[:, 0]).max() < 1e-9
+    assert np.abs(vimp - ref[:, 2]).max() < 1e-9
+    # the cubic forces matter
+    lin = nl.NonlinearFlow(m.with_(beta=0.0)).run(1.1, y0, 30)
+    assert np.abs(lin[2][:5] - t[:5]).max() > 1e-3

@@ -1,0 +1,480 @@
+"""A Taylor method for the flow with nonlinear forces, its events on the solution's polynomial.
+
+Between impacts (mass order, y = (x, v))::
+
+    x' = v,   v' = M^-1 (P sin(omega t + tau) - C v - K x - f(x, v))
+
+The Taylor coefficients y_k of the solution at t_n come from automatic differentiation:
+given y_0..y_k, the k-th coefficient of f(x(t), v(t)) follows from the forces' postfix
+program (:func:`symvi.flow._program.program`) interpreted on univariate series (a *tape*
+of binary operations, :func:`tape`; products by convolution, exp, log, sin, cos, tan,
+sqrt, sinh, cosh, tanh, atan and real powers by their recurrences [Jorba & Zou, Exp. Math.
+14 (2005) 99-117, sec. 2; Griewank & Walther, Evaluating Derivatives, ch. 13]), then::
+
+    x_{k+1} = v_k / (k + 1),   v_{k+1} = M^-1 (P s_k - C v_k - K x_k - f_k) / (k + 1)
+
+with s_k the coefficients of sin(omega t + tau) (s_k = omega c_{k-1} / k, c_k = -omega
+s_{k-1} / k).  One cached kernel interprets every model's tape: nothing is generated or
+compiled per model, and x**3 at x = 0 is 0 (integer powers are products).
+
+Order and step [Jorba & Zou, sec. 3.2]: the order p = ceil(-log(EPS) / 2 + 1) and the step
+h = rho_m / e^2 exp(-0.7 / (p - 1)), rho_m = min_{j = p-1, p} (rho / |y_j|_inf)^(1/j),
+rho = max(1, |y_0|_inf): the truncation error of a step is about EPS relative to rho.
+The step is also bounded by STEP_CAP of the shortest period (a polynomial state, whose
+coefficients vanish, would have no bound).
+
+Events.  Over a step the guard h_c = sign (c . x - g) of each constraint is a polynomial
+of degree p in theta = (t - t_n) / h: the solution's own, since c . x is a linear
+combination of the components.  Its Bernstein coefficients bound it
+(:func:`symvi.flow._hull._first_bracket`): a step whose hull stays below 0 has no contact;
+otherwise the search halves until the first sub-interval either starts at a contact, or
+holds exactly one root (one sign change of the hull) and none before it, or is ROOT_THETA
+wide (a touch, taken as a contact).  So no contact is stepped over.  The event time is
+then refined by Newton on the same polynomial, safeguarded by the bracket: it IS the
+solution over the step, so the refinement costs no further steps and carries the
+integration's accuracy.  Just after an impact on constraint c its guard starts at 0 and
+the first step looks at h_c / theta.
+"""
+import math
+
+import numba as nb
+import numpy as np
+
+from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
+from . import compiled as cf
+from ._hull import _bernstein, _first_bracket
+from ._program import FUNCS, OP_ADD, OP_CONST, OP_FUNC, OP_MUL, OP_POW, OP_POWI, OP_VAR
+
+#: the truncation error a step aims at (relative to max(1, |y|)): double precision
+EPS = 2.0 ** -52
+#: the order p of the method (Jorba & Zou: ceil(-log(EPS) / 2 + 1))
+ORDER = int(math.ceil(-math.log(EPS) / 2.0 + 1.0))
+#: a step is at most this fraction of the shortest period (forcing, linear modes)
+STEP_CAP = 0.25
+#: steps of one flight before it gives up (as no impact)
+MAX_STEPS = 2_000_000
+
+# --- the tape: the program as binary operations on series ---------------------------------
+(T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE, T_INV, T_POWC, T_EXP, T_LOG, T_SIN, T_COS, T_TAN,
+ T_SQRT, T_SINH, T_COSH, T_TANH, T_ATAN) = range(17)
+_FUNC_CODE = {"sin": T_SIN, "cos": T_COS, "tan": T_TAN, "exp": T_EXP, "log": T_LOG,
+              "sqrt": T_SQRT, "sinh": T_SINH, "cosh": T_COSH, "tanh": T_TANH,
+              "atan": T_ATAN}
+
+
+def tape(ops, off, nstate):
+    """(tape (L, 3), values (L,), roots (N,)): the postfix program (ops, off) of
+    :func:`symvi.flow._program.program` as binary operations on series, each row (code, a,
+    b) writing the series of its own index from those of rows a and b (values: a
+    constant's value, a real power's exponent); roots[i] the row of force i.  Variables below ``nstate`` are the state's series, the others
+    parameters (constant series)."""
+    rows, const = [], []
+
+    def add(code, a=-1, b=-1, value=0.0, is_const=False):
+        rows.append((code, a, b, float(value)))
+        const.append(is_const)
+        return len(rows) - 1
+
+    def binary(code, a, b):
+        if code == T_MUL and (const[a] or const[b]):
+            s, c = (b, a) if const[a] else (a, b)     # a product by a constant: a scaling
+            return add(T_SCALE, s, c, is_const=const[s])
+        return add(code, a, b, is_const=const[a] and const[b])
+
+    def power(a, m):
+        if m == 0:
+            return add(T_CONST, value=1.0, is_const=True)
+        r, sq, e = -1, a, abs(m)
+        while e:                                      # square and multiply
+            if e & 1:
+                r = sq if r < 0 else binary(T_MUL, r, sq)
+            e >>= 1
+            if e:
+                sq = binary(T_MUL, sq, sq)
+        return r if m > 0 else add(T_INV, r, is_const=const[r])
+
+    roots = []
+    for i in range(len(off) - 1):
+        stack = []
+        for op, arg in ops[off[i]:off[i + 1]]:
+            op = int(op)
+            if op == OP_CONST:
+                stack.append(add(T_CONST, value=arg, is_const=True))
+            elif op == OP_VAR:
+                stack.append(add(T_VAR, int(arg), is_const=int(arg) >= nstate))
+            elif op in (OP_ADD, OP_MUL):
+                args = stack[len(stack) - int(arg):]
+                del stack[len(stack) - int(arg):]
+                r = args[0]
+                for a in args[1:]:
+                    r = binary(T_ADD if op == OP_ADD else T_MUL, r, a)
+                stack.append(r)
+            elif op == OP_POWI:
+                stack.append(power(stack.pop(), int(arg)))
+            elif op == OP_POW:
+                e = stack.pop()
+                b = stack.pop()
+                code, _, _, value = rows[e]
+                if code == T_CONST and value == int(value) and abs(value) < 64:
+                    stack.append(power(b, int(value)))
+                elif code == T_CONST:
+                    stack.append(add(T_POWC, b, value=value, is_const=const[b]))
+                else:                                 # b^e = exp(e log b)
+                    lb = add(T_LOG, b, is_const=const[b])
+                    stack.append(add(T_EXP, binary(T_MUL, e, lb),
+                                     is_const=const[b] and const[e]))
+            else:
+                a = stack.pop()
+                stack.append(add(_FUNC_CODE[FUNCS[int(arg)]], a, is_const=const[a]))
+        roots.append(stack[-1])
+    if not rows:
+        rows.append((T_CONST, -1, -1, 0.0))
+    return (np.array([r[:3] for r in rows], dtype=np.int64).reshape(-1, 3),
+            np.array([r[3] for r in rows], dtype=np.float64), np.array(roots, dtype=np.int64))
+
+
+@nb.njit(cache=True, inline="always")
+def _conv(S, a, b, lo, k):
+    """sum_{j=lo}^{k-lo} S[a, j] S[b, k - j]."""
+    acc = 0.0
+    for j in range(lo, k - lo + 1):
+        acc += S[a, j] * S[b, k - j]
+    return acc
+
+
+@nb.njit(cache=True, inline="always")
+def _dconv(S, a, W, b, k):
+    """sum_{j=1}^k j S[a, j] W[b, k - j] / k: the k-th coefficient of the primitive of
+    a' w."""
+    acc = 0.0
+    for j in range(1, k + 1):
+        acc += j * S[a, j] * W[b, k - j]
+    return acc / k
+
+
+@nb.njit(cache=True)
+def _series(tp, vals, k, S, A, X, u, nstate):
+    """Coefficient k of every row of the tape tp, rows before it known to order k and every
+    row to order k - 1; S the series, X the state's series, u the parameters (at their
+    slots), vals the constants' values and the exponents.  The functions' rows (A: a row's
+    second series, the cos of a sin, 1 + t^2 of a tan, ...) in :func:`_series_func`; A is
+    None when the tape has none, and numba then prunes that branch: the loop over
+    polynomial forces runs four times faster without it."""
+    for i in range(tp.shape[0]):
+        code = tp[i, 0]
+        a = tp[i, 1]
+        b = tp[i, 2]
+        if code == T_VAR:
+            if a < nstate:
+                S[i, k] = X[a, k]
+            else:
+                S[i, k] = u[a] if k == 0 else 0.0
+        elif code == T_MUL:
+            acc = 0.0
+            for j in range(k + 1):
+                acc += S[a, j] * S[b, k - j]
+            S[i, k] = acc
+        elif code == T_SCALE:
+            S[i, k] = S[b, 0] * S[a, k]
+        elif code == T_ADD:
+            S[i, k] = S[a, k] + S[b, k]
+        elif code == T_CONST:
+            S[i, k] = vals[i] if k == 0 else 0.0
+        elif A is not None:
+            _series_func(code, i, a, k, S, A, vals[i])
+
+
+@nb.njit(cache=True)
+def _series_func(code, i, a, k, S, A, e):
+    """Coefficient k of row i of the tape, a function of row a (e: a real power's
+    exponent)."""
+    if code == T_INV:                         # q p = 1
+        if k == 0:
+            S[i, 0] = 1.0 / S[a, 0]
+        else:
+            acc = 0.0
+            for j in range(1, k + 1):
+                acc += S[a, j] * S[i, k - j]
+            S[i, k] = -acc / S[a, 0]
+    elif code == T_POWC:                      # a q' = e a' q
+        if k == 0:
+            a0 = S[a, 0]
+            S[i, 0] = a0 ** e if a0 > 0.0 else (0.0 if a0 == 0.0 and e > 0.0 else math.nan)
+        else:
+            acc = 0.0
+            for j in range(1, k + 1):
+                acc += ((e + 1.0) * j - k) * S[a, j] * S[i, k - j]
+            S[i, k] = acc / (k * S[a, 0])
+    elif code == T_EXP:                       # q' = a' q
+        S[i, k] = math.exp(S[a, 0]) if k == 0 else _dconv(S, a, S, i, k)
+    elif code == T_LOG:                       # a q' = a'
+        if k == 0:
+            S[i, 0] = math.log(S[a, 0]) if S[a, 0] > 0.0 else math.nan
+        else:
+            acc = 0.0
+            for j in range(1, k):
+                acc += j * S[i, j] * S[a, k - j]
+            S[i, k] = (S[a, k] - acc / k) / S[a, 0]
+    elif code == T_SIN or code == T_COS or code == T_SINH or code == T_COSH:
+        # (s, c)' = a' (c, -+s); S holds the function, A its partner
+        hyp = code == T_SINH or code == T_COSH
+        first = code == T_SIN or code == T_SINH
+        if k == 0:
+            x = S[a, 0]
+            s0 = math.sinh(x) if hyp else math.sin(x)
+            c0 = math.cosh(x) if hyp else math.cos(x)
+            S[i, 0] = s0 if first else c0
+            A[i, 0] = c0 if first else s0
+        else:
+            sk = 0.0
+            ck = 0.0
+            for j in range(1, k + 1):
+                s_ = S[i, k - j] if first else A[i, k - j]
+                c_ = A[i, k - j] if first else S[i, k - j]
+                sk += j * S[a, j] * c_
+                ck += j * S[a, j] * s_
+            sk /= k
+            ck = ck / k if hyp else -ck / k
+            S[i, k] = sk if first else ck
+            A[i, k] = ck if first else sk
+    elif code == T_TAN or code == T_TANH:     # q' = a' w, w = 1 +- q^2
+        sgn = 1.0 if code == T_TAN else -1.0
+        if k == 0:
+            S[i, 0] = math.tan(S[a, 0]) if code == T_TAN else math.tanh(S[a, 0])
+            A[i, 0] = 1.0 + sgn * S[i, 0] * S[i, 0]
+        else:
+            S[i, k] = _dconv(S, a, A, i, k)
+            A[i, k] = sgn * _conv(S, i, i, 0, k)
+    elif code == T_SQRT:                      # q^2 = a
+        if k == 0:
+            S[i, 0] = math.sqrt(S[a, 0]) if S[a, 0] >= 0.0 else math.nan
+        else:
+            S[i, k] = (S[a, k] - _conv(S, i, i, 1, k)) / (2.0 * S[i, 0])
+    else:                                     # atan: w q' = a', w = 1 + a^2
+        A[i, k] = 1.0 + S[a, 0] * S[a, 0] if k == 0 else _conv(S, a, a, 0, k)
+        if k == 0:
+            S[i, 0] = math.atan(S[a, 0])
+        else:
+            acc = 0.0
+            for j in range(1, k):
+                acc += j * S[i, j] * A[i, k - j]
+            S[i, k] = (k * S[a, k] - acc) / (k * A[i, 0])
+
+
+@nb.njit(cache=True)
+def _coefficients(sy, tj, t, y, X):
+    """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y) (module
+    docstring), p = X.shape[1] - 1."""
+    Minv, K, C, P = sy[0], sy[1], sy[2], sy[3]
+    u, w, tau = sy[6], sy[8][0], sy[9][0]
+    tp, vals, roots, S, A, sn, cs, r = tj[0], tj[1], tj[2], tj[3], tj[4], tj[5], tj[6], tj[7]
+    dim = y.shape[0]
+    n = dim // 2
+    p = X.shape[1] - 1
+    nl = roots.shape[0] > 0
+    sn[0] = math.sin(w * t + tau)
+    cs[0] = math.cos(w * t + tau)
+    for i in range(dim):
+        X[i, 0] = y[i]
+    for k in range(p):
+        if k > 0:
+            sn[k] = w * cs[k - 1] / k
+            cs[k] = -w * sn[k - 1] / k
+        if nl:
+            _series(tp, vals, k, S, A, X, u, dim)
+        for i in range(n):
+            a = P[i] * sn[k]
+            if nl:
+                a -= S[roots[i], k]
+            for j in range(n):
+                a -= C[i, j] * X[n + j, k] + K[i, j] * X[j, k]
+            r[i] = a
+        for i in range(n):
+            a = 0.0
+            for j in range(n):
+                a += Minv[i, j] * r[j]
+            X[n + i, k + 1] = a / (k + 1)
+            X[i, k + 1] = X[n + i, k] / (k + 1)
+
+
+@nb.njit(cache=True)
+def _jorba_zou_h(X, hmax):
+    """Jorba & Zou's step from the last two coefficients (module docstring), at most hmax."""
+    p = X.shape[1] - 1
+    rho = 1.0
+    n1 = 0.0
+    n2 = 0.0
+    for i in range(X.shape[0]):
+        rho = max(rho, abs(X[i, 0]))
+        n1 = max(n1, abs(X[i, p - 1]))
+        n2 = max(n2, abs(X[i, p]))
+    rm = math.inf
+    if n1 > 0.0:
+        rm = (rho / n1) ** (1.0 / (p - 1))
+    if n2 > 0.0:
+        rm = min(rm, (rho / n2) ** (1.0 / p))
+    return min(hmax, rm * math.exp(-0.7 / (p - 1)) / (math.e * math.e))
+
+
+@nb.njit(cache=True)
+def _at(X, h, out, dout):
+    """out = y(t_n + h) and dout = y'(t_n + h) from the coefficients X (Horner)."""
+    p = X.shape[1] - 1
+    for i in range(X.shape[0]):
+        acc = X[i, p]
+        dacc = p * X[i, p]
+        for k in range(p - 1, -1, -1):
+            acc = acc * h + X[i, k]
+            if k > 0:
+                dacc = dacc * h + k * X[i, k]
+        out[i] = acc
+        dout[i] = dacc
+
+
+@nb.njit(cache=True)
+def _poly(g, th):
+    """(g(th), g'(th)) of the monomial coefficients g (Horner)."""
+    p = g.shape[0] - 1
+    v = g[p]
+    d = 0.0
+    for k in range(p - 1, -1, -1):
+        d = d * th + v
+        v = v * th + g[k]
+    return v, d
+
+
+@nb.njit(cache=True)
+def _refine(g, lo, hi, scale):
+    """The root of g in (lo, hi], g(lo) < 0 <= g(hi): Newton, kept in the bracket by
+    bisection, to 4e-16 scale in theta."""
+    glo, _ = _poly(g, lo)
+    ghi, _ = _poly(g, hi)
+    th = lo - glo * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+    for _ in range(60):
+        v, d = _poly(g, th)
+        if v == 0.0:
+            return th
+        if v < 0.0:
+            lo = th
+        else:
+            hi = th
+        nt = th - v / d if d != 0.0 else 0.5 * (lo + hi)
+        if not (lo < nt < hi):
+            nt = 0.5 * (lo + hi)
+        if abs(nt - th) <= 4e-16 * scale or hi - lo <= 4e-16 * scale:
+            return nt
+        th = nt
+    return th
+
+
+@nb.njit(cache=True)
+def _guard_coeffs(X, normals, c, gap, sign, h, g):
+    """g[k] = sign (c . x_k) h^k, less sign gap at k = 0: the guard's polynomial in theta."""
+    n = normals.shape[1]
+    hk = 1.0
+    for k in range(g.shape[0]):
+        acc = 0.0
+        for i in range(n):
+            if normals[c, i] != 0.0:
+                acc += normals[c, i] * X[i, k]
+        g[k] = sign * acc * hk
+        hk *= h
+    g[0] -= sign * gap
+
+
+@nb.njit(cache=True)
+def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
+    """Integrate from z (mass order, time 0) to the first contact of any constraint, or
+    t_max.  On an impact z is the state just before it.  Returns (status, t_e, constraint,
+    approach speed, h'' at the contact, steps).
+
+    cons: one row per constraint (mass index or -1, gap, sign); normals: its c (mass
+    order)."""
+    X, g, b, stackb, lo_hi, br, ye, yd = tj[8], tj[9], tj[10], tj[11], tj[12], tj[13], \
+        tj[14], tj[15]
+    dim = z.shape[0]
+    n = dim // 2
+    m = cons.shape[0]
+    p = X.shape[1] - 1
+    for i in range(dim):
+        ye[i] = z[i]
+    t = 0.0
+    steps = 0
+    first = True
+    while steps < MAX_STEPS:
+        if t >= t_max:
+            return cf.NO_IMPACT, t, -1, 0.0, 0.0, steps
+        _coefficients(sy, tj, t, ye, X)
+        h = _jorba_zou_h(X, hmax)
+        steps += 1
+        if not (math.isfinite(h) and h > 0.0):
+            return cf.NO_IMPACT, t, -2, 0.0, 0.0, steps
+        best = 2.0
+        bc = -1
+        for c in range(m):
+            _guard_coeffs(X, normals, c, cons[c, 1], cons[c, 2], h, g)
+            if first and c == just_hit:
+                for k in range(p):              # the guard starts at 0: look at g / theta
+                    g[k] = g[k + 1]
+                g[p] = 0.0
+            ub = g[0]
+            for k in range(1, p + 1):
+                ub += max(g[k], 0.0)
+            if not math.isfinite(ub):
+                return cf.NO_IMPACT, t, -2, 0.0, 0.0, steps
+            if ub < 0.0:                        # below 0 on [0, 1]: no contact
+                continue
+            _bernstein(g, b)
+            st = _first_bracket(b, stackb, lo_hi, br)
+            if st == 0 or br[0] >= best:
+                continue
+            if st == 1:
+                th = br[0]
+            elif st == 2:
+                th = _refine(g, br[0], br[1], 1.0 + t / h)
+            else:
+                th = 0.5 * (br[0] + br[1])
+            if th < best:
+                best = th
+                bc = c
+        if bc >= 0:
+            te = best * h
+            _at(X, te, z, yd)
+            vm = 0.0
+            acc = 0.0
+            for i in range(n):
+                vm += normals[bc, i] * z[n + i]
+                acc += normals[bc, i] * yd[n + i]
+            s = cons[bc, 2]
+            return cf.IMPACT, t + te, bc, s * vm, s * acc, steps
+        _at(X, h, ye, yd)
+        t += h
+        first = False
+    return cf.NO_IMPACT, t, -2, 0.0, 0.0, steps
+
+
+@nb.njit(cache=True)
+def _taylor_integrate(sy, tj, z, t_end, hmax):
+    """z(t_end) by the steps of :func:`_taylor_flight`, the last one cut to end there."""
+    X, ye, yd = tj[8], tj[14], tj[15]
+    for i in range(z.shape[0]):
+        ye[i] = z[i]
+    t = 0.0
+    while t < t_end:
+        _coefficients(sy, tj, t, ye, X)
+        h = min(_jorba_zou_h(X, hmax), t_end - t)
+        _at(X, h, ye, yd)
+        t = t + h if t_end - t > h else t_end
+    return ye.copy()
+
+
+def work(tape_, values, roots, dim, order=ORDER):
+    """The tape (:func:`tape`) and the scratch of the Taylor kernels: (tape, values, roots,
+    S, A (None without functions), sin and cos series, r, X, g, Bernstein b, its stack,
+    bracket, y, y')."""
+    L = tape_.shape[0]
+    q = order + 1
+    A = np.zeros((L, q)) if (tape_[:, 0] >= T_INV).any() else None
+    return (tape_, values, roots, np.zeros((L, q)), A, np.empty(q), np.empty(q),
+            np.empty(dim // 2), np.zeros((dim, q)), np.empty(q), np.empty(q),
+            np.empty((96, q)), np.empty((96, 2)), np.empty(2), np.empty(dim), np.empty(dim))
