@@ -169,11 +169,17 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
     assert o.names == ("v2+", "x1", "x3", "v1", "v3", "tau") and o.admissible
     assert j.d3.shape == (6, 6, 6, 6) and d.dJ_branch.shape == (6, 6)
     assert m["m2"].value("forcing[1]") == 0.3
-    # nonlinear forces: the Duffing oscillator's period-1 attractor, stiffer with beta
-    assert m["run"].stop == "completed" and m["duffing"].value("beta") == 0.5
-    assert m["run"].section[-1] == pytest.approx([-1.24067276, 1.65383342], abs=1e-8)
-    assert m["stiffer"].section[-1][0] == pytest.approx(-1.16087092, abs=1e-8)
+    # nonlinear forces: the Duffing oscillator's period-1 orbit and its branch's points
+    assert m["run"].stop == "completed" and m["duffing"].value("beta") == 0.2
+    assert m["orbit"].impact_velocities[0] == pytest.approx(0.6040666637, abs=1e-9)
+    assert abs(m["orbit"].multipliers[0]) == pytest.approx(0.753099, abs=1e-6)
+    got = sorted((s.value, s.kind) for s in m["branch"].special)
+    assert [k for _, k in got] == ["fold", "flip", "fold"]
+    assert [w for w, _ in got] == pytest.approx([2.50033192, 2.74735426, 2.89981144], abs=1e-8)
+    c = {k: s.coefficients for s in m["branch"].special for k in [s.kind]}
+    assert c["flip"]["c"] == pytest.approx(6.9546, abs=1e-4)
     assert "completed" in out_of("symvi simulate --model duffing.toml")
+    assert "2.747354261" in out_of("symvi continue --model duffing.toml --range omega=2.2:3.2")
     hopf = out_of("symvi hopf --model chain3.toml --range omega=0.99:1.06")
     assert "0.99971142" in hopf and "1.0459583" in hopf
     # the study: a report from a scene file, then every part from the cache
