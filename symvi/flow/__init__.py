@@ -27,7 +27,7 @@ def check_omega(system, omega, name="omega", warn=True):
     from .linear import LinearFlow
     model = Model.of(system)
     if model.nonlinear is not None:           # its range; no steady state to resonate
-        from .nljet import check_range
+        from .linear import check_range
         return check_range(omega, name)
     return LinearFlow.free(model).check_omega(omega, name, warn=warn)
 

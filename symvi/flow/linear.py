@@ -383,13 +383,7 @@ class LinearFlow:
         mass-scaled), which is |omega - omega_j| / omega_j for an undamped mode
         to first order; refused below 1e-10, warned about below 1e-4.
         """
-        try:
-            w = float(omega)
-        except (TypeError, ValueError):
-            raise ParameterError(name, omega, "a finite real number > 0") from None
-        lo, hi = OMEGA_RANGE
-        if not (math.isfinite(w) and lo <= w <= hi):
-            raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
+        w = check_range(omega, name)
         rel, j = _memo(self._resonance_cache, w, lambda: _resonance(
             self.model, w, self if self.active is not None else None))
         wj = float(self.omegas[j])
@@ -722,6 +716,21 @@ def _resonance(model, w, flow=None):
     Kt, Ct = flow.mass_scaled
     smin = np.linalg.svd(Kt - w * w * np.eye(flow.n) + 1j * w * Ct, compute_uv=False)[-1]
     return smin / (2 * w * w), j
+
+
+def check_range(omega, name="omega"):
+    """omega as a float, finite and in OMEGA_RANGE, else a one-line ParameterError naming
+    ``name``: the whole check of a nonlinear model's omega (a forcing resonance of its
+    linear part is no singularity of its numerical flow), the first of a linear one's
+    (:meth:`LinearFlow.check_omega`)."""
+    try:
+        w = float(omega)
+    except (TypeError, ValueError):
+        raise ParameterError(name, omega, "a finite real number > 0") from None
+    lo, hi = OMEGA_RANGE
+    if not (math.isfinite(w) and lo <= w <= hi):
+        raise ParameterError(name, omega, f"{lo:g} <= {name} <= {hi:g}")
+    return w
 
 
 @dataclass(frozen=True)

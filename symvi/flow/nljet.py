@@ -32,7 +32,7 @@ from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError, SingularCaseError
 from . import tps
 from .nonlinear import (_A, _B, _C, _E3, _E5, _NS, ATOL, MAX_STACK, OP_ADD, OP_CONST,
-                        OP_FUNC, OP_MUL, OP_POW, OP_POWI, OP_VAR, RTOL)
+                        OP_MUL, OP_POW, OP_POWI, OP_VAR, RTOL)
 
 #: steps of one series flight before it gives up
 MAX_STEPS = 200_000
@@ -102,7 +102,7 @@ def _field(sy, time, Y, out):
      MI, MJ, MK, r, g, w) = sy
     n = P.shape[0]
     L = Y.shape[1]
-    tmp, tmp2, u, res, ph, sn = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5]
+    tmp, u, res, ph, sn = ws[0], ws[2], ws[3], ws[4], ws[5]
     for i in range(2 * n):
         for j in range(L):
             U[i, j] = Y[i, j]
@@ -137,12 +137,7 @@ def _solve_mass(sy, dst):
      MI, MJ, MK, r, g, w) = sy
     n = P.shape[0]
     L = r.shape[1]
-    for i in range(n):
-        for j in range(L):
-            acc = 0.0
-            for q in range(n):
-                acc += Minv[i, q] * r[q, j]
-            dst[i, j] = acc
+    _rows(Minv, r, dst)
     mass_moves = False
     for i in range(n):
         for q in range(n):
@@ -151,25 +146,24 @@ def _solve_mass(sy, dst):
         return
     tmp = ws[0]
     for _ in range(Kord):
-        for i in range(n):
-            for j in range(L):
-                acc = 0.0
-                for q in range(n):
-                    acc += dM[i, q] * dst[q, j]
-                g[i, j] = acc
+        _rows(dM, dst, g)
         for i in range(n):
             tps.mul(g[i], pvar, tmp, MI, MJ, MK)
             for j in range(L):
                 g[i, j] = r[i, j] - tmp[j]
-        for i in range(n):
-            for j in range(L):
-                acc = 0.0
-                for q in range(n):
-                    acc += Minv[i, q] * g[q, j]
-                w[i, j] = acc
-        for i in range(n):
-            for j in range(L):
-                dst[i, j] = w[i, j]
+        _rows(Minv, g, dst)
+
+
+@nb.njit(cache=True)
+def _rows(A, X, out):
+    """out = A X for series rows X (n, L); out distinct from X."""
+    n, L = X.shape
+    for i in range(n):
+        for j in range(L):
+            acc = 0.0
+            for q in range(n):
+                acc += A[i, q] * X[q, j]
+            out[i, j] = acc
 
 
 # --------------------------------------------------------------------------- the flight
@@ -521,21 +515,6 @@ def map_jet(view, omega, y, T, order, start=0, end=0, *, param=None):
 
 
 # --------------------------------------------------------------------------- the view
-def check_range(omega, name="omega"):
-    """omega as a float, finite and in OMEGA_RANGE, else a one-line ParameterError: the
-    check of a nonlinear model (a forcing resonance of its linear part is no singularity
-    of the nonlinear flow)."""
-    from ..numerics.tolerances import OMEGA_RANGE
-    try:
-        w = float(omega)
-    except (TypeError, ValueError):
-        raise ParameterError(name, omega, "a finite real number > 0") from None
-    lo, hi = OMEGA_RANGE
-    if not (math.isfinite(w) and lo <= w <= hi):
-        raise ParameterError(name, omega, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
-    return w
-
-
 class NonlinearForcing:
     """The forcing of a nonlinear flow at omega: the frequency alone (no steady state)."""
 
@@ -582,6 +561,7 @@ class FlowView:
         raise AttributeError(name)
 
     def check_omega(self, omega, name="omega", warn=True):
+        from .linear import check_range
         return check_range(omega, name)
 
     def forcing(self, omega):

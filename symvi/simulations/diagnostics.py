@@ -438,8 +438,6 @@ def classify(sim, *, max_period=400, tol=1e-7, lyap_points=4000,
     :meth:`symvi.model.Signature.names`), the rest is judged on the entries into the stop
     met most often.
     """
-    from ..errors import ParameterError
-    from ..model import Model
     from . import classifier as cl
     if sim.stop != "completed":
         code = cl.code_of_stop(cf.STOP_NAMES.index(sim.stop))

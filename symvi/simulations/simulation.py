@@ -327,13 +327,11 @@ def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     on the solution's polynomial), the same records and stop reasons as the compiled run.
     Without ``y0`` it starts from :func:`default_start` (no period-1 orbit in closed form to
     start near)."""
+    from ..flow.linear import check_range
     from ..flow.nonlinear import NonlinearFlow
-    from ..maps import Section
-    from ..numerics.tolerances import OMEGA_RANGE
-    lo, hi = OMEGA_RANGE
-    if not (isinstance(omega, (int, float, np.floating)) and not isinstance(omega, bool)
-            and math.isfinite(omega) and lo <= omega <= hi):
-        raise ParameterError("omega", omega, f"a forcing frequency {lo:g} <= omega <= {hi:g}")
+    if isinstance(omega, (bool, str)):
+        raise ParameterError("omega", omega, "a finite real number > 0")
+    omega = check_range(omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
     flow = NonlinearFlow(model)                   # refuses what it cannot run yet

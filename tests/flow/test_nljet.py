@@ -12,7 +12,6 @@ from symvi.codegen.high import high_jet
 from symvi.codegen.jets import jet_at, parameter_derivatives
 from symvi.flow import nljet, tps
 from symvi.flow.nljet import FlowView
-from symvi.flow.nonlinear import NonlinearFlow
 from symvi.model import Model, Stop
 from symvi.orbits.period1 import admissible_orbits
 
