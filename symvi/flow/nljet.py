@@ -3,25 +3,29 @@
 The flight of :mod:`symvi.flow.nonlinear`, M x'' + C x' + K x + f(x, v) = P sin(omega t +
 tau), is integrated on truncated power series (:mod:`symvi.flow.tps`) in the variables
 delta: the start's free coordinates, the phase tau, and optionally omega and one named
-parameter p.  The same DOP853 steps as the flow's (:data:`symvi.flow.nonlinear._A` ...),
-with the error norm over every coefficient (:func:`_error`).  The result is the flow's jet z(T; delta) at a
-fixed time T to order K.
+parameter p.  The integrator is DOP853 (the coefficients :mod:`symvi.flow.nonlinear`
+keeps beside its Taylor method, which runs the trajectories; a Taylor method on series
+is a later step), with the error norm over every coefficient (:func:`_error`).  The
+result is the flow's jet z(T; delta) at a fixed time T to order K.
 
 The impact (eqs. (28)-(30) of the paper, generalised).  At the end the flight goes on in
 the time shift s: Z(s; delta) = z(T) + int_0^s F(Z, T + sigma) d sigma by K + 1 Picard
 iterations on series in (delta, s), exact to order K.  The impact time T + S(delta) solves
-h(Z(S(delta); delta)) = 0 for the guard h = sign (x_k - b), by K Newton iterations on
-series (each gains an order; dh/ds at delta = 0 is the approach speed, nonzero off
-grazing).  Then z-(delta) = Z(S(delta); delta), the reset v+ = R v-, and the section
-point (x_k = b, the other coordinates in the section's layout, the phase tau + omega (T +
-S)).  Its series are the jet of the impact map P to order K: raw derivative tensors by
+h(Z(S(delta); delta)) = 0 for the guard h = g . x - level of the constraint the flight
+ends on, by K + 1 Newton iterations on series (each gains an order; dh/ds at delta = 0 is
+the approach speed, nonzero off grazing).  Then z-(delta) = Z(S(delta); delta), the reset
+v+ = R v-, and the section point on that constraint (the coordinates in its section's
+layout, the phase tau + omega (T + S)).  Guards, levels, resets and layouts are the
+linear part's flow's, in its (flow) order (:class:`FlowView`).  Its series are the jet of
+the impact map P to order K: raw derivative tensors by
 :meth:`symvi.flow.tps.Algebra.tensor`, as the generated jets of the linear flow give them
 (:mod:`symvi.codegen.jets`).
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 r by K fixed-point sweeps w = M^-1 (r - p dM w)), the gap b of a stop
-(the start's position and the guard's level) and its restitution (the reset).
+p dM, ...; M(p)^-1 r by K fixed-point sweeps w = M^-1 (r - p dM w)).  A gap or a
+restitution is refused by name (their series would enter the start, the guard's level and
+the reset: a later step).
 """
 import math
 
