@@ -589,20 +589,20 @@ class FlowView:
         return _Motion(self, forcing.omega, self.S @ z0, float(tau))
 
     def step(self, forcing, y, k=0):
-        """(status, t, y') of the impact map from section point y of constraint k."""
-        nl, dim = self.nl, 2 * self.n
-        z = np.empty(dim)
-        z[int(nl.cons[k, 0])] = nl.cons[k, 1]
-        for i in range(dim - 1):
-            z[nl.sidx[k, i]] = y[i]
-        st, te, c, ze = nl.first_impact(forcing.omega, z, float(y[-1]), just_hit=k)
+        """(status, t, y', constraint met) of the impact map from section point y of
+        constraint k, in the flow order's section layouts (:attr:`frames`)."""
+        n, dim = self.n, 2 * self.n
+        w = np.empty(dim)
+        w[self.positions[k]] = self.rows[k][1]
+        w[self.frames[k]] = y[:-1]
+        st, te, c, ze = self.nl.first_impact(forcing.omega, self.S @ w, float(y[-1]),
+                                             just_hit=k)
         if st != "impact":
             return st, te, None, c
-        v = nl.R[c] @ ze[self.n:]
-        ze = ze.copy()
-        ze[self.n:] = v
-        ze[int(nl.cons[c, 0])] = nl.cons[c, 1]
-        y1 = np.append(ze[nl.sidx[c]], float(y[-1]) + forcing.omega * te)
+        z = self.Sinv @ ze
+        z[n:] = self.rows[c][3 + n:].reshape(n, n) @ z[n:]
+        z[self.positions[c]] = self.rows[c][1]
+        y1 = np.append(z[self.frames[c]], float(y[-1]) + forcing.omega * te)
         return st, te, y1, c
 
 
@@ -622,11 +622,10 @@ class _Motion:
 
     def first_impact(self, t_max=None, max_steps=None):
         from .linear import GRAZING, IMPACT, NO_IMPACT, FirstImpact
-        nl = self.view.nl
-        k = -1
-        for c in range(len(nl.cons)):              # the constraint z0 lies on, if any
-            if abs(self.z0[int(nl.cons[c, 0])] - nl.cons[c, 1]) <= 1e-12 * max(
-                    1.0, abs(nl.cons[c, 1])):
+        view, nl = self.view, self.view.nl
+        zf, k = view.Sinv @ self.z0, -1
+        for c, row in enumerate(view.rows):        # the constraint z0 lies on, if any
+            if abs(zf[view.positions[c]] - row[1]) <= 1e-12 * max(1.0, abs(row[1])):
                 k = c
         st, te, c, ze = nl.first_impact(self.omega, self.z0, self.tau, t_max=t_max,
                                         just_hit=k)

@@ -166,3 +166,26 @@ def test_the_ns_coefficient_predicts_the_simulated_circle():
         errors.append(abs(np.linalg.norm(half) / np.linalg.norm(pred) - 1))
     assert errors[0] < 0.08
     assert 1.3 < errors[1] / errors[0] < 3.0
+
+
+def test_nonlinearity_off_orbit_of_a_stop_between_masses():
+    """An impact between two masses (the flow's frame q = T x): with beta = 0 the series
+    orbit is the exact flow's 1-2 orbit to 1e-12, its multipliers too, and the eigenvalues
+    of its composed jet's Jacobian are those multipliers."""
+    from symvi.simulations.simulation import default_start
+    kw = dict(mass=[1.0, 0.5], stiffness=[[2.0, -1.0], [-1.0, 1.0]],
+              damping=[[0.05, 0.0], [0.0, 0.05]], forcing=[1.0, 0.0],
+              stops=[Stop(between=(1, 2), gap=0.3, restitution=0.7)])
+    lin = Model(**kw)
+    nl = Model(**kw, nonlinear=["beta*(x1-x2)**3", "-beta*(x1-x2)**3"],
+               parameters={"beta": 0.0})
+    w = 1.2
+    sim = symvi.simulate(lin, w, y0=default_start(lin, w), n_impacts=40, transient=2000)
+    assert detect_period(sim) == (1, 2)
+    ref = periodic_orbit(lin, n=1, p=2, guess=sim, omega=w)
+    got = periodic_orbit(nl, n=1, p=2, guess=sim, omega=w)
+    assert got.admissible and ref.admissible
+    assert np.max(np.abs(np.subtract(got.y, ref.y))) < 1e-12
+    assert np.max(np.abs(np.subtract(got.multipliers, ref.multipliers))) < 1e-12
+    mu = sorted(np.linalg.eigvals(got.jet(3)[0]), key=lambda z: (-abs(z), -z.imag))
+    assert np.max(np.abs(np.subtract(mu, got.multipliers))) < 1e-11
