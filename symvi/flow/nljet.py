@@ -35,8 +35,9 @@ import numpy as np
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError, SingularCaseError
 from . import tps
-from .nonlinear import (_A, _B, _C, _E3, _E5, _NS, ATOL, MAX_STACK, OP_ADD, OP_CONST,
-                        OP_MUL, OP_POW, OP_POWI, OP_VAR, RTOL)
+from .nonlinear import (_A, _B, _C, _NS, ATOL, MAX_STACK, OP_ADD, OP_CONST, OP_MUL, OP_POW,
+                        OP_POWI, OP_VAR, RTOL, _combine)
+from .nonlinear import _error as _flat_error
 
 #: steps of one series flight before it gives up
 MAX_STEPS = 200_000
@@ -173,50 +174,30 @@ def _rows(A, X, out):
 # --------------------------------------------------------------------------- the flight
 @nb.njit(cache=True)
 def _dop853(sy, t, Y, h, Kst, Ynew, tmp, tser):
-    """One DOP853 step on series (:func:`symvi.flow.nonlinear._dop853` on numbers)."""
-    dim, L = Y.shape
+    """One DOP853 step on series (:func:`symvi.flow.nonlinear._dop853` on numbers, its
+    stage sums :func:`symvi.flow.nonlinear._combine` on the flattened rows)."""
+    m = Y.size
+    Yf, Nf, Tf = Y.reshape(m), Ynew.reshape(m), tmp.reshape(m)
+    Kf = Kst.reshape((Kst.shape[0], m))
     for s in range(1, _NS):
-        for i in range(dim):
-            for j in range(L):
-                acc = 0.0
-                for q in range(s):
-                    acc += _A[s, q] * Kst[q, i, j]
-                tmp[i, j] = Y[i, j] + h * acc
+        _combine(Yf, h, Kf, _A[s], s, Tf)
         tser[0] = t + _C[s] * h
         _field(sy, tser, tmp, Kst[s])
-    for i in range(dim):
-        for j in range(L):
-            acc = 0.0
-            for q in range(_NS):
-                acc += _B[q] * Kst[q, i, j]
-            Ynew[i, j] = Y[i, j] + h * acc
+    _combine(Yf, h, Kf, _B, _NS, Nf)
     tser[0] = t + h
     _field(sy, tser, Ynew, Kst[_NS])
 
 
 @nb.njit(cache=True)
 def _error(Kst, Y, Ynew, h):
-    """DOP853's error norm over every coefficient of every component: each order of the
+    """DOP853's error norm over every coefficient of every component
+    (:func:`symvi.flow.nonlinear._error` on the flattened rows): each order of the
     variational equations to the flow's tolerance.  (On the state alone the steps were 66
     for 92 a period of the Duffing benchmark, but the third derivatives of a nonlinear map
     drifted to 1e-11 of the independent chain's; over every coefficient 1e-13.)"""
-    dim, L = Y.shape
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(dim):
-        for j in range(L):
-            sc = ATOL + RTOL * max(abs(Y[i, j]), abs(Ynew[i, j]))
-            a5 = 0.0
-            a3 = 0.0
-            for q in range(_NS + 1):
-                a5 += _E5[q] * Kst[q, i, j]
-                a3 += _E3[q] * Kst[q, i, j]
-            e5 += (a5 / sc) ** 2
-            e3 += (a3 / sc) ** 2
-    den = (e5 + 0.01 * e3) * dim * L
-    if den == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt(den)
+    m = Y.size
+    return _flat_error(Kst.reshape((Kst.shape[0], m)), Y.reshape(m), Ynew.reshape(m), h,
+                       RTOL, ATOL)
 
 
 @nb.njit(cache=True)

@@ -111,22 +111,25 @@ def _rhs(sy, t, y, out):
 
 
 @nb.njit(cache=True)
+def _combine(y, h, K, coef, m, out):
+    """out = y + h sum_{q < m} coef[q] K[q]: a stage's argument (coef = _A[s], m = s) or
+    the step's end (_B, _NS); the series flights of :mod:`symvi.flow.nljet` pass their
+    rows flattened."""
+    for i in range(y.shape[0]):
+        acc = 0.0
+        for q in range(m):
+            acc += coef[q] * K[q, i]
+        out[i] = y[i] + h * acc
+
+
+@nb.njit(cache=True)
 def _dop853(sy, t, y, h, Kst, ynew, tmp):
     """One DOP853 step of size h from (t, y), Kst[0] = f(t, y) given: ynew and the stages
     Kst[0.._NS] (the last: f at the end)."""
-    dim = y.shape[0]
     for s in range(1, _NS):
-        for i in range(dim):
-            acc = 0.0
-            for j in range(s):
-                acc += _A[s, j] * Kst[j, i]
-            tmp[i] = y[i] + h * acc
+        _combine(y, h, Kst, _A[s], s, tmp)
         _rhs(sy, t + _C[s] * h, tmp, Kst[s])
-    for i in range(dim):
-        acc = 0.0
-        for j in range(_NS):
-            acc += _B[j] * Kst[j, i]
-        ynew[i] = y[i] + h * acc
+    _combine(y, h, Kst, _B, _NS, ynew)
     _rhs(sy, t + h, ynew, Kst[_NS])
 
 
@@ -160,11 +163,7 @@ def _dense(sy, t, y, ynew, h, Kst, Kx, F, tmp):
         for i in range(dim):
             Kx[s, i] = Kst[s, i]
     for s in range(_NS + 1, _NX):
-        for i in range(dim):
-            acc = 0.0
-            for j in range(s):
-                acc += _A[s, j] * Kx[j, i]
-            tmp[i] = y[i] + h * acc
+        _combine(y, h, Kx, _A[s], s, tmp)
         _rhs(sy, t + _C[s] * h, tmp, Kx[s])
     for i in range(dim):
         dy = ynew[i] - y[i]

@@ -43,7 +43,7 @@ import numpy as np
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from . import compiled as cf
 from ._hull import _bernstein, _first_bracket
-from ._program import FUNCS, OP_ADD, OP_CONST, OP_FUNC, OP_MUL, OP_POW, OP_POWI, OP_VAR
+from ._program import FUNCS, OP_ADD, OP_CONST, OP_MUL, OP_POW, OP_POWI, OP_VAR
 
 #: the truncation error a step aims at (relative to max(1, |y|)): double precision
 EPS = 2.0 ** -52
