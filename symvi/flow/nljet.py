@@ -500,6 +500,9 @@ def map_jet(view, omega, y, T, order, start=0, end=0, *, param=None):
 
 
 # --------------------------------------------------------------------------- the view
+_VIEWS = {}
+
+
 class NonlinearForcing:
     """The forcing of a nonlinear flow at omega: the frequency alone (no steady state)."""
 
@@ -539,6 +542,13 @@ class FlowView:
         self.rows = [np.asarray(r, dtype=float) for r in lin.constraint_rows()]
         self.positions = tuple(int(r[0]) for r in self.rows)
         self.frames = tuple(section_index(model.n, q) for q in self.positions)
+
+    @classmethod
+    def of(cls, model):
+        """The view of ``model``, built once (its flows and tables; cached like
+        :meth:`LinearFlow.of`)."""
+        from .linear import _memo
+        return _memo(_VIEWS, model, lambda: cls(model), size=64)
 
     def __getattr__(self, name):
         if name in FlowView.GEOMETRY:

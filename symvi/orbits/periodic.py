@@ -820,19 +820,7 @@ def free_flow(model):
     if model.nonlinear is None:
         return LinearFlow.free(model)
     from ..flow.nljet import FlowView
-    return _memo_view(model, FlowView)
-
-
-_VIEWS = {}
-
-
-def _memo_view(model, make):
-    v = _VIEWS.get(model)
-    if v is None:
-        if len(_VIEWS) > 64:
-            _VIEWS.clear()
-        v = _VIEWS[model] = make(model)
-    return v
+    return FlowView.of(model)
 
 
 def _admissible_stops(problem, fl, flow, F, T):
