@@ -138,29 +138,23 @@ def _logs(sim, n=None):
 
 def _series_logs(model, omega, sec, te, hits=None):
     """:func:`_qr_logs_model` of a model with nonlinear forces: DP of each flight from its
-    first-order series (:func:`symvi.flow.nljet.map_jet`, ~0.5 ms a flight), the same QR
-    steps in numpy; an impact without approach speed gives NaN (grazing)."""
+    first-order series (:func:`symvi.flow.nljet.map_jet`, ~0.5 ms a flight) through the QR
+    method of :func:`_qr_mats`; from a flight without approach speed on (grazing) the
+    logs are NaN, which :func:`_logs` refuses."""
     from ..errors import SingularCaseError
     from ..flow.nljet import FlowView, map_jet
-    flow = FlowView(model)
+    view = FlowView.of(model)
     m, d = len(te), sec.shape[1]
     if hits is None:
         hits = np.zeros(m + 1, dtype=np.int64)
-    logs = np.empty((m, d))
-    Q = np.eye(d)
+    mats = np.full((m, d, d), np.nan)
     for k in range(m):
         try:
-            J = map_jet(flow, float(omega), sec[k], float(te[k]), 1, int(hits[k]),
-                        int(hits[k + 1]))["J"]
+            mats[k] = map_jet(view, float(omega), sec[k], float(te[k]), 1, int(hits[k]),
+                              int(hits[k + 1]))["J"]
         except SingularCaseError:
-            logs[k:] = np.nan
             break
-        Q, R = np.linalg.qr(J @ Q)
-        sg = np.sign(np.diag(R))
-        sg[sg == 0] = 1.0
-        Q, R = Q * sg, (R.T * sg).T
-        logs[k] = np.log(np.abs(np.diag(R)))
-    return logs
+    return _qr_mats(mats)
 
 
 def _qr_logs_model(params, omega, sec, te, hits=None):
