@@ -750,8 +750,6 @@ def admissible(problem, fl, flow, F, T):
     if problem.elastic:
         return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T)
     if len(problem.model.constraints) > 1:
-        if problem.nonlinear:
-            return _admissible_series(problem, fl, flow, F, T)
         return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
     for i, (z0, tau, z, *_rest) in enumerate(fl):
@@ -799,20 +797,6 @@ class _ContactHit:
         self.t, self.steps, self.constraint = hit.t, hit.steps, hit.guard
 
 
-def _admissible_series(problem, fl, flow, F, T):
-    """:func:`_admissible_stops` of a nonlinear model: its flow watches every guard."""
-    ends, N, p = problem._ends(flow), problem.N, problem.p
-    rows = _table(flow)
-    for i, (z0, tau, z, *_rest) in enumerate(fl):
-        ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
-        ok, why = check_flight(flow.motion(F, z0, tau).first_impact, T[i],
-                               float(rows[ka][3:3 + N] @ z0[N:]), float(ends[i][1] @ z[N:]),
-                               mass=None, flight=i + 1, stops=(ka, kb))
-        if not ok:
-            return ok, why
-    return True, ""
-
-
 def free_flow(model):
     """The free flight of ``model`` as the shooting system reads it: the exact linear flow
     (:meth:`LinearFlow.free`), or for nonlinear forces the series' view of the nonlinear
@@ -824,15 +808,17 @@ def free_flow(model):
 
 
 def _admissible_stops(problem, fl, flow, F, T):
-    # the Python finder watches one guard: every guard is the compiled finder's
-    finder = _shooting.CompiledFinder(flow)
+    """:func:`admissible` with several constraints: a finder that watches every guard, the
+    compiled one (the Python finder watches one guard) or a nonlinear flow's own."""
+    finder = None if problem.nonlinear else _shooting.CompiledFinder(flow)
     ends, N, p = problem._ends(flow), problem.N, problem.p
     rows = _table(flow)
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
         ga = rows[ka][3:3 + N]
-        y = np.append(z0[problem.frames[ka]], tau)
-        ok, why = check_flight(finder.motion_from(F, y, ka).first_impact, T[i],
+        first = (flow.motion(F, z0, tau) if finder is None else
+                 finder.motion_from(F, np.append(z0[problem.frames[ka]], tau), ka))
+        ok, why = check_flight(first.first_impact, T[i],
                                float(ga @ z0[N:]), float(ends[i][1] @ z[N:]), mass=None,
                                flight=i + 1, stops=(ka, kb))
         if not ok:
