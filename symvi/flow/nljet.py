@@ -358,6 +358,11 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         pslot = _force_slot(flow.model, param)
         if pslot is None:
             tangent = param.tangent(flow.model)
+            if tangent.db or tangent.dr:       # they move the start, the level, the reset
+                raise ParameterError("param", param.name, "omega, a parameter of the "
+                                     "forces or an entry of M, K, C, P (a gap or a "
+                                     "restitution with nonlinear forces: a later step of "
+                                     "issue 28)")
     sys = _System(flow, alg, om_s, tau_s, pvar, tangent, pslot)
     Kst = np.zeros((_NS + 1, dim, alg.L))
     steps = _integrate(sys.sy, Y, float(T), flow.hmax(omega), Kst, np.zeros_like(Y),
@@ -422,10 +427,6 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     alg, Y, sys, (tangent, pvar, ip) = flight_series(
         flow, omega, S @ w0, float(y[-1]), T, order, S @ E, omega_var=omega_var,
         param=param)
-    if tangent is not None and (tangent.db or tangent.dr):
-        raise ParameterError("param", param.name, "omega, a parameter of the forces or an "
-                             "entry of M, K, C, P (a gap's or a restitution's jets with "
-                             "nonlinear forces: a later step of issue 28)")
     big, emb, src, dst, div, spow, sidx = _bigger(alg)
     # the field on series in (delta, s)
     om_b = np.zeros(big.L)

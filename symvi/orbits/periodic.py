@@ -351,12 +351,12 @@ class Problem:
         phase's flow moves with its constraints' stiffness and damping (K_S, C_S) and its
         offset zs = K_S^-1 f_S with their gaps too (:func:`phase_tangent`)."""
         name = self.model.parameter(name)
+        if self.nonlinear:
+            return self._dparam_series(fl, flow, F, T, name)
         d, p, bk, N = self.d, self.p, flow.bk, self.N
         out = np.zeros(self.size)
         ends = self._ends(flow)
         phases = self.phase_flows(model, flow, F)
-        if self.nonlinear:
-            return self._dparam_series(fl, model, flow, F, T, name, out)
         if name.is_forcing_frequency:
             for i, (z0, tau, z, Phi, dzt, dzdt) in enumerate(fl):
                 E, g, _ = ends[i]
@@ -393,17 +393,12 @@ class Problem:
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
 
-    def _dparam_series(self, fl, model, flow, F, T, name, out):
+    def _dparam_series(self, fl, flow, F, T, name):
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
-        series (:meth:`symvi.flow.nljet.FlowView.flight`); a gap or a restitution, which
-        move the section and the reset, are refused by name for now."""
+        series (:meth:`symvi.flow.nljet.FlowView.flight`, which refuses a gap or a
+        restitution by name for now: they move the section and the reset)."""
         d, p, N = self.d, self.p, self.N
-        if not name.is_forcing_frequency and name.name not in model._nl.names:
-            tan = name.tangent(model)
-            if tan.db or tan.dr:
-                raise ParameterError("param", name.name, "omega, a named force parameter "
-                                     "or an entry of M, K, C, P (a gap or a restitution "
-                                     "of a nonlinear model: a later step of issue 28)")
+        out = np.zeros(self.size)
         ends = self._ends(flow)
         mine = self.parameter is not None and name.name == self.parameter.name
         for i, (z0, tau, z, *rest) in enumerate(fl):
