@@ -104,7 +104,7 @@ def _field(sy, time, Y, out):
     """Y' = (v, M(p)^-1 (P(p) sin(omega t + tau) - C(p) v - K(p) x - f(x, v))) on series;
     ``time`` the series of t (a number, or T + s)."""
     (Minv, K, C, P, dM, dK, dC, dP, ops, off, U, stack, omega, tau, pvar, moves, ws, c, Kord,
-     MI, MJ, MK, r, g, w) = sy
+     MI, MJ, MK, r, g) = sy
     n = P.shape[0]
     L = Y.shape[1]
     tmp, u, res, ph, sn = ws[0], ws[2], ws[3], ws[4], ws[5]
@@ -139,7 +139,7 @@ def _field(sy, time, Y, out):
 def _solve_mass(sy, dst):
     """dst = M(p)^-1 r (r in sy): M^-1 r, then K sweeps w = M^-1 (r - p dM w) when dM != 0."""
     (Minv, K, C, P, dM, dK, dC, dP, ops, off, U, stack, omega, tau, pvar, moves, ws, c, Kord,
-     MI, MJ, MK, r, g, w) = sy
+     MI, MJ, MK, r, g) = sy
     n = P.shape[0]
     L = r.shape[1]
     _rows(Minv, r, dst)
@@ -296,8 +296,7 @@ class _System:
                    np.ascontiguousarray(model.forcing, float), dM, dK, dC, dP,
                    flow.ops, flow.off, U, np.zeros((MAX_STACK + 1, L)), omega, tau,
                    pvar if pvar is not None else np.zeros(L), bool(moves), ws,
-                   np.zeros(alg.K + 1), alg.K, *alg.mul, np.zeros((n, L)), np.zeros((n, L)),
-                   np.zeros((n, L)))
+                   np.zeros(alg.K + 1), alg.K, *alg.mul, np.zeros((n, L)), np.zeros((n, L)))
 
 
 def _series(alg, value, var=None):
