@@ -37,10 +37,12 @@ def _bernstein(p, b):
     """Bernstein coefficients b (degree d = len(p) - 1, on [0, 1]) of the monomial
     coefficients p."""
     d = p.shape[0] - 1
-    for k in range(d + 1):
+    for i in range(d + 1):                  # p_i / C(d, i) once (b as scratch)
+        b[i] = p[i] / _BINOM[d, i]
+    for k in range(d, -1, -1):              # b_k reads b_i, i <= k, not yet overwritten
         acc = 0.0
         for i in range(k + 1):
-            acc += _BINOM[k, i] / _BINOM[d, i] * p[i]
+            acc += _BINOM[k, i] * b[i]
         b[k] = acc
 
 

@@ -67,21 +67,67 @@ def test_an_integer_power_at_zero_is_zero():
     assert np.array_equal(_series_of(flow, X)[0], [0, 0, 0, 1, 0, 0, 0, 0])
 
 
-def test_the_order_and_one_step_reach_the_unit_roundoff():
-    """Jorba & Zou's order for double precision is 20, and one step of their size on the
-    undamped, unforced linear oscillator x'' + x = 0 lands on (cos h, -sin h) to 4e-16."""
-    assert taylor.ORDER == 20
+def test_the_step_rule_and_one_step_reach_the_unit_roundoff():
+    """On the undamped, unforced linear oscillator x'' + x = 0 from (1, 0) the last two
+    coefficients are 1/p! and 1/(p-1)!, so the step is exp(-0.7/(p-1)) min_j (TOL j!)^(1/j)
+    over j = p-1, p (module docstring); one step of that size lands on (cos h, -sin h) to
+    4e-16 though h > 2."""
     m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.0]], forcing=[0.0],
               stop=Stop(mass=1, gap=5.0, restitution=0.8), nonlinear=["0*x1"])
     flow = nl.NonlinearFlow(m)
     tj = flow._taylor_work()
     X = tj[8]
-    taylor._coefficients(flow._system(1.0, 0.0), tj, 0.0, np.array([1.0, 0.0]), X)
+    sy = flow._system(1.0, 0.0)
+    taylor._prepare(sy, tj)
+    taylor._coefficients(sy, tj, 0.0, np.array([1.0, 0.0]), X)
     h = taylor._jorba_zou_h(X, 10.0)
-    assert 0.5 < h < 2.0                    # rho_m = (20!)^(1/20) ~ 8.3: h ~ 1.08
-    y, dy = np.empty(2), np.empty(2)
-    taylor._at(X, h, y, dy)
+    p = taylor.ORDER
+    rule = math.exp(-0.7 / (p - 1)) * min(math.exp((math.log(taylor.TOL) + math.lgamma(j + 1))
+                                                   / j) for j in (p - 1, p))
+    assert h == pytest.approx(rule, rel=1e-13) and h > 2.0
+    y = np.empty(2)
+    taylor._at(X, h, y, None)
     assert abs(y[0] - math.cos(h)) < 4e-16 and abs(y[1] + math.sin(h)) < 4e-16
+
+
+@pytest.mark.parametrize("kw, forces", [
+    (ONE, ["2*beta*x1**3 + sin(beta)*v1 + 0.3*exp(beta)"]),
+    (TWO, ["beta*(x1 - x2)**3 + cos(2*beta)", "-beta*(x1 - x2)**3 + x2*v2**2"])])
+def test_the_coefficients_solve_the_equations_of_motion(kw, forces):
+    """The kernel's series (state rows in the tape, constant rows at order 0 only, the
+    linear part as one map; one mass and two) satisfy (k + 1) M v_{k+1} = P s_k - C v_k -
+    K x_k - f_k and (k + 1) x_{k+1} = v_k to order 19, f_k the forces' coefficients by
+    mpmath.taylor of the SymPy expressions along the series at 30 digits: 1e-13."""
+    m = Model(**kw, nonlinear=forces, parameters={"beta": 0.7})
+    flow = nl.NonlinearFlow(m)
+    n, omega, tau, t0 = m.n, 1.3, 0.4, 0.2
+    y0 = np.array([0.3, -0.2, 0.5, 0.1][:n] + [0.5, 0.1, -0.4, 0.2][:n])
+    tj = taylor.work(*flow.tape, 2 * n, order=20)
+    X = tj[8]
+    sy = flow._system(omega, tau)
+    taylor._prepare(sy, tj)
+    taylor._coefficients(sy, tj, t0, y0, X)
+    syms = sympy.symbols(" ".join([f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in
+                                                                     range(n)] + ["beta"]))
+    M, C, K, P = (np.asarray(a, dtype=float) for a in (m.mass, m.damping, m.stiffness,
+                                                         m.forcing))
+    with mpmath.workdps(30):
+        fk = []
+        for e in m.nonlinear:
+            f = sympy.lambdify(syms, e, "mpmath")
+            fk.append([float(c) for c in mpmath.taylor(
+                lambda t: f(*[sum(mpmath.mpf(c) * t ** k for k, c in enumerate(row))
+                              for row in X], mpmath.mpf("0.7")), 0, 19)])
+        sk = [float(c) for c in mpmath.taylor(lambda t: mpmath.sin(omega * (t0 + t) + tau),
+                                              0, 19)]
+    fk = np.array(fk)
+    for k in range(20):
+        lhs = (k + 1) * M @ X[n:, k + 1]
+        rhs = P * sk[k] - C @ X[n:, k] - K @ X[:n, k] - fk[:, k]
+        scale = 1e-13 * max(1.0, np.abs(rhs).max(), np.abs(lhs).max())
+        assert np.abs(lhs - rhs).max() < scale, k
+        assert np.abs((k + 1) * X[:n, k + 1] - X[n:, k]).max() < 1e-15 * max(
+            1.0, np.abs(X[n:, k]).max()), k
 
 
 @pytest.mark.slow
