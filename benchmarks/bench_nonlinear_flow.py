@@ -15,7 +15,12 @@ run:
 * impacts/s of one trajectory: the nonlinear flow with each integrator (beta = 0.5 and
   beta = 0), the baseline -- the exact linear flow's compiled run
   (``symvi.flow.compiled.run``) on the same model with beta = 0 -- and ``solve_ivp`` with
-  events, as a user would write it.
+  events, as a user would write it (times: the thread's CPU time, :func:`rate`);
+* where a Taylor step's time goes (beta = 0.5): each kernel of a step timed alone in a
+  compiled loop -- the series (:func:`symvi.flow.taylor._coefficients`), the step rule,
+  the guard's polynomial and its exclusion bound, the step's end --, and what an impact
+  adds (the hull, the bracket and Newton on the polynomial, the reset) as the rest of the
+  run's time.
 """
 import math
 import statistics
@@ -24,6 +29,7 @@ import time
 from pathlib import Path
 
 import mpmath
+import numba as nb
 import numpy as np
 from scipy.integrate import solve_ivp
 
@@ -33,6 +39,7 @@ sys.path.insert(0, str(HERE.parent))
 from symvi import Model, Stop  # noqa: E402
 from symvi._io import write_text  # noqa: E402
 from symvi.flow import compiled as cf  # noqa: E402
+from symvi.flow import taylor  # noqa: E402
 from symvi.flow.nonlinear import NonlinearFlow  # noqa: E402
 
 LIN = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
@@ -42,6 +49,7 @@ N_ACC = 10            # flights checked against mpmath
 N_RUN = 20000         # impacts of a timed run of the nonlinear flow
 N_LIN = 200000        # impacts of a timed run of the exact linear flow
 N_IVP = 40            # impacts of solve_ivp timed
+N_PART = 20000        # calls of each kernel of a Taylor step timed
 METHODS = {"taylor": "nonlinear flow, Taylor", "dop853": "nonlinear flow, DOP853"}
 
 
@@ -86,11 +94,13 @@ def accuracy(method):
 
 
 def rate(fn, n, reps=3):
+    """n / the median time of fn(): the calling thread's CPU time (every timed run is one
+    thread; on a shared machine wall time also counts the other processes' slices)."""
     ts = []
     for _ in range(reps):
-        t0 = time.perf_counter()
+        t0 = time.thread_time()
         fn()
-        ts.append(time.perf_counter() - t0)
+        ts.append(time.thread_time() - t0)
     return n / statistics.median(ts)
 
 
@@ -118,6 +128,66 @@ def speeds():
     return out, steps
 
 
+@nb.njit
+def _loop_series(sy, tj, y, X, n):
+    for i in range(n):
+        taylor._coefficients(sy, tj, 1e-9 * i, y, X)
+
+
+@nb.njit
+def _loop_rule(X, n):
+    s = 0.0
+    for i in range(n):
+        s += taylor._jorba_zou_h(X, 10.0 + 1e-9 * i)
+    return s
+
+
+@nb.njit
+def _loop_guard(X, normals, cons, g, h, n):
+    s = 0.0
+    for i in range(n):
+        taylor._guard_coeffs(X, normals, 0, cons[0, 1], cons[0, 2], h + 1e-12 * i, g)
+        ub = g[0]
+        for k in range(1, g.shape[0]):
+            ub += max(g[k], 0.0)
+        s += ub
+    return s
+
+
+@nb.njit
+def _loop_end(X, h, y, n):
+    for i in range(n):
+        taylor._at(X, h + 1e-12 * i, y, None)
+
+
+def breakdown(run_rate, steps):
+    """ns of each kernel of a Taylor step (beta = 0.5, at a state of the run), and the
+    rest of an impact's time: 1e9 / run_rate - steps (sum of the step's kernels)."""
+    m = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": BETA})
+    f = NonlinearFlow(m)
+    _, sec, *_ = f.run(OMEGA, Y0, 2)
+    sy, tj = f._system(OMEGA, sec[0, 1]), f._taylor_work()
+    X, g, y = tj[8], tj[9], np.empty(2)
+    z = np.array([GAP, sec[0, 0]])
+    taylor._prepare(sy, tj)
+    taylor._coefficients(sy, tj, 0.0, z, X)
+    h = taylor._jorba_zou_h(X, f._cap(OMEGA))
+    parts = {"series (the tape and the linear part, orders 0..p)":
+             lambda n: _loop_series(sy, tj, z, X, n),
+             "step rule": lambda n: _loop_rule(X, n),
+             "guard polynomial and exclusion bound":
+             lambda n: _loop_guard(X, f.normals, f._table, g, h, n),
+             "step end (Horner)": lambda n: _loop_end(X, h, y, n)}
+    out = {}
+    for name, fn in parts.items():
+        fn(10)
+        out[name] = 1e9 / rate(lambda: fn(N_PART), N_PART, reps=5)
+    step = sum(out.values())
+    out["an impact's rest per impact (hull, bracket, Newton, reset, run loop)"] = \
+        1e9 / run_rate - steps * step
+    return out, step
+
+
 def main():
     acc = {name: accuracy(method) for method, name in METHODS.items()}
     rates, steps = speeds()
@@ -135,6 +205,15 @@ def main():
         lines.append(f"| {k} | {v:.3g} | {v / base:.3g} |")
     lines += ["", "steps per impact (beta = 0.5): " + ", ".join(
         f"{k.split(', ')[1]} {v:.1f}" for k, v in steps.items()), ""]
+    name = "nonlinear flow, Taylor"
+    parts, step = breakdown(rates[f"{name}, beta = 0.5"], steps[name])
+    lines += [f"| a Taylor step (order {taylor.ORDER}, beta = 0.5) | ns | share of an impact |",
+              "|---|---|---|"]
+    per = 1e9 / rates[f"{name}, beta = 0.5"]
+    for k, v in parts.items():
+        n = 1.0 if k.startswith("an impact") else steps[name]
+        lines.append(f"| {k} | {v:.0f} | {n * v / per:.2f} |")
+    lines += [f"| one step | {step:.0f} | {steps[name] * step / per:.2f} |", ""]
     text = "\n".join(lines)
     print(text)
     write_text(HERE / "results_nonlinear_flow.md", text)

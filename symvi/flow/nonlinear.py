@@ -20,10 +20,11 @@ the integrator by a flag):
 
 Chosen by measurement (``benchmarks/bench_nonlinear_flow.py``, ``benchmarks/README.md``;
 the 1-DOF impact Duffing oscillator, the same run): the Taylor method locates the first
-impact to 1.9e-16 relative against mpmath at 30 digits (DOP853: 7.5e-14), and runs 15
-times as many impacts a second (6.4e4 against 4.2e3, the exact linear flow 8.2e5 in the
-same run; 19 steps an impact against 65, and no Runge-Kutta steps to refine an event).
-It is still short of the issue's 2e5: its time is the 20 orders of series a step.
+impact to 2.8e-16 relative against mpmath at 30 digits (DOP853: 7.5e-14), and runs 22
+times as many impacts a second (9.1e4 against 4.1e3, the exact linear flow 7.6e5 in the
+same run; 11 steps an impact against 65, and no Runge-Kutta steps to refine an event).
+It is still short of the issue's 2e5: three quarters of its time are the series, 28
+orders a step (the benchmark's breakdown of a step).
 
 Events of DOP853.  Each constraint's guard h = sign (x_k - b) (rigid stops on masses,
 either side) is watched on every accepted step.  No contact of the dense output is
