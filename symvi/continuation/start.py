@@ -235,7 +235,20 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
-        if (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
+        if (n, p) == (1, 1) and at.one_rigid_stop and at.nonlinear is not None:
+            # nonlinear forces: the period-1 orbits the homotopy from the linear part's
+            # closed form reaches (the attractor among them), admissible ones
+            from .homotopy import period1_orbits as homotopy_orbits
+            guesses = [o.y for o in homotopy_orbits(at, w).orbits if o.admissible]
+            moved = (f"started from the {len(guesses)} admissible period-1 orbit(s) at "
+                     f"{param} = {a:.12g} continued from the linear part's closed form in "
+                     "the forces' scale, and the attractor of a run (symvi.continuation."
+                     "homotopy; an orbit on an isola may be missed)")
+        else:
+            guesses = None
+        if guesses:
+            pass                        # the homotopy's orbits
+        elif (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
             # no closed form to start from (several stops, a lower one): the periodic
             # attractor a run of the map settles on at the start, or else at the first of
             # SEARCH_RUNS values towards the stop where a run settles on one
