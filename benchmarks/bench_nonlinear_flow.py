@@ -183,8 +183,8 @@ def breakdown(run_rate, steps):
         fn(10)
         out[name] = 1e9 / rate(lambda: fn(N_PART), N_PART, reps=5)
     step = sum(out.values())
-    out["an impact's rest per impact (hull, bracket, Newton, reset, run loop)"] = \
-        1e9 / run_rate - steps * step
+    rest = "an impact's rest per impact (hull, bracket, Newton, reset, run loop)"
+    out[rest] = 1e9 / run_rate - steps * step
     return out, step
 
 
@@ -207,8 +207,8 @@ def main():
         f"{k.split(', ')[1]} {v:.1f}" for k, v in steps.items()), ""]
     name = "nonlinear flow, Taylor"
     parts, step = breakdown(rates[f"{name}, beta = 0.5"], steps[name])
-    lines += [f"| a Taylor step (order {taylor.ORDER}, beta = 0.5) | ns | share of an impact |",
-              "|---|---|---|"]
+    lines += [f"| a Taylor step (order {taylor.ORDER}, beta = 0.5) | ns | share of an "
+              "impact |", "|---|---|---|"]
     per = 1e9 / rates[f"{name}, beta = 0.5"]
     for k, v in parts.items():
         n = 1.0 if k.startswith("an impact") else steps[name]
