@@ -21,7 +21,7 @@ the integrator by a flag):
 Chosen by measurement (``benchmarks/bench_nonlinear_flow.py``, ``benchmarks/README.md``;
 the 1-DOF impact Duffing oscillator, the same run): the Taylor method locates the first
 impact to 2.8e-16 relative against mpmath at 30 digits (DOP853: 7.5e-14), and runs 22
-times as many impacts a second (9.1e4 against 4.1e3, the exact linear flow 7.6e5 in the
+times as many impacts a second (9.7e4 against 4.5e3, the exact linear flow 8.3e5 in the
 same run; 11 steps an impact against 65, and no Runge-Kutta steps to refine an event).
 It is still short of the issue's 2e5: three quarters of its time are the series, 28
 orders a step (the benchmark's breakdown of a step).
