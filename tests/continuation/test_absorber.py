@@ -210,10 +210,10 @@ def test_determinant_identity_along_the_branches(branches, which):
 
 # -- against simulation ------------------------------------------------------------------
 
-def sweep(ws):
+def sweep(ws, y0=None):
     """Runs along ws, each from the previous run's last point on stop 1 (the first from
-    the default start): [(omega, run)]."""
-    y0, out = None, []
+    y0, by default the default start): [(omega, run)]."""
+    out = []
     for w in ws:
         run = symvi.simulate(MODEL, w, y0=y0, n_impacts=20, transient=3000)
         out.append((w, run))
@@ -223,8 +223,9 @@ def sweep(ws):
 
 
 def test_stable_stretches_are_the_sweeps_attractors(branches):
-    """Sweeps down from omega = 2.35 to 1.95, down from 1.9 to 1.45 and up from 2.55 to
-    3.15 (each from the default start): where the branch is stable the run sits on its
+    """Sweeps down from omega = 2.35 to 1.95 and from 1.9 to 1.45 (each from the default
+    start), and up from 2.4 to 3.15 (from the first run's attractor; from the default start
+    the runs there settle on a motion without impacts): where the branch is stable the run sits on its
     orbit (to 1e-7); between the NS points, where it is unstable, the run is elsewhere (on
     the circle born at the supercritical one), and so it stays just below the subcritical
     one (the orbit is stable again, inside the unstable circle: hysteresis); past the upper
@@ -232,8 +233,9 @@ def test_stable_stretches_are_the_sweeps_attractors(branches):
     up = branches[1]
     ns1, ns2 = special([up], "ns", 1.9766).value, special([up], "ns", 2.0950).value
     fold = special([up], "fold", 3.1593).value
-    runs = (sweep(np.arange(2.35, 1.949, -0.05)) + sweep(np.arange(1.9, 1.449, -0.05))
-            + sweep(np.arange(2.55, 3.151, 0.05)))
+    runs = sweep(np.arange(2.35, 1.949, -0.05)) + sweep(np.arange(1.9, 1.449, -0.05))
+    first = runs[0][1]
+    runs += sweep(np.arange(2.4, 3.151, 0.05), y0=first.section[np.flatnonzero(first.hits == 0)[-1]])
     on, off = 0, 0
     for w, run in runs:
         o = orbit_at(up, w)
@@ -248,12 +250,12 @@ def test_stable_stretches_are_the_sweeps_attractors(branches):
             assert distance(run, o) < 1e-7, w
             on += 1
     assert on >= 25 and off == 3
-    past = symvi.simulate(MODEL, fold + 0.01, y0=special([up], "fold", 3.1593).orbit.y,
-                          n_impacts=5, transient=50)
+    at = special([up], "fold", 3.1593).orbit
+    y0 = at.points[at.signature.index(0)]             # a start on stop 1's section
+    past = symvi.simulate(MODEL, fold + 0.01, y0=y0, n_impacts=5, transient=50)
     assert past.stop == "no-impact"
     before = orbit_at(up, fold - 0.01)
-    run = symvi.simulate(MODEL, fold - 0.01, y0=special([up], "fold", 3.1593).orbit.y,
-                         n_impacts=20, transient=3000)
+    run = symvi.simulate(MODEL, fold - 0.01, y0=y0, n_impacts=20, transient=3000)
     assert before.stable and distance(run, before) < 1e-7
 
 
@@ -283,3 +285,76 @@ def test_the_pitchfork_is_supercritical(branches):
     run = symvi.simulate(MODEL, w, y0=a.points[a.signature.index(0)], n_impacts=20,
                          transient=6000)
     assert distance(run, orbit_at(up, w)) < 1e-7
+
+
+def _ns_frame(sp):
+    """(q, |q_k|) of an NS point: the critical eigenvector of its jet's Jacobian, ||q|| = 1."""
+    A = sp.orbit.jet(2)[0]
+    ev, V = np.linalg.eig(A)
+    k = int(np.argmin(np.abs(ev - np.exp(1j * sp.coefficients["theta"]))))
+    return V[:, k] / np.linalg.norm(V[:, k])
+
+
+def test_the_supercritical_ns_coefficient_predicts_the_simulated_circle(branches):
+    """Below omega = 2.095 (l1 < 0, the orbit unstable there) the map settles on an
+    invariant circle whose half-widths are 2 rho |q_k| to leading order, rho^2 = -(d|mu|/d
+    omega) d omega / l1: within 1 % at d omega = -2e-3 and -4e-3 (0.13 % and 0.22 %
+    measured), from a start outside the circle and one inside it alike."""
+    sp = special([branches[1]], "ns", 2.0950)
+    c, q = sp.coefficients, _ns_frame(sp)
+    assert c["l1"] < 0 and c["dmod_dparam"] < 0
+    k0 = sp.orbit.signature.index(0)
+    for dw in (-2e-3, -4e-3):
+        w = sp.value + dw
+        rho = math.sqrt(-c["dmod_dparam"] * dw / c["l1"])
+        fixed = periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit, omega=w)
+        assert not fixed.stable
+        for f in (3, 1):
+            # the run starts on stop 1's section at the orbit's point there (the mirror of
+            # points[0]) moved f rho along the mirror of q (from next to the orbit the
+            # growth would take ~1e5 impacts); the circle is measured where q lives, on
+            # the section of points[0]
+            y0 = np.array(fixed.points[k0]) + f * rho * (q * [-1, -1, -1, 1]).real
+            run = symvi.simulate(MODEL, w, y0=y0, n_impacts=3000, transient=30000)
+            assert run.stop == "completed"
+            sec = np.asarray(run.section)[np.asarray(run.hits) == fixed.signature[0]]
+            sec[:, -1] = (sec[:, -1] - fixed.points[0][-1] + math.pi) % (2 * math.pi) - math.pi
+            half = (sec.max(axis=0) - sec.min(axis=0)) / 2
+            assert abs(np.linalg.norm(half) / np.linalg.norm(2 * rho * np.abs(q)) - 1) < 0.01
+
+
+def test_the_subcritical_ns_point_has_an_unstable_circle(branches):
+    """Just above omega = 1.9766 (l1 > 0) the orbit is unstable and a run from next to it
+    leaves; just below it is stable inside the unstable circle of radius rho^2 = -(d|mu|/d
+    omega) d omega / l1: a start at rho / 2 (along the mirror of q, on stop 1's section)
+    returns to the orbit, one at 3 rho / 2 leaves it."""
+    sp = special([branches[1]], "ns", 1.9766)
+    c, q = sp.coefficients, _ns_frame(sp)
+    assert c["l1"] > 0 and c["dmod_dparam"] > 0
+    k0 = sp.orbit.signature.index(0)
+    w = sp.value + 2e-3
+    fixed = periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit, omega=w)
+    run = symvi.simulate(MODEL, w, y0=np.array(fixed.points[k0]) + 1e-4, n_impacts=20,
+                         transient=30000)
+    assert not fixed.stable and distance(run, fixed) > 1e-2
+    dw = -2e-3
+    w = sp.value + dw
+    rho = math.sqrt(-c["dmod_dparam"] * dw / c["l1"])
+    fixed = periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit, omega=w)
+    assert fixed.stable
+    for f, back in ((0.5, True), (1.5, False)):
+        y0 = np.array(fixed.points[k0]) + f * rho * (q * [-1, -1, -1, 1]).real
+        run = symvi.simulate(MODEL, w, y0=y0, n_impacts=20, transient=30000)
+        d = distance(run, fixed)                  # from about 0.1 (rho / 2) at the start
+        assert d < 1e-3 if back else d > 1e-2, (f, d)
+
+
+def test_dmod_is_the_derivative_at_the_ns_point(branches):
+    """d|mu|/d omega of each NS point is the derivative there (a central difference of the
+    critical modulus at +- 1e-5), not the secant over the bracketing step."""
+    for near in (1.9766, 2.0950):
+        sp = special([branches[1]], "ns", near)
+        mods = [max(abs(z) for z in periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit,
+                                                   omega=sp.value + s).multipliers)
+                for s in (-1e-5, 1e-5)]
+        assert abs(sp.coefficients["dmod_dparam"] - (mods[1] - mods[0]) / 2e-5) < 1e-6
