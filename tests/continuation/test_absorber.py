@@ -22,6 +22,7 @@ the checks above confirm each independently.  PWS-DDE-cont's demo publishes no n
 (its script draws the branch only), so none is compared here.
 """
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -30,14 +31,9 @@ from scipy.integrate import solve_ivp
 
 import symvi
 from symvi.continuation import continue_orbits
-from symvi.model import Model
 from symvi.orbits.periodic import detect_period, periodic_orbit
-from symvi.simulations.simulation import default_start
 
-pytestmark = pytest.mark.slow
-
-MODEL = symvi.load_model(
-    __import__("pathlib").Path(__file__).resolve().parents[2] / "docs/gallery/absorber.toml")
+MODEL = symvi.load_model(Path(__file__).resolve().parents[2] / "docs/gallery/absorber.toml")
 #: the demo's parameters
 ZETA, XI, PHI, MU, ETA1, ETA2, R = 0.02, 0.127, 0.952, 0.05, 0.1, 0.1, 0.9
 #: the special points of the 1-2 branch from omega = 1.5, as this test's branch locates
@@ -309,12 +305,12 @@ def test_the_supercritical_ns_coefficient_predicts_the_simulated_circle(branches
         rho = math.sqrt(-c["dmod_dparam"] * dw / c["l1"])
         fixed = periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit, omega=w)
         assert not fixed.stable
-        for f in (3, 1):
+        for f in (1.5, 0.5):
             # the run starts on stop 1's section at the orbit's point there (the mirror of
-            # points[0]) moved f rho along the mirror of q (from next to the orbit the
-            # growth would take ~1e5 impacts); the circle is measured where q lives, on
-            # the section of points[0]
-            y0 = np.array(fixed.points[k0]) + f * rho * (q * [-1, -1, -1, 1]).real
+            # points[0]) moved to z = f rho on the mirror of y* + 2 Re(z q) (from next to
+            # the orbit the growth would take ~1e5 impacts); the circle is measured where q
+            # lives, on the section of points[0]
+            y0 = np.array(fixed.points[k0]) + 2 * f * rho * (q * [-1, -1, -1, 1]).real
             run = symvi.simulate(MODEL, w, y0=y0, n_impacts=3000, transient=30000)
             assert run.stop == "completed"
             sec = np.asarray(run.section)[np.asarray(run.hits) == fixed.signature[0]]
@@ -326,8 +322,8 @@ def test_the_supercritical_ns_coefficient_predicts_the_simulated_circle(branches
 def test_the_subcritical_ns_point_has_an_unstable_circle(branches):
     """Just above omega = 1.9766 (l1 > 0) the orbit is unstable and a run from next to it
     leaves; just below it is stable inside the unstable circle of radius rho^2 = -(d|mu|/d
-    omega) d omega / l1: a start at rho / 2 (along the mirror of q, on stop 1's section)
-    returns to the orbit, one at 3 rho / 2 leaves it."""
+    omega) d omega / l1: a start at |z| = rho / 2 (y* + 2 Re(z q), mirrored onto stop 1's
+    section) returns to the orbit, one at 3 rho / 2 leaves it."""
     sp = special([branches[1]], "ns", 1.9766)
     c, q = sp.coefficients, _ns_frame(sp)
     assert c["l1"] > 0 and c["dmod_dparam"] > 0
@@ -343,9 +339,9 @@ def test_the_subcritical_ns_point_has_an_unstable_circle(branches):
     fixed = periodic_orbit(MODEL, n=1, p=2, guess=sp.orbit, omega=w)
     assert fixed.stable
     for f, back in ((0.5, True), (1.5, False)):
-        y0 = np.array(fixed.points[k0]) + f * rho * (q * [-1, -1, -1, 1]).real
+        y0 = np.array(fixed.points[k0]) + 2 * f * rho * (q * [-1, -1, -1, 1]).real
         run = symvi.simulate(MODEL, w, y0=y0, n_impacts=20, transient=30000)
-        d = distance(run, fixed)                  # from about 0.1 (rho / 2) at the start
+        d = distance(run, fixed)
         assert d < 1e-3 if back else d > 1e-2, (f, d)
 
 
