@@ -101,13 +101,14 @@ def test_the_flip_coefficient_predicts_the_doubled_orbit(branch):
     assert abs(lam.real.min() + 1) < 1e-9
 
 
-def test_continue_orbits_starts_a_nonlinear_model_from_a_run():
-    """continue_orbits: no closed form to start from, so a run settles first; the branch
-    names its folds and its flip."""
+def test_continue_orbits_starts_a_nonlinear_model_from_the_homotopy():
+    """continue_orbits: no closed form to start from, so the orbits the homotopy from the
+    linear part reaches (symvi.continuation.homotopy); the branch names its folds and its
+    flip."""
     res = continue_orbits(DUFFING, "omega", 2.2, 3.2)
     kinds = sorted(s.kind for b in res for s in b.special)
     assert kinds.count("fold") == 2 and kinds.count("flip") >= 1
-    assert "simulation" in res[0].notes[0]
+    assert "forces' scale" in res[0].notes[0]
 
 
 LX = dict(mass=[1.0, 2.0], stiffness=[[1.0, -1.0], [-1.0, 6.0]], damping=[[0, 0], [0, 0]],
