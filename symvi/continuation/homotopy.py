@@ -18,9 +18,10 @@ from ..errors import SingularCaseError, SymviError
 #: the scale's name in the homotopy's model (suffixed where the model already has it)
 SCALE = "homotopy_s"
 #: the paths in the forces' scale are followed over s in [-REACH, REACH]
-REACH = 10.0
-#: the largest arclength step of those paths
+REACH = 4.0
+#: the largest arclength step of those paths, and the most points on each
 H_MAX = 1.0
+MAX_POINTS = 300
 #: two orbits are one where their section points agree to this (tau mod 2 pi)
 SAME = 1e-7
 
@@ -94,7 +95,8 @@ def period1_orbits(model, omega, *, attractor=True):
         for stop in (REACH, -REACH):
             try:
                 br = continue_branch(hm, s, 0.0, stop, guess=o.y, omega=omega,
-                                     through=True, locate=False, h_max=H_MAX)
+                                     through=True, locate=False, h_max=H_MAX,
+                                     max_points=MAX_POINTS)
             except SymviError as exc:
                 notes.append(f"{what}, s towards {stop:g}: the path failed ({exc})")
                 continue

@@ -140,8 +140,7 @@ REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: with non
 def test_the_python_analyses_refuse_a_nonlinear_model():
     from symvi.orbits import admissible_orbits
     for call in (lambda: admissible_orbits(DUFFING, OMEGA),
-                 lambda: symvi.jet(DUFFING, OMEGA),
-                 lambda: symvi.poincare_map(DUFFING, OMEGA, (0.1, 0.2))):
+                 lambda: symvi.jet(DUFFING, OMEGA)):
         with pytest.raises(ParameterError) as exc:
             call()
         assert str(exc.value) == REFUSED
@@ -161,3 +160,20 @@ def test_lyapunov_exponents_and_the_classifier_of_a_nonlinear_run():
     assert np.allclose(got, want, atol=5e-3)
     c = classify(sim)
     assert c.kind == "period-1" and c.period == 1
+
+
+def test_poincare_map_of_a_nonlinear_model_is_one_impact_of_a_run():
+    """symvi.poincare_map on the numerical flow: P(y0) is the first stored impact of a run
+    from y0, and the period-1 orbit Newton found maps to itself; digits are refused."""
+    st = symvi.poincare_map(DUFFING, OMEGA, Y0)
+    run = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=1)
+    assert st.status == "impact" and st.impact_velocity > 0
+    assert np.max(np.abs(np.subtract(st.y, run.section[0]))) < 1e-12
+    assert abs(st.t - run.t[0]) < 1e-12
+    from symvi.continuation.homotopy import period1_orbits
+    o = period1_orbits(DUFFING, OMEGA, attractor=False).orbits[0]
+    back = symvi.poincare_map(DUFFING, OMEGA, o.y)
+    assert np.max(np.abs(np.subtract(back.y, o.y))) < 1e-11 and back.t == pytest.approx(
+        2 * math.pi / OMEGA, rel=1e-12)
+    with pytest.raises(ParameterError, match="^digits"):
+        symvi.poincare_map(DUFFING, OMEGA, Y0, digits=30)
