@@ -155,8 +155,8 @@ def tape(ops, off, nstate):
     order = (list(range(nstate)) + [i for i in range(nstate, len(rows)) if const[i]]
              + [i for i in range(nstate, len(rows)) if not const[i]])
     new = {old: k for k, old in enumerate(order)}
-    out = [(rows[i][0], new.get(rows[i][1], -1), new.get(rows[i][2], -1), rows[i][3])
-           for i in order]
+    out = [(c, a if c == T_VAR else new.get(a, -1), new.get(b, -1), v)   # a T_VAR's a: a slot
+           for c, a, b, v in (rows[i] for i in order)]
     if not out:
         out.append((T_CONST, -1, -1, 0.0))
     return (np.array([r[:3] for r in out], dtype=np.int64).reshape(-1, 3),

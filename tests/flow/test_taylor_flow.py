@@ -90,15 +90,19 @@ def test_the_step_rule_and_one_step_reach_the_unit_roundoff():
     assert abs(y[0] - math.cos(h)) < 4e-16 and abs(y[1] + math.sin(h)) < 4e-16
 
 
-@pytest.mark.parametrize("kw, forces", [
-    (ONE, ["2*beta*x1**3 + sin(beta)*v1 + 0.3*exp(beta)"]),
-    (TWO, ["beta*(x1 - x2)**3 + cos(2*beta)", "-beta*(x1 - x2)**3 + x2*v2**2"])])
-def test_the_coefficients_solve_the_equations_of_motion(kw, forces):
+@pytest.mark.parametrize("kw, forces, pars", [
+    (ONE, ["2*beta*x1**3 + sin(beta)*v1 + 0.3*exp(beta)"], {"beta": 0.7}),
+    (TWO, ["beta*(x1 - x2)**3 + cos(2*beta)", "-beta*(x1 - x2)**3 + x2*v2**2"],
+     {"beta": 0.7}),
+    (TWO, ["eta1*x1**3 + 0.05*eta2*(x1-x2)**3", "0.05*eta2*(x2-x1)**3"],
+     {"eta1": 0.1, "eta2": 0.3})])
+def test_the_coefficients_solve_the_equations_of_motion(kw, forces, pars):
     """The kernel's series (state rows in the tape, constant rows at order 0 only, the
     linear part as one map; one mass and two) satisfy (k + 1) M v_{k+1} = P s_k - C v_k -
     K x_k - f_k and (k + 1) x_{k+1} = v_k to order 19, f_k the forces' coefficients by
-    mpmath.taylor of the SymPy expressions along the series at 30 digits: 1e-13."""
-    m = Model(**kw, nonlinear=forces, parameters={"beta": 0.7})
+    mpmath.taylor of the SymPy expressions along the series at 30 digits: 1e-13.  The
+    absorber's forces: two parameters, whose slots are not their rows."""
+    m = Model(**kw, nonlinear=forces, parameters=pars)
     flow = nl.NonlinearFlow(m)
     n, omega, tau, t0 = m.n, 1.3, 0.4, 0.2
     y0 = np.array([0.3, -0.2, 0.5, 0.1][:n] + [0.5, 0.1, -0.4, 0.2][:n])
@@ -107,8 +111,8 @@ def test_the_coefficients_solve_the_equations_of_motion(kw, forces):
     sy = flow._system(omega, tau)
     taylor._prepare(sy, tj)
     taylor._coefficients(sy, tj, t0, y0, X)
-    syms = sympy.symbols(" ".join([f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in
-                                                                     range(n)] + ["beta"]))
+    syms = sympy.symbols([f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
+                         + list(pars))
     M, C, K, P = (np.asarray(a, dtype=float) for a in (m.mass, m.damping, m.stiffness,
                                                          m.forcing))
     with mpmath.workdps(30):
@@ -117,7 +121,7 @@ def test_the_coefficients_solve_the_equations_of_motion(kw, forces):
             f = sympy.lambdify(syms, e, "mpmath")
             fk.append([float(c) for c in mpmath.taylor(
                 lambda t: f(*[sum(mpmath.mpf(c) * t ** k for k, c in enumerate(row))
-                              for row in X], mpmath.mpf("0.7")), 0, 19)])
+                              for row in X], *map(mpmath.mpf, pars.values())), 0, 19)])
         sk = [float(c) for c in mpmath.taylor(lambda t: mpmath.sin(omega * (t0 + t) + tau),
                                               0, 19)]
     fk = np.array(fk)
