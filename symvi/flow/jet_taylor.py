@@ -41,126 +41,88 @@ from .taylor import (ORDER, T_ADD, T_ATAN, T_CONST, T_COS, T_COSH, T_EXP, T_INV,
 MAX_STEPS = 200_000
 
 @nb.njit(cache=True)
-def _conv2(Sa, a, Sb, b, jlo, jhi, k, out, wt, MI, MJ, MK):
-    """out = sum_{j=jlo}^{jhi} wt[j] Sa[a, j] Sb[b, k - j] (series products)."""
-    for q in range(out.shape[0]):
-        out[q] = 0.0
-    for j in range(jlo, jhi + 1):
-        w = wt[j]
-        sa, sb = Sa[a, j], Sb[b, k - j]
-        for t in range(MI.shape[0]):
-            out[MK[t]] += w * sa[MI[t]] * sb[MJ[t]]
+def _conv2(Sa, a, Sb, b, jlo, jhi, k, out, wt, MI, MJ, OFF):
+    """out = sum_{j=jlo}^{jhi} wt[j] Sa[a, j] Sb[b, k - j] (series products; the time
+    sum innermost, so each coefficient of out is stored once)."""
+    for m in range(out.shape[0]):
+        acc = 0.0
+        for t in range(OFF[m], OFF[m + 1]):
+            ia = MI[t]
+            ib = MJ[t]
+            for j in range(jlo, jhi + 1):
+                acc += wt[j] * Sa[a, j, ia] * Sb[b, k - j, ib]
+        out[m] = acc
 
 
 @nb.njit(cache=True)
-def _tape_order(tj, k, X, U, nstate):
-    """Time order k of every row of the tape (rows before it known to order k, every row
-    to order k - 1): the recurrences of :func:`symvi.flow.taylor._series` on series."""
-    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, MK) = tj[:15]
-    L = S.shape[2]
-    for i in range(tp.shape[0]):
-        code = tp[i, 0]
-        a = tp[i, 1]
-        b = tp[i, 2]
-        Si = S[i, k]
-        if code == T_VAR:
-            if a < nstate:
-                for q in range(L):
-                    Si[q] = X[a, k, q]
-            elif k == 0:
-                for q in range(L):
-                    Si[q] = U[a, q]
-            else:
-                for q in range(L):
-                    Si[q] = 0.0
-        elif code == T_MUL:
-            for j in range(k + 1):
-                wt[j] = 1.0
-            _conv2(S, a, S, b, 0, k, k, Si, wt, MI, MJ, MK)
-        elif code == T_SCALE:
-            tps.mul(S[b, 0], S[a, k], Si, MI, MJ, MK)
-        elif code == T_ADD:
-            for q in range(L):
-                Si[q] = S[a, k, q] + S[b, k, q]
-        elif code == T_CONST:
-            for q in range(L):
-                Si[q] = 0.0
-            if k == 0:
-                Si[0] = vals[i]
-        else:
-            _func_order(tj, code, i, a, k, vals[i])
-
-
-@nb.njit(cache=True)
-def _func_order(tj, code, i, a, k, e):
+def _func_order(S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, code, i, a, k, e):
     """Time order k of row i, a function of row a (e: a real power's exponent); A the
     partner series (cos of a sin, 1 +- q^2 of a tan, 1 + a^2 of an atan), R the reciprocal
     of a first coefficient (taken at k = 0)."""
-    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, MK) = tj[:15]
     L = S.shape[2]
     Si = S[i, k]
     if k == 0:
         if code == T_INV:
-            tps.apply(tps.RECIP, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(tps.RECIP, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, OFF)
         elif code == T_POWC:                   # a^e = exp(e log a)
-            tps.apply(tps.LOG, S[a, 0], F, u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(tps.LOG, S[a, 0], F, u, tmp, c, Kord, MI, MJ, OFF)
             for q in range(L):
                 F[q] *= e
-            tps.apply(tps.EXP, F, Si, u, tmp, c, Kord, MI, MJ, MK)
-            tps.apply(tps.RECIP, S[a, 0], R[i], u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(tps.EXP, F, Si, u, tmp, c, Kord, MI, MJ, OFF)
+            tps.apply(tps.RECIP, S[a, 0], R[i], u, tmp, c, Kord, MI, MJ, OFF)
         elif code == T_SIN or code == T_COS or code == T_SINH or code == T_COSH:
             hyp = code == T_SINH or code == T_COSH
             first = code == T_SIN or code == T_SINH
             fs = tps.SINH if hyp else tps.SIN
             fc = tps.COSH if hyp else tps.COS
-            tps.apply(fs if first else fc, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, MK)
-            tps.apply(fc if first else fs, S[a, 0], A[i, 0], u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(fs if first else fc, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, OFF)
+            tps.apply(fc if first else fs, S[a, 0], A[i, 0], u, tmp, c, Kord, MI, MJ, OFF)
         elif code == T_TAN or code == T_TANH:
             sg = 1.0 if code == T_TAN else -1.0
             tps.apply(tps.TAN if code == T_TAN else tps.TANH, S[a, 0], Si, u, tmp, c, Kord,
-                      MI, MJ, MK)
-            tps.mul(Si, Si, A[i, 0], MI, MJ, MK)
+                      MI, MJ, OFF)
+            tps.mul(Si, Si, A[i, 0], MI, MJ, OFF)
             for q in range(L):
                 A[i, 0, q] *= sg
             A[i, 0, 0] += 1.0
         elif code == T_ATAN:
-            tps.mul(S[a, 0], S[a, 0], A[i, 0], MI, MJ, MK)
+            tps.mul(S[a, 0], S[a, 0], A[i, 0], MI, MJ, OFF)
             A[i, 0, 0] += 1.0
-            tps.apply(tps.ATAN, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, MK)
-            tps.apply(tps.RECIP, A[i, 0], R[i], u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(tps.ATAN, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, OFF)
+            tps.apply(tps.RECIP, A[i, 0], R[i], u, tmp, c, Kord, MI, MJ, OFF)
         else:                                  # exp, log, sqrt
             f = tps.EXP if code == T_EXP else tps.LOG if code == T_LOG else tps.SQRT
-            tps.apply(f, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, MK)
+            tps.apply(f, S[a, 0], Si, u, tmp, c, Kord, MI, MJ, OFF)
             if code == T_LOG:
-                tps.apply(tps.RECIP, S[a, 0], R[i], u, tmp, c, Kord, MI, MJ, MK)
+                tps.apply(tps.RECIP, S[a, 0], R[i], u, tmp, c, Kord, MI, MJ, OFF)
             elif code == T_SQRT:
                 for q in range(L):
                     F[q] = 2.0 * Si[q]
-                tps.apply(tps.RECIP, F, R[i], u, tmp, c, Kord, MI, MJ, MK)
+                tps.apply(tps.RECIP, F, R[i], u, tmp, c, Kord, MI, MJ, OFF)
         return
     if code == T_INV:                          # q a = 1: q_k = -q_0 sum_{j>=1} a_j q_{k-j}
         for j in range(k + 1):
             wt[j] = 1.0
-        _conv2(S, a, S, i, 1, k, k, F, wt, MI, MJ, MK)
-        tps.mul(S[i, 0], F, Si, MI, MJ, MK)
+        _conv2(S, a, S, i, 1, k, k, F, wt, MI, MJ, OFF)
+        tps.mul(S[i, 0], F, Si, MI, MJ, OFF)
         for q in range(L):
             Si[q] = -Si[q]
     elif code == T_POWC:                       # a q' = e a' q
         for j in range(k + 1):
             wt[j] = ((e + 1.0) * j - k) / k
-        _conv2(S, a, S, i, 1, k, k, F, wt, MI, MJ, MK)
-        tps.mul(R[i], F, Si, MI, MJ, MK)
+        _conv2(S, a, S, i, 1, k, k, F, wt, MI, MJ, OFF)
+        tps.mul(R[i], F, Si, MI, MJ, OFF)
     elif code == T_EXP:                        # q' = a' q
         for j in range(k + 1):
             wt[j] = j / k
-        _conv2(S, a, S, i, 1, k, k, Si, wt, MI, MJ, MK)
+        _conv2(S, a, S, i, 1, k, k, Si, wt, MI, MJ, OFF)
     elif code == T_LOG:                        # a q' = a'
         for j in range(k + 1):
             wt[j] = j / k
-        _conv2(S, i, S, a, 1, k - 1, k, F, wt, MI, MJ, MK)
+        _conv2(S, i, S, a, 1, k - 1, k, F, wt, MI, MJ, OFF)
         for q in range(L):
             F[q] = S[a, k, q] - F[q]
-        tps.mul(R[i], F, Si, MI, MJ, MK)
+        tps.mul(R[i], F, Si, MI, MJ, OFF)
     elif code == T_SIN or code == T_COS or code == T_SINH or code == T_COSH:
         # (s, c)' = a' (c, -+s); S holds the function, A its partner
         hyp = code == T_SINH or code == T_COSH
@@ -171,11 +133,11 @@ def _func_order(tj, code, i, a, k, e):
         ck = A[i, k] if first else S[i, k]
         # s_k = sum j a_j c_{k-j} / k, c_k = -+ sum j a_j s_{k-j} / k
         if first:
-            _conv2(S, a, A, i, 1, k, k, sk, wt, MI, MJ, MK)
-            _conv2(S, a, S, i, 1, k, k, ck, wt, MI, MJ, MK)
+            _conv2(S, a, A, i, 1, k, k, sk, wt, MI, MJ, OFF)
+            _conv2(S, a, S, i, 1, k, k, ck, wt, MI, MJ, OFF)
         else:
-            _conv2(S, a, S, i, 1, k, k, sk, wt, MI, MJ, MK)
-            _conv2(S, a, A, i, 1, k, k, ck, wt, MI, MJ, MK)
+            _conv2(S, a, S, i, 1, k, k, sk, wt, MI, MJ, OFF)
+            _conv2(S, a, A, i, 1, k, k, ck, wt, MI, MJ, OFF)
         if not hyp:
             for q in range(L):
                 ck[q] = -ck[q]
@@ -183,27 +145,27 @@ def _func_order(tj, code, i, a, k, e):
         sg = 1.0 if code == T_TAN else -1.0
         for j in range(k + 1):
             wt[j] = j / k
-        _conv2(S, a, A, i, 1, k, k, Si, wt, MI, MJ, MK)
+        _conv2(S, a, A, i, 1, k, k, Si, wt, MI, MJ, OFF)
         for j in range(k + 1):
             wt[j] = sg
-        _conv2(S, i, S, i, 0, k, k, A[i, k], wt, MI, MJ, MK)
+        _conv2(S, i, S, i, 0, k, k, A[i, k], wt, MI, MJ, OFF)
     elif code == T_SQRT:                       # q^2 = a
         for j in range(k + 1):
             wt[j] = 1.0
-        _conv2(S, i, S, i, 1, k - 1, k, F, wt, MI, MJ, MK)
+        _conv2(S, i, S, i, 1, k - 1, k, F, wt, MI, MJ, OFF)
         for q in range(L):
             F[q] = S[a, k, q] - F[q]
-        tps.mul(R[i], F, Si, MI, MJ, MK)
+        tps.mul(R[i], F, Si, MI, MJ, OFF)
     else:                                      # atan: w q' = a', w = 1 + a^2
         for j in range(k + 1):
             wt[j] = 1.0
-        _conv2(S, a, S, a, 0, k, k, A[i, k], wt, MI, MJ, MK)
+        _conv2(S, a, S, a, 0, k, k, A[i, k], wt, MI, MJ, OFF)
         for j in range(k + 1):
             wt[j] = j / k
-        _conv2(S, i, A, i, 1, k - 1, k, F, wt, MI, MJ, MK)
+        _conv2(S, i, A, i, 1, k - 1, k, F, wt, MI, MJ, OFF)
         for q in range(L):
             F[q] = S[a, k, q] - F[q]
-        tps.mul(R[i], F, Si, MI, MJ, MK)
+        tps.mul(R[i], F, Si, MI, MJ, OFF)
 
 
 @nb.njit(cache=True)
@@ -212,23 +174,23 @@ def _coefficients(sy, tj, t, Y, kmax):
     (t, Y) (the module docstring)."""
     (Minv, Km, Cm, P, dM, dK, dC, dP, W, U, omega, tau, pvar, moves, mass_moves,
      wvar) = sy
-    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, MK, X, sn, cs, r, g) = tj
+    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, X, sn, cs, r, g) = tj
     dim, L = Y.shape
     n = dim // 2
     w0 = omega[0]
     # the phase omega t + tau, its sine and cosine
     for q in range(L):
         F[q] = omega[q] * t + tau[q]
-    tps.apply(tps.SIN, F, sn[0], u, tmp, c, Kord, MI, MJ, MK)
-    tps.apply(tps.COS, F, cs[0], u, tmp, c, Kord, MI, MJ, MK)
+    tps.apply(tps.SIN, F, sn[0], u, tmp, c, Kord, MI, MJ, OFF)
+    tps.apply(tps.COS, F, cs[0], u, tmp, c, Kord, MI, MJ, OFF)
     for i in range(dim):
         for q in range(L):
             X[i, 0, q] = Y[i, q]
     for k in range(kmax):
         if k > 0:
             if wvar:
-                tps.mul(omega, cs[k - 1], sn[k], MI, MJ, MK)
-                tps.mul(omega, sn[k - 1], cs[k], MI, MJ, MK)
+                tps.mul(omega, cs[k - 1], sn[k], MI, MJ, OFF)
+                tps.mul(omega, sn[k - 1], cs[k], MI, MJ, OFF)
                 for q in range(L):
                     sn[k, q] /= k
                     cs[k, q] /= -k
@@ -236,29 +198,67 @@ def _coefficients(sy, tj, t, Y, kmax):
                 for q in range(L):
                     sn[k, q] = w0 * cs[k - 1, q] / k
                     cs[k, q] = -w0 * sn[k - 1, q] / k
-        _tape_order(tj, k, X, U, dim)
+        # time order k of every row of the tape (rows before it known to order k, every
+        # row to order k - 1): :func:`symvi.flow.taylor._series` on series.  Inline, and
+        # no array views: a call or a view costs two reference counts per array, which
+        # took 4 times the polynomial rows' arithmetic.
+        for i in range(tp.shape[0]):
+            code = tp[i, 0]
+            a = tp[i, 1]
+            b = tp[i, 2]
+            if code == T_VAR:
+                if a < dim:
+                    for q in range(L):
+                        S[i, k, q] = X[a, k, q]
+                else:                          # a parameter: constant in time
+                    for q in range(L):
+                        S[i, k, q] = U[a, q] if k == 0 else 0.0
+            elif code == T_MUL:
+                for m in range(L):
+                    acc = 0.0
+                    for t in range(OFF[m], OFF[m + 1]):
+                        ia = MI[t]
+                        ib = MJ[t]
+                        for j in range(k + 1):
+                            acc += S[a, j, ia] * S[b, k - j, ib]
+                    S[i, k, m] = acc
+            elif code == T_SCALE:              # S[b] constant in time
+                for m in range(L):
+                    acc = 0.0
+                    for t in range(OFF[m], OFF[m + 1]):
+                        acc += S[b, 0, MI[t]] * S[a, k, MJ[t]]
+                    S[i, k, m] = acc
+            elif code == T_ADD:
+                for q in range(L):
+                    S[i, k, q] = S[a, k, q] + S[b, k, q]
+            elif code == T_CONST:
+                for q in range(L):
+                    S[i, k, q] = vals[i] if k == 0 and q == 0 else 0.0
+            else:
+                _func_order(S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, code, i, a, k,
+                            vals[i])
+        # (no array views in this loop: each costs two reference counts)
         for i in range(n):
-            ri = r[i]
-            fi = S[roots[i], k]
+            ii = roots[i]
             for q in range(L):
-                acc = P[i] * sn[k, q] - fi[q]
+                acc = P[i] * sn[k, q] - S[ii, k, q]
                 for j in range(n):
                     acc -= Cm[i, j] * X[n + j, k, q] + Km[i, j] * X[j, k, q]
-                ri[q] = acc
+                r[i, q] = acc
             if moves:                          # + p (dP sin - dC v - dK x)
                 for q in range(L):
                     acc = dP[i] * sn[k, q]
                     for j in range(n):
                         acc -= dC[i, j] * X[n + j, k, q] + dK[i, j] * X[j, k, q]
                     F[q] = acc
-                tps.mul_add(F, pvar, ri, MI, MJ, MK)
+                tps.mul_add(F, pvar, r[i], MI, MJ, OFF)
         for i in range(n):
-            vi = X[n + i, k + 1]
             if mass_moves:                     # M(p)^-1 as series (W)
+                vi = X[n + i, k + 1]
                 for q in range(L):
                     vi[q] = 0.0
                 for j in range(n):
-                    tps.mul_add(W[i, j], r[j], vi, MI, MJ, MK)
+                    tps.mul_add(W[i, j], r[j], vi, MI, MJ, OFF)
                 for q in range(L):
                     vi[q] /= k + 1
             else:
@@ -266,7 +266,7 @@ def _coefficients(sy, tj, t, Y, kmax):
                     acc = 0.0
                     for j in range(n):
                         acc += Minv[i, j] * r[j, q]
-                    vi[q] = acc / (k + 1)
+                    X[n + i, k + 1, q] = acc / (k + 1)
             for q in range(L):
                 X[i, k + 1, q] = X[n + i, k, q] / (k + 1)
 
@@ -328,7 +328,7 @@ def integrate(sy, tj, Y, t_end, hmax):
 
 
 @nb.njit(cache=True)
-def _mass_inverse(Minv, dM, pvar, Kord, W, tmp, MI, MJ, MK):
+def _mass_inverse(Minv, dM, pvar, Kord, W, tmp, MI, MJ, OFF):
     """W = M(p)^-1 = (M + p dM)^-1 as series: column by column, Kord sweeps
     w = M^-1 (e - p dM w) (each exact to one more order in p)."""
     n = Minv.shape[0]
@@ -347,7 +347,7 @@ def _mass_inverse(Minv, dM, pvar, Kord, W, tmp, MI, MJ, MK):
                 rhs[i, 0] = 1.0 if i == e else 0.0
                 for j in range(n):
                     if dM[i, j] != 0.0:
-                        tps.mul(col[j], pvar, tmp, MI, MJ, MK)
+                        tps.mul(col[j], pvar, tmp, MI, MJ, OFF)
                         for q in range(L):
                             rhs[i, q] -= dM[i, j] * tmp[q]
             for i in range(n):
@@ -382,10 +382,10 @@ def system(flow, alg, omega, tau, pvar=None, tangent=None, pslot=None, wvar=Fals
     if pslot is not None:                      # a named force parameter: a variable
         U[2 * n + pslot] += pvar
     pvar = pvar if pvar is not None else np.zeros(L)
-    MI, MJ, MK = alg.mul
+    MI, MJ, OFF = alg.mul
     W = np.zeros((n, n, L))
     if mass_moves:
-        _mass_inverse(flow.Minv, dM, pvar, K, W, np.zeros(L), MI, MJ, MK)
+        _mass_inverse(flow.Minv, dM, pvar, K, W, np.zeros(L), MI, MJ, OFF)
     sy = (flow.Minv, np.ascontiguousarray(model.stiffness, float),
           np.ascontiguousarray(model.damping, float),
           np.ascontiguousarray(model.forcing, float), dM, dK, dC, dP, W, U, omega, tau,
@@ -395,7 +395,7 @@ def system(flow, alg, omega, tau, pvar=None, tangent=None, pslot=None, wvar=Fals
     Lt = tp.shape[0]
     tj = (tp, vals, roots, np.zeros((Lt, q, L)), np.zeros((Lt, q, L)), np.zeros((Lt, L)),
           np.zeros(L), np.zeros(q), np.zeros(L), np.zeros(L), np.zeros(K + 1), K, MI, MJ,
-          MK, np.zeros((2 * n, q, L)), np.zeros((q, L)), np.zeros((q, L)), np.zeros((n, L)),
+          OFF, np.zeros((2 * n, q, L)), np.zeros((q, L)), np.zeros((q, L)), np.zeros((n, L)),
           np.zeros((n, L)))
     return sy, tj
 

@@ -42,7 +42,7 @@ TIME_TRIES = 4
 
 # --------------------------------------------------------------------------- the impact
 @nb.njit(cache=True)
-def _horner(Z, S, out, tmp, MI, MJ, MK):
+def _horner(Z, S, out, tmp, MI, MJ, OFF):
     """out(delta) = sum_k Z[k](delta) S(delta)^k: a series in the time shift s, Z (K + 1,
     L), at s = S(delta) (Horner in s)."""
     L = out.shape[0]
@@ -50,13 +50,13 @@ def _horner(Z, S, out, tmp, MI, MJ, MK):
     for j in range(L):
         out[j] = Z[K, j]
     for k in range(K - 1, -1, -1):
-        tps.mul(out, S, tmp, MI, MJ, MK)
+        tps.mul(out, S, tmp, MI, MJ, OFF)
         for j in range(L):
             out[j] = tmp[j] + Z[k, j]
 
 
 @nb.njit(cache=True)
-def _impact_time(H, speed, St, hs, tmp, MI, MJ, MK):
+def _impact_time(H, speed, St, hs, tmp, MI, MJ, OFF):
     """St(delta): the root of H(S(delta); delta) = 0, H a series in the time shift s,
     by K + 1 Newton iterations on series with the slope at delta = 0, the approach speed
     (each gains an order)."""
@@ -64,7 +64,7 @@ def _impact_time(H, speed, St, hs, tmp, MI, MJ, MK):
     for j in range(L):
         St[j] = 0.0
     for _ in range(H.shape[0]):
-        _horner(H, St, hs, tmp, MI, MJ, MK)
+        _horner(H, St, hs, tmp, MI, MJ, OFF)
         for j in range(L):
             St[j] -= hs[j] / speed
 
@@ -204,11 +204,11 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
                                 "the impact time is not a smooth function of the start "
                                 "(grazing, eq. (30))")
     St, hs, tmp = np.zeros(L), np.zeros(L), np.zeros(L)
-    MI, MJ, MK = alg.mul
-    _impact_time(H, speed, St, hs, tmp, MI, MJ, MK)
+    MI, MJ, OFF = alg.mul
+    _impact_time(H, speed, St, hs, tmp, MI, MJ, OFF)
     ze = np.zeros((dim, L))
     for i in range(dim):
-        _horner(Z[i], St, ze[i], tmp, MI, MJ, MK)
+        _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
     # the reset v+ = R v- and the section point on constraint ``end``
     R = row[3 + n:].reshape(n, n)
     ze[n:] = R @ ze[n:]
@@ -217,7 +217,7 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     phase = fl.tau.copy()
     tser = St.copy()
     tser[0] += T
-    tps.mul_add(fl.omega, tser, phase, MI, MJ, MK)
+    tps.mul_add(fl.omega, tser, phase, MI, MJ, OFF)
     out[dim - 1] = phase
     return alg, out, float(T + St[0]), speed
 
