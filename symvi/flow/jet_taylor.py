@@ -272,7 +272,7 @@ def _coefficients(sy, tj, t, Y, kmax):
 
 
 @nb.njit(cache=True)
-def _step_size(X, p, hmax):
+def _jorba_zou_h(X, p, hmax):
     """Jorba & Zou's step from the last two coefficients, over every monomial of delta
     (the module docstring), at most hmax."""
     dim, _, L = X.shape
@@ -317,7 +317,7 @@ def integrate(sy, tj, Y, t_end, hmax):
         if steps >= MAX_STEPS:
             return -1
         _coefficients(sy, tj, t, Y, p)
-        h = _step_size(X, p, hmax)
+        h = _jorba_zou_h(X, p, hmax)
         if not (math.isfinite(h) and h > 0.0):
             return -1
         h = min(h, t_end - t)
