@@ -213,6 +213,19 @@ def _coefficients(sy, tj, t, Y, kmax):
                 else:                          # a parameter: constant in time
                     for q in range(L):
                         S[i, k, q] = U[a, q] if k == 0 else 0.0
+            elif code == T_MUL and a == b:    # a square: the terms j, k - j pair up
+                h2 = (k + 1) // 2                # (the pairs of a monomial are symmetric)
+                for m in range(L):
+                    acc = 0.0
+                    mid = 0.0
+                    for t in range(OFF[m], OFF[m + 1]):
+                        ia = MI[t]
+                        ib = MJ[t]
+                        for j in range(h2):
+                            acc += S[a, j, ia] * S[a, k - j, ib]
+                        if k % 2 == 0:
+                            mid += S[a, h2, ia] * S[a, h2, ib]
+                    S[i, k, m] = 2.0 * acc + mid
             elif code == T_MUL:
                 for m in range(L):
                     acc = 0.0
