@@ -174,7 +174,7 @@ def _coefficients(sy, tj, t, Y, kmax):
     (t, Y) (the module docstring)."""
     (Minv, Km, Cm, P, dM, dK, dC, dP, W, U, omega, tau, pvar, moves, mass_moves,
      wvar) = sy
-    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, X, sn, cs, r, g) = tj
+    (tp, vals, roots, S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, X, sn, cs, r) = tj
     dim, L = Y.shape
     n = dim // 2
     w0 = omega[0]
@@ -408,8 +408,7 @@ def system(flow, alg, omega, tau, pvar=None, tangent=None, pslot=None, wvar=Fals
     Lt = tp.shape[0]
     tj = (tp, vals, roots, np.zeros((Lt, q, L)), np.zeros((Lt, q, L)), np.zeros((Lt, L)),
           np.zeros(L), np.zeros(q), np.zeros(L), np.zeros(L), np.zeros(K + 1), K, MI, MJ,
-          OFF, np.zeros((2 * n, q, L)), np.zeros((q, L)), np.zeros((q, L)), np.zeros((n, L)),
-          np.zeros((n, L)))
+          OFF, np.zeros((2 * n, q, L)), np.zeros((q, L)), np.zeros((q, L)), np.zeros((n, L)))
     return sy, tj
 
 

@@ -198,7 +198,7 @@ def test_nonlinearity_off_jets_between_two_stops():
         assert _rel(got[k], ref[k]) < 1e-11, k
 
 
-# --------------------------------------------------------------------------- the Taylor method on series
+# --------------------------------------------------------------------------- Taylor on series
 @pytest.mark.slow
 def test_series_jets_against_the_chain_at_omega_1_3():
     """The long flight (t_e = 4.83, ~26 Taylor steps on series) at the period-1 orbit of
