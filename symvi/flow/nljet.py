@@ -72,14 +72,13 @@ def _impact_time(H, speed, St, hs, tmp, MI, MJ, OFF):
 # --------------------------------------------------------------------------- Python side
 class _Flight:
     """One series flight: its algebra, its state's series Y at its end T, the field and
-    scratch of :mod:`symvi.flow.jet_taylor` (sy, tj), the series of omega and tau, and
-    what a parameter brings (its tangent of M, K, C, P; its series; its variable)."""
+    scratch of :mod:`symvi.flow.jet_taylor` (sy, tj), the series of omega and tau."""
 
-    __slots__ = ("alg", "Y", "T", "sy", "tj", "omega", "tau", "tangent", "pvar", "ip")
+    __slots__ = ("alg", "Y", "T", "sy", "tj", "omega", "tau")
 
-    def __init__(self, **kw):
-        for k, v in kw.items():
-            setattr(self, k, v)
+    def __init__(self, alg, Y, T, sy, tj, omega, tau):
+        self.alg, self.Y, self.T, self.sy, self.tj = alg, Y, T, sy, tj
+        self.omega, self.tau = omega, tau
 
     def expansion(self):
         """(dim, K + 1, L): Z(T + s; delta) = sum_k out[:, k] s^k, exact to order K in (delta,
@@ -132,8 +131,7 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
     if steps < 0 or not np.all(np.isfinite(Y)):
         raise SingularCaseError("flight", f"the series flight over t = {T:.6g} did not "
                                 "finish (a non-finite state or the step limit)")
-    return _Flight(alg=alg, Y=Y, T=float(T), sy=sy, tj=tj, omega=om_s, tau=tau_s,
-                   tangent=tangent, pvar=pvar, ip=ip)
+    return _Flight(alg, Y, float(T), sy, tj, om_s, tau_s)
 
 
 def _force_slot(model, param):
