@@ -180,6 +180,9 @@ def test_readme_blocks_run(tmp_path, monkeypatch):
     assert c["flip"]["c"] == pytest.approx(6.9546, abs=1e-4)
     assert "completed" in out_of("symvi simulate --model duffing.toml")
     assert "2.747354261" in out_of("symvi continue --model duffing.toml --range omega=2.2:3.2")
+    orbits = out_of("symvi orbit --model duffing.toml --omega 2.6")
+    assert "3 period-1 one-impact orbit(s)" in orbits and orbits.count("  stable;") == 2
+    assert "flip curve in (omega, beta)" in out_of("symvi curve --model duffing.toml")
     hopf = out_of("symvi hopf --model chain3.toml --range omega=0.99:1.06")
     assert "0.99971142" in hopf and "1.0459583" in hopf
     # the study: a report from a scene file, then every part from the cache

@@ -32,6 +32,11 @@ def register(sub):
                    help="follow branches on where their orbits are not admissible (by default "
                         "a branch ends at its grazing point)")
     p.add_argument("--max-points", type=int, default=5000, help="points per branch")
+    p.add_argument("--digits", type=int, default=None,
+                   help="re-derive each fold, flip and NS point with the independent mpmath "
+                        "chain at this many digits (16..200; one rigid stop on one mass, "
+                        "with or without nonlinear forces; seconds per point): the orbit, "
+                        "the critical multiplier and c or l1")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="draw the branches (.png or .pdf)")
     return p
@@ -89,11 +94,15 @@ def _known(model, name, flag):
 def run(args):
     from .._io import FIGURE_SUFFIXES, check_output
     from ..continuation import continue_orbits
+    from ..errors import ParameterError
     from ..model import Model
     span, flags = old_range(args, "--range", OLD_RANGE, ordered=False)
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
+    if args.digits is not None and not (16 <= args.digits <= 200 and model.one_rigid_stop):
+        raise ParameterError("--digits", args.digits, "an integer from 16 to 200, for a "
+                             "model with one rigid stop on one mass (the chain's map)")
     param = span.name
     spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])
     from ..progress import counting
@@ -109,8 +118,13 @@ def run(args):
         fig = figures.branches([b.curve(0) for b in branches], param, ylabel=names[0],
                                title=f"{describe(model)}  ({param} continuation)")
         figures.save(fig, args.plot)
+    checks = [()] * len(branches)
+    if args.digits is not None:
+        from ..studies.nonlinear_check import check_branches
+        with counting(f"checking the special points at {args.digits} digits"):
+            checks = check_branches(branches, args.digits)
     if args.json:
-        print_json(_as_json(param, branches, args.plot))
+        print_json(_as_json(param, branches, args.plot, checks))
         return 0
     print(f"model: {describe(model)}   {param} from {span.lo:g} to {span.hi:g}")
     for k, br in enumerate(branches):
@@ -127,24 +141,28 @@ def run(args):
               f"[{br.values.min():.10g}, {br.values.max():.10g}]; end: {br.end}")
         for note in br.notes:
             print(f"  note: {note}")
-        for sp in br.special:
+        for j, sp in enumerate(br.special):
             print_special(sp.kind, f"{param} = {sp.value:.15g}", sp.coefficients,
                           sp.detail, sp.orbit, 13)
+            if checks[k]:
+                print(" " * 16 + checks[k][j].text())
     if args.plot:
         print(f"\nplot: {args.plot}")
     return 0
 
 
-def _as_json(param, branches, plot):
+def _as_json(param, branches, plot, checks=None):
     points, special = [], []
     for k, br in enumerate(branches):
         for pt in br.points:
             d = pt.as_dict()
             d["branch"] = k
             points.append(d)
-        for sp in br.special:
+        for j, sp in enumerate(br.special):
             d = sp.as_dict()
             d["branch"] = k
+            if checks and checks[k]:
+                d["chain"] = checks[k][j].as_dict()
             special.append(d)
     out = {"param": param, "points": points, "special": special,
            "branches": [{"orbit": f"{br.n}-{br.p}",

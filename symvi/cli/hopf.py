@@ -42,7 +42,8 @@ def run(args):
     if args.digits is not None and not 30 <= args.digits <= 500:
         raise ParameterError("--digits", args.digits, "an integer from 30 to 500")
     from ..model import Model
-    if isinstance(params, Model) and not params.one_rigid_stop:
+    if isinstance(params, Model) and (not params.one_rigid_stop
+                                      or params.nonlinear is not None):
         return _branch_scan(params, args)
     # first run after install: compile the scan's kernels in parallel, and say so
     warm(HOPF, "the Hopf scan")
@@ -146,7 +147,8 @@ def run(args):
 
 
 def _branch_scan(model, args):
-    """A model with no period-1 closed form (several stops, a lower one, an elastic stop):
+    """A model with no period-1 closed form (several stops, a lower one, an elastic stop,
+    nonlinear forces):
     the NS points of the branches continued from the attractors found in the interval
     (:func:`symvi.continuation.start.ns_scan`), said to be uncertified."""
     from ..continuation.start import ns_scan
@@ -165,7 +167,7 @@ def _branch_scan(model, args):
     print(f"model: {describe(model)}   omega in [{res.omega_min:g}, {res.omega_max:g}]")
     print(f"NOT CERTIFIED: {res.reason}")
     for w, n, p, sig in res.starts:
-        print(f"  attractor at omega = {w:.6g}: {n}-{p} orbit ({', '.join(sig)})")
+        print(f"  started at omega = {w:.6g}: {n}-{p} orbit ({', '.join(sig)})")
     if not res.points:
         print("no NS point on these branches")
     for i, (sp, br) in enumerate(res.points):

@@ -19,6 +19,8 @@ def run(args):
     omega = args.omega                          # a float: the value the library checked
     if not model.one_rigid_stop:
         return _attractor(model, omega, args.json)
+    if model.nonlinear is not None:
+        return _nonlinear(model, omega, args.json)
     # error estimates; mpmath recomputation where float64 gives < 8 digits
     autos = auto_orbits(system, omega)
     orbits = [a.orbit for a in autos]
@@ -85,6 +87,45 @@ def _attractor(model, omega, as_json):
     print(f"{o.n}-{o.p} orbit, signature {', '.join(o.signature_names)}"
           + ("" if o.symmetric is None else (", symmetric" if o.symmetric else ", asymmetric"))
           + f": {found}")
+    _print_orbit(model, o)
+    return 0
+
+
+#: how ``symvi orbit`` found a nonlinear model's orbits (:mod:`symvi.continuation.homotopy`)
+NONLINEAR_FOUND = ("continued from the linear part's period-1 orbits in the forces' scale s "
+                   "(s f(x, v), s from 0 to 1, paths followed over s in [-{reach:g}, "
+                   "{reach:g}]) and the attractor of a run of the map, each refined by "
+                   "Newton; orbits on isolas may be missed: the list is not complete by "
+                   "construction (precision not estimated)")
+
+
+def _nonlinear(model, omega, as_json):
+    """A model with nonlinear forces: the period-1 orbits the homotopy from its linear
+    part's closed form reaches (:mod:`symvi.continuation.homotopy`), each with where it
+    came from, and what each path did not reach."""
+    from ..continuation.homotopy import REACH, period1_orbits
+    from ..flow import check_omega
+    from . import describe
+    found = period1_orbits(model, check_omega(model, omega))
+    how = NONLINEAR_FOUND.format(reach=REACH)
+    if as_json:
+        print_json({"model": model.as_dict(), "omega": omega, "found": how,
+                    "orbits": [{**o.as_dict(), "origin": w}
+                               for o, w in zip(found.orbits, found.origins)],
+                    "notes": list(found.notes)})
+        return 0
+    print(f"model: {describe(model)}   omega={omega:.10g}")
+    print(f"{len(found.orbits)} period-1 one-impact orbit(s): {how}")
+    for k, (o, origin) in enumerate(zip(found.orbits, found.origins), start=1):
+        print(f"orbit {k} (from the {origin}):")
+        _print_orbit(model, o)
+    for note in found.notes:
+        print(f"note: {note}")
+    return 0
+
+
+def _print_orbit(model, o):
+    """The lines of one PeriodicOrbit: its events, multipliers and status."""
     event = "event" if model.elastic else "impact"      # an entry or exit has no impact
     for i, (y, names) in enumerate(zip(o.points, o.point_names)):
         print(f"  {event} {i + 1} ({o.signature_names[i]}): "
@@ -93,7 +134,6 @@ def _attractor(model, omega, as_json):
     print("  multipliers: " + ", ".join(_number(z) for z in o.multipliers))
     status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
     print(f"  {status}; residual {o.residual:.3g}" + (f"; reason: {o.reason}" if o.reason else ""))
-    return 0
 
 
 #: the paper's names of (x1dot+, x20, x20dot, tau0), eq. (9)

@@ -538,17 +538,16 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
     [(1, 1), (2, 2)]
     """
     from ..model import Model
-    from ..orbits.period1 import admissible_orbits
     model = Model.of(model)      # the paper's Params too (it found no branch: silently none)
     out = []
     for a, b in ((omega_max, omega_min), (omega_min, omega_max)):
         try:
-            orbits = admissible_orbits(model, a, multipliers=False)
+            orbits = _period1_starts(model, a)
         except SingularCaseError:      # a singular end (resonance, not isolated): none there
             continue
-        for o in orbits:
+        for y in orbits:
             try:
-                br = continue_branch(model, "omega", a, b, guess=o.y, max_points=max_points)
+                br = continue_branch(model, "omega", a, b, guess=y, max_points=max_points)
             except SymviError:
                 continue
             if not any(same_branch(br, x) or same_branch(x, br) for x in out):
@@ -562,6 +561,16 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
                     except SymviError:
                         pass
     return out
+
+
+def _period1_starts(model, omega):
+    """The section points of the admissible period-1 orbits at omega: the closed form's,
+    or with nonlinear forces those the homotopy from it reaches (:mod:`.homotopy`)."""
+    if model.nonlinear is None:
+        from ..orbits.period1 import admissible_orbits
+        return [o.y for o in admissible_orbits(model, omega, multipliers=False)]
+    from .homotopy import period1_orbits
+    return [o.y for o in period1_orbits(model, omega).orbits if o.admissible]
 
 
 def diagram_branches(system, omega_min, omega_max, component=0):

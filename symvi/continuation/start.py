@@ -235,7 +235,20 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
-        if (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
+        if (n, p) == (1, 1) and at.one_rigid_stop and at.nonlinear is not None:
+            # nonlinear forces: the period-1 orbits the homotopy from the linear part's
+            # closed form reaches (the attractor among them), admissible ones
+            from .homotopy import period1_orbits as homotopy_orbits
+            guesses = [o.y for o in homotopy_orbits(at, w).orbits if o.admissible]
+            moved = (f"started from the {len(guesses)} admissible period-1 orbit(s) at "
+                     f"{param} = {a:.12g} continued from the linear part's closed form in "
+                     "the forces' scale, and the attractor of a run (symvi.continuation."
+                     "homotopy; an orbit on an isola may be missed)")
+        else:
+            guesses = None
+        if guesses:
+            pass                        # the homotopy's orbits
+        elif (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
             # no closed form to start from (several stops, a lower one): the periodic
             # attractor a run of the map settles on at the start, or else at the first of
             # SEARCH_RUNS values towards the stop where a run settles on one
@@ -605,7 +618,10 @@ class BranchScan:
 
     @property
     def reason(self):
-        return SCAN_UNCERTIFIED.format(samples=self.samples)
+        extra = ("; with nonlinear forces also the period-1 orbits at both ends continued "
+                 "from the linear part's closed form in the forces' scale"
+                 if self.model.nonlinear is not None and self.model.one_rigid_stop else "")
+        return SCAN_UNCERTIFIED.format(samples=self.samples) + extra
 
     def as_dict(self):
         index = {id(br): k + 1 for k, br in enumerate(self.branches)}
@@ -627,11 +643,12 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
     """The Neimark–Sacker points of a model with no period-1 closed form, uncertified.
 
     The NS points of ``model`` (one with no period-1 closed form: several stops, a
-    lower one, an elastic stop) in [omega_min, omega_max], as ``symvi hopf`` reports them
-    there: at ``samples`` frequencies a run of the map from the default start settles on
-    a periodic attractor; each new one is continued in omega over the interval both ways
-    (:func:`continue_orbits`), and the NS points located on the branches are kept, each
-    once.  A :class:`BranchScan`, which says it is not certified: an orbit no run
+    lower one, an elastic stop, nonlinear forces) in [omega_min, omega_max], as ``symvi
+    hopf`` reports them there: at ``samples`` frequencies a run of the map from the
+    default start settles on a periodic attractor; each new one is continued in omega
+    over the interval both ways (:func:`continue_orbits`), and the NS points located on
+    the branches are kept, each once.  With nonlinear forces on one rigid stop the
+    period-1 orbits at both ends that :mod:`.homotopy` reaches are continued too.  A :class:`BranchScan`, which says it is not certified: an orbit no run
     settles on, and a branch that does not reach one, are not searched (the certified
     scan of closed-form branches is :func:`symvi.hopf_points`).
 
@@ -675,8 +692,30 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
         raise ParameterError("omega_max", hi, f"a value > omega_min = {lo:g}")
     from ..progress import Progress
     branches, starts = [], []
+
+    def follow(w, orbit):
+        if not orbit.admissible or any(_on(br, orbit) for br in branches):
+            return
+        starts.append((w, orbit.n, orbit.p, orbit.signature_names))
+        for stop in (lo, hi):
+            if stop == w:
+                continue
+            try:
+                br = continue_branch(model, "omega", w, stop, orbit=orbit,
+                                     max_points=max_points)
+            except SymviError:
+                continue
+            if not any(same_branch(br, other) for other in branches):
+                branches.append(br)
     with warnings.catch_warnings(), Progress(samples, "NS scan (attractors)") as bar:
         warnings.simplefilter("ignore", NearSingularWarning)
+        if model.nonlinear is not None and model.one_rigid_stop:
+            # nonlinear forces: also the period-1 orbits at both ends that the homotopy
+            # from the linear part's closed form reaches (unstable ones included)
+            from .homotopy import period1_orbits
+            for w in (lo, hi):
+                for orbit in period1_orbits(model, w, attractor=False).orbits:
+                    follow(w, orbit)
         for k in range(samples):
             bar.update()
             w = lo + (hi - lo) * (k + 0.5) / samples
@@ -688,17 +727,7 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
                 orbit = from_simulation(sim)
             except SymviError:
                 continue
-            if not orbit.admissible or any(_on(br, orbit) for br in branches):
-                continue
-            starts.append((w, orbit.n, orbit.p, orbit.signature_names))
-            for stop in (lo, hi):
-                try:
-                    br = continue_branch(model, "omega", w, stop, orbit=orbit,
-                                         max_points=max_points)
-                except SymviError:
-                    continue
-                if not any(same_branch(br, other) for other in branches):
-                    branches.append(br)
+            follow(w, orbit)
     seen, points = [], []
     for br in branches:
         for sp in br.special:

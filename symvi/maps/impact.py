@@ -53,7 +53,8 @@ def poincare_map(model, omega, y, *, digits=None, t_max=None):
     ----------
     model : Model or Params
         A model with one rigid upper stop on one mass (the paper's Params as its
-        ``Model.luo_xie``).
+        ``Model.luo_xie``); with nonlinear forces the flight is the numerical flow's
+        (:mod:`symvi.flow.nonlinear`, float64 only).
     omega : float
         Forcing frequency, 1e-4 <= omega <= 1e4, not at the natural frequency of an
         undamped mode.
@@ -99,6 +100,8 @@ def poincare_map(model, omega, y, *, digits=None, t_max=None):
     8.726646
     """
     model = Model.of(model).require_one_rigid_stop()
+    if model.nonlinear is not None:           # the numerical flow: FlowView's flights
+        return _nonlinear_step(model, omega, y, digits, t_max)
     LinearFlow.of(model)                      # validates the model
     y = Section.of(model).check(y)
     if digits is None:
@@ -110,6 +113,21 @@ def poincare_map(model, omega, y, *, digits=None, t_max=None):
         flow.check_omega(float(omega), warn=False)
         y = np.array([mpmath.mpf(v) for v in y], dtype=object)
         return step(flow, flow.forcing(mpmath.mpf(omega)), y, t_max)
+
+
+def _nonlinear_step(model, omega, y, digits, t_max):
+    """:func:`poincare_map` of a model with nonlinear forces (issue 28): :func:`step` on
+    the numerical flow (:class:`symvi.flow.nljet.FlowView`: the Taylor method's flight,
+    the linear part's constraint and section), float64 only."""
+    from ..errors import ParameterError
+    from ..flow.nljet import FlowView
+    if digits is not None:
+        raise ParameterError("digits", digits, "None with nonlinear forces (float64; the "
+                             "40-digit map is symvi.studies.nonlinear_check.NonlinearChain)")
+    flow = FlowView.of(model)
+    y = Section.of(model).check(y)
+    omega = flow.check_omega(omega)
+    return step(flow, flow.forcing(omega), np.array(y, dtype=float), t_max)
 
 
 __all__ = ["MapStep", "step", "poincare_map", "IMPACT"]

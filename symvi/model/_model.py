@@ -33,7 +33,6 @@ exact parameter derivatives of the map are built from.  :meth:`Model.parameter` 
 name once into an object that reads, sets and differentiates it
 (:mod:`symvi.model.parameters`); ``value``, ``with_`` and ``tangent`` are thin wrappers.
 """
-import functools
 import math
 from dataclasses import dataclass
 
@@ -540,8 +539,8 @@ class Model:
         (:class:`symvi.flow.linear.LinearFlow`)."""
         if self._nl is not None:
             raise ParameterError("model", "nonlinear", "a linear model: with nonlinear "
-                                 "forces this analysis is a later step of issue 28 (simulate "
-                                 "and continue run them)")
+                                 "forces this analysis is a later step of issue 28 (simulate, "
+                                 "orbit, continue, curve, hopf, sweep and plane run them)")
         return self
 
     @property

@@ -94,7 +94,6 @@ import numpy as np
 
 from ..errors import ParameterError, SingularCaseError
 from ..flow.compiled import table as _table
-from ..flow.linear import LinearFlow
 
 #: |h| and |sigma| at the tangency, relative to the orbit's scale, above which the orbit
 #: is refused as not grazing
@@ -287,7 +286,6 @@ def discontinuity_map(orbit, where, *, param="omega"):
     if model.elastic:
         raise ParameterError("model", "elastic stop", "a model of rigid stops (an elastic "
                              "stop has no impact map: no Nordmark map)")
-    model.require_linear()         # its smooth part reads the exact flow's matrices
     par = model.parameter(param)
     G = _Grazing(orbit, coef)
     N, fX = G.smooth_jacobian()
@@ -438,9 +436,10 @@ class _Grazing:
 
     def _names(self):
         flow, N = self.flow, self.N
-        if flow.labels is not None:
-            pos = [flow.labels[j][0] for j in range(N)]
-            vel = [flow.labels[j][1] for j in range(N)]
+        labels = getattr(flow, "lin", flow).labels     # FlowView: its linear part's frame
+        if labels is not None:
+            pos = [labels[j][0] for j in range(N)]
+            vel = [labels[j][1] for j in range(N)]
         else:
             pos = [f"x{flow.perm[j] + 1}" for j in range(N)]
             vel = [f"v{flow.perm[j] + 1}" for j in range(N)]
@@ -542,7 +541,7 @@ class _Grazing:
         orbit's)."""
         model = self.model if model is None else model
         omega = self.omega if omega is None else float(omega)
-        flow = self.flow if model is self.model else LinearFlow.of(model)
+        flow = self.flow if model is self.model else _free_flow(model)
         F = flow.forcing(omega)
         rows = self.rows if model is self.model else _table(flow)
         level = self._row(rows, self.k)[1]
@@ -611,7 +610,7 @@ def descent_point(nm, xi, model, omega):
     """(z, phi): where the smooth orbit through xi (apex at depth h > 0 on Pi) comes back
     out of the stop: h = 0 with h' < 0, at time ~ sqrt(2 h / |a|) after Pi."""
     G = _grazing_of(nm)
-    flow = LinearFlow.of(model)
+    flow = _free_flow(model)
     F = flow.forcing(omega)
     level = G._row(_table(flow), G.k)[1]
     z0, phi0 = G.state(xi, level)
@@ -642,13 +641,20 @@ def other_speeds(nm):
 _GRAZINGS = {}
 
 
+def _free_flow(model):
+    """The flow the shooting system reads (:func:`symvi.orbits.periodic.free_flow`: the
+    exact linear one, or the nonlinear forces' series view)."""
+    from .periodic import free_flow
+    return free_flow(model)
+
+
 def _grazing_of(nm):
     """The _Grazing behind a DiscontinuityMap (rebuilt from its legs and tangency)."""
     G = _GRAZINGS.get(id(nm))
     if G is None or G[0] is not nm:
         g = _Grazing.__new__(_Grazing)
         model = nm.model
-        flow = LinearFlow.of(model)
+        flow = _free_flow(model)
         g.model, g.omega, g.flow, g.F = model, nm.omega, flow, flow.forcing(nm.omega)
         g.N = model.n
         g.rows = _table(flow)

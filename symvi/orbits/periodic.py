@@ -37,6 +37,7 @@ from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
 from ..model import Signature
+from ..model.parameters import StopParameter
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
@@ -179,8 +180,10 @@ class Problem:
             z0[self.frames[k]] = Y[i][:-1]
             tau = Y[i][-1]
             fi, Fi = phases[i]
-            if self.nonlinear and self.parameter is not None:
-                # one series flight gives dz/dlam too (:meth:`_dparam_series` reads it)
+            if self.nonlinear and self.parameter is not None and \
+                    not isinstance(self.parameter, StopParameter):
+                # one series flight gives dz/dlam too (:meth:`_dparam_series` reads it;
+                # a stop's gap or restitution moves no flight, only its ends)
                 *f, dzp = fi.flight(Fi, z0, tau, T[i], param=self.parameter)
                 out.append((z0, tau) + tuple(f) + (dzp,))
             else:
@@ -352,7 +355,7 @@ class Problem:
         offset zs = K_S^-1 f_S with their gaps too (:func:`phase_tangent`)."""
         name = self.model.parameter(name)
         if self.nonlinear:
-            return self._dparam_series(fl, flow, F, T, name)
+            return self._dparam_series(fl, model, flow, F, T, name)
         d, p, bk, N = self.d, self.p, flow.bk, self.N
         out = np.zeros(self.size)
         ends = self._ends(flow)
@@ -393,10 +396,12 @@ class Problem:
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
 
-    def _dparam_series(self, fl, flow, F, T, name):
+    def _dparam_series(self, fl, model, flow, F, T, name):
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
-        series (:meth:`symvi.flow.nljet.FlowView.flight`, which refuses a gap or a
-        restitution by name for now: they move the section and the reset)."""
+        series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
+        moves no flight, only its ends (:meth:`_dstop`)."""
+        if isinstance(name, StopParameter):
+            return self._dstop(fl, model, flow, name.tangent(model))
         d, p, N = self.d, self.p, self.N
         out = np.zeros(self.size)
         ends = self._ends(flow)
@@ -408,6 +413,31 @@ class Problem:
             out[i * d:i * d + d - 1] = E @ dz
             out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
             out[p * d + i] = g @ dz[:N]
+        return out
+
+    def _dstop(self, fl, model, flow, tan):
+        """dG/d(gap or restitution of stop ``tan.stop``) with the flights' own Phi: a flight
+        starting on that stop starts from the moved section (dz0 = db e_k, dz = Phi dz0),
+        one ending on it meets the moved level (-sign db) and takes the moved reset
+        (dE z, dE = -dr Q): the linear path's terms (:meth:`_dparam`) with the flight's
+        state transition matrix in place of e^{At}."""
+        d, p, N = self.d, self.p, self.N
+        out = np.zeros(self.size)
+        ends, ks = self._ends(flow), tan.stop
+        geo = LinearFlow.of(model.linear_part)    # the frames FlowView reads its resets in
+        dE = [self._dreset_rows(geo, model, k, tan) for k in range(len(model.constraints))]
+        for i, (z0, tau, z, Phi, *_) in enumerate(fl):
+            E, g, _ = ends[i]
+            kb = self.sig[(i + 1) % p]
+            dz0 = np.zeros(d)
+            if self.sig[i] == ks:
+                dz0[self.positions[ks]] = tan.db
+            dz = Phi @ dz0
+            out[i * d:i * d + d - 1] = E @ dz
+            if dE[kb] is not None:
+                out[i * d:i * d + d - 1] += dE[kb] @ z
+            out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * tan.db
+                                           if kb == ks else 0.0)
         return out
 
     def _dreset_rows(self, flow, model, k, tan):

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, SymviError
-from ..simulations.simulation import STOP_NAMES
+from ..simulations.simulation import STOP_NAMES, _walked
 from .grid import PlaneSpec, block_inputs
 from .store import PlaneStore
 
@@ -48,10 +48,10 @@ def compute_block(spec_text, r0, r1):
     name -> array (r1 - r0, nx).  What a Dask task runs; also the serial reference."""
     from ..simulations.classifier import classify_runs
     spec = _spec(spec_text)
-    if spec.model.elastic:              # contact phases: the Python walk, point by point
-        from ..simulations.simulation import classify_contacts
+    if _walked(spec.model):             # contact phases, nonlinear forces: point by point
+        from ..simulations.simulation import classify_walked
         pts = [spec.point(i, j) for i in range(r0, r1) for j in range(spec.x.n)]
-        res = classify_contacts(pts, spec.impacts, spec.transient, follow=spec.follow,
+        res = classify_walked(pts, spec.impacts, spec.transient, follow=spec.follow,
                                 row_len=spec.x.n)
         own = np.zeros(len(pts), dtype=bool)   # no period-1 orbit to start from
     else:
@@ -393,9 +393,9 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
     starts = sweep_starts(params, omegas)
     chunk = chunk or max(1, math.ceil(m / 32))
     parts = {}
-    elastic = Model.of(params).elastic
+    walked = _walked(Model.of(params))     # classified in the task: too slow to run twice
     tasks = [(str(lo), lo, (params, omegas[lo:lo + chunk], starts[lo:lo + chunk], n_impacts,
-                            transient, classify and elastic)) for lo in range(0, m, chunk)]
+                            transient, classify and walked)) for lo in range(0, m, chunk)]
 
     def done(lo, res):
         parts[lo] = res
@@ -407,6 +407,6 @@ def run_sweep(params, omegas, *, n_impacts, transient, scheduler=None, workers=N
                 np.concatenate([g.counts for g in got]),
                 tuple(s for g in got for s in g.stops), np.concatenate([g.starts for g in got]),
                 transient, sum(g.impacts_total for g in got))
-    if classify and elastic:
+    if classify and walked:
         return dataclasses.replace(res, classes=_joined([g.classes for g in got]))
     return dataclasses.replace(res, classes=classify_sweep(res)) if classify else res

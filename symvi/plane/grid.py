@@ -189,6 +189,11 @@ def _check_ranges(spec):
     rows = [spec.model] if not par else [spec.model.with_(**{par[0][1].name: float(v)})
                                         for v in par[0][1].values]
     seen = set()
+    if spec.model.nonlinear is not None:     # no modes to resonate: the range only
+        from ..flow.linear import check_range
+        for w in omegas:
+            check_range(w, name=flag)
+        return
     for m in rows:
         # with elastic stops every contact phase too (LinearFlow.contact: K_S, C_S)
         flows = ([LinearFlow.contact(m)] + [LinearFlow.contact(m, S) for S in _contact_sets(m)]

@@ -623,7 +623,7 @@ def sweep_starts(params, omegas, perturbation=DEFAULT_PERTURBATION):
     model = Model.of(params)
     if model.elastic:                 # the walk's default start, as a section point
         return np.array([contact_start(model, w)[1] for w in omegas])
-    if not model.one_rigid_stop:
+    if not model.one_rigid_stop or model.nonlinear is not None:
         return np.array([default_start(model.require_rigid_stops(), w) for w in omegas])
     perturbation = _perturbation(params, perturbation)
     ys = [fixed_point(params, w) for w in omegas]
@@ -647,9 +647,10 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``progress(done, total)`` is called after each chunk of omegas.  ``params``
     is a :class:`symvi.Params` or any :class:`symvi.model.Model`.  ``classify``: also
     label each omega's attractor (:func:`classify_sweep`; ``n_impacts`` >= 4), in
-    ``Sweep.classes``.  A model with an elastic stop walks each omega in Python
-    (:func:`_sweep_contacts`; ``starts`` are points of the first stop's section leaving it,
-    nothing in contact, by default :func:`contact_start`; ``n_impacts`` >= 4 per symbol of
+    ``Sweep.classes``.  A model with an elastic stop or nonlinear forces runs each omega
+    in Python (:func:`_sweep_walked`; ``starts`` are points of the first stop's section
+    leaving it, nothing in contact, by default :func:`contact_start`, or
+    :func:`default_start` with nonlinear forces; ``n_impacts`` >= 4 per symbol of
     :func:`symbol_count` to classify).
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
@@ -657,9 +658,9 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     if classify:
         _check_classifiable(n_impacts, params=params)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
-    if Model.of(params).elastic:      # contact phases: the Python walk, omega by omega
-        return _sweep_contacts(params, omegas, n_impacts, transient, starts, progress,
-                               classify)
+    if _walked(Model.of(params)):     # contact phases or nonlinear forces: omega by omega
+        return _sweep_walked(params, omegas, n_impacts, transient, starts, progress,
+                             classify)
     if starts is None:
         starts = sweep_starts(params, omegas, perturbation)
     try:
@@ -717,9 +718,10 @@ def classify_sweep(res):
     n_keep = res.section.shape[1]
     _check_classifiable(n_keep, params=res.params)
     model = Model.of(res.params)
-    if model.elastic:                 # the same walks again (classify_contacts)
-        return classify_contacts([(model, float(w)) for w in res.omegas], n_keep,
-                                 res.transient, starts=[_leaving(model, y) for y in res.starts])
+    if _walked(model):                # the same walks (runs of the numerical flow) again
+        starts = [_leaving(model, y) if model.elastic else tuple(y) for y in res.starts]
+        return classify_walked([(model, float(w)) for w in res.omegas], n_keep,
+                               res.transient, starts=starts)
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
     return classify_runs(C, res.starts, n_keep, res.transient, models=model)
 
@@ -753,10 +755,17 @@ def _leaving(model, y, name="starts"):
     return LinearFlow.contact(model).to_mass(zf), y[-1], (), 0
 
 
-def _sweep_contacts(model, omegas, n_impacts, transient, starts, progress, classify):
-    """:func:`sweep` of a model with an elastic stop: one walk (:func:`contact_run`) per
-    omega from ``starts`` (default :func:`contact_start`), its records as the section;
-    ``classify`` judges those same runs (:func:`classify_contacts`)."""
+def _walked(model):
+    """Whether a sweep runs ``model`` omega by omega in Python: an elastic stop's walk, or
+    the numerical flow of nonlinear forces (no compiled batch for either)."""
+    return model.elastic or model.nonlinear is not None
+
+
+def _sweep_walked(model, omegas, n_impacts, transient, starts, progress, classify):
+    """:func:`sweep` of a model run omega by omega (:func:`_walked`): an elastic stop's walk
+    (:func:`contact_run`, from ``starts``, default :func:`contact_start`) or the numerical
+    flow of nonlinear forces (:func:`_simulate_nonlinear`, default :func:`default_start`),
+    its records as the section; ``classify`` judges those same runs."""
     model = Model.of(model)
     m = len(omegas)
     if starts is None:
@@ -767,10 +776,17 @@ def _sweep_contacts(model, omegas, n_impacts, transient, starts, progress, class
         raise ParameterError("starts", starts, f"{m} start points") from None
     if len(rows) != m:
         raise ParameterError("starts", starts, f"{m} start points, one per omega")
-    begin = [_leaving(model, y) for y in rows]
+    if model.elastic:
+        begin = [_leaving(model, y) for y in rows]
+
+        def run(i, w):
+            return contact_run(model, w, n_impacts, transient, begin[i])
+    else:
+        def run(i, w):
+            return _simulate_nonlinear(model, w, tuple(rows[i]), n_impacts, transient)
     sims = []
     for i, w in enumerate(omegas):
-        sims.append(contact_run(model, float(w), n_impacts, transient, begin[i]))
+        sims.append(run(i, float(w)))
         if progress is not None:
             progress(i + 1, m)
     sec = np.full((m, n_impacts, model.dim), np.nan)
@@ -790,14 +806,17 @@ def _sweep_contacts(model, omegas, n_impacts, transient, starts, progress, class
 _BOUNDED = (0, 1, 2, 3)
 
 
-def classify_contacts(points, n_keep, transient, *, follow=False, row_len=None, starts=None):
-    """:func:`symvi.simulations.classifier.classify_runs` for models with an elastic stop:
-    per point (model, omega) one walk (:func:`contact_run`, ``n_keep`` records after
-    ``transient``) from ``starts`` (default :func:`contact_start`), judged by
+def classify_walked(points, n_keep, transient, *, follow=False, row_len=None, starts=None):
+    """:func:`symvi.simulations.classifier.classify_runs` for models run point by point in
+    Python (:func:`_walked`): per point (model, omega) one run, ``n_keep`` records after
+    ``transient`` -- an elastic stop's walk (:func:`contact_run`, from ``starts``, default
+    :func:`contact_start`) or the numerical flow of nonlinear forces
+    (:func:`_simulate_nonlinear`, default :func:`default_start`) -- judged by
     :func:`symvi.simulations.diagnostics.classify`'s judge on every event of the run.
     ``follow``: in each row of ``row_len`` points a point after the first starts from the
     previous point's last event (its state, phase and contacts) when that run reached a
-    bounded attractor.  In Python: about 0.2-1 ms an event."""
+    bounded attractor.  About 0.2-1 ms an event for a walk, 0.1-2 ms with nonlinear forces
+    (Lyapunov exponents from each flight's series)."""
     points = list(points)
     row_len = len(points) if row_len is None else int(row_len)
     rows, followed, prev = [], [], None
@@ -806,7 +825,10 @@ def classify_contacts(points, n_keep, transient, *, follow=False, row_len=None, 
         own = True
         if follow and p % row_len and prev is not None and prev[1][0] in _BOUNDED:
             start, own = _end_state(model, prev[0]), False
-        sim = contact_run(model, omega, n_keep, transient, start)
+        if model.nonlinear is not None:
+            sim = _simulate_nonlinear(model, omega, start, n_keep, transient)
+        else:
+            sim = contact_run(model, omega, n_keep, transient, start)
         prev = (sim, _judge_run(sim))
         rows.append(prev[1])
         followed.append(not own)
@@ -815,7 +837,11 @@ def classify_contacts(points, n_keep, transient, *, follow=False, row_len=None, 
 
 def _end_state(model, sim):
     """The walk's start at the last event of ``sim`` (state, phase, contacts, constraint),
-    its section point put on ``model``'s constraint (the next point of a row)."""
+    its section point put on ``model``'s constraint (the next point of a row); with
+    nonlinear forces the last stored point on the first stop's section."""
+    if model.nonlinear is not None:
+        first = np.flatnonzero(np.asarray(sim.hits) == 0)
+        return tuple(float(v) for v in sim.section[first[-1]]) if len(first) else None
     from ..flow.linear import LinearFlow
     from ..orbits._phases import state_of
     ev = sim.events
@@ -825,13 +851,13 @@ def _end_state(model, sim):
 
 
 def _judge_run(sim):
-    """One elastic run's row of :class:`~symvi.simulations.classifier.Classified`: (code,
+    """One walked run's (:func:`_walked`) row of :class:`~symvi.simulations.classifier.Classified`: (code,
     period, events per orbit, lyapunov, rotation, records per period, max velocity, stop,
     last event's point, its constraint, signature, kinds)."""
     from . import classifier as cl
     from .diagnostics import _judged
     stop = STOP_NAMES.index(sim.stop)
-    ev = sim.events
+    ev = sim if sim.events is None else sim.events      # the nonlinear flow: its impacts
     dim = Model.of(sim.params).dim
     y_end, k_end = (ev.section[-1], int(ev.hits[-1])) if len(ev.t) else (np.full(dim, np.nan), 0)
     vmax = float(np.max(np.abs(sim.impact_velocity))) if sim.n else math.nan

@@ -622,3 +622,129 @@ def _differences(f, y, order, acc, delta):
 
 
 __all__ = ["NonlinearChain", "ChainFixedPoint", "ChainNormalForm"]
+
+
+#: the special points :func:`check_special` re-derives (a grazing point has no map there)
+CHECKED_KINDS = ("fold", "flip", "ns")
+
+
+@dataclass(frozen=True)
+class SpecialCheck:
+    """A special point of a nonlinear model's branch re-derived by the chain at ``digits``
+    (:func:`check_special`).
+
+    ``residual``: the chain's fixed-point residual; ``distance``: max |y_chain - y| of
+    the section points (how far symvi's float64 orbit lies from the chain's; at a fold,
+    where Newton is singular, |P^p(y) - y| at symvi's point);
+    ``multiplier``: the chain's critical one (nearest +1 for a fold, -1 for a flip, the
+    complex one nearest the unit circle for NS), ``critical_error`` |mu - 1|, |mu + 1| or
+    ||mu| - 1| (how well symvi located the point); ``coefficient`` its name (``c`` of a
+    flip, ``l1`` of an NS point, each in symvi's normalisation; None for a fold: the chain
+    has no quadratic coefficient), with the chain's and symvi's values; ``reason`` why a
+    point was not checked ("" when it was)."""
+
+    kind: str
+    digits: int
+    residual: float = math.nan
+    distance: float = math.nan
+    multiplier: complex = complex("nan")
+    critical_error: float = math.nan
+    coefficient: str = None
+    chain: float = None
+    symvi: float = None
+    reason: str = ""
+
+    @property
+    def agreement(self):
+        """Digits of agreement of the coefficient, -log10 of the relative difference
+        (None without one; 17 where the two are equal in float64)."""
+        if self.chain is None or self.symvi is None:
+            return None
+        d = abs(self.chain - self.symvi) / max(abs(self.chain), 1e-300)
+        return 17.0 if d == 0 else round(-math.log10(d), 1)
+
+    def as_dict(self):
+        z = self.multiplier
+        return {"kind": self.kind, "digits": self.digits, "residual": self.residual,
+                "distance": self.distance, "multiplier": [z.real, z.imag],
+                "critical_error": self.critical_error, "coefficient": self.coefficient,
+                "chain": self.chain, "symvi": self.symvi, "agreement": self.agreement,
+                "reason": self.reason}
+
+    def text(self):
+        if self.reason:
+            return f"chain ({self.digits} digits): not checked ({self.reason})"
+        z = self.multiplier
+        mu = f"{z.real:.6g}" if z.imag == 0 else f"{z.real:.6g}{z.imag:+.6g}i"
+        where = (f"|P(y) - y| = {self.distance:.1e} at symvi's orbit" if self.kind == "fold"
+                 else f"orbit within {self.distance:.1e}")
+        out = (f"chain ({self.digits} digits): {where}, critical multiplier {mu} (off by "
+               f"{self.critical_error:.1e})")
+        if self.coefficient is not None:
+            out += (f", {self.coefficient} = {self.chain:.12g} ({self.agreement} digits of "
+                    "agreement)")
+        return out
+
+
+def check_special(sp, digits=40):
+    """Re-derive a special point ``sp`` of a branch of a nonlinear model (a
+    :class:`symvi.continuation.SpecialPoint` of kind fold, flip or ns) with the chain at
+    ``digits``: its orbit by Newton from symvi's, the critical multiplier and, for a flip
+    or an NS point, the coefficient (:class:`SpecialCheck`).  A point the chain does not
+    take (another kind, several stops, a stop between masses) comes back with its
+    ``reason``."""
+    o = sp.orbit
+    if sp.kind not in CHECKED_KINDS:
+        return SpecialCheck(sp.kind, digits, reason=f"no map at a {sp.kind} point")
+    try:
+        chain = NonlinearChain(o.model, o.omega, digits)
+        if sp.kind == "fold":
+            # Newton is singular at a fold (a double root): the chain's map and Jacobian
+            # at symvi's point, its residual |P^p(y) - y| for the distance
+            fp, nf = _at_point(chain, o.points[0], o.p), None
+        else:
+            fp = chain.fixed_point(o.points[0], p=o.p)
+            nf = chain.normal_form(fp.y, p=o.p)
+    except (ParameterError, SingularCaseError, ConvergenceError) as exc:
+        return SpecialCheck(sp.kind, digits, reason=str(exc))
+    with mpmath.workdps(chain.dps):
+        mults = [complex(z) for z in fp.multipliers]
+        d = [float(a - b) for a, b in zip(fp.y[:-1], o.points[0][:-1])]
+        dt = float((fp.y[-1] - o.points[0][-1] + mpmath.pi) % (2 * mpmath.pi) - mpmath.pi)
+    distance = max(abs(v) for v in d + [dt]) if sp.kind != "fold" else float(fp.residual)
+    if sp.kind == "fold":
+        mu = min(mults, key=lambda z: abs(z - 1))
+        err, name, mine, theirs = abs(mu - 1), None, None, None
+    elif sp.kind == "flip":
+        mu = min(mults, key=lambda z: abs(z + 1))
+        err, name = abs(mu + 1), "c"
+        mine, theirs = sp.coefficients.get("c"), nf.flip
+    else:
+        mu = min((z for z in mults if z.imag > 0), key=lambda z: abs(abs(z) - 1),
+                 default=complex("nan"))
+        err, name = abs(abs(mu) - 1), "l1"
+        mine, theirs = sp.coefficients.get("l1"), None if nf.l1 is None else float(nf.l1)
+    return SpecialCheck(sp.kind, digits, float(fp.residual), distance, mu, err, name,
+                        None if theirs is None else float(theirs),
+                        None if mine is None else float(mine))
+
+
+def check_branches(branches, digits=40):
+    """:func:`check_special` of every special point of ``branches``: one tuple per branch,
+    in the order of its ``special``."""
+    return tuple(tuple(check_special(sp, digits) for sp in br.special) for br in branches)
+
+
+def _at_point(chain, y, p):
+    """A :class:`ChainFixedPoint` at y itself (no Newton): the chain's Jacobian of P^p
+    there, its multipliers, and the residual |P^p(y) - y - (0, .., 2 pi m)|."""
+    with mpmath.workdps(chain.dps):
+        u = [mpmath.mpf(v) for v in chain.section.check(y, "y")]
+        img, times = chain._map_u(u, p)
+        twopi = 2 * mpmath.pi
+        m = int(mpmath.nint((img[-1] - u[-1]) / twopi))
+        res = [a - b for a, b in zip(img, u)]
+        res[-1] -= twopi * m
+        J = chain.jets(u, 1, p=p)[0]
+        return ChainFixedPoint(tuple(u), _eigenvalues(J), J, max(abs(v) for v in res),
+                               tuple(times), m)

@@ -94,3 +94,21 @@ def test_no_orbit_names_the_reason():
     import json
     d = json.loads(out)
     assert rc == 0 and d["orbits"] == [] and "anti-resonance" in d["reason"]
+
+
+def test_orbit_of_a_nonlinear_model(tmp_path):
+    """Issue 28: the period-1 orbits the homotopy from the linear part reaches, each with
+    its origin; the list is said not to be complete; JSON carries the same."""
+    f = tmp_path / "duffing.toml"
+    f.write_text('[model]\nmass = [1.0]\nstiffness = [[1.0]]\ndamping = [[0.05]]\n'
+                 'forcing = [1.0]\nnonlinear = ["beta*x1**3"]\n[model.parameters]\n'
+                 'beta = 0.2\n[stop]\nmass = 1\ngap = 0.0\nrestitution = 0.8\n')
+    r = run("orbit", "--model", str(f), "--omega", "2.6")
+    assert r.returncode == 0, r.stderr
+    assert "3 period-1 one-impact orbit(s)" in r.stdout and "not complete" in r.stdout
+    assert r.stdout.count("from the linear branch +") == 3
+    assert "note: linear branch -: not followed" in r.stdout
+    j = run("orbit", "--model", str(f), "--omega", "2.6", "--json")
+    obj = json.loads(j.stdout)
+    assert len(obj["orbits"]) == 3 and [o["stable"] for o in obj["orbits"]].count(True) == 2
+    assert all(o["origin"] == "linear branch +" for o in obj["orbits"]) and obj["notes"]

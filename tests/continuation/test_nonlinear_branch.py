@@ -101,13 +101,14 @@ def test_the_flip_coefficient_predicts_the_doubled_orbit(branch):
     assert abs(lam.real.min() + 1) < 1e-9
 
 
-def test_continue_orbits_starts_a_nonlinear_model_from_a_run():
-    """continue_orbits: no closed form to start from, so a run settles first; the branch
-    names its folds and its flip."""
+def test_continue_orbits_starts_a_nonlinear_model_from_the_homotopy():
+    """continue_orbits: no closed form to start from, so the orbits the homotopy from the
+    linear part reaches (symvi.continuation.homotopy); the branch names its folds and its
+    flip."""
     res = continue_orbits(DUFFING, "omega", 2.2, 3.2)
     kinds = sorted(s.kind for b in res for s in b.special)
     assert kinds.count("fold") == 2 and kinds.count("flip") >= 1
-    assert "simulation" in res[0].notes[0]
+    assert "forces' scale" in res[0].notes[0]
 
 
 LX = dict(mass=[1.0, 2.0], stiffness=[[1.0, -1.0], [-1.0, 6.0]], damping=[[0, 0], [0, 0]],
@@ -192,16 +193,14 @@ def test_nonlinearity_off_orbit_of_a_stop_between_masses():
 
 
 @pytest.mark.parametrize("name", ["gap", "restitution"])
-def test_a_gap_or_a_restitution_is_refused_in_one_line(name):
-    """They move the section and the reset, which the series do not follow yet: continuing
-    in them, or a jet along them, is one ParameterError naming the parameter."""
+def test_a_jet_along_a_gap_or_a_restitution_is_refused_in_one_line(name):
+    """A branch continues in them (tests/continuation/test_nonlinear_stop_params.py: they
+    move only the flights' ends); the series do not take them as a variable yet, so a jet
+    along them (what a two-parameter curve in them needs) is one ParameterError naming the
+    parameter."""
     from symvi.errors import ParameterError
     from symvi.flow.nljet import FlowView, map_jet
     sim = symvi.simulate(DUFFING, 2.6, n_impacts=20, transient=500)
     o = periodic_orbit(DUFFING, n=1, p=1, guess=sim, omega=2.6)
-    value = DUFFING.parameter(name).get(DUFFING)
-    with pytest.raises(ParameterError, match=f"^param = '{name}' is invalid; .*a gap or a "
-                                             "restitution with nonlinear forces"):
-        continue_branch(DUFFING, name, value, value * 0.9 - 0.1, orbit=o, omega=2.6)
     with pytest.raises(ParameterError, match=f"^param = '{name}'"):
         map_jet(FlowView(DUFFING), 2.6, o.y, o.times[0], 2, param=DUFFING.parameter(name))

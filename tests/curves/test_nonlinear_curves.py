@@ -52,3 +52,29 @@ def test_an_ns_curve_lands_on_the_linear_ns_point():
     end = _at_beta_zero(cv)
     assert abs(end.params["omega"] - ref.omega_c) < 1e-9
     assert abs(end.l1 - ref.l1) < 1e-8
+
+
+def test_symvi_curve_on_a_nonlinear_model(tmp_path):
+    """``symvi curve --model`` with nonlinear forces (its start: the flip that the branch
+    from the homotopy's orbits locates in the range); at each end of the flip curve in
+    (omega, beta) continuation in omega alone locates the flip at the curve's omega."""
+    import json
+
+    from symvi.model import dumps
+    from tests.fuzz._cli import cli
+    duffing = Model(**IMPACT, nonlinear=["beta*x1**3"], parameters={"beta": 0.2})
+    f = tmp_path / "duffing.toml"
+    f.write_text(dumps(duffing))
+    rc, out, err = cli("curve", "--model", f, "--kind", "flip", "--range", "omega=2.6:2.9",
+                       "--params", "omega,beta", "--bounds", "beta=0.15:0.25",
+                       "--max-points", "60", "--json")
+    assert rc == 0, err
+    obj = json.loads(out)
+    assert abs(obj["start"]["omega"] - 2.7473542619) < 1e-9
+    ends = [obj["points"][0]["params"], obj["points"][-1]["params"]]
+    assert sorted(e["beta"] for e in ends) == [0.15, 0.25]
+    for e in ends:
+        m = duffing.with_(beta=e["beta"])
+        sim = symvi.simulate(m, e["omega"] - 0.01, n_impacts=50, transient=3000)
+        sp = _special(m, "flip", e["omega"] - 0.01, e["omega"] - 0.01, e["omega"] + 0.01, sim)
+        assert abs(sp.value - e["omega"]) < 1e-8

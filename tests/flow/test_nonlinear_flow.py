@@ -153,7 +153,7 @@ def test_the_exact_linear_flow_refuses_a_nonlinear_model():
             make()
         assert str(exc.value) == ("model = 'nonlinear' is invalid; valid range: a linear "
                                   "model: with nonlinear forces this analysis is a later "
-                                  "step of issue 28 (simulate and continue run them)")
+                                  "step of issue 28 (simulate, orbit, continue, curve, hopf, sweep and plane run them)")
 
 
 # --- every rigid constraint (issue 28, with issue 25's constraints) ------------------------

@@ -57,10 +57,10 @@ def test_small_elastic_plane_agrees_with_each_points_classification(tmp_path):
 def test_follow_on_an_elastic_plane():
     """--follow: the points after the first of a row start from the previous run's last
     event (state, phase, contacts) where it reached an attractor; the first never does."""
-    from symvi.simulations.simulation import classify_contacts
+    from symvi.simulations.simulation import classify_walked
     spec = _spec(follow=True)
     pts = [spec.point(i, j) for i in range(2) for j in range(3)]
-    res = classify_contacts(pts, 60, 300, follow=True, row_len=3)
+    res = classify_walked(pts, 60, 300, follow=True, row_len=3)
     assert not res.followed[0] and not res.followed[3]
     assert res.followed[1] and res.followed[2]   # after chaos, after a periodic orbit
     # a followed run starts on its neighbour's attractor: the 1-4 orbit at omega = 1.3

@@ -107,33 +107,40 @@ def test_the_start_defaults_and_is_checked():
         symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=0)
 
 
-REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: with nonlinear " \
-          "forces this analysis is a later step of issue 28 (simulate and continue run them)"
-
-
-@pytest.mark.parametrize("argv", [
-    ("orbit", "--omega", "1.3"),
-    ("curve", "--range", "omega=1.0:1.5", "--params", "omega,gap"),
-    ("hopf", "--range", "omega=1.0:1.5"),
-    ("sweep", "--range", "omega=1.0:1.5:5", "--out", "sw.npz"),
-    ("plane", "--x", "omega=1:1.5:3", "--y", "beta=0.4:0.6:3", "--impacts", "50",
-     "--transient", "10", "--out", "p.zarr", "--workers", "0"),
+@pytest.mark.parametrize("argv, out", [
+    (("orbit", "--omega", "1.3"), None),
+    (("hopf", "--range", "omega=1.2:1.4"), None),
+    (("sweep", "--range", "omega=1.0:1.5:3", "--out", "sw.npz"), "sw.npz"),
+    (("plane", "--x", "omega=1:1.5:2", "--y", "beta=0.4:0.6:2", "--impacts", "50",
+      "--transient", "10", "--out", "p.zarr", "--workers", "0"), "p.zarr"),
 ])
-def test_the_linear_analyses_refuse_a_nonlinear_model(tmp_path, argv):
-    """Exit 2 with one line naming what is not supported yet, never the linear part."""
+def test_the_command_line_runs_a_nonlinear_model(tmp_path, argv, out):
+    """Issue 28: orbit, hopf, sweep and plane take a model with nonlinear forces (the
+    homotopy from the linear part, the branch scan, runs of the numerical flow); their
+    JSON says what is not certified.  (curve: tests/curves/test_nonlinear_curves.py.)"""
+    import json
     f = tmp_path / "duffing.toml"
     f.write_text(dumps(DUFFING))
-    rc, out, err = cli(*argv, "--model", f, "--json", cwd=tmp_path)
-    assert rc == 2
-    assert err.strip().splitlines()[-1] == f"symvi: error: {REFUSED}"
-    assert not (tmp_path / "sw.npz").exists() and not (tmp_path / "p.zarr").exists()
+    rc, stdout, err = cli(*argv, "--model", f, "--json", cwd=tmp_path)
+    assert rc == 0, err
+    obj = json.loads(stdout)
+    if argv[0] == "orbit":
+        assert obj["orbits"] and "not complete" in obj["found"]
+    if argv[0] == "hopf":
+        assert obj["complete"] is False and "forces' scale" in obj["uncertified_reasons"][0]
+    if out:
+        assert (tmp_path / out).exists()
+
+
+REFUSED = "model = 'nonlinear' is invalid; valid range: a linear model: with nonlinear " \
+          "forces this analysis is a later step of issue 28 (simulate, orbit, continue, " \
+          "curve, hopf, sweep and plane run them)"
 
 
 def test_the_python_analyses_refuse_a_nonlinear_model():
     from symvi.orbits import admissible_orbits
     for call in (lambda: admissible_orbits(DUFFING, OMEGA),
-                 lambda: symvi.jet(DUFFING, OMEGA),
-                 lambda: symvi.poincare_map(DUFFING, OMEGA, (0.1, 0.2))):
+                 lambda: symvi.jet(DUFFING, OMEGA)):
         with pytest.raises(ParameterError) as exc:
             call()
         assert str(exc.value) == REFUSED
@@ -153,3 +160,20 @@ def test_lyapunov_exponents_and_the_classifier_of_a_nonlinear_run():
     assert np.allclose(got, want, atol=5e-3)
     c = classify(sim)
     assert c.kind == "period-1" and c.period == 1
+
+
+def test_poincare_map_of_a_nonlinear_model_is_one_impact_of_a_run():
+    """symvi.poincare_map on the numerical flow: P(y0) is the first stored impact of a run
+    from y0, and the period-1 orbit Newton found maps to itself; digits are refused."""
+    st = symvi.poincare_map(DUFFING, OMEGA, Y0)
+    run = symvi.simulate(DUFFING, OMEGA, y0=Y0, n_impacts=1)
+    assert st.status == "impact" and st.impact_velocity > 0
+    assert np.max(np.abs(np.subtract(st.y, run.section[0]))) < 1e-12
+    assert abs(st.t - run.t[0]) < 1e-12
+    from symvi.continuation.homotopy import period1_orbits
+    o = period1_orbits(DUFFING, OMEGA, attractor=False).orbits[0]
+    back = symvi.poincare_map(DUFFING, OMEGA, o.y)
+    assert np.max(np.abs(np.subtract(back.y, o.y))) < 1e-11 and back.t == pytest.approx(
+        2 * math.pi / OMEGA, rel=1e-12)
+    with pytest.raises(ParameterError, match="^digits"):
+        symvi.poincare_map(DUFFING, OMEGA, Y0, digits=30)

@@ -284,3 +284,32 @@ def test_flip_coefficient_against_the_chain():
     assert min(abs(complex(z) + 1) for z in fp.multipliers) < 1e-9
     nf = chain.normal_form(fp.y)
     assert abs(nf.flip - flip.coefficients["c"]) < 1e-7 * abs(nf.flip)
+
+
+def test_symvi_continue_digits_checks_each_special_point(tmp_path):
+    """``symvi continue --digits``: each fold, flip and NS point of the branch re-derived by
+    the chain (check_special): the folds' multiplier is 1 at symvi's orbit, the flip's -1
+    at the chain's own orbit, and c agrees; a bad --digits is one line, exit 2."""
+    import json
+
+    from symvi.model import dumps
+    from tests.fuzz._cli import cli
+    duffing = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                    stop=Stop(mass=1, gap=0.0, restitution=0.8), nonlinear=["beta*x1**3"],
+                    parameters={"beta": 0.2})
+    f = tmp_path / "duffing.toml"
+    f.write_text(dumps(duffing))
+    rc, out, err = cli("continue", "--model", f, "--range", "omega=2.4:3.0", "--digits",
+                       "30", "--json")
+    assert rc == 0, err
+    special = json.loads(out)["special"]
+    assert sorted(s["kind"] for s in special) == ["flip", "fold", "fold"]
+    for s in special:
+        ch = s["chain"]
+        assert ch["reason"] == "" and ch["critical_error"] < 1e-10, s
+        assert ch["distance"] < 1e-12
+        if s["kind"] == "flip":
+            assert ch["coefficient"] == "c" and ch["agreement"] >= 10
+            assert abs(ch["multiplier"][0] + 1) < 1e-10
+    rc, out, err = cli("continue", "--model", f, "--range", "omega=2.4:3.0", "--digits", "8")
+    assert rc == 2 and err.startswith("symvi: error: --digits = 8") and err.count("\n") == 1
