@@ -103,10 +103,11 @@ def _nonlinear(model, omega, as_json):
     """A model with nonlinear forces: the period-1 orbits the homotopy from its linear
     part's closed form reaches (:mod:`symvi.continuation.homotopy`), each with where it
     came from, and what each path did not reach."""
-    from ..continuation.homotopy import REACH, period1_orbits
+    from ..continuation.homotopy import REACH
+    from ..continuation.start import nonlinear_period1
     from ..flow import check_omega
     from . import describe
-    found = period1_orbits(model, check_omega(model, omega))
+    found = nonlinear_period1(model, check_omega(model, omega))
     how = NONLINEAR_FOUND.format(reach=REACH)
     if as_json:
         print_json({"model": model.as_dict(), "omega": omega, "found": how,

@@ -13,8 +13,8 @@ from .result import Result as Result
 
 _LAZY = {"Branch": "points", "BranchPoint": "points", "SpecialPoint": "points",
          "continue_branch": "branch", "switch_at_flip": "branch",
-         "period1_branches": "branch", "same_branch": "branch",
-         "diagram_branches": "branch", "continue_orbits": "start",
+         "period1_branches": "start", "same_branch": "branch",
+         "diagram_branches": "start", "continue_orbits": "start",
          "switch_at_branch_point": "branch", "attractor_orbit": "start",
          "ns_scan": "start", "continue_sticking": "sticking"}
 __all__ = ["EVENT_KINDS", "Result", *_LAZY]

@@ -495,130 +495,15 @@ def same_branch(a, b):
                and np.allclose(pt.y, end.y, atol=1e-7) for pt in b.points)
 
 
-def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=5000):
-    """The period-1 branches over [omega_min, omega_max], and the period-doubled ones.
-
-    Started from the admissible period-1 orbits at both ends (duplicates dropped), and
-    with ``switch`` the period-doubled branch of each flip: what a bifurcation diagram
-    overlays.  An end where the orbits are singular (a resonance, not isolated) starts
-    nothing; a branch or switch that fails is left out, silently.
-
-    Parameters
-    ----------
-    model : Model or Params
-        A model with one rigid upper stop on one mass (the paper's Params as its
-        ``Model.luo_xie``).
-    omega_min : float
-        Lower end of the interval, at least 1e-4; branches start at both ends.
-    omega_max : float
-        Upper end, at most 1e4.
-    switch : bool, optional
-        Add the 2-2 branch born at each admissible flip point (default True).
-    max_points : int, optional
-        Most points on each branch (default 5000).
-
-    Returns
-    -------
-    list of Branch
-        The 1-1 branches continued in omega from each end, then the doubled ones.
-
-    Raises
-    ------
-    ParameterError
-        ``model`` neither a Model nor Params, an end out of range, or a model with
-        several stops or a lower, elastic or between-masses stop.
-
-    Examples
-    --------
-    >>> from symvi import Model, Stop
-    >>> from symvi.continuation import period1_branches
-    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
-    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
-    >>> [(br.n, br.p) for br in period1_branches(m, 2.5, 2.8)]
-    [(1, 1), (2, 2)]
-    """
-    from ..model import Model
-    model = Model.of(model)      # the paper's Params too (it found no branch: silently none)
-    out = []
-    for a, b in ((omega_max, omega_min), (omega_min, omega_max)):
-        try:
-            orbits = _period1_starts(model, a)
-        except SingularCaseError:      # a singular end (resonance, not isolated): none there
-            continue
-        for y in orbits:
-            try:
-                br = continue_branch(model, "omega", a, b, guess=y, max_points=max_points)
-            except SymviError:
-                continue
-            if not any(same_branch(br, x) or same_branch(x, br) for x in out):
-                out.append(br)
-    if switch:
-        for br in list(out):
-            for sp in br.special:
-                if sp.kind == "flip" and sp.orbit.admissible:
-                    try:
-                        out.append(switch_at_flip(br, sp, max_points=max_points))
-                    except SymviError:
-                        pass
-    return out
-
-
-def _period1_starts(model, omega):
-    """The section points of the admissible period-1 orbits at omega: the closed form's,
-    or with nonlinear forces those the homotopy from it reaches (:mod:`.homotopy`)."""
-    if model.nonlinear is None:
-        from ..orbits.period1 import admissible_orbits
-        return [o.y for o in admissible_orbits(model, omega, multipliers=False)]
-    from .homotopy import period1_orbits
-    return [o.y for o in period1_orbits(model, omega).orbits if o.admissible]
-
-
-def diagram_branches(system, omega_min, omega_max, component=0):
-    """What a bifurcation diagram over omega overlays, for a Model or the paper's Params.
-
-    (curves of :meth:`Branch.curve`, special points as dicts with the orbit's n-p), of
-    the branches of :func:`period1_branches` (doubled branches included).
-
-    Parameters
-    ----------
-    system : Model or Params
-        A model with one rigid upper stop on one mass, or the paper's parameters.
-    omega_min : float
-        Lower end of the interval, at least 1e-4.
-    omega_max : float
-        Upper end, at most 1e4.
-    component : int, optional
-        The section coordinate drawn (0-based index into the orbit's section point;
-        default 0, the stop mass's velocity after the impact).
-
-    Returns
-    -------
-    curves : list of dict
-        One :meth:`Branch.curve` per branch.
-    special : list of dict
-        Every special point (:meth:`SpecialPoint.as_dict`), with ``"orbit"`` its
-        branch's ``"n-p"``.
-
-    Raises
-    ------
-    ParameterError
-        As :func:`period1_branches`.
-
-    Examples
-    --------
-    >>> from symvi import Model, Stop
-    >>> from symvi.continuation import diagram_branches
-    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
-    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
-    >>> curves, special = diagram_branches(m, 2.5, 2.8)
-    >>> len(curves), [(s["kind"], s["orbit"]) for s in special]
-    (2, [('flip', '1-1'), ('flip', '2-2')])
-    """
-    from ..model import Model
-    brs = period1_branches(Model.of(system), omega_min, omega_max)
-    return ([b.curve(component) for b in brs],
-            [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special])
-
-
 # names that moved to the one engine (issue 24, item 4): they warn for one release
-__getattr__ = _moved_names(__name__, "symvi.continuation.engine", ("MIN_COS",))
+_TO_ENGINE = _moved_names(__name__, "symvi.continuation.engine", ("MIN_COS",))
+# period1_branches and diagram_branches went to start.py (their nonlinear starts come from
+# the homotopy, a client of this module): they warn for one release
+_TO_START = _moved_names(__name__, "symvi.continuation.start",
+                         ("period1_branches", "diagram_branches"))
+
+
+def __getattr__(name):
+    if name in ("period1_branches", "diagram_branches"):
+        return _TO_START(name)
+    return _TO_ENGINE(name)

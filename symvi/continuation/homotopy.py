@@ -5,7 +5,8 @@ The homotopy M x'' + C x' + K x + s f(x, v) = P sin(omega t + tau), s from 0 to 
 s = 0 the period-1 orbits are the closed form's (eqs. (10)-(18), both branches); each one
 that arrives at the stop (v_k- > 0) is continued in s by the branch engine (pseudo-
 arclength, through inadmissible stretches) to s = 1, then refined by Newton on the model
-itself.  The orbit a run of the map settles on is added where it is 1-1.  No closed form
+itself.  :func:`symvi.continuation.start.nonlinear_period1` adds the orbit a run of the
+map settles on where it is 1-1.  No closed form
 counts the orbits of a nonlinear flow: one on an isola (joined to no linear orbit and not
 an attractor) is missed, and a path that turns back in s (a fold in the forces' scale) ends
 nowhere; each such path is named in ``notes``, and the list is never called complete.
@@ -58,10 +59,12 @@ def _same(a, b):
     return max(d, dt) <= SAME * (1 + max(abs(v) for v in ya[:-1]))
 
 
-def period1_orbits(model, omega, *, attractor=True):
+def period1_orbits(model, omega, *, also=(), notes=()):
     """The period-1 one-impact orbits of a model with nonlinear forces at ``omega`` that
-    the homotopy from its linear part reaches, and the attractor of a run (module
-    docstring); a :class:`NonlinearPeriod1`.
+    the homotopy from its linear part reaches (module docstring), then the orbits of
+    ``also`` ((PeriodicOrbit, origin) pairs: the attractor of a run, added by
+    :func:`symvi.continuation.start.nonlinear_period1`) that are not among them; a
+    :class:`NonlinearPeriod1` (``notes`` first in its notes).
 
     Only for one rigid stop (the closed form at s = 0).  A linear part whose period-1
     conditions are singular at omega (an undamped mode's resonance) starts no path: said
@@ -70,9 +73,8 @@ def period1_orbits(model, omega, *, attractor=True):
     from ..orbits.period1 import period1_orbits as closed_form
     from ..orbits.periodic import periodic_orbit
     from .branch import continue_branch
-    from .start import attractor_orbit
     model.require_one_rigid_stop()
-    found, origins, notes = [], [], []
+    found, origins, notes = [], [], list(notes)
 
     def add(orbit, origin):
         if orbit.n == 1 and orbit.p == 1 and not any(_same(orbit, o) for o in found):
@@ -113,9 +115,6 @@ def period1_orbits(model, omega, *, attractor=True):
                     except SymviError as exc:
                         notes.append(f"{what}: Newton on the model failed from s = "
                                      f"{near.value:.6g} ({exc})")
-    if attractor:
-        try:
-            add(attractor_orbit(model, omega), "attractor")
-        except SymviError as exc:
-            notes.append(f"attractor: none of period 1 found ({exc})")
+    for orbit, origin in also:
+        add(orbit, origin)
     return NonlinearPeriod1(tuple(found), tuple(origins), tuple(notes))

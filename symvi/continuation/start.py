@@ -238,8 +238,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if (n, p) == (1, 1) and at.one_rigid_stop and at.nonlinear is not None:
             # nonlinear forces: the period-1 orbits the homotopy from the linear part's
             # closed form reaches (the attractor among them), admissible ones
-            from .homotopy import period1_orbits as homotopy_orbits
-            guesses = [o.y for o in homotopy_orbits(at, w).orbits if o.admissible]
+            guesses = [o.y for o in nonlinear_period1(at, w).orbits if o.admissible]
             moved = (f"started from the {len(guesses)} admissible period-1 orbit(s) at "
                      f"{param} = {a:.12g} continued from the linear part's closed form in "
                      "the forces' scale, and the attractor of a run (symvi.continuation."
@@ -714,7 +713,7 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
             # from the linear part's closed form reaches (unstable ones included)
             from .homotopy import period1_orbits
             for w in (lo, hi):
-                for orbit in period1_orbits(model, w, attractor=False).orbits:
+                for orbit in period1_orbits(model, w).orbits:
                     follow(w, orbit)
         for k in range(samples):
             bar.update()
@@ -767,3 +766,140 @@ def _on(branch, orbit):
 def _rotation_key(names):
     """The signature's smallest rotation: one key for an orbit whichever event it starts at."""
     return min(tuple(names[r:] + names[:r]) for r in range(len(names)))
+
+
+def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=5000):
+    """The period-1 branches over [omega_min, omega_max], and the period-doubled ones.
+
+    Started from the admissible period-1 orbits at both ends (duplicates dropped), and
+    with ``switch`` the period-doubled branch of each flip: what a bifurcation diagram
+    overlays.  An end where the orbits are singular (a resonance, not isolated) starts
+    nothing; a branch or switch that fails is left out, silently.
+
+    Parameters
+    ----------
+    model : Model or Params
+        A model with one rigid upper stop on one mass (the paper's Params as its
+        ``Model.luo_xie``).
+    omega_min : float
+        Lower end of the interval, at least 1e-4; branches start at both ends.
+    omega_max : float
+        Upper end, at most 1e4.
+    switch : bool, optional
+        Add the 2-2 branch born at each admissible flip point (default True).
+    max_points : int, optional
+        Most points on each branch (default 5000).
+
+    Returns
+    -------
+    list of Branch
+        The 1-1 branches continued in omega from each end, then the doubled ones.
+
+    Raises
+    ------
+    ParameterError
+        ``model`` neither a Model nor Params, an end out of range, or a model with
+        several stops or a lower, elastic or between-masses stop.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import period1_branches
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> [(br.n, br.p) for br in period1_branches(m, 2.5, 2.8)]
+    [(1, 1), (2, 2)]
+    """
+    from ..model import Model
+    model = Model.of(model)      # the paper's Params too (it found no branch: silently none)
+    out = []
+    for a, b in ((omega_max, omega_min), (omega_min, omega_max)):
+        try:
+            orbits = _period1_starts(model, a)
+        except SingularCaseError:      # a singular end (resonance, not isolated): none there
+            continue
+        for y in orbits:
+            try:
+                br = continue_branch(model, "omega", a, b, guess=y, max_points=max_points)
+            except SymviError:
+                continue
+            if not any(same_branch(br, x) or same_branch(x, br) for x in out):
+                out.append(br)
+    if switch:
+        for br in list(out):
+            for sp in br.special:
+                if sp.kind == "flip" and sp.orbit.admissible:
+                    try:
+                        out.append(switch_at_flip(br, sp, max_points=max_points))
+                    except SymviError:
+                        pass
+    return out
+
+
+def _period1_starts(model, omega):
+    """The section points of the admissible period-1 orbits at omega: the closed form's,
+    or with nonlinear forces those :func:`nonlinear_period1` finds."""
+    if model.nonlinear is None:
+        from ..orbits.period1 import admissible_orbits
+        return [o.y for o in admissible_orbits(model, omega, multipliers=False)]
+    return [o.y for o in nonlinear_period1(model, omega).orbits if o.admissible]
+
+
+def diagram_branches(system, omega_min, omega_max, component=0):
+    """What a bifurcation diagram over omega overlays, for a Model or the paper's Params.
+
+    (curves of :meth:`Branch.curve`, special points as dicts with the orbit's n-p), of
+    the branches of :func:`period1_branches` (doubled branches included).
+
+    Parameters
+    ----------
+    system : Model or Params
+        A model with one rigid upper stop on one mass, or the paper's parameters.
+    omega_min : float
+        Lower end of the interval, at least 1e-4.
+    omega_max : float
+        Upper end, at most 1e4.
+    component : int, optional
+        The section coordinate drawn (0-based index into the orbit's section point;
+        default 0, the stop mass's velocity after the impact).
+
+    Returns
+    -------
+    curves : list of dict
+        One :meth:`Branch.curve` per branch.
+    special : list of dict
+        Every special point (:meth:`SpecialPoint.as_dict`), with ``"orbit"`` its
+        branch's ``"n-p"``.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`period1_branches`.
+
+    Examples
+    --------
+    >>> from symvi import Model, Stop
+    >>> from symvi.continuation import diagram_branches
+    >>> m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+    ...           stop=Stop(mass=1, gap=0.0, restitution=0.8))
+    >>> curves, special = diagram_branches(m, 2.5, 2.8)
+    >>> len(curves), [(s["kind"], s["orbit"]) for s in special]
+    (2, [('flip', '1-1'), ('flip', '2-2')])
+    """
+    from ..model import Model
+    brs = period1_branches(Model.of(system), omega_min, omega_max)
+    return ([b.curve(component) for b in brs],
+            [dict(sp.as_dict(), orbit=f"{b.n}-{b.p}") for b in brs for sp in b.special])
+
+
+def nonlinear_period1(model, omega):
+    """The period-1 orbits of a model with nonlinear forces at omega: those the homotopy
+    from its linear part reaches (:func:`symvi.continuation.homotopy.period1_orbits`) and
+    the attractor of a run (:func:`attractor_orbit`) where it is 1-1 and not among them;
+    a :class:`symvi.continuation.homotopy.NonlinearPeriod1`."""
+    from .homotopy import period1_orbits
+    try:
+        also, notes = [(attractor_orbit(model, omega), "attractor")], ()
+    except SymviError as exc:
+        also, notes = [], (f"attractor: none of period 1 found ({exc})",)
+    return period1_orbits(model, omega, also=also, notes=notes)

@@ -39,6 +39,15 @@ def at_2_6():
     return period1_orbits(DUFFING, 2.6)
 
 
+def test_the_attractor_is_added_once(at_2_6):
+    """nonlinear_period1: the homotopy's orbits and the attractor of a run, which is one
+    of them at omega = 2.6 (so nothing is added twice)."""
+    from symvi.continuation.start import nonlinear_period1
+    both = nonlinear_period1(DUFFING, 2.6)
+    assert len(both.orbits) == len(at_2_6.orbits) == 3
+    assert "attractor" not in both.origins
+
+
 @pytest.mark.parametrize("omega, count", [(2.45, 1), (2.75, 3), (2.95, 1)])
 def test_the_count_matches_the_folds_in_omega(omega, count):
     found = period1_orbits(DUFFING, omega)

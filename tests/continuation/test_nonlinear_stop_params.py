@@ -28,7 +28,7 @@ TWO = dict(mass=[1.0, 2.0], stiffness=[[2.0, -1.0], [-1.0, 1.5]],
 ])
 def test_dG_dparam_against_central_differences(kw, forces, omega, name):
     m = Model(**kw, nonlinear=forces, parameters={"beta": 0.2})
-    o = period1_orbits(m, omega, attractor=False).orbits[0]
+    o = period1_orbits(m, omega).orbits[0]
     par = m.parameter(name)
     lam = m.value(name)
     pr = Problem(m, 1, 1, omega=omega, param=par)
@@ -45,7 +45,7 @@ def test_nonlinearity_off_gives_the_linear_branch(name, start, stop):
     lin = Model(**KW)
     off = Model(**KW, nonlinear=["beta*x1**3"], parameters={"beta": 0.0})
     a = continue_branch(lin, name, start, stop, omega=2.6)
-    o = period1_orbits(off, 2.6, attractor=False).orbits[0]
+    o = period1_orbits(off, 2.6).orbits[0]
     b = continue_branch(off, name, start, stop, omega=2.6, orbit=o)
     assert a.end.split(" (")[0] == b.end.split(" (")[0]
     assert [s.kind for s in a.special] == [s.kind for s in b.special]

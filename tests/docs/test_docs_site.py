@@ -37,7 +37,7 @@ PAGES = [
     "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
     "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
     "gallery/plane_dask.html", "gallery/coco_15_2.html", "gallery/budd_dux.html",
-    "gallery/duffing.html",
+    "gallery/duffing.html", "gallery/absorber.html",
     "api/index.html", "api/symvi.html", "api/continuation.html",
     "limitations.html", "comparison.html", "changelog.html", "citation.html",
 ]
@@ -47,6 +47,9 @@ OUTPUTS = {
     "gallery/duffing.html": ["at omega = 2.5003319202", "at omega = 2.7473542619",
                              "at omega = 2.8998114432", "c = 6.95455", "2-2 orbits: ",
                              "(past the flip): 2 distinct V"],
+    "gallery/absorber.html": ["at omega = 1.2989631938", "at omega = 1.4390800002",
+                              "at omega = 1.9765518613", "at omega = 2.0949537364",
+                              "at omega = 3.1593133866"],
     "getting-started.html": ["flip at omega = 2.656177", "2-2 orbits from omega", "completed"],
     "gallery/paper_examples.html": ["omega_c = 0.736877", "omega_c = 0.490520"],
     "gallery/chain3.html": ["omega_c = 0.9997114225", "omega_c = 1.0459583390"],
@@ -79,7 +82,7 @@ OUTPUTS = {
 FIGURES = ["theory/normal-forms.html", "howto/curves.html", "gallery/paper_examples.html",
            "gallery/chain3.html", "gallery/contact_two_stops.html", "gallery/contact_elastic.html",
            "gallery/contact_impact_damper.html", "gallery/contact_chain_stops.html",
-           "gallery/coco_15_2.html", "gallery/budd_dux.html", "gallery/duffing.html"]
+           "gallery/coco_15_2.html", "gallery/budd_dux.html", "gallery/duffing.html", "gallery/absorber.html"]
 
 
 @pytest.fixture(scope="module")

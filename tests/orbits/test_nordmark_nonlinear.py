@@ -22,7 +22,7 @@ KW = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
 
 
 def _grazing(model):
-    o = period1_orbits(model, 2.6, attractor=False).orbits[0] if model.nonlinear else None
+    o = period1_orbits(model, 2.6).orbits[0] if model.nonlinear else None
     br = continue_branch(model, "gap", 0.0, 0.3, omega=2.6, orbit=o)
     (g,) = [s for s in br.special if s.kind == "grazing"]
     return discontinuity_map(g.orbit, g, param="gap")

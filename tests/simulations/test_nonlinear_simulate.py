@@ -171,7 +171,7 @@ def test_poincare_map_of_a_nonlinear_model_is_one_impact_of_a_run():
     assert np.max(np.abs(np.subtract(st.y, run.section[0]))) < 1e-12
     assert abs(st.t - run.t[0]) < 1e-12
     from symvi.continuation.homotopy import period1_orbits
-    o = period1_orbits(DUFFING, OMEGA, attractor=False).orbits[0]
+    o = period1_orbits(DUFFING, OMEGA).orbits[0]
     back = symvi.poincare_map(DUFFING, OMEGA, o.y)
     assert np.max(np.abs(np.subtract(back.y, o.y))) < 1e-11 and back.t == pytest.approx(
         2 * math.pi / OMEGA, rel=1e-12)
