@@ -34,7 +34,7 @@ def register(sub):
     p.add_argument("--max-points", type=int, default=5000, help="points per branch")
     p.add_argument("--digits", type=int, default=None,
                    help="re-derive each fold, flip and NS point with the independent mpmath "
-                        "chain at this many digits (16..200; one rigid stop on one mass, "
+                        "chain at this many digits (30..200; one rigid stop on one mass, "
                         "with or without nonlinear forces; seconds per point): the orbit, "
                         "the critical multiplier and c or l1")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -100,8 +100,8 @@ def run(args):
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
-    if args.digits is not None and not (16 <= args.digits <= 200 and model.one_rigid_stop):
-        raise ParameterError("--digits", args.digits, "an integer from 16 to 200, for a "
+    if args.digits is not None and not (30 <= args.digits <= 200 and model.one_rigid_stop):
+        raise ParameterError("--digits", args.digits, "an integer from 30 to 200, for a "
                              "model with one rigid stop on one mass (the chain's map)")
     param = span.name
     spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])

@@ -3,14 +3,14 @@
 The flight of :mod:`symvi.flow.nonlinear`, M x'' + C x' + K x + f(x, v) = P sin(omega t +
 tau), is integrated on truncated power series (:mod:`symvi.flow.tps`) in the variables
 delta: the start's free coordinates, the phase tau, and optionally omega and one named
-parameter p.  The integrator is DOP853 (the coefficients :mod:`symvi.flow.nonlinear`
-keeps beside its Taylor method, which runs the trajectories; a Taylor method on series
-is a later step), with the error norm over every coefficient (:func:`_error`).  The
-result is the flow's jet z(T; delta) at a fixed time T to order K.
+parameter p.  The integrator is the trajectories' Taylor method with series for numbers
+(:mod:`symvi.flow.jet_taylor`: the forces' tape on series of series, Jorba & Zou's order
+and step over every coefficient).  The result is the flow's jet z(T; delta) at a fixed
+time T to order K.
 
-The impact (eqs. (28)-(30) of the paper, generalised).  At the end the flight goes on in
-the time shift s: Z(s; delta) = z(T) + int_0^s F(Z, T + sigma) d sigma by K + 1 Picard
-iterations on series in (delta, s), exact to order K.  The impact time T + S(delta) solves
+The impact (eqs. (28)-(30) of the paper, generalised).  At the end the flight's Taylor
+coefficients there are its series in the time shift s, Z(T + s; delta) = sum_k z_k(delta)
+s^k, exact to order K in (delta, s).  The impact time T + S(delta) solves
 h(Z(S(delta); delta)) = 0 for the guard h = g . x - level of the constraint the flight
 ends on, by K + 1 Newton iterations on series (each gains an order; dh/ds at delta = 0 is
 the approach speed, nonzero off grazing).  Then z-(delta) = Z(S(delta); delta), the reset
@@ -23,280 +23,67 @@ the impact map P to order K: raw derivative tensors by
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 r by K fixed-point sweeps w = M^-1 (r - p dM w)).  A gap or a
+p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A gap or a
 restitution is refused by name (their series would enter the start, the guard's level and
 the reset: a later step).
 """
-import math
-
 import numba as nb
 import numpy as np
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError, SingularCaseError
-from . import tps
-from .nonlinear import (_A, _B, _C, _NS, ATOL, MAX_STACK, OP_ADD, OP_CONST, OP_MUL, OP_POW,
-                        OP_POWI, OP_VAR, RTOL, _combine)
-from .nonlinear import _error as _flat_error
+from . import jet_taylor, taylor, tps
 
-#: steps of one series flight before it gives up
-MAX_STEPS = 200_000
 #: how far (relative) the flight's end may lie from the impact the series solve for (the
 #: shift's series, cut at order K in s, is exact near 0 only), and how often it is moved
 TIME_TOL = 1e-12
 TIME_TRIES = 4
 
 
-# --------------------------------------------------------------------------- the field
+# --------------------------------------------------------------------------- the impact
 @nb.njit(cache=True)
-def _eval(ops, lo, hi, U, stack, out, ws, c, K, MI, MJ, MK):
-    """One force on series: the postfix program ops[lo:hi] at the variables U (nvar, L)
-    (:func:`symvi.flow.nonlinear._eval` on numbers)."""
-    tmp, tmp2, u, res = ws[0], ws[1], ws[2], ws[3]
+def _horner(Z, S, out, tmp, MI, MJ, OFF):
+    """out(delta) = sum_k Z[k](delta) S(delta)^k: a series in the time shift s, Z (K + 1,
+    L), at s = S(delta) (Horner in s)."""
     L = out.shape[0]
-    sp = 0
-    for i in range(lo, hi):
-        op = int(ops[i, 0])
-        arg = ops[i, 1]
-        if op == OP_CONST:
-            for j in range(L):
-                stack[sp, j] = 0.0
-            stack[sp, 0] = arg
-            sp += 1
-        elif op == OP_VAR:
-            for j in range(L):
-                stack[sp, j] = U[int(arg), j]
-            sp += 1
-        elif op == OP_ADD:
-            m = int(arg)
-            for q in range(sp - m + 1, sp):
-                for j in range(L):
-                    stack[sp - m, j] += stack[q, j]
-            sp -= m - 1
-        elif op == OP_MUL:
-            m = int(arg)
-            for q in range(sp - m + 1, sp):
-                tps.mul(stack[sp - m], stack[q], tmp, MI, MJ, MK)
-                for j in range(L):
-                    stack[sp - m, j] = tmp[j]
-            sp -= m - 1
-        elif op == OP_POWI:
-            tps.powi(stack[sp - 1], int(arg), res, tmp, tmp2, u, c, K, MI, MJ, MK)
-            for j in range(L):
-                stack[sp - 1, j] = res[j]
-        elif op == OP_POW:                     # b^e = exp(e log b)
-            tps.apply(tps.LOG, stack[sp - 2], res, u, tmp, c, K, MI, MJ, MK)
-            tps.mul(stack[sp - 1], res, tmp2, MI, MJ, MK)
-            tps.apply(tps.EXP, tmp2, res, u, tmp, c, K, MI, MJ, MK)
-            sp -= 1
-            for j in range(L):
-                stack[sp - 1, j] = res[j]
-        else:
-            tps.apply(int(arg), stack[sp - 1], res, u, tmp, c, K, MI, MJ, MK)
-            for j in range(L):
-                stack[sp - 1, j] = res[j]
+    K = Z.shape[0] - 1
     for j in range(L):
-        out[j] = stack[0, j]
+        out[j] = Z[K, j]
+    for k in range(K - 1, -1, -1):
+        tps.mul(out, S, tmp, MI, MJ, OFF)
+        for j in range(L):
+            out[j] = tmp[j] + Z[k, j]
 
 
 @nb.njit(cache=True)
-def _field(sy, time, Y, out):
-    """Y' = (v, M(p)^-1 (P(p) sin(omega t + tau) - C(p) v - K(p) x - f(x, v))) on series;
-    ``time`` the series of t (a number, or T + s)."""
-    (Minv, K, C, P, dM, dK, dC, dP, ops, off, U, stack, omega, tau, pvar, moves, ws, c, Kord,
-     MI, MJ, MK, r, g) = sy
-    n = P.shape[0]
-    L = Y.shape[1]
-    tmp, u, res, ph, sn = ws[0], ws[2], ws[3], ws[4], ws[5]
-    for i in range(2 * n):
-        for j in range(L):
-            U[i, j] = Y[i, j]
-    tps.mul(omega, time, ph, MI, MJ, MK)
+def _impact_time(H, speed, St, hs, tmp, MI, MJ, OFF):
+    """St(delta): the root of H(S(delta); delta) = 0, H a series in the time shift s,
+    by K + 1 Newton iterations on series with the slope at delta = 0, the approach speed
+    (each gains an order)."""
+    L = St.shape[0]
     for j in range(L):
-        ph[j] += tau[j]
-    tps.apply(tps.SIN, ph, sn, u, tmp, c, Kord, MI, MJ, MK)
-    for i in range(n):
-        _eval(ops, off[i], off[i + 1], U, stack, res, ws, c, Kord, MI, MJ, MK)
+        St[j] = 0.0
+    for _ in range(H.shape[0]):
+        _horner(H, St, hs, tmp, MI, MJ, OFF)
         for j in range(L):
-            acc = P[i] * sn[j] - res[j]
-            for q in range(n):
-                acc -= C[i, q] * Y[n + q, j] + K[i, q] * Y[q, j]
-            r[i, j] = acc
-        if moves:                              # + p (dP sin - dC v - dK x)
-            for j in range(L):
-                acc = dP[i] * sn[j]
-                for q in range(n):
-                    acc -= dC[i, q] * Y[n + q, j] + dK[i, q] * Y[q, j]
-                g[i, j] = acc
-            tps.mul_add(g[i], pvar, r[i], MI, MJ, MK)
-    for i in range(n):
-        for j in range(L):
-            out[i, j] = Y[n + i, j]
-    _solve_mass(sy, out[n:])
-
-
-@nb.njit(cache=True)
-def _solve_mass(sy, dst):
-    """dst = M(p)^-1 r (r in sy): M^-1 r, then K sweeps w = M^-1 (r - p dM w) when dM != 0."""
-    (Minv, K, C, P, dM, dK, dC, dP, ops, off, U, stack, omega, tau, pvar, moves, ws, c, Kord,
-     MI, MJ, MK, r, g) = sy
-    n = P.shape[0]
-    L = r.shape[1]
-    _rows(Minv, r, dst)
-    mass_moves = False
-    for i in range(n):
-        for q in range(n):
-            mass_moves = mass_moves or dM[i, q] != 0.0
-    if not (moves and mass_moves):
-        return
-    tmp = ws[0]
-    for _ in range(Kord):
-        _rows(dM, dst, g)
-        for i in range(n):
-            tps.mul(g[i], pvar, tmp, MI, MJ, MK)
-            for j in range(L):
-                g[i, j] = r[i, j] - tmp[j]
-        _rows(Minv, g, dst)
-
-
-@nb.njit(cache=True)
-def _rows(A, X, out):
-    """out = A X for series rows X (n, L); out distinct from X."""
-    n, L = X.shape
-    for i in range(n):
-        for j in range(L):
-            acc = 0.0
-            for q in range(n):
-                acc += A[i, q] * X[q, j]
-            out[i, j] = acc
-
-
-# --------------------------------------------------------------------------- the flight
-@nb.njit(cache=True)
-def _dop853(sy, t, Y, h, Kst, Ynew, tmp, tser):
-    """One DOP853 step on series (:func:`symvi.flow.nonlinear._dop853` on numbers, its
-    stage sums :func:`symvi.flow.nonlinear._combine` on the flattened rows)."""
-    m = Y.size
-    Yf, Nf, Tf = Y.reshape(m), Ynew.reshape(m), tmp.reshape(m)
-    Kf = Kst.reshape((Kst.shape[0], m))
-    for s in range(1, _NS):
-        _combine(Yf, h, Kf, _A[s], s, Tf)
-        tser[0] = t + _C[s] * h
-        _field(sy, tser, tmp, Kst[s])
-    _combine(Yf, h, Kf, _B, _NS, Nf)
-    tser[0] = t + h
-    _field(sy, tser, Ynew, Kst[_NS])
-
-
-@nb.njit(cache=True)
-def _error(Kst, Y, Ynew, h):
-    """DOP853's error norm over every coefficient of every component
-    (:func:`symvi.flow.nonlinear._error` on the flattened rows): each order of the
-    variational equations to the flow's tolerance.  (On the state alone the steps were 66
-    for 92 a period of the Duffing benchmark, but the third derivatives of a nonlinear map
-    drifted to 1e-11 of the independent chain's; over every coefficient 1e-13.)"""
-    m = Y.size
-    return _flat_error(Kst.reshape((Kst.shape[0], m)), Y.reshape(m), Ynew.reshape(m), h,
-                       RTOL, ATOL)
-
-
-@nb.njit(cache=True)
-def _integrate(sy, Y, t_end, hmax, Kst, Ynew, tmp, tser):
-    """Y(t_end) from Y(0) (in place); returns the number of steps, -1 when it failed."""
-    dim, L = Y.shape
-    t = 0.0
-    for j in range(L):
-        tser[j] = 0.0
-    _field(sy, tser, Y, Kst[0])
-    h = hmax
-    steps = 0
-    while t < t_end:
-        if steps >= MAX_STEPS:
-            return -1
-        h = min(h, hmax, t_end - t)
-        _dop853(sy, t, Y, h, Kst, Ynew, tmp, tser)
-        err = _error(Kst, Y, Ynew, h)
-        steps += 1
-        if err > 1.0 or not math.isfinite(err):
-            h *= 0.2 if not math.isfinite(err) else max(0.2, 0.9 * err ** (-1.0 / 8.0))
-            if h < 1e-14 * max(t_end, 1.0):
-                return -1
-            continue
-        t = t + h if t_end - t > h else t_end
-        for i in range(dim):
-            for j in range(L):
-                Y[i, j] = Ynew[i, j]
-                Kst[0, i, j] = Kst[_NS, i, j]
-        h *= 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
-    return steps
-
-
-@nb.njit(cache=True)
-def _picard(sy, Z0, T, svar, Z, F, INT_SRC, INT_DST, INT_DIV, Kord):
-    """Z(s; delta) = Z0 + int_0^s F(Z, T + sigma) d sigma on series in (delta, s): Kord + 1
-    Picard sweeps (each exact to one more order); ``svar`` the series of s."""
-    dim, L = Z0.shape
-    tser = svar.copy()
-    tser[0] += T
-    for i in range(dim):
-        for j in range(L):
-            Z[i, j] = Z0[i, j]
-    for _ in range(Kord + 1):
-        _field(sy, tser, Z, F)
-        for i in range(dim):
-            for j in range(L):
-                Z[i, j] = Z0[i, j]
-            for q in range(INT_SRC.shape[0]):
-                Z[i, INT_DST[q]] += F[i, INT_SRC[q]] / INT_DIV[q]
-
-
-@nb.njit(cache=True)
-def _compose(Zb, S, out, SPLIT_POW, SPLIT_IDX, Kord, tmp, cj, MI, MJ, MK):
-    """out(delta) = Zb(delta, S(delta)) for one series Zb in (delta, s): Horner in s."""
-    L = out.shape[0]
-    for j in range(L):
-        out[j] = 0.0
-    for p in range(Kord, -1, -1):
-        for j in range(L):
-            cj[j] = 0.0
-        for q in range(Zb.shape[0]):
-            if SPLIT_POW[q] == p:
-                cj[SPLIT_IDX[q]] += Zb[q]
-        if p < Kord:
-            tps.mul(out, S, tmp, MI, MJ, MK)
-            for j in range(L):
-                out[j] = tmp[j]
-        for j in range(L):
-            out[j] += cj[j]
+            St[j] -= hs[j] / speed
 
 
 # --------------------------------------------------------------------------- Python side
-class _System:
-    """The series field of one (flow, omega, tau, parameter) in an algebra of d variables."""
+class _Flight:
+    """One series flight: its algebra, its state's series Y at its end T, the field and
+    scratch of :mod:`symvi.flow.jet_taylor` (sy, tj), the series of omega and tau."""
 
-    def __init__(self, flow, alg, omega, tau, pvar=None, tangent=None, pslot=None):
-        n, L = flow.n, alg.L
-        model = flow.model
-        Z = np.zeros((n, n))
-        # writeable copies: numba types a read-only array apart (a second compilation)
-        dM, dK, dC, dP = ((np.array(tangent.dM, float), np.array(tangent.dK, float),
-                           np.array(tangent.dC, float), np.array(tangent.dP, float))
-                          if tangent is not None else (Z, Z, Z, np.zeros(n)))
-        nvar = 2 * n + len(flow.pars)
-        U = np.zeros((nvar, L))
-        for i, v in enumerate(flow.pars):
-            U[2 * n + i, 0] = v
-        if pslot is not None:                  # a named force parameter: a variable
-            U[2 * n + pslot] += pvar
-        ws = np.zeros((6, L))
-        moves = tangent is not None and not (
-            not dM.any() and not dK.any() and not dC.any() and not dP.any())
-        self.sy = (flow.Minv, np.ascontiguousarray(model.stiffness, float),
-                   np.ascontiguousarray(model.damping, float),
-                   np.ascontiguousarray(model.forcing, float), dM, dK, dC, dP,
-                   flow.ops, flow.off, U, np.zeros((MAX_STACK + 1, L)), omega, tau,
-                   pvar if pvar is not None else np.zeros(L), bool(moves), ws,
-                   np.zeros(alg.K + 1), alg.K, *alg.mul, np.zeros((n, L)), np.zeros((n, L)))
+    __slots__ = ("alg", "Y", "T", "sy", "tj", "omega", "tau")
+
+    def __init__(self, alg, Y, T, sy, tj, omega, tau):
+        self.alg, self.Y, self.T, self.sy, self.tj = alg, Y, T, sy, tj
+        self.omega, self.tau = omega, tau
+
+    def expansion(self):
+        """(dim, K + 1, L): Z(T + s; delta) = sum_k out[:, k] s^k, exact to order K in (delta,
+        s): the Taylor coefficients at the flight's end (:func:`jet_taylor.expansion`)."""
+        return jet_taylor.expansion(self.sy, self.tj, self.T, self.Y, self.alg.K)
 
 
 def _series(alg, value, var=None):
@@ -307,33 +94,9 @@ def _series(alg, value, var=None):
     return a
 
 
-def _bigger(alg):
-    """The algebra with one more variable s (last), the embedding of ``alg`` into it, the
-    integration in s, and the split of a big series by powers of s."""
-    big = tps.algebra(alg.d + 1, alg.K)
-    key = (alg.d, alg.K)
-    hit = _BIG.get(key)
-    if hit is None:
-        emb = np.array([big.index[e + (0,)] for e in map(tuple, alg.exps)], dtype=np.int64)
-        src, dst, div = [], [], []
-        for q, e in enumerate(map(tuple, big.exps)):
-            if sum(e) < alg.K:
-                src.append(q)
-                dst.append(big.index[e[:-1] + (e[-1] + 1,)])
-                div.append(e[-1] + 1.0)
-        spow = big.exps[:, -1].copy()
-        sidx = np.array([alg.index[tuple(e[:-1])] for e in big.exps], dtype=np.int64)
-        hit = _BIG[key] = (big, emb, np.array(src, np.int64), np.array(dst, np.int64),
-                           np.array(div), spow, sidx)
-    return hit
-
-
-_BIG = {}
-
-
 def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None):
-    """(alg, Y, sys, (tangent, pvar, ip)): the flow's series z(T; delta) (mass order,
-    rows) from z0 + B delta_state at phase tau.
+    """The flight's series z(T; delta) (mass order, rows; :class:`_Flight`) from z0 + B
+    delta_state at phase tau, by the Taylor method on series (:mod:`symvi.flow.jet_taylor`).
 
     Variables, in order: the columns of ``B`` (dim x m: how the start moves with each),
     the phase, then omega if ``omega_var``, then ``param`` (a
@@ -362,14 +125,13 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
                                      "forces or an entry of M, K, C, P (a gap or a "
                                      "restitution with nonlinear forces: a later step of "
                                      "issue 28)")
-    sys = _System(flow, alg, om_s, tau_s, pvar, tangent, pslot)
-    Kst = np.zeros((_NS + 1, dim, alg.L))
-    steps = _integrate(sys.sy, Y, float(T), flow.hmax(omega), Kst, np.zeros_like(Y),
-                       np.zeros_like(Y), np.zeros(alg.L))
+    sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, pslot,
+                               wvar=bool(omega_var))
+    steps = jet_taylor.integrate(sy, tj, Y, float(T), flow.hmax(omega, taylor.STEP_CAP))
     if steps < 0 or not np.all(np.isfinite(Y)):
         raise SingularCaseError("flight", f"the series flight over t = {T:.6g} did not "
                                 "finish (a non-finite state or the step limit)")
-    return alg, Y, sys, (tangent, pvar, ip)
+    return _Flight(alg, Y, float(T), sy, tj, om_s, tau_s)
 
 
 def _force_slot(model, param):
@@ -383,8 +145,8 @@ def flight_first(flow, omega, z0, tau, T, *, omega_var=False, param=None):
     first-order series (the variational equations); dz/dp along omega or ``param`` (None
     when neither is asked for)."""
     dim = 2 * flow.n
-    alg, Y, sys, _ = flight_series(flow, omega, z0, tau, T, 1, np.eye(dim),
-                                   omega_var=omega_var, param=param)
+    Y = flight_series(flow, omega, z0, tau, T, 1, np.eye(dim), omega_var=omega_var,
+                      param=param).Y
     z = Y[:, 0].copy()
     Phi = Y[:, 1:1 + dim].copy()
     dzt = Y[:, 1 + dim].copy()
@@ -423,56 +185,37 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     E = np.zeros((dim, dim - 1))
     E[fa, np.arange(dim - 1)] = 1.0
     S = view.S
-    alg, Y, sys, (tangent, pvar, ip) = flight_series(
-        flow, omega, S @ w0, float(y[-1]), T, order, S @ E, omega_var=omega_var,
-        param=param)
-    big, emb, src, dst, div, spow, sidx = _bigger(alg)
-    # the field on series in (delta, s)
-    om_b = np.zeros(big.L)
-    om_b[emb] = sys.sy[12]
-    tau_b = np.zeros(big.L)
-    tau_b[emb] = sys.sy[13]
-    pv_b = None
-    if param is not None:
-        pv_b = np.zeros(big.L)
-        pv_b[emb] = pvar
-    sysb = _System(flow, big, om_b, tau_b, pv_b, tangent,
-                   None if param is None else _force_slot(flow.model, param))
-    Z0 = np.zeros((dim, big.L))
-    Z0[:, emb] = Y
-    svar = _series(big, 0.0, big.d - 1)
-    Zb, Fb = np.zeros_like(Z0), np.zeros_like(Z0)
-    _picard(sysb.sy, Z0, float(T), svar, Zb, Fb, src, dst, div, alg.K)
-    Zb = view.Sinv @ Zb                          # flow order from here
+    fl = flight_series(flow, omega, S @ w0, float(y[-1]), T, order, S @ E,
+                       omega_var=omega_var, param=param)
+    alg = fl.alg
+    K, L = alg.K, alg.L
+    # Z(T + s; delta) = sum_k Z[:, k] s^k in flow order
+    Z = (view.Sinv @ fl.expansion().reshape(dim, -1)).reshape(dim, K + 1, L)
     # the impact time: h(Z(S(delta); delta)) = 0, h = guard . x - level
     row = rows[end]
     guard, level = row[3:3 + n], row[2]
-    H = guard @ Zb[:n]
-    H[0] -= level
-    speed = float(H[big.index[(0,) * alg.d + (1,)]])
+    H = np.tensordot(guard, Z[:n], axes=1)
+    H[0, 0] -= level
+    speed = float(H[1, 0])
     if not speed > 0:
         raise SingularCaseError("grazing", f"the approach speed at the impact is {speed:.3g}: "
                                 "the impact time is not a smooth function of the start "
                                 "(grazing, eq. (30))")
-    St = np.zeros(alg.L)
-    hs = np.zeros(alg.L)
-    tmp, cj = np.zeros(alg.L), np.zeros(alg.L)
-    MI, MJ, MK = alg.mul
-    for _ in range(alg.K + 1):
-        _compose(H, St, hs, spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
-        St -= hs / speed
-    ze = np.zeros((dim, alg.L))
+    St, hs, tmp = np.zeros(L), np.zeros(L), np.zeros(L)
+    MI, MJ, OFF = alg.mul
+    _impact_time(H, speed, St, hs, tmp, MI, MJ, OFF)
+    ze = np.zeros((dim, L))
     for i in range(dim):
-        _compose(Zb[i], St, ze[i], spow, sidx, alg.K, tmp, cj, MI, MJ, MK)
+        _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
     # the reset v+ = R v- and the section point on constraint ``end``
     R = row[3 + n:].reshape(n, n)
     ze[n:] = R @ ze[n:]
-    out = np.zeros((dim, alg.L))
+    out = np.zeros((dim, L))
     out[:dim - 1] = ze[view.frames[end]]
-    phase = sys.sy[13].copy()
+    phase = fl.tau.copy()
     tser = St.copy()
     tser[0] += T
-    tps.mul_add(sys.sy[12], tser, phase, MI, MJ, MK)
+    tps.mul_add(fl.omega, tser, phase, MI, MJ, OFF)
     out[dim - 1] = phase
     return alg, out, float(T + St[0]), speed
 

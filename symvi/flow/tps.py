@@ -3,7 +3,8 @@
 A series a(delta) = sum_m a_m delta^m over the monomials of total degree <= K is stored as
 its coefficient vector (graded order: degree 0, then the d of degree 1, ...).  The
 arithmetic is the algebra R[delta_1..delta_d] / (degree > K): a product keeps the pairs
-of monomials whose degrees add to at most K (:func:`mul`, one table of index triples),
+of monomials whose degrees add to at most K (:func:`mul`, one table of index pairs grouped
+by the monomial they make),
 and a smooth function of a series is its Taylor polynomial in the nilpotent part,
 f(a_0 + u) = sum_k f^(k)(a_0) u^k / k! (:func:`apply`; the coefficients f^(k)(a_0) / k!
 from the function's own recurrence, :func:`_coefficients`).  Evaluating a vector field on
@@ -36,15 +37,16 @@ class Algebra:
         self.L = len(exps)
         self.index = {e: i for i, e in enumerate(exps)}
         self.deg = self.exps.sum(axis=1)
-        mi, mj, mk = [], [], []
+        # the product's pairs grouped by the monomial they make: out[m] sums a[MI[t]] b[MJ[t]]
+        # over t in OFF[m]..OFF[m + 1] (a gather: no scattered stores)
+        pairs = [[] for _ in range(self.L)]
         for i, a in enumerate(exps):
             for j, b in enumerate(exps):
                 if self.deg[i] + self.deg[j] <= K:
-                    mi.append(i)
-                    mj.append(j)
-                    mk.append(self.index[tuple(x + y for x, y in zip(a, b))])
-        self.mul = (np.array(mi, dtype=np.int64), np.array(mj, dtype=np.int64),
-                    np.array(mk, dtype=np.int64))
+                    pairs[self.index[tuple(x + y for x, y in zip(a, b))]].append((i, j))
+        self.mul = (np.array([i for p in pairs for i, _ in p], dtype=np.int64),
+                    np.array([j for p in pairs for _, j in p], dtype=np.int64),
+                    np.cumsum([0] + [len(p) for p in pairs]).astype(np.int64))
         #: factor prod m_i! of each monomial (coefficient -> raw derivative)
         self.fact = np.array([math.prod(math.factorial(x) for x in e) for e in exps], float)
 
@@ -103,24 +105,28 @@ def _tensor_index(alg, k, axes):
 
 # --------------------------------------------------------------------------- arithmetic
 @nb.njit(cache=True)
-def mul(a, b, out, MI, MJ, MK):
+def mul(a, b, out, MI, MJ, OFF):
     """out = a b (out distinct from a and b)."""
-    for i in range(out.shape[0]):
-        out[i] = 0.0
-    for t in range(MI.shape[0]):
-        out[MK[t]] += a[MI[t]] * b[MJ[t]]
+    for m in range(out.shape[0]):
+        acc = 0.0
+        for t in range(OFF[m], OFF[m + 1]):
+            acc += a[MI[t]] * b[MJ[t]]
+        out[m] = acc
 
 
 @nb.njit(cache=True)
-def mul_add(a, b, out, MI, MJ, MK):
-    """out += a b."""
-    for t in range(MI.shape[0]):
-        out[MK[t]] += a[MI[t]] * b[MJ[t]]
+def mul_add(a, b, out, MI, MJ, OFF):
+    """out += a b (out distinct from a and b)."""
+    for m in range(out.shape[0]):
+        acc = 0.0
+        for t in range(OFF[m], OFF[m + 1]):
+            acc += a[MI[t]] * b[MJ[t]]
+        out[m] += acc
 
 
 #: the functions of :data:`symvi.flow.nonlinear.FUNCS`, by index
 SIN, COS, TAN, EXP, LOG, SQRT, SINH, COSH, TANH, ATAN = range(10)
-#: the reciprocal, for powers with a negative integer exponent and for division
+#: the reciprocal (a tape's inverse rows; a division by a series' first coefficient)
 RECIP = 10
 
 
@@ -200,7 +206,7 @@ def _coefficients(k, a0, K, c):
 
 
 @nb.njit(cache=True)
-def apply(k, a, out, u, tmp, c, K, MI, MJ, MK):
+def apply(k, a, out, u, tmp, c, K, MI, MJ, OFF):
     """out = f_k(a) (see :func:`_coefficients`): Horner in u = a - a_0."""
     _coefficients(k, a[0], K, c)
     L = a.shape[0]
@@ -210,25 +216,7 @@ def apply(k, a, out, u, tmp, c, K, MI, MJ, MK):
     u[0] = 0.0
     out[0] = c[K]
     for j in range(K - 1, -1, -1):
-        mul(out, u, tmp, MI, MJ, MK)
+        mul(out, u, tmp, MI, MJ, OFF)
         for i in range(L):
             out[i] = tmp[i]
         out[0] += c[j]
-
-
-@nb.njit(cache=True)
-def powi(a, m, out, tmp, tmp2, u, c, K, MI, MJ, MK):
-    """out = a^m for an integer m (products, so 0^3 = 0; m < 0: the reciprocal's power)."""
-    L = a.shape[0]
-    if m < 0:
-        apply(RECIP, a, tmp2, u, tmp, c, K, MI, MJ, MK)
-    else:
-        for i in range(L):
-            tmp2[i] = a[i]
-    for i in range(L):
-        out[i] = 0.0
-    out[0] = 1.0
-    for _ in range(abs(m)):
-        mul(out, tmp2, tmp, MI, MJ, MK)
-        for i in range(L):
-            out[i] = tmp[i]

@@ -138,7 +138,7 @@ def _logs(sim, n=None):
 
 def _series_logs(model, omega, sec, te, hits=None):
     """:func:`_qr_logs_model` of a model with nonlinear forces: DP of each flight from its
-    first-order series (:func:`symvi.flow.nljet.map_jet`, ~0.5 ms a flight) through the QR
+    first-order series (:func:`symvi.flow.nljet.map_jet`, ~0.2 ms a flight) through the QR
     method of :func:`_qr_mats`; from a flight without approach speed on (grazing) the
     logs are NaN, which :func:`_logs` refuses."""
     from ..errors import SingularCaseError
