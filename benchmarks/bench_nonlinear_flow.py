@@ -207,7 +207,7 @@ def main():
         f"{k.split(', ')[1]} {v:.1f}" for k, v in steps.items()), ""]
     name = "nonlinear flow, Taylor"
     parts, step = breakdown(rates[f"{name}, beta = 0.5"], steps[name])
-    lines += [f"| a Taylor step (order {taylor.ORDER}, beta = 0.5) | ns | share of an "
+    lines += [f"| a Taylor step (order {taylor.FLOW_ORDER}, beta = 0.5) | ns | share of an "
               "impact |", "|---|---|---|"]
     per = 1e9 / rates[f"{name}, beta = 0.5"]
     for k, v in parts.items():

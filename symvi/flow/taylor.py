@@ -22,8 +22,8 @@ Order and step [Jorba & Zou, sec. 3.2]: the step h = exp(-0.7 / (p - 1)) min_{j 
 to rho, TOL = e^-40 what Jorba & Zou's order for double precision, 20, and their step
 rho_m / e^2 give.  Their order minimizes the p^2 products of the convolutions per unit
 time; here a step's time grows about linearly in p (the recurrences' latency, order after
-order, and the step's fixed cost), so a higher order with the same TOL is cheaper: ORDER
-= 28 by measurement (``benchmarks/bench_nonlinear_flow.py``, the impact Duffing
+order, and the step's fixed cost), so a higher order with the same TOL is cheaper:
+FLOW_ORDER = 28 by measurement (``benchmarks/bench_nonlinear_flow.py``, the impact Duffing
 oscillator: 11 steps an impact against 21 at order 20, 1.2 times the impacts a second,
 the first impact to 2.8e-16 against mpmath; order 32 takes 9 steps and is as fast at
 beta = 0.5, slower at beta = 0, where STEP_CAP bounds the step).  The step is also
@@ -62,8 +62,11 @@ EPS = 2.0 ** -52
 #: their order for EPS, ceil(-log(EPS) / 2 + 1) = 20, where their step rho_m / e^2 gives
 #: e^-40 (EPS / 50)
 TOL = math.exp(-40.0)
-#: the order p of the method: by measurement (module docstring)
-ORDER = 28
+#: Jorba & Zou's order for EPS, ceil(-log(EPS) / 2 + 1) = 20 (the series flights of
+#: :mod:`symvi.flow.jet_taylor` take it)
+ORDER = int(math.ceil(-math.log(EPS) / 2.0 + 1.0))
+#: the order p of the flow's steps: by measurement (module docstring)
+FLOW_ORDER = 28
 #: a step is at most this fraction of the shortest period (forcing, linear modes)
 STEP_CAP = 0.25
 #: steps of one flight before it gives up (as no impact)
@@ -545,7 +548,7 @@ def _taylor_integrate(sy, tj, z, t_end, hmax):
     return ye.copy()
 
 
-def work(tape_, values, roots, dim, order=ORDER):
+def work(tape_, values, roots, dim, order=FLOW_ORDER):
     """The tape (:func:`tape`) and the scratch of the Taylor kernels: (tape, values, roots,
     S, A (None without functions), sin and cos series, Q, X (S's first rows), g, Bernstein
     b, its stack, bracket, y, y', the first row past the constants)."""

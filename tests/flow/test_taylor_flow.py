@@ -81,7 +81,7 @@ def test_the_step_rule_and_one_step_reach_the_unit_roundoff():
     taylor._prepare(sy, tj)
     taylor._coefficients(sy, tj, 0.0, np.array([1.0, 0.0]), X)
     h = taylor._jorba_zou_h(X, 10.0)
-    p = taylor.ORDER
+    p = taylor.FLOW_ORDER
     rule = math.exp(-0.7 / (p - 1)) * min(math.exp((math.log(taylor.TOL) + math.lgamma(j + 1))
                                                    / j) for j in (p - 1, p))
     assert h == pytest.approx(rule, rel=1e-13) and h > 2.0
