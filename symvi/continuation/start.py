@@ -780,7 +780,8 @@ def period1_branches(model, omega_min, omega_max, *, switch=True, max_points=500
     ----------
     model : Model or Params
         A model with one rigid upper stop on one mass (the paper's Params as its
-        ``Model.luo_xie``).
+        ``Model.luo_xie``); with nonlinear forces its period-1 orbits at the ends are
+        those :func:`nonlinear_period1` finds (the closed form's otherwise).
     omega_min : float
         Lower end of the interval, at least 1e-4; branches start at both ends.
     omega_max : float
