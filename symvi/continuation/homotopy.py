@@ -6,10 +6,11 @@ s = 0 the period-1 orbits are the closed form's (eqs. (10)-(18), both branches);
 that arrives at the stop (v_k- > 0) is continued in s by the branch engine (pseudo-
 arclength, through inadmissible stretches) to s = 1, then refined by Newton on the model
 itself.  :func:`symvi.continuation.start.nonlinear_period1` adds the orbit a run of the
-map settles on where it is 1-1.  No closed form
-counts the orbits of a nonlinear flow: one on an isola (joined to no linear orbit and not
-an attractor) is missed, and a path that turns back in s (a fold in the forces' scale) ends
-nowhere; each such path is named in ``notes``, and the list is never called complete.
+map settles on where it is 1-1.  The paths are followed over s in [-REACH, REACH], so an
+orbit reached by a path only after a fold in s beyond that is found: every crossing of
+s = 1 counts.  No closed form counts the orbits of a nonlinear flow: one on an isola
+(joined to no linear orbit and not an attractor) is missed, and a path cut short is named
+in ``notes``; the list is never called complete.
 """
 import math
 from dataclasses import dataclass
@@ -47,7 +48,8 @@ def _scaled(model):
         s += "_"
     nl = model._nl
     new = Model(mass=model.mass, stiffness=model.stiffness, damping=model.damping,
-                forcing=model.forcing, stops=model.stops, nonlinear=[f"{s}*({t})" for t in nl.texts],
+                forcing=model.forcing, stops=model.stops,
+                nonlinear=[f"{s}*({t})" for t in nl.texts],
                 parameters={**dict(nl.parameters), s: 0.0})
     return new, s
 

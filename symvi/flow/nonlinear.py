@@ -114,8 +114,7 @@ def _rhs(sy, t, y, out):
 @nb.njit(cache=True)
 def _combine(y, h, K, coef, m, out):
     """out = y + h sum_{q < m} coef[q] K[q]: a stage's argument (coef = _A[s], m = s) or
-    the step's end (_B, _NS); the series flights of :mod:`symvi.flow.nljet` pass their
-    rows flattened."""
+    the step's end (_B, _NS)."""
     for i in range(y.shape[0]):
         acc = 0.0
         for q in range(m):
