@@ -101,6 +101,9 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
     Variables, in order: the columns of ``B`` (dim x m: how the start moves with each),
     the phase, then omega if ``omega_var``, then ``param`` (a
     :class:`symvi.model.parameters.Parameter` other than omega) if given."""
+    if not float(T) >= 0:                    # the Taylor steps run forward only
+        raise SingularCaseError("flight", f"a series flight over t = {float(T):.6g} < 0: "
+                                "the series flights run forward only")
     B = np.asarray(B, dtype=float)
     m = B.shape[1]
     d = m + 1 + bool(omega_var) + (param is not None)

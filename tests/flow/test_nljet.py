@@ -271,3 +271,18 @@ def test_parameter_series_against_differences(name):
         hi = nljet.map_jet(FlowView(par.apply(FUNCTIONS, p0 + h)), omega, y, te, 1)
     assert _rel((hi["P"] - lo["P"]) / (2 * h), got["dpP"]) < 1e-8
     assert _rel((hi["J"] - lo["J"]) / (2 * h), got["dpJ"]) < 1e-7
+
+
+def test_a_backward_series_flight_is_refused():
+    """The series flights run forward only: a negative time is refused by name, never
+    answered with the start (what it gave before)."""
+    from symvi.errors import SingularCaseError
+    m = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
+              stop=Stop(mass=1, gap=0.5, restitution=0.8), nonlinear=["beta*x1**3"],
+              parameters={"beta": 0.5})
+    v = FlowView(m)
+    F = v.forcing(1.3)
+    z = v.flight(F, np.array([0.1, 0.2]), 0.3, 0.5)[0]
+    assert np.max(np.abs(z - [0.1, 0.2])) > 1e-3
+    with pytest.raises(SingularCaseError, match="forward only"):
+        v.flight(F, np.array([0.1, 0.2]), 0.3, -0.1)

@@ -71,7 +71,7 @@ def _exact_pdm(nm, delta, s0=0.4):
     zp = np.concatenate([zi[:n], R @ zi[n:]])
     phi_i = phi - nm.omega * (s0 - ti)
     # w = (x, v = 0) at phase phi_i - omega t, flown for t > 0, lands on zp (one mass)
-    x, t = zi[0], zp[n] / abs(nm.acceleration)
+    x, t = zi[0], abs(zp[n]) / abs(nm.acceleration)
     for _ in range(30):
         zt, Phi, _, f = flow.flight(F, np.array([x, 0.0]), phi_i - nm.omega * t, t)
         res = zt - zp
