@@ -235,6 +235,7 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
         if not par.is_forcing_frequency:
             at = at.parameter(par).apply(at, a)
         w = a if par.is_forcing_frequency else fixed["omega"]
+        guesses = []
         if (n, p) == (1, 1) and at.one_rigid_stop and at.nonlinear is not None:
             # nonlinear forces: the period-1 orbits the homotopy from the linear part's
             # closed form reaches (the attractor among them), admissible ones
@@ -243,8 +244,6 @@ def continue_orbits(model, param, start, stop, /, *, orbit=(1, 1), start_omega=N
                      f"{param} = {a:.12g} continued from the linear part's closed form in "
                      "the forces' scale, and the attractor of a run (symvi.continuation."
                      "homotopy; an orbit on an isola may be missed)")
-        else:
-            guesses = None
         if guesses:
             pass                        # the homotopy's orbits
         elif (n, p) == (1, 1) and (not at.one_rigid_stop or at.nonlinear is not None):
@@ -647,9 +646,10 @@ def ns_scan(model, omega_min, omega_max, samples=SCAN_SAMPLES, max_points=5000):
     default start settles on a periodic attractor; each new one is continued in omega
     over the interval both ways (:func:`continue_orbits`), and the NS points located on
     the branches are kept, each once.  With nonlinear forces on one rigid stop the
-    period-1 orbits at both ends that :mod:`.homotopy` reaches are continued too.  A :class:`BranchScan`, which says it is not certified: an orbit no run
-    settles on, and a branch that does not reach one, are not searched (the certified
-    scan of closed-form branches is :func:`symvi.hopf_points`).
+    period-1 orbits at both ends that :mod:`.homotopy` reaches are continued too.  A
+    :class:`BranchScan`, which says it is not certified: an orbit no run settles on, and a
+    branch that does not reach one, are not searched (the certified scan of closed-form
+    branches is :func:`symvi.hopf_points`).
 
     Parameters
     ----------

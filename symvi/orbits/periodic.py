@@ -424,8 +424,8 @@ class Problem:
         d, p, N = self.d, self.p, self.N
         out = np.zeros(self.size)
         ends, ks = self._ends(flow), tan.stop
-        geo = LinearFlow.of(model.linear_part)    # the frames FlowView reads its resets in
-        dE = [self._dreset_rows(geo, model, k, tan) for k in range(len(model.constraints))]
+        # the resets' derivatives in the linear part's frames, where FlowView reads them
+        dE = [self._dreset_rows(flow.lin, model, k, tan) for k in range(len(model.constraints))]
         for i, (z0, tau, z, Phi, *_) in enumerate(fl):
             E, g, _ = ends[i]
             kb = self.sig[(i + 1) % p]

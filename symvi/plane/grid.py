@@ -185,15 +185,15 @@ def _check_ranges(spec):
                                      str(exc)) from None
     omegas = om[0][1].values if om else [spec.omega]
     flag = om[0][0] if om else "--omega"
-    # the modes depend on the parameter axis (at most one): check each of its models
-    rows = [spec.model] if not par else [spec.model.with_(**{par[0][1].name: float(v)})
-                                        for v in par[0][1].values]
-    seen = set()
     if spec.model.nonlinear is not None:     # no modes to resonate: the range only
         from ..flow.linear import check_range
         for w in omegas:
             check_range(w, name=flag)
         return
+    # the modes depend on the parameter axis (at most one): check each of its models
+    rows = [spec.model] if not par else [spec.model.with_(**{par[0][1].name: float(v)})
+                                        for v in par[0][1].values]
+    seen = set()
     for m in rows:
         # with elastic stops every contact phase too (LinearFlow.contact: K_S, C_S)
         flows = ([LinearFlow.contact(m)] + [LinearFlow.contact(m, S) for S in _contact_sets(m)]

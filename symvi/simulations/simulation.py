@@ -719,9 +719,9 @@ def classify_sweep(res):
     _check_classifiable(n_keep, params=res.params)
     model = Model.of(res.params)
     if _walked(model):                # the same walks (runs of the numerical flow) again
-        starts = [_leaving(model, y) if model.elastic else tuple(y) for y in res.starts]
         return classify_walked([(model, float(w)) for w in res.omegas], n_keep,
-                               res.transient, starts=starts)
+                               res.transient,
+                               starts=[_walk_start(model, y) for y in res.starts])
     C = np.array([cf.constants(model, float(w)) for w in res.omegas])
     return classify_runs(C, res.starts, n_keep, res.transient, models=model)
 
@@ -761,6 +761,20 @@ def _walked(model):
     return model.elastic or model.nonlinear is not None
 
 
+def _walk(model, omega, n_keep, transient, start):
+    """One run of a walked model (:func:`_walked`) from ``start`` (None: its default):
+    an elastic stop's walk (:func:`contact_run`) or the numerical flow of nonlinear forces
+    (:func:`_simulate_nonlinear`, a section point of the first stop)."""
+    if model.nonlinear is not None:
+        return _simulate_nonlinear(model, omega, start, n_keep, transient)
+    return contact_run(model, omega, n_keep, transient, start)
+
+
+def _walk_start(model, y):
+    """The start :func:`_walk` takes for a sweep's section point y of the first stop."""
+    return tuple(y) if model.nonlinear is not None else _leaving(model, y)
+
+
 def _sweep_walked(model, omegas, n_impacts, transient, starts, progress, classify):
     """:func:`sweep` of a model run omega by omega (:func:`_walked`): an elastic stop's walk
     (:func:`contact_run`, from ``starts``, default :func:`contact_start`) or the numerical
@@ -776,17 +790,10 @@ def _sweep_walked(model, omegas, n_impacts, transient, starts, progress, classif
         raise ParameterError("starts", starts, f"{m} start points") from None
     if len(rows) != m:
         raise ParameterError("starts", starts, f"{m} start points, one per omega")
-    if model.elastic:
-        begin = [_leaving(model, y) for y in rows]
-
-        def run(i, w):
-            return contact_run(model, w, n_impacts, transient, begin[i])
-    else:
-        def run(i, w):
-            return _simulate_nonlinear(model, w, tuple(rows[i]), n_impacts, transient)
+    begin = [_walk_start(model, y) for y in rows]
     sims = []
     for i, w in enumerate(omegas):
-        sims.append(run(i, float(w)))
+        sims.append(_walk(model, float(w), n_impacts, transient, begin[i]))
         if progress is not None:
             progress(i + 1, m)
     sec = np.full((m, n_impacts, model.dim), np.nan)
@@ -825,10 +832,7 @@ def classify_walked(points, n_keep, transient, *, follow=False, row_len=None, st
         own = True
         if follow and p % row_len and prev is not None and prev[1][0] in _BOUNDED:
             start, own = _end_state(model, prev[0]), False
-        if model.nonlinear is not None:
-            sim = _simulate_nonlinear(model, omega, start, n_keep, transient)
-        else:
-            sim = contact_run(model, omega, n_keep, transient, start)
+        sim = _walk(model, omega, n_keep, transient, start)
         prev = (sim, _judge_run(sim))
         rows.append(prev[1])
         followed.append(not own)
@@ -851,9 +855,10 @@ def _end_state(model, sim):
 
 
 def _judge_run(sim):
-    """One walked run's (:func:`_walked`) row of :class:`~symvi.simulations.classifier.Classified`: (code,
-    period, events per orbit, lyapunov, rotation, records per period, max velocity, stop,
-    last event's point, its constraint, signature, kinds)."""
+    """One walked run's (:func:`_walked`) row of
+    :class:`~symvi.simulations.classifier.Classified`: (code, period, events per orbit,
+    lyapunov, rotation, records per period, max velocity, stop, last event's point, its
+    constraint, signature, kinds)."""
     from . import classifier as cl
     from .diagnostics import _judged
     stop = STOP_NAMES.index(sim.stop)
