@@ -23,9 +23,12 @@ the impact map P to order K: raw derivative tensors by
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A gap or a
-restitution is refused by name (their series would enter the start, the guard's level and
-the reset: a later step).
+p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A stop's
+gap b or restitution r moves no flight, only its ends (as on the linear path, eqs.
+(36)-(38) generalised): the gap the start's fixed coordinate x_a = b on its section (a
+flight that starts on that stop starts from x_a = b + p) and the guard's level sign b (one
+that ends on it); the restitution, and the masses for an impulse along M^-1 c, the reset
+R(p) = R + p dR (:func:`symvi.codegen.layout.reset_derivative`, the law's one owner).
 """
 import numba as nb
 import numpy as np
@@ -94,13 +97,16 @@ def _series(alg, value, var=None):
     return a
 
 
-def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None):
+def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None,
+                  dz0=None):
     """The flight's series z(T; delta) (mass order, rows; :class:`_Flight`) from z0 + B
     delta_state at phase tau, by the Taylor method on series (:mod:`symvi.flow.jet_taylor`).
 
     Variables, in order: the columns of ``B`` (dim x m: how the start moves with each),
     the phase, then omega if ``omega_var``, then ``param`` (a
-    :class:`symvi.model.parameters.Parameter` other than omega) if given."""
+    :class:`symvi.model.parameters.Parameter` other than omega) if given; ``dz0`` (mass
+    order) how the start moves with ``param`` (a stop's gap moves it on its section: the
+    caller knows which section; a stop's gap or restitution moves no field)."""
     if not float(T) >= 0:                    # the Taylor steps run forward only
         raise SingularCaseError("flight", f"a series flight over t = {float(T):.6g} < 0: "
                                 "the series flights run forward only")
@@ -123,11 +129,8 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         pslot = _force_slot(flow.model, param)
         if pslot is None:
             tangent = param.tangent(flow.model)
-            if tangent.db or tangent.dr:       # they move the start, the level, the reset
-                raise ParameterError("param", param.name, "omega, a parameter of the "
-                                     "forces or an entry of M, K, C, P (a gap or a "
-                                     "restitution with nonlinear forces: a later step of "
-                                     "issue 28)")
+        if dz0 is not None:
+            Y[:, 1 + ip] = dz0
     sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, pslot,
                                wvar=bool(omega_var))
     steps = jet_taylor.integrate(sy, tj, Y, float(T), flow.hmax(omega, taylor.STEP_CAP))
@@ -135,6 +138,31 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         raise SingularCaseError("flight", f"the series flight over t = {T:.6g} did not "
                                 "finish (a non-finite state or the step limit)")
     return _Flight(alg, Y, float(T), sy, tj, om_s, tau_s)
+
+
+def _stop_tangent(model, param):
+    """The tangent of ``param`` when it moves a stop's gap or restitution (the flight's
+    ends, not its field), else None."""
+    if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return None
+    tan = param.tangent(model)
+    return tan if (tan.db or tan.dr) else None
+
+
+def _reset_rate(view, k, param):
+    """dR/dp of constraint k's reset (flow order) along ``param``, or None where it is zero:
+    its restitution moves it, and the masses for an impulse along M^-1 c
+    (:func:`symvi.codegen.layout.reset_derivative`)."""
+    model = view.model
+    if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return None
+    from ..codegen.layout import reset_derivative
+    tan = param.tangent(model)
+    con = model.constraints[k]
+    dr = tan.dr if tan.stop == k else 0.0
+    if not dr and not (con.impulse is None and np.any(np.asarray(tan.dM) != 0)):
+        return None
+    return np.asarray(reset_derivative(view.lin, con, dr, tan.dM), dtype=float)
 
 
 def _force_slot(model, param):
@@ -188,8 +216,15 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     E = np.zeros((dim, dim - 1))
     E[fa, np.arange(dim - 1)] = 1.0
     S = view.S
+    # a stop's gap or restitution (its tangent, else None): the flight's ends move
+    stan = _stop_tangent(flow.model, param)
+    dz0 = None
+    if stan is not None and stan.db and stan.stop == start:
+        dz0 = np.zeros(dim)
+        dz0[pa] = stan.db                     # the start's section x_a = b
+        dz0 = S @ dz0
     fl = flight_series(flow, omega, S @ w0, float(y[-1]), T, order, S @ E,
-                       omega_var=omega_var, param=param)
+                       omega_var=omega_var, param=param, dz0=dz0)
     alg = fl.alg
     K, L = alg.K, alg.L
     # Z(T + s; delta) = sum_k Z[:, k] s^k in flow order
@@ -199,6 +234,9 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     guard, level = row[3:3 + n], row[2]
     H = np.tensordot(guard, Z[:n], axes=1)
     H[0, 0] -= level
+    if stan is not None and stan.db and stan.stop == end:
+        # the level sign b moves (the parameter is the last variable: monomial d)
+        H[0, alg.d] -= flow.model.constraints[end].sign * stan.db
     speed = float(H[1, 0])
     if not speed > 0:
         raise SingularCaseError("grazing", f"the approach speed at the impact is {speed:.3g}: "
@@ -210,9 +248,17 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     ze = np.zeros((dim, L))
     for i in range(dim):
         _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
-    # the reset v+ = R v- and the section point on constraint ``end``
+    # the reset v+ = R(p) v- and the section point on constraint ``end``
     R = row[3 + n:].reshape(n, n)
-    ze[n:] = R @ ze[n:]
+    dR = _reset_rate(view, end, param)
+    vm = ze[n:].copy()
+    ze[n:] = R @ vm
+    if dR is not None:                        # + p dR v-
+        pvar = _series(alg, 0.0, alg.d - 1)
+        pv = np.zeros((n, L))
+        for i in range(n):
+            tps.mul(vm[i], pvar, pv[i], MI, MJ, OFF)
+        ze[n:] += dR @ pv
     out = np.zeros((dim, L))
     out[:dim - 1] = ze[view.frames[end]]
     phase = fl.tau.copy()
