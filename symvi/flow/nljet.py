@@ -128,7 +128,7 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         pvar = _series(alg, 0.0, ip)
         pslot = _force_slot(flow.model, param)
         if pslot is None:
-            tangent = param.tangent(flow.model)
+            tangent = check_parameter(flow.model, param).tangent(flow.model)
         if dz0 is not None:
             Y[:, 1 + ip] = dz0
     sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, pslot,
@@ -138,6 +138,25 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         raise SingularCaseError("flight", f"the series flight over t = {T:.6g} did not "
                                 "finish (a non-finite state or the step limit)")
     return _Flight(alg, Y, float(T), sy, tj, om_s, tau_s)
+
+
+#: the parameters the series take (:func:`check_parameter`)
+TAKEN = ("omega, a parameter of the forces, an entry of M, K, C, P or a rigid stop's gap "
+         "or restitution (an elastic stop's stiffness or damping with nonlinear forces: a "
+         "later step of issue 28)")
+
+
+def check_parameter(model, param):
+    """``param`` (a :class:`symvi.model.parameters.Parameter`) when the series of a flight
+    of ``model`` (nonlinear forces) take it as a variable, else the one-line
+    ParameterError naming "param": the one owner of what they take (a curve's front end
+    asks before it computes, :func:`symvi.curves.curve_params`)."""
+    if param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return param
+    tan = param.tangent(model)
+    if tan.dk or tan.dc:
+        raise ParameterError("param", param.name, TAKEN)
+    return param
 
 
 def _stop_tangent(model, param):
