@@ -28,7 +28,8 @@ gap b or restitution r moves no flight, only its ends (as on the linear path, eq
 (36)-(38) generalised): the gap the start's fixed coordinate x_a = b on its section (a
 flight that starts on that stop starts from x_a = b + p) and the guard's level sign b (one
 that ends on it); the restitution, and the masses for an impulse along M^-1 c, the reset
-R(p) = R + p dR (:func:`symvi.codegen.layout.reset_derivative`, the law's one owner).
+R(p) = I - (1 + r(p)) q(p) c^T / (c^T q(p)), q(p) = M(p)^-1 c (the law of
+:meth:`symvi.model.Constraint.reset_matrix` on series).
 """
 import numba as nb
 import numpy as np
@@ -168,20 +169,51 @@ def _stop_tangent(model, param):
     return tan if (tan.db or tan.dr) else None
 
 
-def _reset_rate(view, k, param):
-    """dR/dp of constraint k's reset (flow order) along ``param``, or None where it is zero:
-    its restitution moves it, and the masses for an impulse along M^-1 c
-    (:func:`symvi.codegen.layout.reset_derivative`)."""
-    model = view.model
+def _reset_moves(model, k, param):
+    """Whether ``param`` moves constraint k's reset: its restitution, or the masses for an
+    impulse along M^-1 c (:meth:`symvi.model.Constraint.reset_matrix`)."""
     if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
-        return None
-    from ..codegen.layout import reset_derivative
+        return False
     tan = param.tangent(model)
     con = model.constraints[k]
-    dr = tan.dr if tan.stop == k else 0.0
-    if not dr and not (con.impulse is None and np.any(np.asarray(tan.dM) != 0)):
-        return None
-    return np.asarray(reset_derivative(view.lin, con, dr, tan.dM), dtype=float)
+    return bool((tan.dr and tan.stop == k) or
+                (con.impulse is None and np.any(np.asarray(tan.dM) != 0)))
+
+
+def _reset_series(view, fl, k, param, vm):
+    """v+ = R(p) v- on series (flow order in and out) for constraint k: the law of
+    :meth:`symvi.model.Constraint.reset_matrix`, R = I - (1 + r) q c^T / (c^T q), with r(p)
+    = r + p dr and q(p) = M(p)^-1 c (the flight's M(p)^-1 series) or the fixed impulse."""
+    alg, n = fl.alg, view.n
+    L, K = alg.L, alg.K
+    MI, MJ, OFF = alg.mul
+    model = view.model
+    con = model.constraints[k]
+    tan = param.tangent(model)
+    v = view.S[n:, n:] @ vm                   # mass order
+    c = np.asarray(con.normal, dtype=float)
+    # the flight's field (jet_taylor.system): M^-1, and M(p)^-1 as series W when M moves
+    Minv, _, _, _, _, _, _, _, W, _, _, _, _, _, mass_moves, _ = fl.sy
+    q = np.zeros((n, L))
+    if con.impulse is not None:
+        q[:, 0] = con.impulse
+    elif mass_moves:
+        q = np.tensordot(W, c, axes=([1], [0]))
+    else:
+        q[:, 0] = Minv @ c
+    inv, u, tmp, cs = np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(K + 1)
+    tps.apply(tps.RECIP, c @ q, inv, u, tmp, cs, K, MI, MJ, OFF)      # 1 / (c^T q)
+    one_r = _series(alg, 1.0 + con.restitution)
+    if tan.dr and tan.stop == k:
+        one_r[alg.d] += tan.dr                # the parameter: the last variable
+    a, coef = np.zeros(L), np.zeros(L)
+    tps.mul(c @ v, inv, a, MI, MJ, OFF)
+    tps.mul(a, one_r, coef, MI, MJ, OFF)      # (1 + r) (c^T v) / (c^T q)
+    vp = v.copy()
+    for i in range(n):
+        tps.mul(q[i], coef, a, MI, MJ, OFF)
+        vp[i] -= a
+    return view.Sinv[n:, n:] @ vp
 
 
 def _force_slot(model, param):
@@ -268,16 +300,10 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     for i in range(dim):
         _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
     # the reset v+ = R(p) v- and the section point on constraint ``end``
-    R = row[3 + n:].reshape(n, n)
-    dR = _reset_rate(view, end, param)
-    vm = ze[n:].copy()
-    ze[n:] = R @ vm
-    if dR is not None:                        # + p dR v-
-        pvar = _series(alg, 0.0, alg.d - 1)
-        pv = np.zeros((n, L))
-        for i in range(n):
-            tps.mul(vm[i], pvar, pv[i], MI, MJ, OFF)
-        ze[n:] += dR @ pv
+    if _reset_moves(flow.model, end, param):
+        ze[n:] = _reset_series(view, fl, end, param, ze[n:])
+    else:
+        ze[n:] = row[3 + n:].reshape(n, n) @ ze[n:]
     out = np.zeros((dim, L))
     out[:dim - 1] = ze[view.frames[end]]
     phase = fl.tau.copy()
