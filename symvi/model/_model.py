@@ -796,7 +796,14 @@ class Model:
         """
         if self._nl is not None and str(name) in self._nl.names:
             return NamedParameter(str(name), "named", n=len(self._P))
-        par = _parse_parameter(name, len(self._P), self._preset is not None)
+        try:
+            par = _parse_parameter(name, len(self._P), self._preset is not None)
+        except ParameterError as exc:
+            if self._nl is None or not self._nl.names:
+                raise
+            # the forces' named parameters are names of this model too
+            raise ParameterError(exc.name, exc.value, f"{exc.valid}, or a parameter of the "
+                                 f"forces: {', '.join(self._nl.names)}", exc.detail) from None
         if isinstance(par, StopParameter):
             par.stop_of(self)                     # the model has that stop, of that kind
         return par
