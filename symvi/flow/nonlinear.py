@@ -48,7 +48,9 @@ v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`: 
 at or below the grazing speed GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL
 max(1, |b|, |x|), is a grazing contact (sticking when h'' > 0 there): the run stops with
 the reasons of :mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact,
-non-finite).
+non-finite); a converging chatter is followed to its grazing contact, and
+:func:`symvi.flow.nlsticking.run_through` goes on from a sticking through the held phase
+and the release.
 """
 import math
 
