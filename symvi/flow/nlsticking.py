@@ -54,8 +54,8 @@ guard checked < 0 there), from where the run loop resumes with no guard just hit
 
 Not continued (the run stops, with the reason in :func:`run_through`): r >= 1, a last
 flight that does not end pushed into a stop, another stop met while held, held past the
-flight bound (1000 forcing periods), no transversal release (h''' >= 0), repeated
-stickings with no impact between them.
+flight bound (1000 forcing periods), a held step that fails (non-finite series), no
+transversal release (h''' >= 0), repeated stickings with no impact between them.
 
 References
 ----------
@@ -306,7 +306,8 @@ class Held:
 
     def run(self, z0, tau, t_max):
         """From z0 (mass order, on the stop) at phase tau: (kind, t, z) of the first event,
-        kind -1 the release, j >= 0 stop j met; (None, t, None) if none before t_max."""
+        kind -1 the release, j >= 0 stop j met; (None, t, None) if none before t_max,
+        (-3, t, None) if a step failed (a non-finite series)."""
         flow, n, w = self.flow, self.flow.n, self.omega
         z = _put_on(flow, self.g, np.array(z0, dtype=float), self.gh, self.level, self.q,
                     self.gq)
@@ -328,7 +329,7 @@ class Held:
                            self.gq, self.level, z, float(t_max), flow._cap(w),
                            np.empty(p + 1), np.empty(n))
         if kind < -1:
-            return None, t, None
+            return (None if kind == -2 else -3), t, None
         if kind == -1:
             z = _put_on(flow, self.g, z, self.gh, self.level, self.q, self.gq)
         return kind, t, z
@@ -412,6 +413,10 @@ def run_through(flow, omega, y0, n_keep, transient=0):
         if kind is None:
             sticks.append((t_stick, math.nan, g))
             reason = f"held on stop {g + 1} for longer than {t_max:g} time units"
+            break
+        if kind == -3:
+            sticks.append((t_stick, math.nan, g))
+            reason = f"the held motion on stop {g + 1} failed to step (non-finite series)"
             break
         sticks.append((t_stick, t_stick + ts, g))
         if kind != -1:
