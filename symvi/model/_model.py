@@ -591,11 +591,12 @@ class Model:
 
     @property
     def conservative(self):
-        """r = 1, no contact damping and C = 0: the impact map preserves volume
-        (multipliers may sit on the unit circle over whole intervals, and (H3) has no
-        meaning)."""
+        """r = 1, no contact damping, C = 0 and no nonlinear force of a velocity: the
+        impact map preserves volume (multipliers may sit on the unit circle over whole
+        intervals, and (H3) has no meaning)."""
         return all(s.restitution == 1.0 if s.stiffness is None else not s.damping
-                   for s in self._stops) and not self.damped
+                   for s in self._stops) and not self.damped and (
+            self._nl is None or self._nl.velocity_free(self.n))
 
     @property
     def preset(self):

@@ -41,7 +41,7 @@ from ..model.parameters import StopParameter
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
-from .admissibility import check_flight
+from .admissibility import check_flight, neutral, stable_of
 
 #: Newton: iteration limit
 NEWTON_MAXIT = 30
@@ -609,6 +609,12 @@ class PeriodicOrbit:
                          self.contact)
 
     @property
+    def neutral(self):
+        """A conservative model's orbit with every multiplier on the unit circle
+        (:func:`symvi.orbits.admissibility.neutral`)."""
+        return neutral(self.multipliers, self.model)
+
+    @property
     def signature_names(self):
         """["stop1", "stop2", ...]: the constraint of each impact, 1-based."""
         sig = self.signature if self.signature is not None else (0,) * self.p
@@ -674,7 +680,8 @@ class PeriodicOrbit:
                 "times": [float(t) for t in self.times],
                 "impact_velocities": [float(v) for v in self.impact_velocities],
                 "multipliers": [[z.real, z.imag] for z in self.multipliers],
-                "stable": bool(self.stable), "admissible": bool(self.admissible),
+                "stable": bool(self.stable), "neutral": self.neutral,
+                "admissible": bool(self.admissible),
                 "reason": self.reason, "residual": self.residual,
                 **({"symmetric": self.symmetric} if self.symmetric is not None else {}),
                 **({"point_names": [list(n) for n in self.point_names]}
@@ -763,7 +770,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     names = tuple(problem.sections[k].names for k in problem.sig)
     return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
                          tuple(float(t) for t in T), vimp, names[0], mult,
-                         bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
+                         stable_of(mult[:1], ok, model), ok, why, float(np.max(np.abs(G))),
                          np.array(u, dtype=float), problem.signature.hits, names, sym,
                          None if H is None else eigenvalues(H), problem.signature.contact)
 
