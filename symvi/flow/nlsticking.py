@@ -175,7 +175,7 @@ def release_one(A, B0, omega, tau):
     return ((phi - tau) % _TWO_PI) / omega
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _held_coefficients(sy, tj, t, y, X, gh, q, gq, mu, acc):
     """X[:, 0..p] <- the Taylor coefficients of the held motion through (t, y) (module
     docstring: x'' = M^-1 F - q mu / (gh . q)), and mu[0..p-1] those of mu = gh . M^-1 F;
@@ -237,7 +237,7 @@ def _event(gp, b, stackb, lo_hi, br, scale):
     return 0.5 * (br[0] + br[1])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _held(sy, tj, cons, normals, gk, gh, q, gq, level, z, t_max, hmax, mu, acc):
     """The held motion on constraint gk from z (mass order, on the stop; in place: the
     state at the event) to its first event: (kind, t, steps), kind -1 the release (mu
