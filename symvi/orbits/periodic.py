@@ -37,7 +37,7 @@ from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
 from ..model import Signature
-from ..model.parameters import StopParameter
+from ..model.parameters import NamedParameter, StopParameter
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
@@ -399,18 +399,27 @@ class Problem:
     def _dparam_series(self, fl, model, flow, F, T, name):
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
         series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
-        moves no flight, only its ends (:meth:`_dstop`)."""
+        moves no flight, only its ends (:meth:`_dstop`); an entry of M moves the reset of
+        an impulse along M^-1 c too (dE z, as on the linear path)."""
         if isinstance(name, StopParameter):
             return self._dstop(fl, model, flow, name.tangent(model))
         d, p, N = self.d, self.p, self.N
         out = np.zeros(self.size)
         ends = self._ends(flow)
         mine = self.parameter is not None and name.name == self.parameter.name
+        dE = [None] * len(model.constraints)
+        if not (name.is_forcing_frequency or isinstance(name, NamedParameter)):
+            tan = name.tangent(model)
+            dE = [self._dreset_rows(flow.lin, model, k, tan)
+                  for k in range(len(model.constraints))]
         for i, (z0, tau, z, *rest) in enumerate(fl):
             E, g, _ = ends[i]
             dz = rest[3] if mine and len(rest) > 3 else \
                 flow.flight(F, z0, tau, T[i], param=name)[4]
             out[i * d:i * d + d - 1] = E @ dz
+            kb = self.sig[(i + 1) % p]
+            if dE[kb] is not None:
+                out[i * d:i * d + d - 1] += dE[kb] @ z
             out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
             out[p * d + i] = g @ dz[:N]
         return out
