@@ -23,9 +23,9 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 #: the package's files that define numba kernels (tests/test_structure.py checks the list)
 KERNEL_FILES = ("_compiled.py", "codegen/_assemble.py", "flow/_hull.py", "flow/_program.py",
                 "flow/_steady.py", "flow/compiled.py", "flow/jet_taylor.py", "flow/nljet.py",
-                "flow/nonlinear.py", "flow/sticking.py", "flow/taylor.py", "flow/tps.py",
-                "orbits/_period1.py", "orbits/_shooting.py", "simulations/classifier.py",
-                "simulations/diagnostics.py")
+                "flow/nlsticking.py", "flow/nonlinear.py", "flow/sticking.py", "flow/taylor.py",
+                "flow/tps.py", "orbits/_period1.py", "orbits/_shooting.py",
+                "simulations/classifier.py", "simulations/diagnostics.py")
 
 
 def _digest():

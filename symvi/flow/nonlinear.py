@@ -48,7 +48,9 @@ v+ = R v- (the constraint's reset, :meth:`symvi.model.Constraint.reset_matrix`: 
 at or below the grazing speed GRAZING_SPEED_FACTOR sqrt(2 |h''| delta), delta = RTOL
 max(1, |b|, |x|), is a grazing contact (sticking when h'' > 0 there): the run stops with
 the reasons of :mod:`symvi.flow.compiled` (grazing, sticking, chatter, no-impact,
-non-finite).
+non-finite); a converging chatter is followed to its grazing contact, and
+:func:`symvi.flow.nlsticking.run_through` goes on from a sticking through the held phase
+and the release.
 """
 import math
 
@@ -290,8 +292,14 @@ def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_ma
     tau: stores section points (SEC[c] z: constraint c's section layout), times, approach
     speeds and the constraint hit, as :func:`symvi.flow.compiled.run` does.  The flight:
     the Taylor method's (``taylor``, :func:`symvi.flow.taylor._taylor_flight`, scratch tj)
-    or DOP853's (:func:`_flight`, scratch work; stops on masses).  Returns (stop code,
-    number stored, steps)."""
+    or DOP853's (:func:`_flight`, scratch work; stops on masses).  k = -1: z lies on no
+    guard (a start after a release, :mod:`symvi.flow.nlsticking`).  As
+    :func:`symvi.flow.compiled._run_into`, a short flight counts toward a chatter stop
+    unless the sequence converges (the same constraint, pushed into it, a smaller approach
+    speed): that one is followed to its grazing contact, whose sticking the caller
+    continues.  Returns (stop code, number stored, steps, the constraint of z at the end,
+    its phase, its time since the start, the images accepted, transient included); on a
+    stop z is left at the last state accepted (just after its impact)."""
     dim = z.shape[0]
     n = dim // 2
     w = sy[8][0]
@@ -302,6 +310,7 @@ def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_ma
     t_chat = cf.CHATTER_FLIGHT * 2.0 * math.pi / w
     steps = 0
     zs = z.copy()
+    c_prev, vm_prev = -1, np.inf
     for it in range(transient + n_keep):
         kept = it - transient
         sy[9][0] = tau
@@ -315,14 +324,16 @@ def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_ma
         if st != cf.IMPACT:
             for i in range(dim):
                 z[i] = zs[i]
-            return cf.STOP_NO_IMPACT if c == -1 else cf.STOP_NONFINITE, max(kept, 0), steps
+            return (cf.STOP_NO_IMPACT if c == -1 else cf.STOP_NONFINITE, max(kept, 0), steps,
+                    k, tau, T, it)
         L = max(1.0, abs(cons[c, 1]))
         for i in range(n):
             L = max(L, abs(z[i]))
         if vm <= GRAZING_SPEED_FACTOR * math.sqrt(2.0 * abs(acc) * RTOL * L):
             for i in range(dim):
                 z[i] = zs[i]
-            return (cf.STOP_STICKING if acc > 0.0 else cf.STOP_GRAZING), max(kept, 0), steps
+            return ((cf.STOP_STICKING if acc > 0.0 else cf.STOP_GRAZING), max(kept, 0), steps,
+                    k, tau, T, it)
         # v+ = R v- (the constraint's reset); on a mass's stop the section is x_k = gap
         for i in range(n):
             a = 0.0
@@ -340,11 +351,13 @@ def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_ma
         if not ok:
             for i in range(dim):
                 z[i] = zs[i]
-            return cf.STOP_NONFINITE, max(kept, 0), steps
+            return cf.STOP_NONFINITE, max(kept, 0), steps, k, tau, T, it
         k = c
         tau = (tau + w * te) % (2.0 * math.pi)
         T += te
-        short = short + 1 if te < t_chat else 0
+        conv = c == c_prev and acc > 0.0 and vm < vm_prev
+        short = short + 1 if te < t_chat and not conv else 0
+        c_prev, vm_prev = c, vm
         if kept >= 0:
             for i in range(dim - 1):
                 a = 0.0
@@ -357,8 +370,8 @@ def _run(sy, tj, cons, normals, R, SEC, z, tau, k, n_keep, transient, hmax, t_ma
             vimp[kept] = vm
             hits[kept] = c
         if short >= cf.CHATTER_COUNT:
-            return cf.STOP_CHATTER, max(kept + 1, 0), steps
-    return cf.COMPLETED, n_keep, steps
+            return cf.STOP_CHATTER, max(kept + 1, 0), steps, k, tau, T, it + 1
+    return cf.COMPLETED, n_keep, steps, k, tau, T, transient + n_keep
 
 
 @nb.njit(cache=True)
@@ -539,8 +552,15 @@ class NonlinearFlow:
         times = np.empty(n_keep)
         vimp = np.empty(n_keep)
         hits = np.empty(n_keep, dtype=np.int64)
-        code, kk, steps = _run(self._system(omega, y0[-1]), self._taylor_work(), self._table,
-                               self.normals, self.R, self.SEC, z, float(y0[-1]), 0, n_keep,
-                               transient, self._cap(omega), 1000 * 2 * math.pi / omega, sec,
-                               times, vimp, hits, self._work(), self.method == "taylor")
+        code, kk, steps = self._run_into(omega, z, float(y0[-1]), 0, transient, sec, times,
+                                         vimp, hits)[:3]
         return code, sec[:kk], times[:kk], vimp[:kk], hits[:kk], steps
+
+    def _run_into(self, omega, z, tau, k, transient, sec, times, vimp, hits):
+        """:func:`_run` from z (mass order, in place) at phase tau on constraint k (-1: on
+        none), storing into the given arrays (their length: the images to store): the
+        loop's return (:func:`symvi.flow.nlsticking.run_through` resumes it)."""
+        return _run(self._system(omega, tau), self._taylor_work(), self._table, self.normals,
+                    self.R, self.SEC, z, float(tau), int(k), len(times), transient,
+                    self._cap(omega), 1000 * 2 * math.pi / omega, sec, times, vimp, hits,
+                    self._work(), self.method == "taylor")

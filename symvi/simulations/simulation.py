@@ -220,8 +220,8 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
-    :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records; it ends at
-    chatter and sticking (``stop_reason`` says so) instead of going through them.
+    :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records, through
+    chatter and sticking as well (:mod:`symvi.flow.nlsticking`).
 
     A rigid run goes on through complete chatter and sticking (``sticks``: when each
     sticking phase began and ended).  A run ends early, with its reason in ``stop``, on a
@@ -324,10 +324,13 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
 def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     """:func:`simulate` of a model with nonlinear forces (issue 28): the run of
     :class:`symvi.flow.nonlinear.NonlinearFlow` (the Taylor method, every contact located
-    on the solution's polynomial), the same records and stop reasons as the compiled run.
+    on the solution's polynomial) through complete chatter and sticking
+    (:func:`symvi.flow.nlsticking.run_through`), the same records, ``sticks`` and stop
+    reasons as the compiled run.
     Without ``y0`` it starts from :func:`default_start` (no period-1 orbit in closed form to
     start near)."""
     from ..flow.linear import check_range
+    from ..flow.nlsticking import run_through as run_through_nonlinear
     from ..flow.nonlinear import NonlinearFlow
     if isinstance(omega, (bool, str)):
         raise ParameterError("omega", omega, "a finite real number > 0")
@@ -337,15 +340,13 @@ def _simulate_nonlinear(model, omega, y0, n_impacts, transient):
     flow = NonlinearFlow(model)                   # refuses what it cannot run yet
     # no period-1 orbit in closed form to start near: the default start off the stop
     y0 = _check_model_start(model, default_start(model, omega) if y0 is None else y0)
-    code, sec, t, vimp, hits, _ = flow.run(float(omega), y0, n_impacts, transient)
+    # the run loop, continued through complete chatter and sticking
+    code, sec, t, vimp, hits, sticks, reason = run_through_nonlinear(flow, float(omega), y0,
+                                                                     n_impacts, transient)
     hits = np.ascontiguousarray(hits, dtype=np.int64)
     hits.flags.writeable = False
-    stop = STOP_NAMES[code]
-    # the numerical flow stops at chatter and sticking (going through them: a later step)
-    reason = (f"{stop} with nonlinear forces: runs through chatter and sticking are a "
-              "later step of issue 28") if stop in ("chatter", "sticking") else ""
     return Simulation(model, float(omega), y0, _frozen(sec), _frozen(t), _frozen(vimp),
-                      stop, transient, None, hits, sticks=_frozen(np.empty((0, 3))),
+                      STOP_NAMES[code], transient, None, hits, sticks=_frozen(sticks),
                       stop_reason=reason)
 
 

@@ -71,16 +71,17 @@ STUCK = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[0.05],
              stop=Stop(mass=1, gap=-0.2, restitution=0.5))
 
 
-def test_a_run_that_sticks_stops_there():
+def test_a_run_held_for_good_stops_there():
     """The equilibrium lies past the gap: the impacts accumulate and the stop holds the
-    mass.  beta = 0: the run stops as sticking where the exact linear run's first sticking
-    phase begins (the linear run goes on through it; the nonlinear one does not yet)."""
+    mass for good (mu > 0 at every phase).  beta = 0: the run goes through the chatter to
+    the sticking phase as the exact linear run does, and stops with the same reason."""
     m = Model(**STUCK, nonlinear=["beta*x1**3"], parameters={"beta": 0.0})
     sim = symvi.simulate(m, 1.0, y0=(-0.3, 0.0), n_impacts=200)
-    assert sim.stop == "sticking" and "later step of issue 28" in sim.stop_reason
-    assert 0 < sim.n < 200 and sim.sticks.shape == (0, 3)
     lin = symvi.simulate(Model(**STUCK), 1.0, y0=(-0.3, 0.0), n_impacts=200)
-    assert len(lin.sticks) and abs(sim.t[-1] - lin.sticks[0, 0]) < 1e-3
+    assert sim.stop == lin.stop == "sticking" and sim.stop_reason == lin.stop_reason
+    assert "held on stop 1 for longer than" in sim.stop_reason
+    assert 0 < sim.n < 200 and sim.sticks.shape == (1, 3) and np.isnan(sim.sticks[0, 1])
+    assert abs(sim.sticks[0, 0] - lin.sticks[0, 0]) < 1e-9
 
 
 def test_a_run_that_never_returns_stops_as_no_impact():
