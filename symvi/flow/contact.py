@@ -47,6 +47,9 @@ r_eff = exp(-zeta pi / sqrt(1 - zeta^2)) its effective restitution: the rigid r^
 (tests/flow/test_contact_flow.py checks both against finite differences.)
 
 float64 and numpy only (the compiled run, :mod:`symvi.flow.compiled`, takes rigid stops).
+With nonlinear forces each phase is the Taylor flow of the same law
+(:mod:`symvi.flow.nlcontact`: K_S, C_S and f_S added to the forces' program) and the walk
+is this one.
 
 References: [di Bernardo, Budd, Champneys & Kowalczyk, Piecewise-smooth Dynamical Systems:
 Theory and Applications, Springer 2008] (saltation matrices).
@@ -151,6 +154,15 @@ class Phase:
 def phase(model, active=()):
     """The :class:`Phase` of ``model`` with the elastic constraints ``active`` in contact."""
     return Phase(model, tuple(sorted(active)))
+
+
+def _phases(model):
+    """The phases of ``model``'s walk: :func:`phase` (the exact linear flow), or with
+    nonlinear forces :func:`symvi.flow.nlcontact.phase` (the Taylor flow, the same law)."""
+    if model.nonlinear is None:
+        return phase
+    from .nlcontact import phase as nonlinear_phase
+    return nonlinear_phase
 
 
 @dataclass(frozen=True)
@@ -308,13 +320,14 @@ def walk(model, omega, z0, tau, *, active=(), start=None, t_end=None, t_max=None
     """
     omega = float(omega)
     cons = model.constraints
+    phase_of = _phases(model)
     S = frozenset(active)
     z = np.array(z0, dtype=float)
     tau = float(tau) % (2 * math.pi)
     T = 0.0
     Minv = None
     while True:
-        ph = phase(model, tuple(sorted(S)))
+        ph = phase_of(model, tuple(sorted(S)))
         mo = ph.motion(omega, z, tau)
         G, lv = guards(model, S)
         tm = t_max if t_max is not None else 2000 * math.pi / omega
@@ -370,8 +383,9 @@ def saltation(model, event, omega):
     before = after - {event.constraint} if event.kind == ENTRY else after | {event.constraint}
     n, z, t = model.n, event.before, 0.0
     # the fields at the switching phase: sin(omega t + tau) with t = 0, tau = event.tau
-    Fm = phase(model, tuple(sorted(before))).field(z, t, omega, event.tau)
-    Fp = phase(model, tuple(sorted(after))).field(z, t, omega, event.tau)
+    phase_of = _phases(model)
+    Fm = phase_of(model, tuple(sorted(before))).field(z, t, omega, event.tau)
+    Fp = phase_of(model, tuple(sorted(after))).field(z, t, omega, event.tau)
     con = model.constraints[event.constraint]
     grad = np.concatenate([con.sign * np.array(con.normal), np.zeros(n)])
     return np.eye(2 * n) + np.outer(Fp - Fm, grad) / (grad @ Fm)
