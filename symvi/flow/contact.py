@@ -156,7 +156,7 @@ def phase(model, active=()):
     return Phase(model, tuple(sorted(active)))
 
 
-def _phases(model):
+def phases_of(model):
     """The phases of ``model``'s walk: :func:`phase` (the exact linear flow), or with
     nonlinear forces :func:`symvi.flow.nlcontact.phase` (the Taylor flow, the same law)."""
     if model.nonlinear is None:
@@ -320,7 +320,7 @@ def walk(model, omega, z0, tau, *, active=(), start=None, t_end=None, t_max=None
     """
     omega = float(omega)
     cons = model.constraints
-    phase_of = _phases(model)
+    phase_of = phases_of(model)
     S = frozenset(active)
     z = np.array(z0, dtype=float)
     tau = float(tau) % (2 * math.pi)
@@ -383,7 +383,7 @@ def saltation(model, event, omega):
     before = after - {event.constraint} if event.kind == ENTRY else after | {event.constraint}
     n, z, t = model.n, event.before, 0.0
     # the fields at the switching phase: sin(omega t + tau) with t = 0, tau = event.tau
-    phase_of = _phases(model)
+    phase_of = phases_of(model)
     Fm = phase_of(model, tuple(sorted(before))).field(z, t, omega, event.tau)
     Fp = phase_of(model, tuple(sorted(after))).field(z, t, omega, event.tau)
     con = model.constraints[event.constraint]

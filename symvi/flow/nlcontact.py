@@ -74,6 +74,18 @@ class NonlinearPhase:
         w2 = np.linalg.eigvals(self.Minv @ K).real
         self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
         self._work = None
+        #: the phase's matrices where the series flights of :mod:`symvi.flow.jet_taylor`
+        #: read a flow's model (stiffness, damping, forcing, the forces' parameters)
+        self.model = _PhaseMatrices(self.K, self.C, self.P, forces)
+
+    def hmax(self, omega, frac=taylor.STEP_CAP):
+        """``frac`` of the shortest period (forcing, the phase's linear modes), as
+        :meth:`symvi.flow.nonlinear.NonlinearFlow.hmax`."""
+        return frac * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
+
+    def rhs(self, omega, tau, t, z):
+        """The vector field at (t, z), z = (x, v) in mass order."""
+        return self.field(z, t, omega, tau)
 
     def system(self, omega, tau):
         """The kernels' system tuple (:meth:`symvi.flow.nonlinear.NonlinearFlow._system`'s
@@ -94,7 +106,7 @@ class NonlinearPhase:
     def cap(self, omega):
         """The step bound: :data:`symvi.flow.taylor.STEP_CAP` of the shortest period
         (forcing and the phase's linear modes)."""
-        return taylor.STEP_CAP * 2.0 * math.pi / max(omega, self.omega_max, 1e-12)
+        return self.hmax(omega)
 
     def field(self, z, t, omega, tau):
         """z' = (v, M^-1 (P sin(omega t + tau) + f_S - C_S v - K_S x - f(x, v)))."""
@@ -105,6 +117,15 @@ class NonlinearPhase:
     def motion(self, omega, z0, tau):
         """The motion of this phase from state z0 (mass order) at phase tau."""
         return NonlinearMotion(self, float(omega), np.asarray(z0, dtype=float), float(tau))
+
+
+class _PhaseMatrices:
+    """What a series flight reads of a flow's model, for one phase: K_S as the stiffness,
+    C_S as the damping, P, and the forces (whose program :class:`NonlinearPhase` holds, -f_S
+    appended).  A parameter of M, K, C or P is no variable here (:class:`ContactView`)."""
+
+    def __init__(self, K, C, P, forces):
+        self.stiffness, self.damping, self.forcing, self._nl = K, C, P, forces
 
 
 @functools.lru_cache(maxsize=64)
@@ -164,3 +185,65 @@ class NonlinearMotion:
         ph = self.phase
         return taylor._taylor_integrate(ph.system(self.omega, self.tau), ph.work(),
                                         self.z0.copy(), float(t), ph.cap(self.omega))
+
+
+class ContactView:
+    """One contact phase S of a nonlinear model as the shooting system of
+    :mod:`symvi.orbits.periodic` reads a flow (:class:`symvi.flow.nljet.FlowView`'s
+    interface): the geometry (guards, resets, levels, frames) of the linear part's phase
+    (:meth:`symvi.flow.linear.LinearFlow.contact`), every flight the series of
+    :func:`symvi.flow.nljet.flight_first` on the phase's field (:class:`NonlinearPhase`:
+    K_S, C_S, the forces less f_S), so the variational equations are the phase's."""
+
+    GEOMETRY = frozenset(("reset", "guard", "level", "constraint_rows", "constraint64",
+                          "constraint", "position", "perm", "framed", "to_mass", "to_flow",
+                          "approach", "section_approach", "bk", "n", "b", "r", "_unit_guard",
+                          "_constrain", "_reset_data", "_framed_reset", "_mass_key",
+                          "active"))
+    offset = None
+    free = False
+
+    def __init__(self, model, active=()):
+        from .linear import LinearFlow
+        self.model = model
+        self.lin = LinearFlow.contact(model.linear_part, active)
+        self.phase = phase(model, active)
+        dim = 2 * model.n
+        #: z_mass = S z_flow and its inverse (a permutation, or T^-1 on x and on v)
+        self.S = np.array([self.lin.to_mass(e) for e in np.eye(dim)]).T
+        self.Sinv = np.array([self.lin.to_flow(e) for e in np.eye(dim)]).T
+
+    def __getattr__(self, name):
+        if name in ContactView.GEOMETRY:
+            return getattr(self.lin, name)
+        raise AttributeError(name)
+
+    def check_omega(self, omega, name="omega", warn=True):
+        from .linear import check_range
+        return check_range(omega, name)
+
+    def forcing(self, omega):
+        from .nljet import NonlinearForcing
+        return NonlinearForcing(float(omega))
+
+    def flight(self, forcing, z0, tau, t, param=None):
+        """(z, dz/dz0, dz/dtau, dz/dt) at t of the phase's flight from z0 (flow order) at
+        phase tau (:meth:`symvi.flow.linear.LinearFlow.flight`'s layout); with ``param``
+        (omega or a parameter of the forces) dz/dparam appended."""
+        from .nljet import flight_first
+        S, Si = self.S, self.Sinv
+        w = param is not None and param.is_forcing_frequency
+        if param is not None and not w and param.name not in self.model._nl.names:
+            raise ParameterError("param", param.name, "omega or a parameter of the forces "
+                                 "(with elastic stops and nonlinear forces)")
+        z, Phi, dzt, dzdt, dzp = flight_first(
+            self.phase, forcing.omega, S @ z0, float(tau), float(t), omega_var=w,
+            param=None if (param is None or w) else param)
+        out = (Si @ z, Si @ Phi @ S, Si @ dzt, Si @ dzdt)
+        return out if param is None else out + (Si @ dzp,)
+
+
+@functools.lru_cache(maxsize=64)
+def view(model, active=()):
+    """The :class:`ContactView` of ``model``'s phase ``active`` (cached)."""
+    return ContactView(model, tuple(sorted(active)))

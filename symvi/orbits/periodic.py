@@ -135,7 +135,7 @@ class Problem:
                 flow = self._flow = free_flow(model)
         else:
             flow = free_flow(model)
-        if self.elastic and check:
+        if self.elastic and check and not self.nonlinear:
             for S in set(self.phases):             # a forcing resonance of a contact phase
                 LinearFlow.contact(model, S).check_omega(omega, warn=False)
         if not check:
@@ -343,7 +343,7 @@ class Problem:
         key = (model, F.omega)
         hit = self.__dict__.get("_phase_flows")
         if hit is None or hit[0] != key:
-            fs = {S: LinearFlow.contact(model, S) for S in set(self.phases)}
+            fs = {S: contact_flow(model, S) for S in set(self.phases)}
             fs = {S: (f, f.forcing(F.omega)) for S, f in fs.items()}
             hit = self._phase_flows = (key, [fs[S] for S in self.phases])
         return hit[1]
@@ -796,7 +796,7 @@ def _admissible_phases(problem, fl, flow, F, T):
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
         S = problem.phases[i]
-        mo = contact.phase(model, S).motion(F.omega, flow.to_mass(z0), tau)
+        mo = contact.phases_of(model)(model, S).motion(F.omega, flow.to_mass(z0), tau)
         G, lv = contact.guards(model, S)
         sa = -1.0 if ka in S else 1.0              # the walk's guards: -h in contact
         sb = -1.0 if kb in S else 1.0
@@ -825,11 +825,24 @@ class _ContactHit:
 def free_flow(model):
     """The free flight of ``model`` as the shooting system reads it: the exact linear flow
     (:meth:`LinearFlow.free`), or for nonlinear forces the series' view of the nonlinear
-    flow (:class:`symvi.flow.nljet.FlowView`)."""
+    flow (:class:`symvi.flow.nljet.FlowView`; with elastic stops the free phase's
+    :class:`symvi.flow.nlcontact.ContactView`)."""
     if model.nonlinear is None:
         return LinearFlow.free(model)
+    if model.elastic:
+        return contact_flow(model, ())
     from ..flow.nljet import FlowView
     return FlowView.of(model)
+
+
+def contact_flow(model, active):
+    """Contact phase ``active`` of ``model`` as the shooting system reads a flow: the exact
+    :meth:`LinearFlow.contact`, or with nonlinear forces the series' view of the phase's
+    Taylor flow (:class:`symvi.flow.nlcontact.ContactView`)."""
+    if model.nonlinear is None:
+        return LinearFlow.contact(model, active)
+    from ..flow.nlcontact import view
+    return view(model, tuple(sorted(active)))
 
 
 def _admissible_stops(problem, fl, flow, F, T):
