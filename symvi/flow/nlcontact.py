@@ -204,6 +204,7 @@ class ContactView:
     free = False
 
     def __init__(self, model, active=()):
+        from .compiled import section_index
         from .linear import LinearFlow
         self.model = model
         self.lin = LinearFlow.contact(model.linear_part, active)
@@ -212,6 +213,17 @@ class ContactView:
         #: z_mass = S z_flow and its inverse (a permutation, or T^-1 on x and on v)
         self.S = np.array([self.lin.to_mass(e) for e in np.eye(dim)]).T
         self.Sinv = np.array([self.lin.to_flow(e) for e in np.eye(dim)]).T
+        #: what the impact map's series (:func:`symvi.flow.nljet.map_jet`) read: the
+        #: phase's field (``nl``), and per constraint (position, gap, level, guard, reset)
+        #: in flow order with the guard of each constraint in contact turned to its exit's,
+        #: -h (a flight of this phase ends on an exit of those: approached, -h' > 0)
+        self.nl = self.phase
+        self.rows = [np.asarray(r, dtype=float).copy() for r in self.lin.constraint_rows()]
+        n = model.n
+        for i in self.phase.active:
+            self.rows[i][2:3 + n] *= -1.0
+        self.positions = tuple(int(r[0]) for r in self.rows)
+        self.frames = tuple(section_index(n, q) for q in self.positions)
 
     def __getattr__(self, name):
         if name in ContactView.GEOMETRY:

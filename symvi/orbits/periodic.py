@@ -658,8 +658,13 @@ class PeriodicOrbit:
         from ..flow.nljet import map_jet
         view = free_flow(self.model)
         sig = self.signature if self.signature is not None else (0,) * self.p
+        # with elastic stops each flight in its phase's view (an exit's guard is -h there)
+        phases = (Signature(sig, self.contact).phases(self.model) if self.model.elastic
+                  else None)
         jets = []
         for i in range(self.p):
+            if phases is not None:
+                view = contact_flow(self.model, phases[i])
             v = map_jet(view, self.omega, tuple(Y[i]), float(self.times[i]), max(order, 2),
                         int(sig[i]), int(sig[(i + 1) % self.p]))
             jets.append((v["J"],) + tuple(v[f"d{k}"] for k in range(2, max(order, 2) + 1)))
