@@ -92,6 +92,8 @@ class Problem:
         #: is the exact flow of its phase (:meth:`LinearFlow.contact`) and the numpy
         #: reference evaluates the system (the compiled kernel takes one flow)
         self.elastic = model.elastic
+        if self.elastic and self.nonlinear and self.parameter is not None:
+            _series_parameter(model, self.parameter)
         self.phases = sig.phases(model) if self.elastic else None
         self.kinds = sig.kinds(model) if self.elastic else None
         if self.elastic:
@@ -400,6 +402,8 @@ class Problem:
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
         series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
         moves no flight, only its ends (:meth:`_dstop`)."""
+        if self.elastic:
+            _series_parameter(model, name)
         if isinstance(name, StopParameter):
             return self._dstop(fl, model, flow, name.tangent(model))
         d, p, N = self.d, self.p, self.N
@@ -838,6 +842,19 @@ def free_flow(model):
         return contact_flow(model, ())
     from ..flow.nljet import FlowView
     return FlowView.of(model)
+
+
+def _series_parameter(model, par):
+    """Refuse, in one line naming it, a parameter the contact phases' series of a model with
+    elastic stops and nonlinear forces do not take as a variable: they take omega, a
+    parameter of the forces and a rigid stop's gap or restitution (which moves only the
+    flights' ends); an elastic stop's gap, stiffness or damping moves K_S, C_S and f_S, an
+    entry of M, K, C or P the field (:class:`symvi.flow.nlcontact.ContactView`)."""
+    if (par.is_forcing_frequency or par.name in model._nl.names
+            or (isinstance(par, StopParameter) and par.stop_of(model).kind == "rigid")):
+        return
+    raise ParameterError("parameter", par.name, "omega, a parameter of the forces or a rigid "
+                         "stop's gap or restitution (with elastic stops and nonlinear forces)")
 
 
 def contact_flow(model, active):
