@@ -27,6 +27,7 @@ sticking when h'' > 0 there.
 """
 import functools
 import math
+import threading
 
 import numpy as np
 
@@ -73,7 +74,7 @@ class NonlinearPhase:
         self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
         w2 = np.linalg.eigvals(self.Minv @ K).real
         self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
-        self._work = None
+        self._local = threading.local()
         #: the phase's matrices where the series flights of :mod:`symvi.flow.jet_taylor`
         #: read a flow's model (stiffness, damping, forcing, the forces' parameters)
         self.model = _PhaseMatrices(self.K, self.C, self.P, forces)
@@ -98,10 +99,12 @@ class NonlinearPhase:
                 np.empty(n))
 
     def work(self):
-        """The Taylor kernels' scratch (one per phase: a walk runs one flight at a time)."""
-        if self._work is None:
-            self._work = taylor.work(*self.tape, 2 * self.n)
-        return self._work
+        """The Taylor kernels' scratch, one per phase and thread (a walk runs one flight at
+        a time; a plane's threads may walk the same phase at once)."""
+        w = getattr(self._local, "work", None)
+        if w is None:
+            w = self._local.work = taylor.work(*self.tape, 2 * self.n)
+        return w
 
     def cap(self, omega):
         """The step bound: :data:`symvi.flow.taylor.STEP_CAP` of the shortest period

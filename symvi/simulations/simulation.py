@@ -217,7 +217,8 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
     :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).  A
     model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
-    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
+    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``; with nonlinear forces
+    too, each contact phase on the Taylor flow); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
     :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records; it ends at
@@ -653,7 +654,7 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``Sweep.classes``.  A model with an elastic stop or nonlinear forces runs each omega
     in Python (:func:`_sweep_walked`; ``starts`` are points of the first stop's section
     leaving it, nothing in contact, by default :func:`contact_start`, or
-    :func:`default_start` with nonlinear forces; ``n_impacts`` >= 4 per symbol of
+    :func:`default_start` with nonlinear forces on rigid stops; ``n_impacts`` >= 4 per symbol of
     :func:`symbol_count` to classify).
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])

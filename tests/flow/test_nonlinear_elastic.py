@@ -35,7 +35,7 @@ def _forces(model):
     def f(y):
         env = dict(vals, **{f"x{i + 1}": y[i] for i in range(n)},
                    **{f"v{i + 1}": y[n + i] for i in range(n)})
-        return np.array([eval(t, {}, env) for t in texts], dtype=float)   # noqa: S307
+        return np.array([eval(t, {}, env) for t in texts], dtype=float)
     return f
 
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from symvi import Model, Stop
+from symvi import Model
 from symvi.errors import ParameterError
 from symvi.flow import contact as ct
 from symvi.model import Signature, dumps
