@@ -24,6 +24,15 @@ and its Bernstein hull bounds it, so no contact is stepped over.  An approach sp
 h' <= GRAZING_SPEED_FACTOR sqrt(2 |h''| RTOL L) (L = max(1, |level|, |x|)) is a tangency,
 as in the rigid run of :mod:`symvi.flow.nonlinear`: GRAZING, which the walk reads as
 sticking when h'' > 0 there.
+
+Orbits.  :class:`ContactView` shows one phase to the shooting system of
+:mod:`symvi.orbits.periodic` as :class:`symvi.flow.nljet.FlowView` shows the free flight:
+the linear part's geometry, each flight (z, Phi, dz/dtau, dz/dt) and each impact map's jet
+(:func:`symvi.flow.nljet.map_jet`, an exit's guard -h) from the series of the phase's field
+(:mod:`symvi.flow.jet_taylor`).  No jump at a switch: the elastic resets are the identity.
+Series variables: omega, a parameter of the forces, a rigid stop's gap or restitution; an
+elastic stop's gap, stiffness or damping (they move K_S, C_S, f_S) and an entry of M, K, C,
+P are refused by name.
 """
 import functools
 import math
