@@ -65,14 +65,10 @@ from ..numerics.backend import FLOAT64
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
+from ._events import ENTRY, EXIT, GRAZING, IMPACT, NO_EVENT, STICKING, TIME, Hit  # noqa: F401
 from ._steady import steady_state
 from .linear import contact_matrices, modal_form
 
-#: event kinds: a rigid impact, the entry into and the exit from an elastic contact
-IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
-#: how a walk ends: a tangency (h'' <= 0 there) or a contact the motion does not leave
-#: (h'' > 0: the stop holds the mass), no event within t_max of a phase, or t_end reached
-GRAZING, STICKING, NO_EVENT, TIME = "grazing", "sticking", "no-event", "time"
 
 
 
@@ -163,18 +159,6 @@ def phases_of(model):
         return phase
     from .nlcontact import phase as nonlinear_phase
     return nonlinear_phase
-
-
-@dataclass(frozen=True)
-class Hit:
-    """What the finder met: ``status`` "event", GRAZING or NO_EVENT, the time, the guard's
-    index, and h'' there (> 0 at a tangency: the motion stays on the stop)."""
-
-    status: str
-    t: float
-    guard: int
-    h2: float
-    steps: int
 
 
 class PhaseMotion:

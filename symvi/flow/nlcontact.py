@@ -45,8 +45,8 @@ from ..numerics.tolerances import CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from . import compiled as cf
 from . import taylor
+from ._events import GRAZING, NO_EVENT, Hit
 from ._program import OP_ADD, OP_CONST, program
-from .contact import GRAZING, NO_EVENT, Hit
 from .linear import contact_matrices
 from .nonlinear import RTOL, _rhs
 
