@@ -196,8 +196,7 @@ def add_params(parser, defaults=None, model=False):
                                  "[stop] mass, gap, restitution, or one [[stop]] table per stop "
                                  "with mass or between, gap, side, restitution or "
                                  "stiffness and damping; nonlinear forces: [model] nonlinear "
-                                 "and [model.parameters]: simulate, continue), instead of the "
-                                 "preset flags")
+                                 "and [model.parameters]), instead of the preset flags")
 
 
 def add_engine(parser, workers_default):

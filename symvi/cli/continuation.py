@@ -34,8 +34,8 @@ def register(sub):
     p.add_argument("--max-points", type=int, default=5000, help="points per branch")
     p.add_argument("--digits", type=int, default=None,
                    help="re-derive each fold, flip and NS point with the independent mpmath "
-                        "chain at this many digits (30..200; one rigid stop on one mass, "
-                        "with or without nonlinear forces; seconds per point): the orbit, "
+                        "chain at this many digits (30..200; rigid stops, with or without "
+                        "nonlinear forces; seconds to minutes per point): the orbit, "
                         "the critical multiplier and c or l1")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="draw the branches (.png or .pdf)")
@@ -100,9 +100,9 @@ def run(args):
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
-    if args.digits is not None and not (30 <= args.digits <= 200 and model.one_rigid_stop):
+    if args.digits is not None and not (30 <= args.digits <= 200 and not model.elastic):
         raise ParameterError("--digits", args.digits, "an integer from 30 to 200, for a "
-                             "model with one rigid stop on one mass (the chain's map)")
+                             "model with rigid stops (the chain's map)")
     param = span.name
     spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])
     from ..progress import counting

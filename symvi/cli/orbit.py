@@ -58,7 +58,7 @@ def run(args):
     for a in autos:
         o = a.orbit
         lam = max(abs(complex(z)) for z in o.multipliers)
-        status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
+        status = _status(o)
         print(f"{o.branch:6} " + " ".join(f"{float(v):{w}.8f}" for v in o.y)
               + f" {float(o.impact_velocity):{w}.8f} {float(lam):11.7f}  {status}")
         print("       multipliers: " + ", ".join(
@@ -133,8 +133,17 @@ def _print_orbit(model, o):
               + "  ".join(f"{n} = {v:.10g}" for n, v in zip(names, y))
               + f"   flight {o.times[i]:.10g}")
     print("  multipliers: " + ", ".join(_number(z) for z in o.multipliers))
-    status = ("stable" if o.stable else "unstable") if o.admissible else "INADMISSIBLE"
+    status = _status(o)
     print(f"  {status}; residual {o.residual:.3g}" + (f"; reason: {o.reason}" if o.reason else ""))
+
+
+def _status(o):
+    """stable, unstable, neutral (a conservative model's elliptic orbit) or INADMISSIBLE."""
+    if not o.admissible:
+        return "INADMISSIBLE"
+    if o.neutral:
+        return "neutral (conservative model: every |multiplier| = 1)"
+    return "stable" if o.stable else "unstable"
 
 
 #: the paper's names of (x1dot+, x20, x20dot, tau0), eq. (9)

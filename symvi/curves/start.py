@@ -30,22 +30,39 @@ def parse_params(text, flag="--params"):
 def curve_params(model, text, flag="--params"):
     """The two curve parameters of "NAME,NAME" (:func:`parse_params`) as names of ``model``:
     each one of its parameters, not the same one twice (``b`` and ``gap``, ``mass[1,2]`` and
-    ``mass[2,1]`` are one parameter: the same tangent); an error names ``flag``."""
-    import numpy as np
+    ``mass[2,1]`` are one parameter: the same tangent), with nonlinear forces one the
+    series take (:func:`symvi.flow.nljet.check_parameter`); an error names ``flag``.
+    Nothing is computed: a front end asks this first."""
     names = parse_params(text, flag)
+    check_pair(model, names, flag, text)
+    return names
+
+
+def check_pair(model, names, flag="names", shown=None):
+    """Refuse (ParameterError naming ``flag``) two curve parameters ``names`` that are not
+    two different parameters of ``model`` that its curves take (:func:`curve_params`)."""
+    import numpy as np
+    from ..model.parameters import NamedParameter
     pars = []
     for nm in names:
         try:
             pars.append(model.parameter(nm))
         except ParameterError as exc:
             raise ParameterError(flag, nm, exc.valid) from None
-    if not any(par.is_forcing_frequency for par in pars):
+    # a nonlinear force's parameter has no tangent: it is one parameter per name
+    if not any(par.is_forcing_frequency or isinstance(par, NamedParameter) for par in pars):
         ta, tb = (par.tangent(model) for par in pars)
         if all(np.array_equal(getattr(ta, f), getattr(tb, f))
                for f in ("dM", "dK", "dC", "dP", "db", "dr", "stop")):
-            raise ParameterError(flag, text, "two different parameters (these two "
-                                 "names are one parameter)")
-    return names
+            raise ParameterError(flag, names if shown is None else shown, "two different "
+                                 "parameters (these two names are one parameter)")
+    if model.nonlinear is not None:
+        from ..flow.nljet import check_parameter
+        for nm, par in zip(names, pars):
+            try:
+                check_parameter(model, par)
+            except ParameterError as exc:
+                raise ParameterError(flag, nm, exc.valid) from None
 
 
 def start_points(model, omega_min, omega_max, kind, *, branches=None):
@@ -88,7 +105,10 @@ def omega_branches(model, omega_min, omega_max):
 
 def curve_from_interval(model, omega_min, omega_max, names, *, kind="ns", index=1, **kw):
     """The ``kind`` curve in ``names`` through the ``index``-th (1-based, by omega) point of
-    that kind found in [omega_min, omega_max]; keywords as :func:`continue_curve`."""
+    that kind found in [omega_min, omega_max]; keywords as :func:`continue_curve`.  The
+    parameters are checked before anything is computed (:func:`check_pair`)."""
+    from ..model import Model
+    check_pair(Model.of(model), tuple(names))
     pts = start_points(model, omega_min, omega_max, kind)
     if not pts:
         raise SingularCaseError("no-start", f"no admissible {kind} point in omega = "

@@ -40,7 +40,7 @@ from .taylor import (ORDER, T_ADD, T_ATAN, T_CONST, T_COS, T_COSH, T_EXP, T_INV,
 #: steps of one series flight before it gives up
 MAX_STEPS = 200_000
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _conv2(Sa, a, Sb, b, jlo, jhi, k, out, wt, MI, MJ, OFF):
     """out = sum_{j=jlo}^{jhi} wt[j] Sa[a, j] Sb[b, k - j] (series products; the time
     sum innermost, so each coefficient of out is stored once)."""
@@ -54,7 +54,7 @@ def _conv2(Sa, a, Sb, b, jlo, jhi, k, out, wt, MI, MJ, OFF):
         out[m] = acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _func_order(S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, code, i, a, k, e):
     """Time order k of row i, a function of row a (e: a real power's exponent); A the
     partner series (cos of a sin, 1 +- q^2 of a tan, 1 + a^2 of an atan), R the reciprocal
@@ -168,7 +168,7 @@ def _func_order(S, A, R, F, wt, u, tmp, c, Kord, MI, MJ, OFF, code, i, a, k, e):
         tps.mul(R[i], F, Si, MI, MJ, OFF)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _coefficients(sy, tj, t, Y, kmax):
     """X[:, 0..kmax] <- the Taylor coefficients (series in delta) of the flight through
     (t, Y) (the module docstring)."""
@@ -284,7 +284,7 @@ def _coefficients(sy, tj, t, Y, kmax):
                 X[i, k + 1, q] = X[n + i, k, q] / (k + 1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _jorba_zou_h(X, p, hmax):
     """Jorba & Zou's step from the last two coefficients, over every monomial of delta
     (the module docstring), at most hmax."""
@@ -305,7 +305,7 @@ def _jorba_zou_h(X, p, hmax):
     return min(hmax, rm * math.exp(-0.7 / (p - 1)) / (math.e * math.e))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _at(X, p, h, Y):
     """Y = sum_{k <= p} X[:, k] h^k (Horner)."""
     dim, _, L = X.shape
@@ -317,7 +317,7 @@ def _at(X, p, h, Y):
             Y[i, q] = acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def integrate(sy, tj, Y, t_end, hmax):
     """Y(t_end) from Y(0) (in place) by steps of order ORDER, the last one cut to end
     there; returns the number of steps, -1 when it failed (a non-finite step or the
@@ -340,7 +340,7 @@ def integrate(sy, tj, Y, t_end, hmax):
     return steps
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _mass_inverse(Minv, dM, pvar, Kord, W, tmp, MI, MJ, OFF):
     """W = M(p)^-1 = (M + p dM)^-1 as series: column by column, Kord sweeps
     w = M^-1 (e - p dM w) (each exact to one more order in p)."""

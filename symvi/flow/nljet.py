@@ -23,9 +23,13 @@ the impact map P to order K: raw derivative tensors by
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A gap or a
-restitution is refused by name (their series would enter the start, the guard's level and
-the reset: a later step).
+p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A stop's
+gap b or restitution r moves no flight, only its ends (as on the linear path, eqs.
+(36)-(38) generalised): the gap the start's fixed coordinate x_a = b on its section (a
+flight that starts on that stop starts from x_a = b + p) and the guard's level sign b (one
+that ends on it); the restitution, and the masses for an impulse along M^-1 c, the reset
+R(p) = I - (1 + r(p)) q(p) c^T / (c^T q(p)), q(p) = M(p)^-1 c (the law of
+:meth:`symvi.model.Constraint.reset_matrix` on series).
 """
 import numba as nb
 import numpy as np
@@ -94,13 +98,16 @@ def _series(alg, value, var=None):
     return a
 
 
-def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None):
+def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=None,
+                  dz0=None):
     """The flight's series z(T; delta) (mass order, rows; :class:`_Flight`) from z0 + B
     delta_state at phase tau, by the Taylor method on series (:mod:`symvi.flow.jet_taylor`).
 
     Variables, in order: the columns of ``B`` (dim x m: how the start moves with each),
     the phase, then omega if ``omega_var``, then ``param`` (a
-    :class:`symvi.model.parameters.Parameter` other than omega) if given."""
+    :class:`symvi.model.parameters.Parameter` other than omega) if given; ``dz0`` (mass
+    order) how the start moves with ``param`` (a stop's gap moves it on its section: the
+    caller knows which section; a stop's gap or restitution moves no field)."""
     if not float(T) >= 0:                    # the Taylor steps run forward only
         raise SingularCaseError("flight", f"a series flight over t = {float(T):.6g} < 0: "
                                 "the series flights run forward only")
@@ -122,12 +129,9 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         pvar = _series(alg, 0.0, ip)
         pslot = _force_slot(flow.model, param)
         if pslot is None:
-            tangent = param.tangent(flow.model)
-            if tangent.db or tangent.dr:       # they move the start, the level, the reset
-                raise ParameterError("param", param.name, "omega, a parameter of the "
-                                     "forces or an entry of M, K, C, P (a gap or a "
-                                     "restitution with nonlinear forces: a later step of "
-                                     "issue 28)")
+            tangent = check_parameter(flow.model, param).tangent(flow.model)
+        if dz0 is not None:
+            Y[:, 1 + ip] = dz0
     sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, pslot,
                                wvar=bool(omega_var))
     steps = jet_taylor.integrate(sy, tj, Y, float(T), flow.hmax(omega, taylor.STEP_CAP))
@@ -135,6 +139,81 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
         raise SingularCaseError("flight", f"the series flight over t = {T:.6g} did not "
                                 "finish (a non-finite state or the step limit)")
     return _Flight(alg, Y, float(T), sy, tj, om_s, tau_s)
+
+
+#: the parameters the series take (:func:`check_parameter`)
+TAKEN = ("omega, a parameter of the forces, an entry of M, K, C, P or a rigid stop's gap "
+         "or restitution (an elastic stop's stiffness or damping with nonlinear forces: a "
+         "later step of issue 28)")
+
+
+def check_parameter(model, param):
+    """``param`` (a :class:`symvi.model.parameters.Parameter`) when the series of a flight
+    of ``model`` (nonlinear forces) take it as a variable, else the one-line
+    ParameterError naming "param": the one owner of what they take (a curve's front end
+    asks before it computes, :func:`symvi.curves.curve_params`)."""
+    if param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return param
+    tan = param.tangent(model)
+    if tan.dk or tan.dc:
+        raise ParameterError("param", param.name, TAKEN)
+    return param
+
+
+def _stop_tangent(model, param):
+    """The tangent of ``param`` when it moves a stop's gap or restitution (the flight's
+    ends, not its field), else None."""
+    if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return None
+    tan = param.tangent(model)
+    return tan if (tan.db or tan.dr) else None
+
+
+def _reset_moves(model, k, param):
+    """Whether ``param`` moves constraint k's reset: its restitution, or the masses for an
+    impulse along M^-1 c (:meth:`symvi.model.Constraint.reset_matrix`)."""
+    if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
+        return False
+    tan = param.tangent(model)
+    con = model.constraints[k]
+    return bool((tan.dr and tan.stop == k) or
+                (con.impulse is None and np.any(np.asarray(tan.dM) != 0)))
+
+
+def _reset_series(view, fl, k, param, vm):
+    """v+ = R(p) v- on series (flow order in and out) for constraint k: the law of
+    :meth:`symvi.model.Constraint.reset_matrix`, R = I - (1 + r) q c^T / (c^T q), with r(p)
+    = r + p dr and q(p) = M(p)^-1 c (the flight's M(p)^-1 series) or the fixed impulse."""
+    alg, n = fl.alg, view.n
+    L, K = alg.L, alg.K
+    MI, MJ, OFF = alg.mul
+    model = view.model
+    con = model.constraints[k]
+    tan = param.tangent(model)
+    v = view.S[n:, n:] @ vm                   # mass order
+    c = np.asarray(con.normal, dtype=float)
+    # the flight's field (jet_taylor.system): M^-1, and M(p)^-1 as series W when M moves
+    Minv, _, _, _, _, _, _, _, W, _, _, _, _, _, mass_moves, _ = fl.sy
+    q = np.zeros((n, L))
+    if con.impulse is not None:
+        q[:, 0] = con.impulse
+    elif mass_moves:
+        q = np.tensordot(W, c, axes=([1], [0]))
+    else:
+        q[:, 0] = Minv @ c
+    inv, u, tmp, cs = np.zeros(L), np.zeros(L), np.zeros(L), np.zeros(K + 1)
+    tps.apply(tps.RECIP, c @ q, inv, u, tmp, cs, K, MI, MJ, OFF)      # 1 / (c^T q)
+    one_r = _series(alg, 1.0 + con.restitution)
+    if tan.dr and tan.stop == k:
+        one_r[alg.d] += tan.dr                # the parameter: the last variable
+    a, coef = np.zeros(L), np.zeros(L)
+    tps.mul(c @ v, inv, a, MI, MJ, OFF)
+    tps.mul(a, one_r, coef, MI, MJ, OFF)      # (1 + r) (c^T v) / (c^T q)
+    vp = v.copy()
+    for i in range(n):
+        tps.mul(q[i], coef, a, MI, MJ, OFF)
+        vp[i] -= a
+    return view.Sinv[n:, n:] @ vp
 
 
 def _force_slot(model, param):
@@ -188,8 +267,15 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     E = np.zeros((dim, dim - 1))
     E[fa, np.arange(dim - 1)] = 1.0
     S = view.S
+    # a stop's gap or restitution (its tangent, else None): the flight's ends move
+    stan = _stop_tangent(flow.model, param)
+    dz0 = None
+    if stan is not None and stan.db and stan.stop == start:
+        dz0 = np.zeros(dim)
+        dz0[pa] = stan.db                     # the start's section x_a = b
+        dz0 = S @ dz0
     fl = flight_series(flow, omega, S @ w0, float(y[-1]), T, order, S @ E,
-                       omega_var=omega_var, param=param)
+                       omega_var=omega_var, param=param, dz0=dz0)
     alg = fl.alg
     K, L = alg.K, alg.L
     # Z(T + s; delta) = sum_k Z[:, k] s^k in flow order
@@ -199,6 +285,9 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     guard, level = row[3:3 + n], row[2]
     H = np.tensordot(guard, Z[:n], axes=1)
     H[0, 0] -= level
+    if stan is not None and stan.db and stan.stop == end:
+        # the level sign b moves (the parameter is the last variable: monomial d)
+        H[0, alg.d] -= flow.model.constraints[end].sign * stan.db
     speed = float(H[1, 0])
     if not speed > 0:
         raise SingularCaseError("grazing", f"the approach speed at the impact is {speed:.3g}: "
@@ -210,9 +299,11 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     ze = np.zeros((dim, L))
     for i in range(dim):
         _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
-    # the reset v+ = R v- and the section point on constraint ``end``
-    R = row[3 + n:].reshape(n, n)
-    ze[n:] = R @ ze[n:]
+    # the reset v+ = R(p) v- and the section point on constraint ``end``
+    if _reset_moves(flow.model, end, param):
+        ze[n:] = _reset_series(view, fl, end, param, ze[n:])
+    else:
+        ze[n:] = row[3 + n:].reshape(n, n) @ ze[n:]
     out = np.zeros((dim, L))
     out[:dim - 1] = ze[view.frames[end]]
     phase = fl.tau.copy()

@@ -495,8 +495,9 @@ class NonlinearFlow:
     def first_impact(self, omega, z0, tau, t_max=None, just_hit=-1):
         """(status, t_e, constraint, z_e-): the first contact from z0 (mass order) at phase
         tau; status a name of :data:`symvi.flow.compiled.STATUS_NAMES` ("impact",
-        "no-impact"); z_e- the state just before the impact.  ``just_hit``: the constraint
-        z0 lies on (leaving it)."""
+        "no-impact"), or "non-finite" where the forces or the solution are not finite (a
+        force like sqrt(x1) or 1/x1 at x1 = 0); z_e- the state just before the impact.
+        ``just_hit``: the constraint z0 lies on (leaving it)."""
         z = np.array(z0, dtype=float)
         t_max = 1000 * 2 * math.pi / omega if t_max is None else float(t_max)
         h = self._cap(omega)
@@ -508,7 +509,7 @@ class NonlinearFlow:
         else:
             st, te, c, _, _, _ = _flight(sy, self._table, z, int(just_hit), t_max, h,
                                          np.array([h]), self._work())
-        return cf.STATUS_NAMES[st], te, c, z
+        return "non-finite" if c == -2 else cf.STATUS_NAMES[st], te, c, z
 
     def state(self, omega, z0, tau, t):
         """z(t) from z0 (mass order) at phase tau, ignoring the constraints (a flight's

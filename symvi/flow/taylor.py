@@ -182,7 +182,7 @@ def _constants(tp, nstate):
     return end - nstate
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _conv(S, a, b, lo, k):
     """sum_{j=lo}^{k-lo} S[a, j] S[b, k - j]."""
     acc = 0.0
@@ -191,7 +191,7 @@ def _conv(S, a, b, lo, k):
     return acc
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _dconv(S, a, W, b, k):
     """sum_{j=1}^k j S[a, j] W[b, k - j] / k: the k-th coefficient of the primitive of
     a' w."""
@@ -201,7 +201,7 @@ def _dconv(S, a, W, b, k):
     return acc / k
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _series(tp, vals, k, S, A, X, u, nstate, lo=0):
     """Coefficient k of the rows lo.. of the tape tp, rows before it known to order k and
     every row to order k - 1; S the series, X the state's series, u the parameters (at
@@ -233,7 +233,7 @@ def _series(tp, vals, k, S, A, X, u, nstate, lo=0):
             _series_func(code, i, a, k, S, A, vals[i])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _series_func(code, i, a, k, S, A, e):
     """Coefficient k of row i of the tape, a function of row a (e: a real power's
     exponent)."""
@@ -310,7 +310,7 @@ def _series_func(code, i, a, k, S, A, e):
             S[i, k] = (k * S[a, k] - acc) / (k * A[i, 0])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _prepare(sy, tj):
     """The linear part as one map, once a flight: Q = M^-1 (K | C | P) (tj's Q)."""
     Minv, K, C, P = sy[0], sy[1], sy[2], sy[3]
@@ -331,7 +331,7 @@ def _prepare(sy, tj):
         Q[i, 2 * n] = ap
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _coefficients(sy, tj, t, y, X):
     """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y) (module
     docstring), p = X.shape[1] - 1; the linear part Q of :func:`_prepare`."""
@@ -372,7 +372,7 @@ def _coefficients(sy, tj, t, y, X):
                 X[i, k + 1] = X[n + i, k] / (k + 1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _jorba_zou_h(X, hmax):
     """Jorba & Zou's step from the last two coefficients (module docstring), at most hmax."""
     p = X.shape[1] - 1
@@ -391,7 +391,7 @@ def _jorba_zou_h(X, hmax):
     return min(hmax, rm * math.exp(-0.7 / (p - 1)))
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _at(X, h, out, dout):
     """out = y(t_n + h) and dout = y'(t_n + h) from the coefficients X (Horner); dout None:
     the value only (a step's end)."""
@@ -409,7 +409,7 @@ def _at(X, h, out, dout):
             dout[i] = dacc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _poly(g, th):
     """(g(th), g'(th)) of the monomial coefficients g (Horner)."""
     p = g.shape[0] - 1
@@ -421,7 +421,7 @@ def _poly(g, th):
     return v, d
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _refine(g, lo, hi, scale):
     """The root of g in (lo, hi], g(lo) < 0 <= g(hi): Newton, kept in the bracket by
     bisection, to 4e-16 scale in theta."""
@@ -445,7 +445,7 @@ def _refine(g, lo, hi, scale):
     return th
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _guard_coeffs(X, normals, c, gap, sign, h, g):
     """g[k] = sign (c . x_k) h^k, less sign gap at k = 0: the guard's polynomial in theta."""
     n = normals.shape[1]
@@ -460,7 +460,7 @@ def _guard_coeffs(X, normals, c, gap, sign, h, g):
     g[0] -= sign * gap
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     """Integrate from z (mass order, time 0) to the first contact of any constraint, or
     t_max.  On an impact z is the state just before it.  Returns (status, t_e, constraint,
@@ -532,7 +532,7 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     return cf.NO_IMPACT, t, -2, 0.0, 0.0, steps
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _taylor_integrate(sy, tj, z, t_end, hmax):
     """z(t_end) by the steps of :func:`_taylor_flight`, the last one cut to end there."""
     X, ye, yd = tj[8], tj[14], tj[15]

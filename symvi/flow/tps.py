@@ -104,7 +104,7 @@ def _tensor_index(alg, k, axes):
 
 
 # --------------------------------------------------------------------------- arithmetic
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def mul(a, b, out, MI, MJ, OFF):
     """out = a b (out distinct from a and b)."""
     for m in range(out.shape[0]):
@@ -114,7 +114,7 @@ def mul(a, b, out, MI, MJ, OFF):
         out[m] = acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def mul_add(a, b, out, MI, MJ, OFF):
     """out += a b (out distinct from a and b)."""
     for m in range(out.shape[0]):
@@ -130,7 +130,7 @@ SIN, COS, TAN, EXP, LOG, SQRT, SINH, COSH, TANH, ATAN = range(10)
 RECIP = 10
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _coefficients(k, a0, K, c):
     """c[j] = f^(j)(a0) / j!, j = 0..K, of function k; NaN outside its domain."""
     if k == SIN or k == COS:
@@ -205,7 +205,7 @@ def _coefficients(k, a0, K, c):
             c[j + 1] = r[j] / (j + 1)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def apply(k, a, out, u, tmp, c, K, MI, MJ, OFF):
     """out = f_k(a) (see :func:`_coefficients`): Horner in u = a - a_0."""
     _coefficients(k, a[0], K, c)

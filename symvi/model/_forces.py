@@ -199,6 +199,13 @@ class Forces:
         """The forces f_1..f_N as SymPy expressions (cached per texts)."""
         return _exprs(self.texts, self.names, n)
 
+    def velocity_free(self, n):
+        """Whether no force depends on a velocity v1..vN (then they do not change the
+        flow's volume: its divergence is -tr(M^-1 (C + df/dv)))."""
+        sym = self.symbols(n)
+        vs = {sym[f"v{i + 1}"] for i in range(n)}
+        return not any(e.free_symbols & vs for e in self.exprs(n))
+
     def key(self, n):
         """Every number and expression (the expressions as SymPy prints them, so that
         x1**3*beta and beta*x1**3 are one force)."""

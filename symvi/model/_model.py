@@ -591,11 +591,12 @@ class Model:
 
     @property
     def conservative(self):
-        """r = 1, no contact damping and C = 0: the impact map preserves volume
-        (multipliers may sit on the unit circle over whole intervals, and (H3) has no
-        meaning)."""
+        """r = 1, no contact damping, C = 0 and no nonlinear force of a velocity: the
+        impact map preserves volume (multipliers may sit on the unit circle over whole
+        intervals, and (H3) has no meaning)."""
         return all(s.restitution == 1.0 if s.stiffness is None else not s.damping
-                   for s in self._stops) and not self.damped
+                   for s in self._stops) and not self.damped and (
+            self._nl is None or self._nl.velocity_free(self.n))
 
     @property
     def preset(self):
@@ -795,7 +796,14 @@ class Model:
         """
         if self._nl is not None and str(name) in self._nl.names:
             return NamedParameter(str(name), "named", n=len(self._P))
-        par = _parse_parameter(name, len(self._P), self._preset is not None)
+        try:
+            par = _parse_parameter(name, len(self._P), self._preset is not None)
+        except ParameterError as exc:
+            if self._nl is None or not self._nl.names:
+                raise
+            # the forces' named parameters are names of this model too
+            raise ParameterError(exc.name, exc.value, f"{exc.valid}, or a parameter of the "
+                                 f"forces: {', '.join(self._nl.names)}", exc.detail) from None
         if isinstance(par, StopParameter):
             par.stop_of(self)                     # the model has that stop, of that kind
         return par

@@ -78,6 +78,9 @@ CONTACT_TIME_ULPS = 4.0
 #: impact (symvi.orbits.admissibility): far above the rounding of a float64 flight time,
 #: far below the distance of a real earlier contact
 END_TOL = 1e-9
+#: a multiplier of a conservative model's orbit this close to |z| = 1 is on the unit circle
+#: (an elliptic orbit: :func:`symvi.orbits.admissibility.neutral`)
+UNIT_CIRCLE = 1e-9
 
 # --------------------------------------------------------------------------- Newton
 #: a Newton iteration on a periodic orbit has converged when its last step is below this,

@@ -19,7 +19,24 @@ use this test; only the flow that supplies ``first_impact`` differs.
 """
 from ..flow.linear import GRAZING, IMPACT, NO_IMPACT
 #: relative margin before the end of a flight inside which a contact is the flight's own impact
-from ..numerics.tolerances import END_TOL
+from ..numerics.tolerances import END_TOL, UNIT_CIRCLE
+
+
+def stable_of(multipliers, admissible, model):
+    """Asymptotic stability of an orbit: admissible and every |multiplier| < 1.  A
+    conservative model's map preserves volume (the product of the multipliers is 1), so
+    none is asymptotically stable: where its multipliers sit on the unit circle, rounding
+    alone would decide the comparison."""
+    return bool(admissible and not model.conservative
+                and max(abs(complex(z)) for z in multipliers) < 1)
+
+
+def neutral(multipliers, model, tol=UNIT_CIRCLE):
+    """Whether every multiplier of a conservative model's orbit lies on the unit circle
+    (within ``tol``): an elliptic orbit, neither asymptotically stable nor unstable by its
+    multipliers."""
+    return bool(model.conservative and len(multipliers)
+                and all(abs(abs(complex(z)) - 1) <= tol for z in multipliers))
 
 
 def check_flight(first_impact, T, v_start, v_end, *, mass, flight=None, tol=END_TOL,

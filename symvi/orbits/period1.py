@@ -44,7 +44,7 @@ from ..maps.section import Section
 from ..numerics.tolerances import EPS64, ISOLATION_REFUSE, ISOLATION_WARN
 from . import _period1
 from ._shooting import CompiledFinder
-from .admissibility import END_TOL, check_flight
+from .admissibility import END_TOL, check_flight, neutral, stable_of
 #: |nu . p1| (relative) below which the branch orientation is taken from r - ORIENT_DR
 ORIENT_NOISE = 1e-12
 ORIENT_DR = 1e-6
@@ -91,7 +91,10 @@ class Orbit:
         Eigenvalues of DP at y, eq. (36), sorted by modulus, largest first; empty when
         computed with ``multipliers=False``.
     stable : bool
-        Admissible and every multiplier inside the unit circle.
+        Admissible and every multiplier inside the unit circle (never, for a conservative
+        model: its map preserves volume).
+    neutral : bool
+        A conservative model's orbit with every multiplier on the unit circle (elliptic).
     digits : int or None
         The mpmath precision the orbit was computed at (None: float64).
     tau0 : float
@@ -126,13 +129,17 @@ class Orbit:
     def tau0(self):
         return self.y[-1]
 
+    @property
+    def neutral(self):
+        return neutral(self.multipliers, self.model)
+
     def as_dict(self):
         return {"branch": self.branch, "y": [float(v) for v in self.y],
                 "names": list(self.names), "impact_velocity": float(self.impact_velocity),
                 "admissible": bool(self.admissible), "reason": self.reason,
                 "multipliers": [[float(complex(z).real), float(complex(z).imag)]
                                 for z in self.multipliers],
-                "stable": bool(self.stable)}
+                "stable": bool(self.stable), "neutral": self.neutral}
 
 
 class _Line:
@@ -498,8 +505,7 @@ def _orbits(model, omega, digits, want_multipliers):
         if want_multipliers:
             from ..codegen.jets import multipliers_of
             lam = multipliers_of(flow, L.forcing, y, T)
-            orb = _with(orb, multipliers=lam,
-                        stable=bool(ok and max(abs(complex(z)) for z in lam) < 1))
+            orb = _with(orb, multipliers=lam, stable=stable_of(lam, ok, model))
         out.append(orb)
     return out
 
@@ -543,7 +549,7 @@ def _orbits_compiled(model, omega, want_multipliers):
         if want_multipliers:
             # no monodromy where the impact velocity is exactly 0: the reference's value
             lam_i = eigenvalues(M[i]) if has_M[i] else multipliers_of(flow, F, y, T)
-            stable = bool(ok and max(abs(complex(z)) for z in lam_i) < 1)
+            stable = stable_of(lam_i, ok, model)
         out.append(Orbit(model, omega, branch, y, sec.names, vimp[i], ok, why, lam_i,
                          stable))
     return out

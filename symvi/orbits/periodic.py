@@ -37,11 +37,11 @@ from ..flow.compiled import step as compiled_step
 from ..flow.linear import IMPACT, LinearFlow
 from ..maps.section import Section
 from ..model import Signature
-from ..model.parameters import StopParameter
+from ..model.parameters import NamedParameter, StopParameter
 #: Newton: relative size of the last correction at convergence (and NEWTON_MAXIT below)
 from ..numerics.tolerances import NEWTON_TOL
 from . import _shooting
-from .admissibility import check_flight
+from .admissibility import check_flight, neutral, stable_of
 
 #: Newton: iteration limit
 NEWTON_MAXIT = 30
@@ -401,7 +401,8 @@ class Problem:
     def _dparam_series(self, fl, model, flow, F, T, name):
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
         series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
-        moves no flight, only its ends (:meth:`_dstop`)."""
+        moves no flight, only its ends (:meth:`_dstop`); an entry of M moves the reset of
+        an impulse along M^-1 c too (dE z, as on the linear path)."""
         if self.elastic:
             _series_parameter(model, name)
         if isinstance(name, StopParameter):
@@ -410,11 +411,19 @@ class Problem:
         out = np.zeros(self.size)
         ends = self._ends(flow)
         mine = self.parameter is not None and name.name == self.parameter.name
+        dE = [None] * len(model.constraints)
+        if not (name.is_forcing_frequency or isinstance(name, NamedParameter)):
+            tan = name.tangent(model)
+            dE = [self._dreset_rows(flow.lin, model, k, tan)
+                  for k in range(len(model.constraints))]
         for i, (z0, tau, z, *rest) in enumerate(fl):
             E, g, _ = ends[i]
             dz = rest[3] if mine and len(rest) > 3 else \
                 flow.flight(F, z0, tau, T[i], param=name)[4]
             out[i * d:i * d + d - 1] = E @ dz
+            kb = self.sig[(i + 1) % p]
+            if dE[kb] is not None:
+                out[i * d:i * d + d - 1] += dE[kb] @ z
             out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
             out[p * d + i] = g @ dz[:N]
         return out
@@ -613,6 +622,12 @@ class PeriodicOrbit:
                          self.contact)
 
     @property
+    def neutral(self):
+        """A conservative model's orbit with every multiplier on the unit circle
+        (:func:`symvi.orbits.admissibility.neutral`)."""
+        return neutral(self.multipliers, self.model)
+
+    @property
     def signature_names(self):
         """["stop1", "stop2", ...]: the constraint of each impact, 1-based."""
         sig = self.signature if self.signature is not None else (0,) * self.p
@@ -683,7 +698,8 @@ class PeriodicOrbit:
                 "times": [float(t) for t in self.times],
                 "impact_velocities": [float(v) for v in self.impact_velocities],
                 "multipliers": [[z.real, z.imag] for z in self.multipliers],
-                "stable": bool(self.stable), "admissible": bool(self.admissible),
+                "stable": bool(self.stable), "neutral": self.neutral,
+                "admissible": bool(self.admissible),
                 "reason": self.reason, "residual": self.residual,
                 **({"symmetric": self.symmetric} if self.symmetric is not None else {}),
                 **({"point_names": [list(n) for n in self.point_names]}
@@ -772,7 +788,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     names = tuple(problem.sections[k].names for k in problem.sig)
     return PeriodicOrbit(model, float(F.omega), problem.n_periods, problem.p, pts,
                          tuple(float(t) for t in T), vimp, names[0], mult,
-                         bool(ok and abs(mult[0]) < 1), ok, why, float(np.max(np.abs(G))),
+                         stable_of(mult[:1], ok, model), ok, why, float(np.max(np.abs(G))),
                          np.array(u, dtype=float), problem.signature.hits, names, sym,
                          None if H is None else eigenvalues(H), problem.signature.contact)
 

@@ -2,9 +2,11 @@
 
 Shares no numerical code with symvi's flows (no NonlinearFlow, no LinearFlow, no generated
 jets): it reads the model's matrices, the SymPy expressions of its forces and their
-parameters' values, its one rigid stop (coordinate, gap, side, reset) and the section
-layout (:class:`symvi.maps.Section`), and computes in mpmath at ``digits`` +
-GUARD_DIGITS.  Between impacts::
+parameters' values, its rigid stops (normal, gap, side, reset) and the layout of their
+sections (the flow coordinates of :func:`symvi.flow.linear.frame_of`, in which each stop
+fixes one coordinate, and :func:`symvi.flow.compiled.section_index`: the order of a
+section's coordinates, as symvi's orbits give their points), and computes in mpmath at
+``digits`` + GUARD_DIGITS.  Between impacts::
 
     M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)
 
@@ -19,8 +21,8 @@ was measured: one flight of the Duffing oscillator of the tests (t_e = 4.19) tak
 18 s at 50 digits against 0.14 s here (the two agree to 1e-51), and it gives no access to
 the step's polynomial, which the contact search below needs.
 
-Contact: on each step the guard g(s) = sign (x_k(s) - b) is the step's Taylor polynomial
-of degree K.  Its Bernstein coefficients on [0, h] bound it (convex hull); de Casteljau
+Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) is the step's Taylor
+polynomial of degree K; the first contact is the earliest over the stops.  Its Bernstein coefficients on [0, h] bound it (convex hull); de Casteljau
 halving finds the leftmost sub-interval whose coefficients end >= 0 with one sign change
 (Descartes' rule for Bernstein forms: exactly one root there), where ``mpmath.findroot``
 solves the polynomial.  Guarantee: no zero of the step's polynomial is stepped over; the
@@ -56,6 +58,8 @@ import mpmath
 import numpy as np
 
 from ..errors import ConvergenceError, ParameterError, SingularCaseError
+from ..flow.compiled import section_index
+from ..flow.linear import frame_of
 from ..maps.section import Section
 from ..normal_forms.normal_form import flip_coefficient, kuznetsov
 
@@ -234,17 +238,18 @@ class NonlinearChain:
     ``digits`` digits (module docstring): :meth:`flight`, :meth:`map`, :meth:`map_n`,
     :meth:`jets`, :meth:`fixed_point`, :meth:`normal_form`.
 
-    The model: one rigid stop on one mass (upper or lower), any number of masses, any
-    smooth forces (or none).  Section points are in the layout of
-    :meth:`symvi.maps.Section.of` (y = (v_k+, x_j, v_j for j != k, tau)); states z are
-    in mass order (x, v).  Numbers come back as mpf at the precision of the call's
+    The model: rigid stops (on masses, upper or lower, or between masses), any number of
+    masses, any smooth forces (or none).  A section point lies on the section of one
+    stop (``on``, 0-based; the model's first by default), in the layout symvi's orbits
+    use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+, x_j, v_j for
+    j != k, tau)); states z are in mass order (x, v).  Numbers come back as mpf at the precision of the call's
     context; compute with them under ``mpmath.workdps(digits)`` or more."""
 
     def __init__(self, model, omega, digits=40):
         cons = model.constraints
-        if len(cons) != 1 or cons[0].kind != "rigid" or cons[0].coordinate is None:
-            raise ParameterError("model", model, "one rigid stop on one mass (the chain "
-                                 "checks the map of one stop)")
+        if not cons or any(c.kind != "rigid" for c in cons):
+            raise ParameterError("model", model, "rigid stops (the chain checks maps of rigid "
+                                 "impacts; an elastic stop has contact phases)")
         if not isinstance(digits, int) or isinstance(digits, bool) or not 16 <= digits <= 200:
             raise ParameterError("digits", digits, "an integer from 16 to 200")
         omega = float(omega)
@@ -253,13 +258,24 @@ class NonlinearChain:
         self.model, self.digits, self.n = model, digits, model.n
         self.dps = digits + GUARD_DIGITS
         self.section = Section.of(model)
-        con = cons[0]
-        self.k, self.sign = con.coordinate, int(con.sign)
         n = self.n
+        # the layout (not numerics): flow coordinates q = T x in which each constraint
+        # fixes one coordinate (a permutation for stops on masses), and each section's
+        # coordinates in that order, as symvi's orbits give their points
+        perm, T, _ = frame_of(model.require_rigid_stops())
+        if T is None:
+            T = np.zeros((n, n))
+            for i, j in enumerate(perm):
+                T[i, j] = 1.0
+        self.positions = tuple(next(i for i, row in enumerate(T) if tuple(row) == c.normal)
+                               for c in cons)
+        self.frames = tuple(tuple(int(v) for v in section_index(n, q))
+                            for q in self.positions)
         with mpmath.workdps(self.dps):
             mp = mpmath.mpf
             self.omega = mp(omega)
-            self.gap = mp(con.gap)
+            self.T = mpmath.matrix([[mp(v) for v in row] for row in T])
+            self.Tinv = self.T ** -1
             M = mpmath.matrix([[mp(v) for v in row] for row in model.mass])
             Minv = M ** -1
             self.Minv = [[Minv[i, j] for j in range(n)] for i in range(n)]
@@ -268,8 +284,12 @@ class NonlinearChain:
             self.P = [mp(v) for v in model.forcing]
             Mo = np.empty((n, n), dtype=object)
             Mo[:] = self.Minv
-            # v+ = R v- (mass order), the constraint's reset at this precision
-            self.R = con.reset_matrix(Mo, r=mp(con.restitution))
+            # per constraint: its guard h = sign (c . x - gap) and reset v+ = R v- (mass
+            # order) at this precision
+            self.normals = [[mp(v) for v in c.normal] for c in cons]
+            self.gaps = [mp(c.gap) for c in cons]
+            self.signs = [int(c.sign) for c in cons]
+            self.resets = [c.reset_matrix(Mo, r=mp(c.restitution)) for c in cons]
             self.tol = mp(10) ** -self.dps
             self.degree = math.ceil(self.dps * math.log(10) / 2) + 1
             forces = model._nl
@@ -321,15 +341,22 @@ class NonlinearChain:
         return min(rho / mpmath.e ** 2, self.hcap)
 
     def flight(self, z0, tau, *, t_max=None):
-        """(t_e, z_e-): the first contact with the stop from the state z0 (mass order
+        """(t_e, z_e-): :meth:`first_contact` without the constraint's index."""
+        t, z, _ = self.first_contact(z0, tau, t_max=t_max)
+        return t, z
+
+    def first_contact(self, z0, tau, *, t_max=None, on=None):
+        """(t_e, z_e-, j): the first contact with any stop from the state z0 (mass order
         x, v) at time 0 and phase tau (the forcing is P sin(omega t + tau)), at ``digits``
-        digits.  z0 may lie on the stop (x_k = b exactly), leaving it.  ``t_max``:
-        longest flight searched (default MAX_PERIODS forcing periods); there is no guess
-        to give, the contact search is exhaustive (module docstring).
+        digits, and the index j of the constraint met.  z0 may lie on a stop (h_j = 0
+        exactly, or the stop ``on``: a start on its section, h_on = 0 up to the rounding
+        of the frame), leaving it.  ``t_max``: longest flight searched (default MAX_PERIODS
+        forcing periods); there is no guess to give, the contact search is exhaustive
+        for each guard h_j = sign_j (c_j . x - gap_j) (module docstring).
 
         Raises SingularCaseError "no-impact" (none before t_max), "grazing" (a tangency
-        the search cannot resolve, or a start on the stop that does not leave it);
-        ParameterError for a start inside the stop."""
+        the search cannot resolve, or a start on a stop that does not leave it);
+        ParameterError for a start inside a stop."""
         with mpmath.workdps(self.dps):
             z = [mpmath.mpf(v) for v in z0]
             if len(z) != 2 * self.n:
@@ -337,24 +364,36 @@ class NonlinearChain:
             tau = mpmath.mpf(tau)
             t_max = (MAX_PERIODS * 2 * mpmath.pi / self.omega if t_max is None
                      else mpmath.mpf(t_max))
-            k, sg, b = self.k, self.sign, self.gap
-            g0 = sg * (z[k] - b)
-            if g0 > 0:
-                raise ParameterError("z0", z0, "a state off the stop (sign (x_k - b) <= 0)")
-            on_stop = g0 == 0
+            n, guards = self.n, range(len(self.gaps))
+            g0 = [self._guard(j, z[:n]) for j in guards]
+            if any(g > 0 and j != on for j, g in enumerate(g0)):
+                raise ParameterError("z0", z0, "a state off every stop (sign (c . x - gap) "
+                                     "<= 0)")
+            on_stop = [g == 0 or j == on for j, g in enumerate(g0)]
             t = mpmath.mpf(0)
             while t < t_max:
                 X, V = self._series(z, tau + self.omega * t)
                 h = self._step_size(X, V, z)
-                g = [sg * X[k][j] for j in range(self.degree + 1)]
-                g[0] = sg * (X[k][0] - b)
-                s = self._contact(g, h, on_stop)
-                if s is not None:
-                    return (t + s, [mpmath.polyval(row[::-1], s) for row in X + V])
+                first = None
+                for j in guards:
+                    sg, c = self.signs[j], self.normals[j]
+                    g = [sg * mpmath.fdot(c, [X[i][m] for i in range(n)])
+                         for m in range(self.degree + 1)]
+                    g[0] = self._guard(j, [X[i][0] for i in range(n)])
+                    s = self._contact(g, h, on_stop[j])
+                    if s is not None and (first is None or s < first[0]):
+                        first = (s, j)
+                if first is not None:
+                    s, j = first
+                    return (t + s, [mpmath.polyval(row[::-1], s) for row in X + V], j)
                 z = [mpmath.polyval(row[::-1], h) for row in X + V]
                 t += h
-                on_stop = False
+                on_stop = [False] * len(on_stop)
             raise SingularCaseError("no-impact", f"no contact within t = {float(t_max):.6g}")
+
+    def _guard(self, j, x):
+        """h_j = sign_j (c_j . x - gap_j) at positions x (mass order)."""
+        return self.signs[j] * (mpmath.fdot(self.normals[j], x) - self.gaps[j])
 
     def _contact(self, g, h, on_stop):
         """The first zero s in (0, h] of the guard's polynomial g (coefficients in s),
@@ -384,68 +423,106 @@ class NonlinearChain:
         return s
 
     # --- the map ----------------------------------------------------------------------
-    def _state(self, y):
-        """(z0 in mass order, tau) of a section point."""
-        zf, tau = self.section.state(np.array(list(y), dtype=object), self.gap)
-        n, perm = self.n, self.section.perm
-        z = [None] * (2 * n)
-        for i in range(n):
-            z[perm[i]], z[n + perm[i]] = zf[i], zf[n + i]
-        return z, tau
+    def _state(self, y, on=0):
+        """(z0 in mass order, tau) of a point y on the section of constraint ``on``: the
+        flow coordinate it fixes at its gap, the others y's (:attr:`frames`)."""
+        n = self.n
+        q = [None] * (2 * n)
+        q[self.positions[on]] = self._fixed(on)
+        for slot, idx in enumerate(self.frames[on]):
+            q[idx] = y[slot]
+        x = self.Tinv * mpmath.matrix(q[:n])
+        v = self.Tinv * mpmath.matrix(q[n:])
+        return [x[i] for i in range(n)] + [v[i] for i in range(n)], y[-1]
 
-    def _map_u(self, y, p):
-        """P^p(y) with the phase unwrapped (tau + omega sum t_e) and the flight times."""
-        n, perm = self.n, self.section.perm
+    def _fixed(self, j):
+        """The flow coordinate q_p = c_j . x that constraint j fixes on its section."""
+        return self.gaps[j]
+
+    def _point(self, z, j, tau):
+        """The section point of constraint j of a state z (mass order) on it."""
+        n = self.n
+        x = self.T * mpmath.matrix(z[:n])
+        v = self.T * mpmath.matrix(z[n:])
+        q = [x[i] for i in range(n)] + [v[i] for i in range(n)]
+        q[self.positions[j]] = self._fixed(j)             # exactly on the section
+        return [q[i] for i in self.frames[j]] + [tau]
+
+    def _map_u(self, y, p, on=0):
+        """P^p(y) from the section of constraint ``on``, the phase unwrapped (tau + omega
+        sum t_e): (y', flight times, constraints met)."""
+        n = self.n
         y = [mpmath.mpf(v) for v in y]
-        times = []
+        times, hits = [], []
         for _ in range(p):
-            z, tau = self._state(y)
-            t, ze = self.flight(z, tau)
+            z, tau = self._state(y, on)
+            t, ze, j = self.first_contact(z, tau, on=on)
             times.append(t)
-            vplus = self.R.dot(np.array(ze[n:], dtype=object))
-            zf = np.array([ze[perm[i]] for i in range(n)]
-                          + [vplus[perm[i]] for i in range(n)], dtype=object)
-            zf[0] = self.gap
-            y = list(self.section.point(zf, tau + self.omega * t))
-        return y, times
+            hits.append(j)
+            vplus = self.resets[j].dot(np.array(ze[n:], dtype=object))
+            y = self._point(list(ze[:n]) + list(vplus), j, tau + self.omega * t)
+            on = j
+        return y, times, hits
 
-    def map(self, y):
+    def _map_back(self, y, p, on):
+        """:meth:`_map_u`'s point, refused unless the p-th impact is on constraint ``on``
+        again (else P^p maps between two different sections)."""
+        img, times, hits = self._map_u(y, p, on)
+        if hits[-1] != on:
+            raise SingularCaseError("signature", f"P^{p} from stop {on + 1} ends on stop "
+                                    f"{hits[-1] + 1} (impacts on stops "
+                                    f"{', '.join(str(j + 1) for j in hits)})")
+        return img, times, hits
+
+    def map(self, y, *, on=0):
         """P(y): the section point after the next impact (one flight, then the reset
-        v+ = R v-), tau' = tau + omega t_e mod 2 pi, in the layout of y."""
-        return self.map_n(y, 1)
+        v+ = R v-), tau' = tau + omega t_e mod 2 pi; y on the section of constraint
+        ``on``, the image on the section of the constraint met (with one stop: the
+        layout of y)."""
+        return self.map_n(y, 1, on=on)
 
-    def map_n(self, y, p):
-        """P^p(y): p impacts (all on the model's one stop), tau mod 2 pi at the end."""
+    def map_n(self, y, p, *, on=0):
+        """P^p(y): p impacts from the section of constraint ``on``, tau mod 2 pi at the
+        end, on the section of the last constraint met."""
         if not isinstance(p, int) or isinstance(p, bool) or p < 1:
             raise ParameterError("p", p, "an integer >= 1")
+        self._check_on(on)
         with mpmath.workdps(self.dps):
-            y, _ = self._map_u(self.section.check(y), p)
+            y, _, _ = self._map_u(self.section.check(y), p, on)
             y[-1] = y[-1] % (2 * mpmath.pi)
             return tuple(y)
 
+    def _check_on(self, on):
+        if not isinstance(on, int) or isinstance(on, bool) or not 0 <= on < len(self.gaps):
+            raise ParameterError("on", on, f"a constraint index from 0 to {len(self.gaps) - 1}")
+
     # --- jets, fixed point, normal form -----------------------------------------------
-    def jets(self, y, order=3, *, p=1):
+    def jets(self, y, order=3, *, p=1, on=0):
         """(J, d2, d3[, d4, d5]) of P^p at y: raw derivative tensors, d2[i, j, k] =
         d^2 P_i / dy_j dy_k (as :mod:`symvi.codegen.jets`), numpy object arrays of mpf,
         by central differences of the map at ``digits`` (error bound: module docstring).
-        The phase row is the derivative of tau + omega sum t_e."""
+        The phase row is the derivative of tau + omega sum t_e.  y lies on the section of
+        constraint ``on``, and so must P^p(y)."""
         if order not in (1, 2, 3, 4, 5):
             raise ParameterError("order", order, "1 to 5")
+        self._check_on(on)
         acc = 4 if order <= 3 else 6
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y)]
             delta = mpmath.mpf(10) ** -round(self.digits / (acc + order))
-            return _differences(lambda u: self._map_u(u, p)[0], y, order, acc, delta)
+            return _differences(lambda u: self._map_back(u, p, on)[0], y, order, acc, delta)
 
-    def fixed_point(self, y_guess, *, p=1, max_iter=30):
+    def fixed_point(self, y_guess, *, p=1, max_iter=30, on=0):
         """Newton at ``digits`` digits on P^p(y) = y + (0, ..., 2 pi m), m the forcing
         periods of the guess's flights (finite-difference Jacobians, refreshed when a
-        step contracts by less than 1e-6); :class:`ChainFixedPoint`."""
+        step contracts by less than 1e-6); :class:`ChainFixedPoint`.  y on the section of
+        constraint ``on``."""
+        self._check_on(on)
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y_guess, "y_guess")]
             dim = len(y)
             twopi = 2 * mpmath.pi
-            img, _ = self._map_u(y, p)
+            img, _, _ = self._map_back(y, p, on)
             m = int(mpmath.nint((img[-1] - y[-1]) / twopi))
 
             def residual(u, img):
@@ -460,14 +537,14 @@ class NonlinearChain:
                 if norm <= tol * max(1, max(abs(v) for v in y)):
                     break
                 if J is None:
-                    J = self.jets(y, 1, p=p)[0]
+                    J = self.jets(y, 1, p=p, on=on)[0]
                 A = mpmath.matrix(dim, dim)
                 for i in range(dim):
                     for j in range(dim):
                         A[i, j] = J[i, j] - (1 if i == j else 0)
                 dy = mpmath.lu_solve(A, mpmath.matrix([-v for v in res]))
                 y = [y[i] + dy[i] for i in range(dim)]
-                img, _ = self._map_u(y, p)
+                img, _, _ = self._map_back(y, p, on)
                 new = residual(y, img)
                 nn = max(abs(v) for v in new)
                 if nn > norm * mpmath.mpf("1e-6"):
@@ -476,15 +553,17 @@ class NonlinearChain:
             else:
                 raise ConvergenceError(f"Newton on P^{p}(y) = y did not converge in "
                                        f"{max_iter} steps", float(norm))
-            J = self.jets(y, 1, p=p)[0]
-            _, times = self._map_u(y, p)
+            J = self.jets(y, 1, p=p, on=on)[0]
+            _, times, hits = self._map_back(y, p, on)
             y[-1] = y[-1] % twopi
-            return ChainFixedPoint(tuple(y), _eigenvalues(J), J, norm, tuple(times), m)
+            return ChainFixedPoint(tuple(y), _eigenvalues(J), J, norm, tuple(times), m,
+                                   tuple(hits))
 
-    def normal_form(self, y, *, p=1):
-        """The flip coefficient and the Neimark-Sacker c1, l1 of P^p at the fixed point y,
-        from the jets of order 3 (:class:`ChainNormalForm` says each normalisation)."""
-        J, d2, d3 = self.jets(y, 3, p=p)
+    def normal_form(self, y, *, p=1, on=0):
+        """The flip coefficient and the Neimark-Sacker c1, l1 of P^p at the fixed point y
+        (on the section of constraint ``on``), from the jets of order 3
+        (:class:`ChainNormalForm` says each normalisation)."""
+        J, d2, d3 = self.jets(y, 3, p=p, on=on)
         with mpmath.workdps(self.dps):
             mults = _eigenvalues(J)
             flip = c1 = l1 = None
@@ -502,7 +581,8 @@ class ChainFixedPoint:
     """A fixed point of P^p found by :meth:`NonlinearChain.fixed_point`: ``y`` (tau in
     [0, 2 pi)), its ``multipliers`` (eigenvalues of ``jacobian``, |.| descending, to ~1e-30
     at 40 digits), the final ``residual`` (max norm), the flight ``times`` and ``periods``
-    m (the flights last m forcing periods in all)."""
+    m (the flights last m forcing periods in all), the constraint each flight ends on
+    (``hits``, 0-based)."""
 
     y: tuple
     multipliers: tuple
@@ -510,6 +590,7 @@ class ChainFixedPoint:
     residual: object
     times: tuple
     periods: int
+    hits: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -690,23 +771,30 @@ def check_special(sp, digits=40):
     """Re-derive a special point ``sp`` of a branch of a nonlinear model (a
     :class:`symvi.continuation.SpecialPoint` of kind fold, flip or ns) with the chain at
     ``digits``: its orbit by Newton from symvi's, the critical multiplier and, for a flip
-    or an NS point, the coefficient (:class:`SpecialCheck`).  A point the chain does not
-    take (another kind, several stops, a stop between masses) comes back with its
-    ``reason``."""
+    or an NS point, the coefficient (:class:`SpecialCheck`).  With several stops the
+    chain starts on the section of the orbit's first impact (``signature[0]``) and its
+    own contact search must meet the stops in the orbit's order.  A point the chain does
+    not take (another kind, an elastic stop) comes back with its ``reason``."""
     o = sp.orbit
     if sp.kind not in CHECKED_KINDS:
         return SpecialCheck(sp.kind, digits, reason=f"no map at a {sp.kind} point")
     try:
         chain = NonlinearChain(o.model, o.omega, digits)
+        sig = tuple(o.signature) if o.signature is not None else (0,) * o.p
         if sp.kind == "fold":
             # Newton is singular at a fold (a double root): the chain's map and Jacobian
             # at symvi's point, its residual |P^p(y) - y| for the distance
-            fp, nf = _at_point(chain, o.points[0], o.p), None
+            fp, nf = _at_point(chain, o.points[0], o.p, sig[0]), None
         else:
-            fp = chain.fixed_point(o.points[0], p=o.p)
-            nf = chain.normal_form(fp.y, p=o.p)
+            fp = chain.fixed_point(o.points[0], p=o.p, on=sig[0])
+            nf = chain.normal_form(fp.y, p=o.p, on=sig[0])
     except (ParameterError, SingularCaseError, ConvergenceError) as exc:
         return SpecialCheck(sp.kind, digits, reason=str(exc))
+    if fp.hits != sig[1:] + sig[:1]:
+        # the chain's own contact search met the stops in another order than symvi's
+        return SpecialCheck(sp.kind, digits, reason="the chain's impacts hit stops "
+                            f"{_stops(fp.hits[-1:] + fp.hits[:-1])}, symvi's orbit "
+                            f"{_stops(sig)}")
     with mpmath.workdps(chain.dps):
         mults = [complex(z) for z in fp.multipliers]
         d = [float(a - b) for a, b in zip(fp.y[:-1], o.points[0][:-1])]
@@ -729,22 +817,26 @@ def check_special(sp, digits=40):
                         None if mine is None else float(mine))
 
 
+def _stops(hits):
+    return ", ".join(str(j + 1) for j in hits)
+
+
 def check_branches(branches, digits=40):
     """:func:`check_special` of every special point of ``branches``: one tuple per branch,
     in the order of its ``special``."""
     return tuple(tuple(check_special(sp, digits) for sp in br.special) for br in branches)
 
 
-def _at_point(chain, y, p):
+def _at_point(chain, y, p, on=0):
     """A :class:`ChainFixedPoint` at y itself (no Newton): the chain's Jacobian of P^p
     there, its multipliers, and the residual |P^p(y) - y - (0, .., 2 pi m)|."""
     with mpmath.workdps(chain.dps):
         u = [mpmath.mpf(v) for v in chain.section.check(y, "y")]
-        img, times = chain._map_u(u, p)
+        img, times, hits = chain._map_back(u, p, on)
         twopi = 2 * mpmath.pi
         m = int(mpmath.nint((img[-1] - u[-1]) / twopi))
         res = [a - b for a, b in zip(img, u)]
         res[-1] -= twopi * m
-        J = chain.jets(u, 1, p=p)[0]
+        J = chain.jets(u, 1, p=p, on=on)[0]
         return ChainFixedPoint(tuple(u), _eigenvalues(J), J, max(abs(v) for v in res),
-                               tuple(times), m)
+                               tuple(times), m, tuple(hits))

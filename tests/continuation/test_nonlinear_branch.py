@@ -193,14 +193,21 @@ def test_nonlinearity_off_orbit_of_a_stop_between_masses():
 
 
 @pytest.mark.parametrize("name", ["gap", "restitution"])
-def test_a_jet_along_a_gap_or_a_restitution_is_refused_in_one_line(name):
-    """A branch continues in them (tests/continuation/test_nonlinear_stop_params.py: they
-    move only the flights' ends); the series do not take them as a variable yet, so a jet
-    along them (what a two-parameter curve in them needs) is one ParameterError naming the
-    parameter."""
-    from symvi.errors import ParameterError
+def test_a_jet_along_a_gap_or_a_restitution_agrees_with_the_shooting_system(name):
+    """A branch continues in them through the shooting system's dG/dp (the flights' ends
+    moved with each flight's Phi, :meth:`Problem._dstop`); the series take them as a
+    variable too (what a two-parameter curve in them needs, tests/flow/test_nljet_gap.py):
+    the map's dP/dp at the 1-1 orbit equals dG/dp with the flight time eliminated,
+    dP/dp = G_p - G_T g_p / g_T (eq. (30))."""
     from symvi.flow.nljet import FlowView, map_jet
+    from symvi.orbits.periodic import Problem
     sim = symvi.simulate(DUFFING, 2.6, n_impacts=20, transient=500)
     o = periodic_orbit(DUFFING, n=1, p=1, guess=sim, omega=2.6)
-    with pytest.raises(ParameterError, match=f"^param = '{name}'"):
-        map_jet(FlowView(DUFFING), 2.6, o.y, o.times[0], 2, param=DUFFING.parameter(name))
+    got = map_jet(FlowView(DUFFING), 2.6, o.y, o.times[0], 2, param=DUFFING.parameter(name))
+    pr = Problem(DUFFING, 1, 1, omega=2.6, param=name)
+    u = np.append(o.y, o.times)
+    _, Gu, Gp = pr.evaluate(u, DUFFING.value(name), dparam=True)
+    d = len(o.y)
+    want = Gp[:d] - Gu[:d, d] * Gp[d] / Gu[d, d]
+    assert np.max(np.abs(got["dpP"] - want)) < 1e-10 * max(1.0, np.max(np.abs(want)))
+    assert np.max(np.abs(want)) > 0.1

@@ -194,3 +194,20 @@ def test_the_bracket_search():
     b = np.empty(21)
     _hull._bernstein(g, b)
     assert _hull._first_bracket(b, stack, lohi, br) == 0
+
+
+@pytest.mark.parametrize("force", ["sqrt(x1)", "log(x1)", "1/x1", "x1**0.5", "x1**(-2)"])
+def test_forces_singular_on_the_stop_end_as_non_finite(force):
+    """A force that is not finite (or has no derivatives) where the motion goes -- here at
+    the stop x1 = 0 and below it -- ends a flight as "non-finite" and a run with that stop
+    reason: the series' divisions by a zero leading coefficient give inf/nan in the
+    kernels (numpy's error model), never a ZeroDivisionError out of them."""
+    import symvi
+    model = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                  stop=Stop(mass=1, gap=0.0, restitution=0.8),
+                  nonlinear=[f"beta*{force}"], parameters={"beta": 1.0})
+    flow = nl.NonlinearFlow(model)
+    st, _, c, _ = flow.first_impact(2.6, np.array([0.0, -0.5]), 0.3, just_hit=0)
+    assert (st, c) == ("non-finite", -2)
+    run = symvi.simulate(model, 2.6, y0=(-0.5, 0.3), n_impacts=5)
+    assert run.stop == "non-finite"

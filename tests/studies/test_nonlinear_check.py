@@ -241,12 +241,12 @@ def test_refusals(duffing):
         duffing.flight([0.5, 0.2], 0.0)                  # on the stop, moving into it
     with pytest.raises(ParameterError, match="z0"):
         duffing.flight([0.6, -1.0], 0.0)                 # inside the stop
-    two = Model(**{k: v for k, v in LIN.items() if k != "stop"},
-                stops=[Stop(mass=1, gap=0.5, restitution=0.8),
-                       Stop(mass=1, gap=-0.5, restitution=0.8, side="lower")],
-                nonlinear=["beta*x1**3"], parameters={"beta": 0.5})
-    with pytest.raises(ParameterError, match="one rigid stop"):
-        NonlinearChain(two, OMEGA)
+    elastic = Model(**{k: v for k, v in LIN.items() if k != "stop"},
+                    stop=Stop(mass=1, gap=0.5, stiffness=50.0, damping=0.5))
+    with pytest.raises(ParameterError, match="rigid stops"):
+        NonlinearChain(elastic, OMEGA)
+    with pytest.raises(ParameterError, match="on"):
+        duffing.map(Y, on=1)                             # one stop: index 0 only
     with pytest.raises(ParameterError, match="order"):
         duffing.jets(Y, 6)
 
@@ -313,3 +313,91 @@ def test_symvi_continue_digits_checks_each_special_point(tmp_path):
             assert abs(ch["multiplier"][0] + 1) < 1e-10
     rc, out, err = cli("continue", "--model", f, "--range", "omega=2.4:3.0", "--digits", "8")
     assert rc == 2 and err.startswith("symvi: error: --digits = 8") and err.count("\n") == 1
+
+
+# --------------------------------------------------------------------------- several stops
+TWO_SIDED = Model(**{k: v for k, v in LIN.items() if k != "stop"},
+                  stops=[Stop(mass=1, gap=0.5, restitution=0.8),
+                         Stop(mass=1, gap=-0.5, restitution=0.8, side="lower")],
+                  nonlinear=["beta*x1**3"], parameters={"beta": 0.5})
+
+
+def _absorber():
+    from pathlib import Path
+    return symvi.load_model(Path(__file__).resolve().parents[2] / "docs/gallery/absorber.toml")
+
+
+@pytest.mark.parametrize("which", ["two-sided", "absorber"])
+def test_several_stops_map_against_symvi(which):
+    """With several stops (a two-sided clearance on one mass; the absorber's two stops
+    between masses, in the frame x2 - x1) the chain's own contact search over every guard
+    meets the stop symvi's flow meets, at the same time and state: three impacts from
+    each stop's section, against :class:`symvi.flow.nljet.FlowView` (float64, 1e-12)."""
+    from symvi.flow.nljet import FlowView
+    model, omega = (TWO_SIDED, 1.5) if which == "two-sided" else (_absorber(), 1.5)
+    view = FlowView.of(model)
+    forcing = view.forcing(omega)
+    chain = NonlinearChain(model, omega, 30)
+    run = symvi.simulate(model, omega, n_impacts=6, transient=50)
+    met = set()
+    for y, k in zip(run.section[:4], run.hits[:4]):
+        y, k = tuple(float(v) for v in y), int(k)
+        for _ in range(3):
+            st, _, y1, c = view.step(forcing, np.array(y), k)
+            assert st == "impact"
+            with mpmath.workdps(40):
+                got, _, hits = chain._map_u(y, 1, k)
+            assert hits == [c]
+            got = [float(v) for v in got]
+            got[-1] = math.remainder(got[-1] - y1[-1], 2 * math.pi) + y1[-1]
+            assert np.allclose(got, y1, rtol=1e-12, atol=1e-12)
+            met.add(c)
+            y, k = tuple(y1), c
+    assert met == {0, 1}                                  # both stops met
+
+
+def test_several_stops_refuse_a_map_between_two_sections():
+    """P^p whose last impact is on another stop than the start's has no fixed point on
+    one section: the chain's jets refuse it by name."""
+    chain = NonlinearChain(TWO_SIDED, 1.5)
+    run = symvi.simulate(TWO_SIDED, 1.5, n_impacts=4, transient=50)
+    y, k = tuple(run.section[0]), int(run.hits[0])
+    with pytest.raises(SingularCaseError, match="ends on stop"):
+        chain.jets(y, 1, p=1, on=k)                      # the next impact: the other stop
+
+
+@pytest.fixture(scope="module")
+def absorber_branch():
+    from symvi.continuation import continue_orbits
+    model = _absorber()
+    run = symvi.simulate(model, 1.5, n_impacts=40, transient=1000)
+    return continue_orbits(model, "omega", 1.0, 2.2, simulation=run, max_points=400)
+
+
+def _absorber_point(branches, kind):
+    return [s for b in branches for s in b.special if s.kind == kind][0]
+
+
+def test_absorber_fold_checked_by_the_chain(absorber_branch):
+    """The absorber's fold (1-2 orbit, impacts on both stops between the masses): at 30
+    digits the chain's P^2 maps symvi's orbit to itself within 1e-13 and has a
+    multiplier 1 there within 1e-11 (symvi located the fold)."""
+    from symvi.studies.nonlinear_check import check_special
+    sp = _absorber_point(absorber_branch, "fold")
+    got = check_special(sp, 30)
+    assert got.reason == ""
+    assert got.distance < 1e-13
+    assert got.critical_error < 1e-11
+
+
+@pytest.mark.slow
+def test_absorber_ns_l1_checked_by_the_chain(absorber_branch):
+    """The absorber's subcritical NS point of the 1-2 orbit: the chain (20 digits, its
+    own Newton and order-3 differences over both stops) gives the same multipliers on the
+    unit circle and l1 to 8 digits or more (9.9 observed; 14.2 at 30 digits)."""
+    from symvi.studies.nonlinear_check import check_special
+    sp = _absorber_point(absorber_branch, "ns")
+    got = check_special(sp, 20)
+    assert got.reason == ""
+    assert got.critical_error < 1e-12
+    assert got.chain > 0 and got.agreement >= 8
