@@ -194,7 +194,7 @@ class CurveSystem:
             if pr.nonlinear:          # the series of the flight, one per parameter
                 from ..flow.nljet import map_jet
                 ends = (int(pr.sig[i]), int(pr.sig[(i + 1) % self.p]))
-                vs = [map_jet(flow, F.omega, y, te, 2, *ends, param=par)
+                vs = [map_jet(phases[i][0], F.omega, y, te, 2, *ends, param=par)
                       for par in self.params]
                 jets.append((vs[0]["J"], vs[0]["d2"], [v["dpJ"] for v in vs]))
                 continue

@@ -47,6 +47,9 @@ r_eff = exp(-zeta pi / sqrt(1 - zeta^2)) its effective restitution: the rigid r^
 (tests/flow/test_contact_flow.py checks both against finite differences.)
 
 float64 and numpy only (the compiled run, :mod:`symvi.flow.compiled`, takes rigid stops).
+With nonlinear forces each phase is the Taylor flow of the same law
+(:mod:`symvi.flow.nlcontact`: K_S, C_S and f_S added to the forces' program) and the walk
+is this one.
 
 References: [di Bernardo, Budd, Champneys & Kowalczyk, Piecewise-smooth Dynamical Systems:
 Theory and Applications, Springer 2008] (saltation matrices).
@@ -62,14 +65,10 @@ from ..numerics.backend import FLOAT64
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
+from ._events import ENTRY, EXIT, GRAZING, IMPACT, NO_EVENT, STICKING, TIME, Hit  # noqa: F401
 from ._steady import steady_state
 from .linear import contact_matrices, modal_form
 
-#: event kinds: a rigid impact, the entry into and the exit from an elastic contact
-IMPACT, ENTRY, EXIT = "impact", "entry", "exit"
-#: how a walk ends: a tangency (h'' <= 0 there) or a contact the motion does not leave
-#: (h'' > 0: the stop holds the mass), no event within t_max of a phase, or t_end reached
-GRAZING, STICKING, NO_EVENT, TIME = "grazing", "sticking", "no-event", "time"
 
 
 
@@ -153,16 +152,13 @@ def phase(model, active=()):
     return Phase(model, tuple(sorted(active)))
 
 
-@dataclass(frozen=True)
-class Hit:
-    """What the finder met: ``status`` "event", GRAZING or NO_EVENT, the time, the guard's
-    index, and h'' there (> 0 at a tangency: the motion stays on the stop)."""
-
-    status: str
-    t: float
-    guard: int
-    h2: float
-    steps: int
+def phases_of(model):
+    """The phases of ``model``'s walk: :func:`phase` (the exact linear flow), or with
+    nonlinear forces :func:`symvi.flow.nlcontact.phase` (the Taylor flow, the same law)."""
+    if model.nonlinear is None:
+        return phase
+    from .nlcontact import phase as nonlinear_phase
+    return nonlinear_phase
 
 
 class PhaseMotion:
@@ -308,13 +304,14 @@ def walk(model, omega, z0, tau, *, active=(), start=None, t_end=None, t_max=None
     """
     omega = float(omega)
     cons = model.constraints
+    phase_of = phases_of(model)
     S = frozenset(active)
     z = np.array(z0, dtype=float)
     tau = float(tau) % (2 * math.pi)
     T = 0.0
     Minv = None
     while True:
-        ph = phase(model, tuple(sorted(S)))
+        ph = phase_of(model, tuple(sorted(S)))
         mo = ph.motion(omega, z, tau)
         G, lv = guards(model, S)
         tm = t_max if t_max is not None else 2000 * math.pi / omega
@@ -370,8 +367,9 @@ def saltation(model, event, omega):
     before = after - {event.constraint} if event.kind == ENTRY else after | {event.constraint}
     n, z, t = model.n, event.before, 0.0
     # the fields at the switching phase: sin(omega t + tau) with t = 0, tau = event.tau
-    Fm = phase(model, tuple(sorted(before))).field(z, t, omega, event.tau)
-    Fp = phase(model, tuple(sorted(after))).field(z, t, omega, event.tau)
+    phase_of = phases_of(model)
+    Fm = phase_of(model, tuple(sorted(before))).field(z, t, omega, event.tau)
+    Fp = phase_of(model, tuple(sorted(after))).field(z, t, omega, event.tau)
     con = model.constraints[event.constraint]
     grad = np.concatenate([con.sign * np.array(con.normal), np.zeros(n)])
     return np.eye(2 * n) + np.outer(Fp - Fm, grad) / (grad @ Fm)

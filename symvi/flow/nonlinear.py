@@ -413,7 +413,8 @@ class NonlinearFlow:
     constraint a Model carries: stops on masses, either side, and between masses (guard
     c . x - g, reset :meth:`symvi.model.Constraint.reset_matrix`), section points in the
     flow's frame (:func:`symvi.flow.linear.frame_of`) as the exact flow's; ``"dop853"``
-    takes stops on masses only.  Elastic stops are refused (issue 28's later steps)."""
+    takes stops on masses only.  Elastic stops are refused here: their contact phases run in
+    the walk of :mod:`symvi.flow.contact` (:mod:`symvi.flow.nlcontact`)."""
 
     def __init__(self, model, method="taylor"):
         if method not in METHODS:
@@ -421,8 +422,9 @@ class NonlinearFlow:
         for k, s in enumerate(model.stops, 1):
             if s.stiffness is not None:
                 raise ParameterError("stop" if len(model.stops) == 1 else f"stop[{k}]", s,
-                                     "rigid stops (an elastic stop with nonlinear forces is "
-                                     "a later step of issue 28)")
+                                     "rigid stops (this run loop's; with an elastic stop the "
+                                     "walk of symvi.flow.contact runs each contact phase on "
+                                     "the Taylor flow: symvi.flow.nlcontact)")
         cons = model.constraints
         if method == "dop853" and any(c.coordinate is None for c in cons):
             raise ParameterError("method", method, '"taylor" for a stop between masses '

@@ -75,7 +75,7 @@ def event_run(model, omega, z0=None, tau=0.0, *, events=SETTLE_EVENTS,
     """An :class:`EventRun` of ``model`` at ``omega`` from state z0 (mass order; default
     :func:`default_state`) at phase tau, with ``active`` in contact and on the guard of
     ``start`` (leaving it): ``transient`` events dropped, ``events`` kept."""
-    flow = LinearFlow.contact(model)
+    flow = LinearFlow.contact(model.linear_part)       # the frames (geometry only)
     frames = section_frames(flow)
     if z0 is None:
         z0 = default_state(model, omega)

@@ -92,6 +92,8 @@ class Problem:
         #: is the exact flow of its phase (:meth:`LinearFlow.contact`) and the numpy
         #: reference evaluates the system (the compiled kernel takes one flow)
         self.elastic = model.elastic
+        if self.elastic and self.nonlinear and self.parameter is not None:
+            _series_parameter(model, self.parameter)
         self.phases = sig.phases(model) if self.elastic else None
         self.kinds = sig.kinds(model) if self.elastic else None
         if self.elastic:
@@ -135,7 +137,7 @@ class Problem:
                 flow = self._flow = free_flow(model)
         else:
             flow = free_flow(model)
-        if self.elastic and check:
+        if self.elastic and check and not self.nonlinear:
             for S in set(self.phases):             # a forcing resonance of a contact phase
                 LinearFlow.contact(model, S).check_omega(omega, warn=False)
         if not check:
@@ -343,7 +345,7 @@ class Problem:
         key = (model, F.omega)
         hit = self.__dict__.get("_phase_flows")
         if hit is None or hit[0] != key:
-            fs = {S: LinearFlow.contact(model, S) for S in set(self.phases)}
+            fs = {S: contact_flow(model, S) for S in set(self.phases)}
             fs = {S: (f, f.forcing(F.omega)) for S, f in fs.items()}
             hit = self._phase_flows = (key, [fs[S] for S in self.phases])
         return hit[1]
@@ -401,6 +403,8 @@ class Problem:
         series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
         moves no flight, only its ends (:meth:`_dstop`); an entry of M moves the reset of
         an impulse along M^-1 c too (dE z, as on the linear path)."""
+        if self.elastic:
+            _series_parameter(model, name)
         if isinstance(name, StopParameter):
             return self._dstop(fl, model, flow, name.tangent(model))
         d, p, N = self.d, self.p, self.N
@@ -673,8 +677,13 @@ class PeriodicOrbit:
         from ..flow.nljet import map_jet
         view = free_flow(self.model)
         sig = self.signature if self.signature is not None else (0,) * self.p
+        # with elastic stops each flight in its phase's view (an exit's guard is -h there)
+        phases = (Signature(sig, self.contact).phases(self.model) if self.model.elastic
+                  else None)
         jets = []
         for i in range(self.p):
+            if phases is not None:
+                view = contact_flow(self.model, phases[i])
             v = map_jet(view, self.omega, tuple(Y[i]), float(self.times[i]), max(order, 2),
                         int(sig[i]), int(sig[(i + 1) % self.p]))
             jets.append((v["J"],) + tuple(v[f"d{k}"] for k in range(2, max(order, 2) + 1)))
@@ -812,7 +821,7 @@ def _admissible_phases(problem, fl, flow, F, T):
     for i, (z0, tau, z, *_rest) in enumerate(fl):
         ka, kb = int(problem.sig[i]), int(problem.sig[(i + 1) % p])
         S = problem.phases[i]
-        mo = contact.phase(model, S).motion(F.omega, flow.to_mass(z0), tau)
+        mo = contact.phases_of(model)(model, S).motion(F.omega, flow.to_mass(z0), tau)
         G, lv = contact.guards(model, S)
         sa = -1.0 if ka in S else 1.0              # the walk's guards: -h in contact
         sb = -1.0 if kb in S else 1.0
@@ -841,11 +850,37 @@ class _ContactHit:
 def free_flow(model):
     """The free flight of ``model`` as the shooting system reads it: the exact linear flow
     (:meth:`LinearFlow.free`), or for nonlinear forces the series' view of the nonlinear
-    flow (:class:`symvi.flow.nljet.FlowView`)."""
+    flow (:class:`symvi.flow.nljet.FlowView`; with elastic stops the free phase's
+    :class:`symvi.flow.nlcontact.ContactView`)."""
     if model.nonlinear is None:
         return LinearFlow.free(model)
+    if model.elastic:
+        return contact_flow(model, ())
     from ..flow.nljet import FlowView
     return FlowView.of(model)
+
+
+def _series_parameter(model, par):
+    """Refuse, in one line naming it, a parameter the contact phases' series of a model with
+    elastic stops and nonlinear forces do not take as a variable: they take omega, a
+    parameter of the forces and a rigid stop's gap or restitution (which moves only the
+    flights' ends); an elastic stop's gap, stiffness or damping moves K_S, C_S and f_S, an
+    entry of M, K, C or P the field (:class:`symvi.flow.nlcontact.ContactView`)."""
+    if (par.is_forcing_frequency or par.name in model._nl.names
+            or (isinstance(par, StopParameter) and par.stop_of(model).kind == "rigid")):
+        return
+    raise ParameterError("parameter", par.name, "omega, a parameter of the forces or a rigid "
+                         "stop's gap or restitution (with elastic stops and nonlinear forces)")
+
+
+def contact_flow(model, active):
+    """Contact phase ``active`` of ``model`` as the shooting system reads a flow: the exact
+    :meth:`LinearFlow.contact`, or with nonlinear forces the series' view of the phase's
+    Taylor flow (:class:`symvi.flow.nlcontact.ContactView`)."""
+    if model.nonlinear is None:
+        return LinearFlow.contact(model, active)
+    from ..flow.nlcontact import view
+    return view(model, tuple(sorted(active)))
 
 
 def _admissible_stops(problem, fl, flow, F, T):

@@ -217,7 +217,8 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     ``n_impacts`` stored.  ``params`` is a :class:`symvi.Params` or any
     :class:`symvi.model.Model` (then y0 and ``perturbation`` have 2N components).  A
     model with an elastic stop needs ``y0`` and runs :func:`_simulate_contacts` (records:
-    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``); a rigid-only model
+    rigid impacts and contact entries; ``exit_t``, ``exit_velocity``; with nonlinear forces
+    too, each contact phase on the Taylor flow); a rigid-only model
     runs the compiled loop of :mod:`symvi.flow.compiled`.  A model with nonlinear forces
     (:attr:`symvi.Model.nonlinear`, issue 28) needs ``y0`` and runs the numerical flow of
     :mod:`symvi.flow.nonlinear` (every rigid constraint), with the same records, through
@@ -289,10 +290,10 @@ def simulate(params, omega, y0=None, n_impacts=5000, transient=0, *,
     True
     """
     model = Model.of(params)
-    if model.nonlinear is not None:   # the numerical flow of symvi.flow.nonlinear
-        return _simulate_nonlinear(model, omega, y0, n_impacts, transient)
     if model.elastic:                 # contact phases: the walk of symvi.flow.contact
         return _simulate_contacts(model, omega, y0, n_impacts, transient)
+    if model.nonlinear is not None:   # the numerical flow of symvi.flow.nonlinear
+        return _simulate_nonlinear(model, omega, y0, n_impacts, transient)
     omega = check_omega(params, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
@@ -363,10 +364,13 @@ def _simulate_contacts(model, omega, y0, n_impacts, transient):
     ``exit_velocity`` the end of that contact.  ``y0`` is such a point of the first stop:
     leaving it for a rigid stop, entering it for an elastic one.  The stop reasons are the
     compiled run's; a contact that does not end within 1000 forcing periods is
-    ``sticking``, and chatter counts records closer than CHATTER_FLIGHT periods."""
+    ``sticking``, and chatter counts records closer than CHATTER_FLIGHT periods.  With
+    nonlinear forces each phase runs on the Taylor flow (:mod:`symvi.flow.nlcontact`), the
+    same walk and records."""
     from ..flow.linear import LinearFlow
     from ..maps import Section
-    flow = LinearFlow.contact(model)              # the frame: q = T x (stops between masses)
+    # the frame: q = T x (stops between masses), the linear part's (geometry only)
+    flow = LinearFlow.contact(model.linear_part)
     omega = check_omega(model, omega)
     n_impacts = _positive_int("n_impacts", n_impacts)
     transient = _positive_int("transient", transient, minimum=0, maximum=MAX_TRANSIENT)
@@ -402,7 +406,7 @@ def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0
     from ..flow import contact as ct
     from ..flow.linear import LinearFlow
     from ..orbits._phases import EventRun, section_frames
-    flow = LinearFlow.contact(model)
+    flow = LinearFlow.contact(model.linear_part)      # the frames (geometry only)
     frames = section_frames(flow)
     if y0 is None:                    # the start as a section point of its constraint
         zf = flow.to_flow(z0)
@@ -651,7 +655,7 @@ def sweep(params, omegas, n_impacts=200, transient=2000, *, starts=None,
     ``Sweep.classes``.  A model with an elastic stop or nonlinear forces runs each omega
     in Python (:func:`_sweep_walked`; ``starts`` are points of the first stop's section
     leaving it, nothing in contact, by default :func:`contact_start`, or
-    :func:`default_start` with nonlinear forces; ``n_impacts`` >= 4 per symbol of
+    :func:`default_start` with nonlinear forces on rigid stops; ``n_impacts`` >= 4 per symbol of
     :func:`symbol_count` to classify).
     """
     omegas = np.array([check_omega(params, w, warn=False) for w in np.ravel(omegas)])
@@ -741,7 +745,7 @@ def contact_start(model, omega):
     from ..flow.linear import LinearFlow
     from ..orbits._phases import default_state, section_frames
     z = default_state(model, omega)
-    flow = LinearFlow.contact(model)
+    flow = LinearFlow.contact(model.linear_part)
     frame = section_frames(flow)[0]
     return (z, 0.0, (), 0), tuple(float(v) for v in flow.to_flow(z)[frame]) + (0.0,)
 
@@ -753,7 +757,7 @@ def _leaving(model, y, name="starts"):
     from ..maps import Section
     y = _check_model_start(model, y, name)
     zf, _ = Section.of(model).state(np.array(y), model.constraints[0].gap)
-    return LinearFlow.contact(model).to_mass(zf), y[-1], (), 0
+    return LinearFlow.contact(model.linear_part).to_mass(zf), y[-1], (), 0
 
 
 def _walked(model):
@@ -765,15 +769,16 @@ def _walked(model):
 def _walk(model, omega, n_keep, transient, start):
     """One run of a walked model (:func:`_walked`) from ``start`` (None: its default):
     an elastic stop's walk (:func:`contact_run`) or the numerical flow of nonlinear forces
-    (:func:`_simulate_nonlinear`, a section point of the first stop)."""
-    if model.nonlinear is not None:
+    (:func:`_simulate_nonlinear`, a section point of the first stop); with elastic stops
+    and nonlinear forces the walk, its phases on the Taylor flow."""
+    if model.nonlinear is not None and not model.elastic:
         return _simulate_nonlinear(model, omega, start, n_keep, transient)
     return contact_run(model, omega, n_keep, transient, start)
 
 
 def _walk_start(model, y):
     """The start :func:`_walk` takes for a sweep's section point y of the first stop."""
-    return tuple(y) if model.nonlinear is not None else _leaving(model, y)
+    return tuple(y) if not model.elastic else _leaving(model, y)
 
 
 def _sweep_walked(model, omegas, n_impacts, transient, starts, progress, classify):
@@ -844,14 +849,14 @@ def _end_state(model, sim):
     """The walk's start at the last event of ``sim`` (state, phase, contacts, constraint),
     its section point put on ``model``'s constraint (the next point of a row); with
     nonlinear forces the last stored point on the first stop's section."""
-    if model.nonlinear is not None:
+    if not model.elastic:
         first = np.flatnonzero(np.asarray(sim.hits) == 0)
         return tuple(float(v) for v in sim.section[first[-1]]) if len(first) else None
     from ..flow.linear import LinearFlow
     from ..orbits._phases import state_of
     ev = sim.events
     k = int(ev.hits[-1])
-    return (state_of(LinearFlow.contact(model), k, ev.section[-1]),
+    return (state_of(LinearFlow.contact(model.linear_part), k, ev.section[-1]),
             float(ev.section[-1][-1]), tuple(ev.active[-1]), k)
 
 
