@@ -6,7 +6,10 @@
 * :mod:`symvi.flow.nonlinear` -- a model with nonlinear forces (issue 28): a numerical
   flow (a Taylor method, events on the solution's polynomial) and its runs, for
   ``simulate``;
-* :mod:`symvi.flow.taylor` -- that Taylor method (the forces' program on series).
+* :mod:`symvi.flow.taylor` -- that Taylor method (the forces' program on series);
+* :mod:`symvi.flow.nlsticking` -- its runs through complete chatter and sticking;
+* :mod:`symvi.flow.nlcontact` -- its contact phases at elastic stops;
+* :mod:`symvi.flow.nljet` -- the jets of its impact maps (series flights).
 
 The paper's 2-DOF undamped modal form, eqs. (7)–(8), is the oracle of the paper
 (:mod:`symvi.paper.modal_flow`); its names here (``first_impact``, ``motion_from``, ...)
