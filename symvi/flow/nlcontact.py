@@ -48,6 +48,7 @@ from . import taylor
 from ._events import GRAZING, NO_EVENT, Hit
 from ._program import OP_ADD, OP_CONST, program
 from .linear import contact_matrices
+from .nljet import FlowView
 from .nonlinear import RTOL, _rhs
 
 
@@ -199,19 +200,16 @@ class NonlinearMotion:
                                         self.z0.copy(), float(t), ph.cap(self.omega))
 
 
-class ContactView:
+class ContactView(FlowView):
     """One contact phase S of a nonlinear model as the shooting system of
-    :mod:`symvi.orbits.periodic` reads a flow (:class:`symvi.flow.nljet.FlowView`'s
-    interface): the geometry (guards, resets, levels, frames) of the linear part's phase
-    (:meth:`symvi.flow.linear.LinearFlow.contact`), every flight the series of
-    :func:`symvi.flow.nljet.flight_first` on the phase's field (:class:`NonlinearPhase`:
-    K_S, C_S, the forces less f_S), so the variational equations are the phase's."""
+    :mod:`symvi.orbits.periodic` reads a flow (:class:`symvi.flow.nljet.FlowView`, whose
+    geometry, forcing and flights it inherits): the geometry (guards, resets, levels,
+    frames) of the linear part's phase (:meth:`symvi.flow.linear.LinearFlow.contact`),
+    every flight the series of :func:`symvi.flow.nljet.flight_first` on the phase's field
+    (:class:`NonlinearPhase`: K_S, C_S, the forces less f_S), so the variational
+    equations are the phase's."""
 
-    GEOMETRY = frozenset(("reset", "guard", "level", "constraint_rows", "constraint64",
-                          "constraint", "position", "perm", "framed", "to_mass", "to_flow",
-                          "approach", "section_approach", "bk", "n", "b", "r", "_unit_guard",
-                          "_constrain", "_reset_data", "_framed_reset", "_mass_key",
-                          "active"))
+    GEOMETRY = FlowView.GEOMETRY | {"active"}
     offset = None
     free = False
 
@@ -237,34 +235,20 @@ class ContactView:
         self.positions = tuple(int(r[0]) for r in self.rows)
         self.frames = tuple(section_index(n, q) for q in self.positions)
 
-    def __getattr__(self, name):
-        if name in ContactView.GEOMETRY:
-            return getattr(self.lin, name)
-        raise AttributeError(name)
-
-    def check_omega(self, omega, name="omega", warn=True):
-        from .linear import check_range
-        return check_range(omega, name)
-
-    def forcing(self, omega):
-        from .nljet import NonlinearForcing
-        return NonlinearForcing(float(omega))
+    @classmethod
+    def of(cls, model, active=()):
+        """The view of ``model``'s phase ``active``, built once (:func:`view`)."""
+        return view(model, active)
 
     def flight(self, forcing, z0, tau, t, param=None):
         """(z, dz/dz0, dz/dtau, dz/dt) at t of the phase's flight from z0 (flow order) at
         phase tau (:meth:`symvi.flow.linear.LinearFlow.flight`'s layout); with ``param``
         (omega or a parameter of the forces) dz/dparam appended."""
-        from .nljet import flight_first
-        S, Si = self.S, self.Sinv
         w = param is not None and param.is_forcing_frequency
         if param is not None and not w and param.name not in self.model._nl.names:
             raise ParameterError("param", param.name, "omega or a parameter of the forces "
                                  "(with elastic stops and nonlinear forces)")
-        z, Phi, dzt, dzdt, dzp = flight_first(
-            self.phase, forcing.omega, S @ z0, float(tau), float(t), omega_var=w,
-            param=None if (param is None or w) else param)
-        out = (Si @ z, Si @ Phi @ S, Si @ dzt, Si @ dzdt)
-        return out if param is None else out + (Si @ dzp,)
+        return super().flight(forcing, z0, tau, t, param)      # on self.nl: the phase
 
 
 @functools.lru_cache(maxsize=64)

@@ -388,7 +388,7 @@ class FlowView:
         return _memo(_VIEWS, model, lambda: cls(model), size=64)
 
     def __getattr__(self, name):
-        if name in FlowView.GEOMETRY:
+        if name in type(self).GEOMETRY:
             return getattr(self.lin, name)
         raise AttributeError(name)
 
