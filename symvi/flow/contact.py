@@ -65,7 +65,8 @@ from ..numerics.backend import FLOAT64
 from ..numerics.tolerances import CONTACT_TIME_ULPS, CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from ..numerics.tolerances import FORCING_RESONANCE_REFUSE
-from ._events import ENTRY, EXIT, GRAZING, IMPACT, NO_EVENT, STICKING, TIME, Hit  # noqa: F401
+from ._events import (ENTRY, EXIT, GRAZING, IMPACT, NO_EVENT, NONFINITE, STICKING,  # noqa: F401
+                      TIME, Hit)
 from ._steady import steady_state
 from .linear import contact_matrices, modal_form
 
@@ -264,7 +265,7 @@ def _safe(h, hd, M2):
 @dataclass(frozen=True)
 class Event:
     """One event of a walk (:func:`walk`): ``kind`` IMPACT, ENTRY or EXIT, or how the walk
-    ended (GRAZING, STICKING, NO_EVENT, TIME); the constraint (index into
+    ended (GRAZING, STICKING, NO_EVENT, NONFINITE, TIME); the constraint (index into
     ``model.constraints``; -1 for NO_EVENT and TIME), the time t since the start, the phase
     tau = tau0 + omega t mod 2 pi, the state z = (x, v) (mass order) before the event and
     after it (after the reset of a rigid impact; the same for an elastic switch or an end),
@@ -327,9 +328,10 @@ def walk(model, omega, z0, tau, *, active=(), start=None, t_end=None, t_max=None
         ta = (tau + omega * hit.t) % (2 * math.pi)
         g = hit.guard
         if hit.status != "event":
-            kind = NO_EVENT if hit.status == NO_EVENT and not S else \
+            kind = NONFINITE if hit.status == NONFINITE else \
+                NO_EVENT if hit.status == NO_EVENT and not S else \
                 STICKING if hit.status == NO_EVENT or hit.h2 > 0 else GRAZING
-            yield Event(kind, -1 if kind == NO_EVENT else g, T + hit.t, ta, zb, zb,
+            yield Event(kind, -1 if kind in (NO_EVENT, NONFINITE) else g, T + hit.t, ta, zb, zb,
                         tuple(sorted(S)))
             return
         con = cons[g]

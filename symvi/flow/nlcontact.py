@@ -45,7 +45,7 @@ from ..numerics.tolerances import CONTACT_ULPS, GRAZING_SPEED_FACTOR
 from ..numerics.tolerances import EPS64 as _EPS
 from . import compiled as cf
 from . import taylor
-from ._events import GRAZING, NO_EVENT, Hit
+from ._events import GRAZING, NO_EVENT, NONFINITE, Hit
 from ._program import OP_ADD, OP_CONST, program
 from .linear import contact_matrices
 from .nljet import FlowView
@@ -179,8 +179,8 @@ class NonlinearMotion:
         st, te, c, vm, acc, steps = taylor._taylor_flight(
             ph.system(om, self.tau), ph.work(), cons, G, z,
             -1 if start is None else int(start), float(t_max), ph.cap(om))
-        if st != cf.IMPACT:
-            return Hit(NO_EVENT, float(te), 0, 0.0, int(steps))
+        if st != cf.IMPACT:                 # c = -2: the series stopped being finite
+            return Hit(NONFINITE if c == -2 else NO_EVENT, float(te), 0, 0.0, int(steps))
         self._end = (float(te), z)
         L = max(1.0, abs(level[c]), float(np.abs(z[:n]).max()))
         if vm <= GRAZING_SPEED_FACTOR * math.sqrt(2.0 * abs(acc) * RTOL * L):

@@ -462,7 +462,7 @@ def _walk_records(model, omega, z0, tau, active, start, n_impacts, transient, y0
         else:                          # the walk ended
             if not done:
                 stop = {ct.GRAZING: "grazing", ct.STICKING: "sticking",
-                        ct.NO_EVENT: "no-impact"}[ev.kind]
+                        ct.NO_EVENT: "no-impact", ct.NONFINITE: "non-finite"}[ev.kind]
             break
         if count >= total and not any(j >= 0 for j in open_.values()):
             break

@@ -22,15 +22,16 @@ was measured: one flight of the Duffing oscillator of the tests (t_e = 4.19) tak
 the step's polynomial, which the contact search below needs.
 
 Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) is the step's Taylor
-polynomial of degree K; the first contact is the earliest over the stops.  Its Bernstein coefficients on [0, h] bound it (convex hull); de Casteljau
-halving finds the leftmost sub-interval whose coefficients end >= 0 with one sign change
-(Descartes' rule for Bernstein forms: exactly one root there), where ``mpmath.findroot``
-solves the polynomial.  Guarantee: no zero of the step's polynomial is stepped over; the
-polynomial differs from the true guard by the step's truncation (~ tol), so a contact can
-be missed only if its penetration is below that (~1e-50 at 40 digits).  A hull that still
-touches 0 after ROOT_DEPTH halvings with no such sub-interval (a tangency within
-2^-ROOT_DEPTH h) is refused as grazing.  Just after an impact the guard starts at 0
-exactly and the search looks at g(s) / s.
+polynomial of degree K; the first contact is the earliest over the stops. Its Bernstein
+coefficients on [0, h] bound it (convex hull); de Casteljau halving finds the leftmost
+sub-interval whose coefficients end >= 0 with one sign change (Descartes' rule for
+Bernstein forms: exactly one root there), where ``mpmath.findroot`` solves the polynomial.
+Guarantee: no zero of the step's polynomial is stepped over; the polynomial differs from
+the true guard by the step's truncation (~ tol), so a contact can be missed only if its
+penetration is below that (~1e-50 at 40 digits). A hull that still touches 0 after
+ROOT_DEPTH halvings with no such sub-interval (a tangency within 2^-ROOT_DEPTH h) is
+refused as grazing. Just after an impact the guard starts at 0 exactly and the search
+looks at g(s) / s.
 
 Jets: the derivatives of the map by central finite differences of the map with the phase
 unwrapped (tau + omega t_e, so that nothing jumps at 2 pi), product stencils of accuracy
@@ -242,8 +243,9 @@ class NonlinearChain:
     masses, any smooth forces (or none).  A section point lies on the section of one
     stop (``on``, 0-based; the model's first by default), in the layout symvi's orbits
     use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+, x_j, v_j for
-    j != k, tau)); states z are in mass order (x, v).  Numbers come back as mpf at the precision of the call's
-    context; compute with them under ``mpmath.workdps(digits)`` or more."""
+    j != k, tau)); states z are in mass order (x, v).  Numbers come back as mpf at the
+    precision of the call's context; compute with them under ``mpmath.workdps(digits)``
+    or more."""
 
     def __init__(self, model, omega, digits=40):
         cons = model.constraints

@@ -11,7 +11,7 @@ import pytest
 from symvi import Model
 from symvi.errors import ParameterError
 from symvi.flow import contact as ct
-from symvi.model import Signature, dumps
+from symvi.model import Signature, Stop, dumps
 from symvi.simulations.simulation import _simulate_contacts, simulate, sweep
 from tests.flow.test_nonlinear_elastic import _ONE, _TWO, CHAIN, DUFFING, reference
 from tests.fuzz._cli import assert_bad_input, cli
@@ -173,3 +173,14 @@ def test_refusals_in_one_line():
     with pytest.raises(ParameterError, match=r"^parameter = 'stop\[1\].gap'"):
         Problem(DUFFING, 1, 2, omega=1.3, param="stop[1].gap",
                 signature=Signature((0, 0), contact=(0,)))
+
+
+def test_a_force_not_finite_along_the_motion_ends_the_walk_as_non_finite():
+    """sqrt(x1) with the elastic stop at 0: the phase's series stop being finite at once
+    (a division by the zero leading coefficient); the walk ends "non-finite", not as no
+    impact or a sticking."""
+    model = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
+                  stop=Stop(mass=1, gap=0.0, stiffness=50.0, damping=0.5),
+                  nonlinear=["beta*sqrt(x1)"], parameters={"beta": 1.0})
+    run = simulate(model, 1.3, y0=(0.8, 0.2), n_impacts=5)
+    assert run.stop == "non-finite"
