@@ -201,10 +201,15 @@ class Forces:
 
     def velocity_free(self, n):
         """Whether no force depends on a velocity v1..vN (then they do not change the
-        flow's volume: its divergence is -tr(M^-1 (C + df/dv)))."""
-        sym = self.symbols(n)
-        vs = {sym[f"v{i + 1}"] for i in range(n)}
-        return not any(e.free_symbols & vs for e in self.exprs(n))
+        flow's volume: its divergence is -tr(M^-1 (C + df/dv))); cached per texts, as the
+        expressions (``Model.conservative`` asks it for every orbit)."""
+        key = (self.texts, self.names, n, "velocity_free")
+        out = _CACHE.get(key)
+        if out is None:
+            vs = {f"v{i + 1}" for i in range(n)}
+            out = _CACHE[key] = not any(str(s) in vs for e in self.exprs(n)
+                                        for s in e.free_symbols)
+        return out
 
     def key(self, n):
         """Every number and expression (the expressions as SymPy prints them, so that

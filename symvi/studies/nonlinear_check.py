@@ -430,16 +430,12 @@ class NonlinearChain:
         flow coordinate it fixes at its gap, the others y's (:attr:`frames`)."""
         n = self.n
         q = [None] * (2 * n)
-        q[self.positions[on]] = self._fixed(on)
+        q[self.positions[on]] = self.gaps[on]            # q_p = c . x on the section
         for slot, idx in enumerate(self.frames[on]):
             q[idx] = y[slot]
         x = self.Tinv * mpmath.matrix(q[:n])
         v = self.Tinv * mpmath.matrix(q[n:])
         return [x[i] for i in range(n)] + [v[i] for i in range(n)], y[-1]
-
-    def _fixed(self, j):
-        """The flow coordinate q_p = c_j . x that constraint j fixes on its section."""
-        return self.gaps[j]
 
     def _point(self, z, j, tau):
         """The section point of constraint j of a state z (mass order) on it."""
@@ -447,7 +443,7 @@ class NonlinearChain:
         x = self.T * mpmath.matrix(z[:n])
         v = self.T * mpmath.matrix(z[n:])
         q = [x[i] for i in range(n)] + [v[i] for i in range(n)]
-        q[self.positions[j]] = self._fixed(j)             # exactly on the section
+        q[self.positions[j]] = self.gaps[j]               # exactly on the section
         return [q[i] for i in self.frames[j]] + [tau]
 
     def _map_u(self, y, p, on=0):
