@@ -50,6 +50,8 @@ import math
 
 import numba as nb
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from . import compiled as cf
@@ -201,36 +203,58 @@ def _dconv(S, a, W, b, k):
     return acc / k
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _series(tp, vals, k, S, A, X, u, nstate, lo=0):
     """Coefficient k of the rows lo.. of the tape tp, rows before it known to order k and
     every row to order k - 1; S the series, X the state's series, u the parameters (at
-    their slots), vals the constants' values and the exponents.  The functions' rows (A:
-    a row's second series, the cos of a sin, 1 + t^2 of a tan, ...) in
-    :func:`_series_func`; A is None when the tape has none, and numba then prunes that
-    branch: the loop over polynomial forces runs four times faster without it."""
-    for i in range(tp.shape[0]):
+    their slots), vals the constants' values and the exponents.  Inlined in its callers
+    (a call per order was a tenth of a step).  A square (a product of a row by itself)
+    pairs its terms j, k - j: half the products.  The functions' rows (A: a row's second
+    series, the cos of a sin, 1 + t^2 of a tan, ...) in :func:`_series_func`; A is None
+    when the tape has none, and numba then prunes that branch: the loop over polynomial
+    forces runs four times faster without it."""
+    for i in range(lo, tp.shape[0]):
         code = tp[i, 0]
         a = tp[i, 1]
         b = tp[i, 2]
-        if code == T_VAR:
-            if a < nstate:
-                S[i, k] = X[a, k]
-            else:
-                S[i, k] = u[a] if k == 0 else 0.0
-        elif code == T_MUL:
+        if code == T_MUL:
             acc = 0.0
-            for j in range(k + 1):
-                acc += S[a, j] * S[b, k - j]
+            if a == b:
+                for j in range((k + 1) // 2):
+                    acc += S[a, j] * S[a, k - j]
+                acc += acc
+                if k % 2 == 0:
+                    acc += S[a, k // 2] * S[a, k // 2]
+            else:
+                for j in range(k + 1):
+                    acc += S[a, j] * S[b, k - j]
             S[i, k] = acc
         elif code == T_SCALE:
             S[i, k] = S[b, 0] * S[a, k]
         elif code == T_ADD:
             S[i, k] = S[a, k] + S[b, k]
+        elif code == T_VAR:
+            if a < nstate:
+                S[i, k] = X[a, k]
+            else:
+                S[i, k] = u[a] if k == 0 else 0.0
         elif code == T_CONST:
             S[i, k] = vals[i] if k == 0 else 0.0
-        elif A is not None:
-            _series_func(code, i, a, k, S, A, vals[i])
+        else:
+            _function_row(code, i, a, k, S, A, vals[i])
+
+
+def _function_row(code, i, a, k, S, A, e):
+    """:func:`_series_func`, or nothing when A is None (a tape with no functions): chosen
+    by A's type when compiled (:func:`_function_row_impl`), so the functions' code is not
+    in the inlined loop of a polynomial tape."""
+
+
+@overload(_function_row, inline="always")
+def _function_row_impl(code, i, a, k, S, A, e):
+    if isinstance(A, types.NoneType):
+        return lambda code, i, a, k, S, A, e: None
+    return lambda code, i, a, k, S, A, e: _series_func(code, i, a, k, S, A, e)
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -331,6 +355,24 @@ def _prepare(sy, tj):
         Q[i, 2 * n] = ap
 
 
+def _own_kernel(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
+    """Run the model's own kernel (:mod:`symvi.flow.taylor_kernel`) and say True, or say
+    False when there is none (kern None): chosen by kern's type when compiled."""
+
+
+@overload(_own_kernel, inline="always")
+def _own_kernel_impl(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
+    if isinstance(kern, types.NoneType):
+        return lambda kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau: False
+
+    def run(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
+        kern(S.ctypes.data, y.ctypes.data, sn.ctypes.data, cs.ctypes.data, Q.ctypes.data,
+             Minv.ctypes.data, u.ctypes.data, inv.ctypes.data, S.shape[0], S.shape[1], w, t,
+             tau)
+        return True
+    return run
+
+
 @nb.njit(cache=True, error_model="numpy")
 def _coefficients(sy, tj, t, y, X):
     """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y) (module
@@ -343,15 +385,18 @@ def _coefficients(sy, tj, t, y, X):
     p = X.shape[1] - 1
     L = tp.shape[0] if roots.shape[0] > 0 else 0
     nf = n if L > 0 else 0
-    first = tj[16]
+    first, inv, kern = tj[16], tj[17], tj[18]
+    if X.ctypes.data == S.ctypes.data and _own_kernel(kern, S, y, sn, cs, Q, Minv, u, inv,
+                                                      w, t, tau):
+        return                                  # X is S's first rows: the model's kernel
     sn[0] = math.sin(w * t + tau)
     cs[0] = math.cos(w * t + tau)
     for i in range(dim):
         X[i, 0] = y[i]
     for k in range(p):
         if k > 0:
-            sn[k] = w * cs[k - 1] / k
-            cs[k] = -w * sn[k - 1] / k
+            sn[k] = w * cs[k - 1] * inv[k]
+            cs[k] = -w * sn[k - 1] * inv[k]
         # X is S's first rows; the constant rows have a coefficient at k = 0 only
         if L:
             _series(tp, vals, k, S, A, X, u, dim, dim if k == 0 else first)
@@ -359,8 +404,8 @@ def _coefficients(sy, tj, t, y, X):
             acc = Q[0, 2] * sn[k] - Q[0, 0] * X[0, k] - Q[0, 1] * X[1, k]
             if nf:
                 acc -= Minv[0, 0] * S[roots[0], k]
-            X[1, k + 1] = acc / (k + 1)
-            X[0, k + 1] = X[1, k] / (k + 1)
+            X[1, k + 1] = acc * inv[k + 1]
+            X[0, k + 1] = X[1, k] * inv[k + 1]
         else:
             for i in range(n):
                 acc = Q[i, dim] * sn[k]
@@ -368,8 +413,8 @@ def _coefficients(sy, tj, t, y, X):
                     acc -= Q[i, j] * X[j, k]
                 for j in range(nf):
                     acc -= Minv[i, j] * S[roots[j], k]
-                X[n + i, k + 1] = acc / (k + 1)
-                X[i, k + 1] = X[n + i, k] / (k + 1)
+                X[n + i, k + 1] = acc * inv[k + 1]
+                X[i, k + 1] = X[n + i, k] * inv[k + 1]
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -548,10 +593,19 @@ def _taylor_integrate(sy, tj, z, t_end, hmax):
     return ye.copy()
 
 
-def work(tape_, values, roots, dim, order=FLOW_ORDER):
+def _reciprocals(q):
+    """[0, 1, 1/2, ..., 1/(q - 1)]: the recurrences multiply by 1/k (a division on the
+    linear recurrence's critical path cost a third of its time)."""
+    inv = np.zeros(q)
+    inv[1:] = 1.0 / np.arange(1.0, q)
+    return inv
+
+
+def work(tape_, values, roots, dim, order=FLOW_ORDER, kernel=None):
     """The tape (:func:`tape`) and the scratch of the Taylor kernels: (tape, values, roots,
     S, A (None without functions), sin and cos series, Q, X (S's first rows), g, Bernstein
-    b, its stack, bracket, y, y', the first row past the constants)."""
+    b, its stack, bracket, y, y', the first row past the constants, 1 / k, the model's
+    own kernel or None: :mod:`symvi.flow.taylor_kernel`)."""
     L = tape_.shape[0]
     q = order + 1
     A = np.zeros((L, q)) if (tape_[:, 0] >= T_INV).any() else None
@@ -559,4 +613,4 @@ def work(tape_, values, roots, dim, order=FLOW_ORDER):
     return (tape_, values, roots, S, A, np.empty(q), np.empty(q),
             np.empty((dim // 2, dim + 1)), S[:dim], np.empty(q), np.empty(q),
             np.empty((96, q)), np.empty((96, 2)), np.empty(2), np.empty(dim), np.empty(dim),
-            dim + _constants(tape_, dim))
+            dim + _constants(tape_, dim), _reciprocals(q), kernel)

@@ -1,0 +1,133 @@
+"""A model's own Taylor kernel: its tape as straight-line code, compiled once a process.
+
+:func:`symvi.flow.taylor._coefficients` interprets the forces' tape (one loop over the
+tape's rows at every order, a branch on each row's code).  For a long run that dispatch is
+half of a step: on the impact Duffing oscillator (order 28) the interpreted series take
+600 ns a step, the same recurrences written out for its tape 305 ns
+(``benchmarks/bench_nonlinear_flow.py``).  :func:`kernel` writes the recurrences of
+:mod:`symvi.flow.taylor` (module docstring: x_{k+1} = v_k / (k + 1), v_{k+1} = M^-1 (P s_k
+- C v_k - K x_k - f_k) / (k + 1), f_k by the tape's rows) as Python source with the rows'
+indices fixed, and compiles it with numba as a C callback: the cached kernels call it
+through a function pointer (``tj``'s last entry, :func:`symvi.flow.taylor.work`), so they
+are compiled once for every model and only this function is compiled per model (about
+0.5 s, so :class:`symvi.flow.nonlinear.NonlinearFlow` takes it for long runs only).
+
+The source is machine-written from the tape and deterministic: the same tape gives the same
+text.  Only polynomial tapes are written (sums, products, squares, scalings, constants and
+parameters); a tape with functions (exp, sin, powers with real exponents, ...) has no
+kernel and stays interpreted.  The arithmetic is the interpreter's, term for term and in the
+same order, so both give the same coefficients to the last bit (a test checks it).
+"""
+import math
+import threading
+
+import numpy as np
+from numba import cfunc, types
+from numba.extending import intrinsic
+
+from .taylor import T_ADD, T_CONST, T_MUL, T_SCALE, T_VAR, _constants
+
+#: the C signature of a kernel: (S, y, sin series, cos series, Q, M^-1, u, 1/k) as
+#: addresses of float64 arrays, (L, q), (omega, t, tau)
+SIGNATURE = types.void(*([types.uintp] * 8), types.int64, types.int64,
+                       types.float64, types.float64, types.float64)
+_POLY = (T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE)
+_CACHE = {}
+_LOCK = threading.Lock()
+
+
+@intrinsic
+def _as_ptr(typingctx, addr):
+    """A float64 pointer from an array's address (what ``a.ctypes.data`` gives)."""
+    sig = types.CPointer(types.float64)(types.uintp)
+
+    def codegen(context, builder, signature, args):
+        return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
+    return sig, codegen
+
+
+def source(tape, values, roots, dim):
+    """The kernel's Python source for this tape (:func:`symvi.flow.taylor.tape`), or None
+    when the tape has a function's row."""
+    codes = tape[:, 0]
+    if not np.isin(codes, _POLY).all():
+        return None
+    n = dim // 2
+    L = tape.shape[0]
+    first = dim + _constants(tape, dim)
+    lines = ["def kernel(S_, y_, sn_, cs_, Q_, Mi_, u_, inv_, L, q, w, t, tau):",
+             "    S = carray(_as_ptr(S_), (L, q))",
+             f"    y = carray(_as_ptr(y_), ({dim},))",
+             "    sn = carray(_as_ptr(sn_), (q,))",
+             "    cs = carray(_as_ptr(cs_), (q,))",
+             f"    Q = carray(_as_ptr(Q_), ({n}, {dim + 1}))",
+             f"    Mi = carray(_as_ptr(Mi_), ({n}, {n}))",
+             "    u = carray(_as_ptr(u_), (u_len,))",
+             "    inv = carray(_as_ptr(inv_), (q,))",
+             "    p = q - 1",
+             "    sn[0] = math.sin(w * t + tau)",
+             "    cs[0] = math.cos(w * t + tau)"]
+    lines += [f"    S[{i}, 0] = y[{i}]" for i in range(dim)]
+    for i in range(dim, first):                 # the constant rows: order 0 only
+        lines += _row(tape, values, i, dim, "0", "    ")
+    lines += ["    for k in range(p):",
+              "        if k > 0:",
+              "            sn[k] = w * cs[k - 1] * inv[k]",
+              "            cs[k] = -w * sn[k - 1] * inv[k]"]
+    for i in range(first, L):
+        lines += _row(tape, values, i, dim, "k", "        ")
+    forces = [int(r) for r in roots] if len(roots) else []
+    for i in range(n):                          # the linear part, the interpreter's order
+        terms = [f"Q[{i}, {dim}] * sn[k]"] + [f" - Q[{i}, {j}] * S[{j}, k]"
+                                              for j in range(dim)]
+        if forces:
+            terms += [f" - Mi[{i}, {j}] * S[{forces[j]}, k]" for j in range(n)]
+        lines += [f"        acc = {''.join(terms)}",
+                  f"        S[{n + i}, k + 1] = acc * inv[k + 1]",
+                  f"        S[{i}, k + 1] = S[{n + i}, k] * inv[k + 1]"]
+    return "\n".join(lines) + "\n"
+
+
+def _row(tape, values, i, dim, k, pad):
+    """Row i's coefficient k as the interpreter computes it (:func:`symvi.flow.taylor._series`)."""
+    code, a, b = (int(v) for v in tape[i])
+    head = [pad + "# row %d" % i]
+    if code == T_CONST:
+        return head + [f"{pad}S[{i}, 0] = {float(values[i])!r}"]
+    if code == T_VAR:                           # a parameter (the state's rows are S's)
+        return head + [f"{pad}S[{i}, 0] = u[{a}]"]
+    if code == T_ADD:
+        return head + [f"{pad}S[{i}, {k}] = S[{a}, {k}] + S[{b}, {k}]"]
+    if code == T_SCALE:
+        return head + [f"{pad}S[{i}, {k}] = S[{b}, 0] * S[{a}, {k}]"]
+    if a == b:                                  # a square: the pairs j, k - j once
+        return head + [f"{pad}acc = 0.0",
+                       f"{pad}for j in range(({k} + 1) // 2):",
+                       f"{pad}    acc += S[{a}, j] * S[{a}, {k} - j]",
+                       f"{pad}acc += acc",
+                       f"{pad}if {k} % 2 == 0:",
+                       f"{pad}    acc += S[{a}, {k} // 2] * S[{a}, {k} // 2]",
+                       f"{pad}S[{i}, {k}] = acc"]
+    return head + [f"{pad}acc = 0.0",
+                   f"{pad}for j in range({k} + 1):",
+                   f"{pad}    acc += S[{a}, j] * S[{b}, {k} - j]",
+                   f"{pad}S[{i}, {k}] = acc"]
+
+
+def kernel(tape, values, roots, dim, n_params):
+    """The compiled kernel of this tape (a numba C callback, :data:`SIGNATURE`), or None
+    for a tape with functions; compiled once a process for each tape."""
+    key = (tape.tobytes(), values.tobytes(), np.asarray(roots).tobytes(), dim, n_params)
+    with _LOCK:
+        if key not in _CACHE:
+            text = source(tape, values, roots, dim)
+            if text is None:
+                _CACHE[key] = None
+            else:
+                from numba import carray
+                env = {"math": math, "carray": carray, "_as_ptr": _as_ptr,
+                       "u_len": dim + n_params}
+                exec(compile(text, f"<symvi taylor kernel {hash(key) & 0xffff:04x}>",
+                             "exec"), env)
+                _CACHE[key] = cfunc(SIGNATURE, error_model="numpy")(env["kernel"])
+        return _CACHE[key]
