@@ -334,13 +334,20 @@ def _series_func(code, i, a, k, S, A, e):
             S[i, k] = (k * S[a, k] - acc) / (k * A[i, 0])
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _prepare(sy, tj):
-    """The linear part as one map, once a flight: Q = M^-1 (K | C | P) (tj's Q)."""
+    """The linear part as one map, once a flight: Q = M^-1 (K | C | P | I) (tj's Q, M^-1
+    in its last n columns); with a model's own kernel also the constant rows' coefficient 0
+    (the kernel computes the others)."""
     Minv, K, C, P = sy[0], sy[1], sy[2], sy[3]
     Q = tj[7]
     n = P.shape[0]
+    if _has_kernel(tj[18]):
+        S, X = tj[3], tj[8]
+        _series(tj[0], tj[1], 0, S, tj[4], X, sy[6], 2 * n, 2 * n)
     for i in range(n):
+        for j in range(n):
+            Q[i, 2 * n + 1 + j] = Minv[i, j]
         for j in range(n):
             ak = 0.0
             ac = 0.0
@@ -355,28 +362,42 @@ def _prepare(sy, tj):
         Q[i, 2 * n] = ap
 
 
-def _own_kernel(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
-    """Run the model's own kernel (:mod:`symvi.flow.taylor_kernel`) and say True, or say
-    False when there is none (kern None): chosen by kern's type when compiled."""
+def _has_kernel(kern):
+    """Whether the work has a model's own kernel (:mod:`symvi.flow.taylor_kernel`): kern's
+    type, known when compiled."""
 
 
-@overload(_own_kernel, inline="always")
-def _own_kernel_impl(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
+@overload(_has_kernel, inline="always")
+def _has_kernel_impl(kern):
+    none = isinstance(kern, types.NoneType)
+    return lambda kern: not none
+
+
+def _series_of(kern, ad, sy, tj, t, y, X):
+    """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y): by the model's
+    own kernel when the work has one (kern, ad: the work's last two entries, taken out of
+    it once a flight), else by :func:`_coefficients`.  Chosen by kern's type when
+    compiled, so each compiled flight holds one of the two: with both, the kernel's path
+    paid the interpreter's reference counts (a third of the kernel's time)."""
+
+
+@overload(_series_of, inline="always")
+def _series_of_impl(kern, ad, sy, tj, t, y, X):
     if isinstance(kern, types.NoneType):
-        return lambda kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau: False
+        return lambda kern, ad, sy, tj, t, y, X: _coefficients(sy, tj, t, y, X)
 
-    def run(kern, S, y, sn, cs, Q, Minv, u, inv, w, t, tau):
-        kern(S.ctypes.data, y.ctypes.data, sn.ctypes.data, cs.ctypes.data, Q.ctypes.data,
-             Minv.ctypes.data, u.ctypes.data, inv.ctypes.data, S.shape[0], S.shape[1], w, t,
-             tau)
-        return True
-    return run
+    def own(kern, ad, sy, tj, t, y, X):
+        for i in range(y.shape[0]):
+            X[i, 0] = y[i]
+        kern(ad[0], ad[1], ad[2], ad[3], ad[4], ad[5], ad[6], sy[8][0], t, sy[9][0])
+    return own
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, inline="always", error_model="numpy")
 def _coefficients(sy, tj, t, y, X):
     """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y) (module
-    docstring), p = X.shape[1] - 1; the linear part Q of :func:`_prepare`."""
+    docstring), p = X.shape[1] - 1, by interpreting the tape; the linear part Q of
+    :func:`_prepare`."""
     Minv = sy[0]
     u, w, tau = sy[6], sy[8][0], sy[9][0]
     tp, vals, roots, S, A, sn, cs, Q = tj[0], tj[1], tj[2], tj[3], tj[4], tj[5], tj[6], tj[7]
@@ -385,14 +406,11 @@ def _coefficients(sy, tj, t, y, X):
     p = X.shape[1] - 1
     L = tp.shape[0] if roots.shape[0] > 0 else 0
     nf = n if L > 0 else 0
-    first, inv, kern = tj[16], tj[17], tj[18]
-    if X.ctypes.data == S.ctypes.data and _own_kernel(kern, S, y, sn, cs, Q, Minv, u, inv,
-                                                      w, t, tau):
-        return                                  # X is S's first rows: the model's kernel
-    sn[0] = math.sin(w * t + tau)
-    cs[0] = math.cos(w * t + tau)
+    first, inv = tj[16], tj[17]
     for i in range(dim):
         X[i, 0] = y[i]
+    sn[0] = math.sin(w * t + tau)
+    cs[0] = math.cos(w * t + tau)
     for k in range(p):
         if k > 0:
             sn[k] = w * cs[k - 1] * inv[k]
@@ -520,6 +538,7 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     m = cons.shape[0]
     p = X.shape[1] - 1
     _prepare(sy, tj)
+    kern, ad = tj[18], tj[19]
     for i in range(dim):
         ye[i] = z[i]
     t = 0.0
@@ -528,7 +547,7 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     while steps < MAX_STEPS:
         if t >= t_max:
             return cf.NO_IMPACT, t, -1, 0.0, 0.0, steps
-        _coefficients(sy, tj, t, ye, X)
+        _series_of(kern, ad, sy, tj, t, ye, X)
         h = _jorba_zou_h(X, hmax)
         steps += 1
         if not (math.isfinite(h) and h > 0.0):
@@ -582,11 +601,12 @@ def _taylor_integrate(sy, tj, z, t_end, hmax):
     """z(t_end) by the steps of :func:`_taylor_flight`, the last one cut to end there."""
     X, ye, yd = tj[8], tj[14], tj[15]
     _prepare(sy, tj)
+    kern, ad = tj[18], tj[19]
     for i in range(z.shape[0]):
         ye[i] = z[i]
     t = 0.0
     while t < t_end:
-        _coefficients(sy, tj, t, ye, X)
+        _series_of(kern, ad, sy, tj, t, ye, X)
         h = min(_jorba_zou_h(X, hmax), t_end - t)
         _at(X, h, ye, None)
         t = t + h if t_end - t > h else t_end
@@ -605,12 +625,17 @@ def work(tape_, values, roots, dim, order=FLOW_ORDER, kernel=None):
     """The tape (:func:`tape`) and the scratch of the Taylor kernels: (tape, values, roots,
     S, A (None without functions), sin and cos series, Q, X (S's first rows), g, Bernstein
     b, its stack, bracket, y, y', the first row past the constants, 1 / k, the model's
-    own kernel or None: :mod:`symvi.flow.taylor_kernel`)."""
+    own kernel or None (:mod:`symvi.flow.taylor_kernel`), the addresses of S, the sin and
+    cos series, Q and 1 / k for it)."""
     L = tape_.shape[0]
     q = order + 1
     A = np.zeros((L, q)) if (tape_[:, 0] >= T_INV).any() else None
     S = np.zeros((L, q))
-    return (tape_, values, roots, S, A, np.empty(q), np.empty(q),
-            np.empty((dim // 2, dim + 1)), S[:dim], np.empty(q), np.empty(q),
+    sn, cs, Q, inv = np.empty(q), np.empty(q), np.empty((dim // 2, dim + 1 + dim // 2)), \
+        _reciprocals(q)
+    # the kernel's arrays by address, read once here: the kernels pass them on with no
+    # reference counting (a tenth of a step)
+    ad = np.array([a.ctypes.data for a in (S, sn, cs, Q, inv)] + [L, q], dtype=np.int64)
+    return (tape_, values, roots, S, A, sn, cs, Q, S[:dim], np.empty(q), np.empty(q),
             np.empty((96, q)), np.empty((96, 2)), np.empty(2), np.empty(dim), np.empty(dim),
-            dim + _constants(tape_, dim), _reciprocals(q), kernel)
+            dim + _constants(tape_, dim), inv, kernel, ad)

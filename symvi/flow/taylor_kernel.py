@@ -27,10 +27,9 @@ from numba.extending import intrinsic
 
 from .taylor import T_ADD, T_CONST, T_MUL, T_SCALE, T_VAR, _constants
 
-#: the C signature of a kernel: (S, y, sin series, cos series, Q, M^-1, u, 1/k) as
-#: addresses of float64 arrays, (L, q), (omega, t, tau)
-SIGNATURE = types.void(*([types.uintp] * 8), types.int64, types.int64,
-                       types.float64, types.float64, types.float64)
+#: the C signature of a kernel: (S, sin series, cos series, Q, 1/k) as addresses of
+#: float64 arrays, S's shape (L, q) (:func:`symvi.flow.taylor.work`), (omega, t, tau)
+SIGNATURE = types.void(*([types.int64] * 7), types.float64, types.float64, types.float64)
 _POLY = (T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE)
 _CACHE = {}
 _LOCK = threading.Lock()
@@ -39,14 +38,14 @@ _LOCK = threading.Lock()
 @intrinsic
 def _as_ptr(typingctx, addr):
     """A float64 pointer from an array's address (what ``a.ctypes.data`` gives)."""
-    sig = types.CPointer(types.float64)(types.uintp)
+    sig = types.CPointer(types.float64)(types.int64)
 
     def codegen(context, builder, signature, args):
         return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
     return sig, codegen
 
 
-def source(tape, values, roots, dim):
+def source(tape, roots, dim):
     """The kernel's Python source for this tape (:func:`symvi.flow.taylor.tape`), or None
     when the tape has a function's row."""
     codes = tape[:, 0]
@@ -55,51 +54,45 @@ def source(tape, values, roots, dim):
     n = dim // 2
     L = tape.shape[0]
     first = dim + _constants(tape, dim)
-    lines = ["def kernel(S_, y_, sn_, cs_, Q_, Mi_, u_, inv_, L, q, w, t, tau):",
+    lines = ["def kernel(S_, sn_, cs_, Q_, inv_, L, q, w, t, tau):",
              "    S = carray(_as_ptr(S_), (L, q))",
-             f"    y = carray(_as_ptr(y_), ({dim},))",
              "    sn = carray(_as_ptr(sn_), (q,))",
              "    cs = carray(_as_ptr(cs_), (q,))",
-             f"    Q = carray(_as_ptr(Q_), ({n}, {dim + 1}))",
-             f"    Mi = carray(_as_ptr(Mi_), ({n}, {n}))",
-             "    u = carray(_as_ptr(u_), (u_len,))",
+             f"    Q = carray(_as_ptr(Q_), ({n}, {dim + 1 + n}))",
              "    inv = carray(_as_ptr(inv_), (q,))",
              "    p = q - 1",
              "    sn[0] = math.sin(w * t + tau)",
              "    cs[0] = math.cos(w * t + tau)"]
-    lines += [f"    S[{i}, 0] = y[{i}]" for i in range(dim)]
-    for i in range(dim, first):                 # the constant rows: order 0 only
-        lines += _row(tape, values, i, dim, "0", "    ")
+    # S[:, 0] holds the state and the constant rows' values (symvi.flow.taylor._prepare);
+    # the linear part's entries (Q = M^-1 (K | C | P | I)) and the constants as locals: the
+    # stores into S could alias them, so read in the loop they would be loaded at every order
+    lines += [f"    q{i}_{j} = Q[{i}, {j}]" for i in range(n) for j in range(dim + 1 + n)]
+    lines += [f"    c{i} = S[{i}, 0]" for i in range(dim, first)]
     lines += ["    for k in range(p):",
               "        if k > 0:",
               "            sn[k] = w * cs[k - 1] * inv[k]",
               "            cs[k] = -w * sn[k - 1] * inv[k]"]
     for i in range(first, L):
-        lines += _row(tape, values, i, dim, "k", "        ")
+        lines += _row(tape, i, "k", "        ")
     forces = [int(r) for r in roots] if len(roots) else []
     for i in range(n):                          # the linear part, the interpreter's order
-        terms = [f"Q[{i}, {dim}] * sn[k]"] + [f" - Q[{i}, {j}] * S[{j}, k]"
-                                              for j in range(dim)]
+        terms = [f"q{i}_{dim} * sn[k]"] + [f" - q{i}_{j} * S[{j}, k]" for j in range(dim)]
         if forces:
-            terms += [f" - Mi[{i}, {j}] * S[{forces[j]}, k]" for j in range(n)]
+            terms += [f" - q{i}_{dim + 1 + j} * S[{forces[j]}, k]" for j in range(n)]
         lines += [f"        acc = {''.join(terms)}",
                   f"        S[{n + i}, k + 1] = acc * inv[k + 1]",
                   f"        S[{i}, k + 1] = S[{n + i}, k] * inv[k + 1]"]
     return "\n".join(lines) + "\n"
 
 
-def _row(tape, values, i, dim, k, pad):
+def _row(tape, i, k, pad):
     """Row i's coefficient k as the interpreter computes it (:func:`symvi.flow.taylor._series`)."""
     code, a, b = (int(v) for v in tape[i])
     head = [pad + "# row %d" % i]
-    if code == T_CONST:
-        return head + [f"{pad}S[{i}, 0] = {float(values[i])!r}"]
-    if code == T_VAR:                           # a parameter (the state's rows are S's)
-        return head + [f"{pad}S[{i}, 0] = u[{a}]"]
     if code == T_ADD:
         return head + [f"{pad}S[{i}, {k}] = S[{a}, {k}] + S[{b}, {k}]"]
-    if code == T_SCALE:
-        return head + [f"{pad}S[{i}, {k}] = S[{b}, 0] * S[{a}, {k}]"]
+    if code == T_SCALE:                         # by a constant row (a local)
+        return head + [f"{pad}S[{i}, {k}] = c{b} * S[{a}, {k}]"]
     if a == b:                                  # a square: the pairs j, k - j once
         return head + [f"{pad}acc = 0.0",
                        f"{pad}for j in range(({k} + 1) // 2):",
@@ -114,19 +107,18 @@ def _row(tape, values, i, dim, k, pad):
                    f"{pad}S[{i}, {k}] = acc"]
 
 
-def kernel(tape, values, roots, dim, n_params):
+def kernel(tape, roots, dim):
     """The compiled kernel of this tape (a numba C callback, :data:`SIGNATURE`), or None
     for a tape with functions; compiled once a process for each tape."""
-    key = (tape.tobytes(), values.tobytes(), np.asarray(roots).tobytes(), dim, n_params)
+    key = (tape.tobytes(), np.asarray(roots).tobytes(), dim)
     with _LOCK:
         if key not in _CACHE:
-            text = source(tape, values, roots, dim)
+            text = source(tape, roots, dim)
             if text is None:
                 _CACHE[key] = None
             else:
                 from numba import carray
-                env = {"math": math, "carray": carray, "_as_ptr": _as_ptr,
-                       "u_len": dim + n_params}
+                env = {"math": math, "carray": carray, "_as_ptr": _as_ptr}
                 exec(compile(text, f"<symvi taylor kernel {hash(key) & 0xffff:04x}>",
                              "exec"), env)
                 _CACHE[key] = cfunc(SIGNATURE, error_model="numpy")(env["kernel"])
