@@ -53,15 +53,17 @@ non-finite); a converging chatter is followed to its grazing contact, and
 and the release.
 """
 import math
+import warnings
 
 import numba as nb
 import numpy as np
+from numba.core.errors import NumbaExperimentalFeatureWarning
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError
 from ..numerics.tolerances import GRAZING_SPEED_FACTOR
 from . import compiled as cf
-from . import taylor
+from . import taylor, taylor_kernel
 from .taylor import _taylor_flight
 from ._hull import ROOT_THETA, _bernstein, _first_root  # noqa: F401  (the hull's owner)
 from ._program import (FUNCS, MAX_STACK, OP_ADD, OP_CONST, OP_FUNC, OP_MUL,  # noqa: F401
@@ -486,8 +488,8 @@ class NonlinearFlow:
                 np.empty(dim), np.empty(dim), np.empty(dim), np.empty(8), np.empty(8),
                 np.empty((96, 8)), np.empty((96, 2)), np.empty(dim))
 
-    def _taylor_work(self):
-        return taylor.work(*self.tape, 2 * self.n)
+    def _taylor_work(self, own=None):
+        return taylor.work(*self.tape, 2 * self.n, kernel=own)
 
     def hmax(self, omega, frac=STEP_BOUND):
         """DOP853's step bound: STEP_BOUND (or ``frac``) of the shortest period (forcing,
@@ -562,7 +564,16 @@ class NonlinearFlow:
         """:func:`_run` from z (mass order, in place) at phase tau on constraint k (-1: on
         none), storing into the given arrays (their length: the images to store): the
         loop's return (:func:`symvi.flow.nlsticking.run_through` resumes it)."""
-        return _run(self._system(omega, tau), self._taylor_work(), self._table, self.normals,
-                    self.R, self.SEC, z, float(tau), int(k), len(times), transient,
-                    self._cap(omega), 1000 * 2 * math.pi / omega, sec, times, vimp, hits,
-                    self._work(), self.method == "taylor")
+        own = None
+        if self.method == "taylor":               # a long run: the tape's own kernel
+            own = taylor_kernel.for_run(self.tape[0], self.tape[2], 2 * self.n,
+                                        len(times) + transient)
+        with warnings.catch_warnings():           # numba's first-class functions (own)
+            warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
+            out = _run(self._system(omega, tau), self._taylor_work(own), self._table,
+                       self.normals, self.R, self.SEC, z, float(tau), int(k), len(times),
+                       transient, self._cap(omega), 1000 * 2 * math.pi / omega, sec, times,
+                       vimp, hits, self._work(), self.method == "taylor")
+        if own is None and self.method == "taylor":
+            taylor_kernel.ran(self.tape[0], self.tape[2], 2 * self.n, out[6])
+        return out

@@ -63,7 +63,7 @@ EPS = 2.0 ** -52
 #: the size of a step's last terms relative to rho (module docstring): Jorba & Zou's at
 #: their order for EPS, ceil(-log(EPS) / 2 + 1) = 20, where their step rho_m / e^2 gives
 #: e^-40 (EPS / 50)
-TOL = math.exp(-40.0)
+TOL = EPS
 #: Jorba & Zou's order for EPS, ceil(-log(EPS) / 2 + 1) = 20 (the series flights of
 #: :mod:`symvi.flow.jet_taylor` take it)
 ORDER = int(math.ceil(-math.log(EPS) / 2.0 + 1.0))
@@ -373,23 +373,24 @@ def _has_kernel_impl(kern):
     return lambda kern: not none
 
 
-def _series_of(kern, ad, sy, tj, t, y, X):
+def _series_of(kern, ad, w, tau, sy, tj, t, y, X):
     """X[:, 0..p] <- the Taylor coefficients of the solution through (t, y): by the model's
-    own kernel when the work has one (kern, ad: the work's last two entries, taken out of
-    it once a flight), else by :func:`_coefficients`.  Chosen by kern's type when
+    own kernel when the work has one (kern, ad: the work's last two entries; w, tau: the
+    forcing's; all taken out of the tuples once a flight, as each array taken out costs a
+    reference count), else by :func:`_coefficients`.  Chosen by kern's type when
     compiled, so each compiled flight holds one of the two: with both, the kernel's path
     paid the interpreter's reference counts (a third of the kernel's time)."""
 
 
 @overload(_series_of, inline="always")
-def _series_of_impl(kern, ad, sy, tj, t, y, X):
+def _series_of_impl(kern, ad, w, tau, sy, tj, t, y, X):
     if isinstance(kern, types.NoneType):
-        return lambda kern, ad, sy, tj, t, y, X: _coefficients(sy, tj, t, y, X)
+        return lambda kern, ad, w, tau, sy, tj, t, y, X: _coefficients(sy, tj, t, y, X)
 
-    def own(kern, ad, sy, tj, t, y, X):
+    def own(kern, ad, w, tau, sy, tj, t, y, X):
         for i in range(y.shape[0]):
             X[i, 0] = y[i]
-        kern(ad[0], ad[1], ad[2], ad[3], ad[4], ad[5], ad[6], sy[8][0], t, sy[9][0])
+        kern(ad[0], ad[1], ad[2], ad[3], ad[4], ad[5], ad[6], w, t, tau)
     return own
 
 
@@ -538,7 +539,7 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     m = cons.shape[0]
     p = X.shape[1] - 1
     _prepare(sy, tj)
-    kern, ad = tj[18], tj[19]
+    kern, ad, w, tau = tj[18], tj[19], sy[8][0], sy[9][0]
     for i in range(dim):
         ye[i] = z[i]
     t = 0.0
@@ -547,7 +548,7 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
     while steps < MAX_STEPS:
         if t >= t_max:
             return cf.NO_IMPACT, t, -1, 0.0, 0.0, steps
-        _series_of(kern, ad, sy, tj, t, ye, X)
+        _series_of(kern, ad, w, tau, sy, tj, t, ye, X)
         h = _jorba_zou_h(X, hmax)
         steps += 1
         if not (math.isfinite(h) and h > 0.0):
@@ -601,12 +602,12 @@ def _taylor_integrate(sy, tj, z, t_end, hmax):
     """z(t_end) by the steps of :func:`_taylor_flight`, the last one cut to end there."""
     X, ye, yd = tj[8], tj[14], tj[15]
     _prepare(sy, tj)
-    kern, ad = tj[18], tj[19]
+    kern, ad, w, tau = tj[18], tj[19], sy[8][0], sy[9][0]
     for i in range(z.shape[0]):
         ye[i] = z[i]
     t = 0.0
     while t < t_end:
-        _series_of(kern, ad, sy, tj, t, ye, X)
+        _series_of(kern, ad, w, tau, sy, tj, t, ye, X)
         h = min(_jorba_zou_h(X, hmax), t_end - t)
         _at(X, h, ye, None)
         t = t + h if t_end - t > h else t_end

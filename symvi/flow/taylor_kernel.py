@@ -31,8 +31,13 @@ from .taylor import T_ADD, T_CONST, T_MUL, T_SCALE, T_VAR, _constants
 #: float64 arrays, S's shape (L, q) (:func:`symvi.flow.taylor.work`), (omega, t, tau)
 SIGNATURE = types.void(*([types.int64] * 7), types.float64, types.float64, types.float64)
 _POLY = (T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE)
-_CACHE = {}
-_LOCK = threading.Lock()
+#: impacts a process runs on one tape, interpreted, before it compiles the tape's kernel
+#: (:func:`for_run`): the compiler takes ~0.6 s, the kernel saves ~4 us an impact
+#: (``benchmarks/bench_nonlinear_flow.py``), so it pays after ~1.5e5 impacts
+KERNEL_IMPACTS = 100_000
+_CACHE = {}                 # tape -> its kernel (None: a tape with functions)
+_RAN = {}                   # tape -> impacts run interpreted
+_LOCK = threading.RLock()
 
 
 @intrinsic
@@ -107,10 +112,36 @@ def _row(tape, i, k, pad):
                    f"{pad}S[{i}, {k}] = acc"]
 
 
+def for_run(tape, roots, dim, planned):
+    """The tape's kernel for a run of ``planned`` impacts, or None (the tape stays
+    interpreted): compiled once the process has run KERNEL_IMPACTS impacts of flights on
+    this tape, counting this run (:func:`ran` counts them), so a long run or a sweep of
+    short ones takes it and a short run does not wait for the compiler."""
+    key = _key(tape, roots, dim)
+    with _LOCK:
+        done = _CACHE.get(key, False)
+        if done is not False:
+            return done
+        if _RAN.get(key, 0) + planned < KERNEL_IMPACTS:
+            return None
+    return kernel(tape, roots, dim)
+
+
+def ran(tape, roots, dim, impacts):
+    """Count ``impacts`` run on this tape by the interpreter (:func:`for_run`)."""
+    key = _key(tape, roots, dim)
+    with _LOCK:
+        _RAN[key] = _RAN.get(key, 0) + int(impacts)
+
+
+def _key(tape, roots, dim):
+    return tape.tobytes(), np.asarray(roots).tobytes(), dim
+
+
 def kernel(tape, roots, dim):
     """The compiled kernel of this tape (a numba C callback, :data:`SIGNATURE`), or None
     for a tape with functions; compiled once a process for each tape."""
-    key = (tape.tobytes(), np.asarray(roots).tobytes(), dim)
+    key = _key(tape, roots, dim)
     with _LOCK:
         if key not in _CACHE:
             text = source(tape, roots, dim)
