@@ -13,11 +13,14 @@ run:
   located by ``findroot``; and against ``solve_ivp`` (DOP853, rtol = atol = 1e-13, an
   event);
 * impacts/s of one trajectory: the nonlinear flow with each integrator (beta = 0.5 and
-  beta = 0), the baseline -- the exact linear flow's compiled run
+  beta = 0; the Taylor method with its tape interpreted, as a short run takes it, and with
+  the tape's own kernel, :mod:`symvi.flow.taylor_kernel`, as a long run or a sweep takes
+  it), the baseline -- the exact linear flow's compiled run
   (``symvi.flow.compiled.run``) on the same model with beta = 0 -- and ``solve_ivp`` with
   events, as a user would write it (times: the thread's CPU time, :func:`rate`);
 * where a Taylor step's time goes (beta = 0.5): each kernel of a step timed alone in a
-  compiled loop -- the series (:func:`symvi.flow.taylor._coefficients`), the step rule,
+  compiled loop -- the series (interpreted, :func:`symvi.flow.taylor._coefficients`, and
+  by the tape's own kernel), the step rule,
   the guard's polynomial and its exclusion bound, the step's end --, and what an impact
   adds (the hull, the bracket and Newton on the polynomial, the reset) as the rest of the
   run's time.
@@ -39,18 +42,21 @@ sys.path.insert(0, str(HERE.parent))
 from symvi import Model, Stop  # noqa: E402
 from symvi._io import write_text  # noqa: E402
 from symvi.flow import compiled as cf  # noqa: E402
-from symvi.flow import taylor  # noqa: E402
+from symvi.flow import taylor, taylor_kernel  # noqa: E402
 from symvi.flow.nonlinear import NonlinearFlow  # noqa: E402
 
 LIN = dict(mass=[1.0], stiffness=[[1.0]], damping=[[0.1]], forcing=[1.0],
            stop=Stop(mass=1, gap=0.5, restitution=0.8))
 OMEGA, BETA, GAP, Y0 = 1.3, 0.5, 0.5, (-0.3, 0.1)
 N_ACC = 10            # flights checked against mpmath
-N_RUN = 20000         # impacts of a timed run of the nonlinear flow
+N_RUN = 50000         # impacts of a timed run of the nonlinear flow
 N_LIN = 200000        # impacts of a timed run of the exact linear flow
 N_IVP = 40            # impacts of solve_ivp timed
 N_PART = 20000        # calls of each kernel of a Taylor step timed
-METHODS = {"taylor": "nonlinear flow, Taylor", "dop853": "nonlinear flow, DOP853"}
+METHODS = {"taylor": "nonlinear flow, Taylor (tape interpreted)",
+           "dop853": "nonlinear flow, DOP853"}
+KERNEL = "nonlinear flow, Taylor (the tape's own kernel)"
+INTERPRETED = "the tape interpreted"
 
 
 def rhs(beta, omega, tau):
@@ -105,6 +111,10 @@ def rate(fn, n, reps=3):
 
 
 def speeds():
+    """impacts/s of each trajectory (module docstring) and the Taylor runs' steps an
+    impact.  The Taylor method twice: the tape interpreted (a short run, the process
+    having run fewer than KERNEL_IMPACTS on it), then the tape's own kernel (compiled
+    here, as a long run or a sweep compiles it)."""
     m = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": BETA})
     m0 = m.with_(beta=0.0)
     c = cf.constants(Model(**LIN), OMEGA)
@@ -112,13 +122,16 @@ def speeds():
     out = {"exact linear flow (baseline), beta = 0": rate(lambda: cf.run(c, Y0, N_LIN),
                                                            N_LIN)}
     steps = {}
-    for method, name in METHODS.items():
+    taylor_kernel.KERNEL_IMPACTS = 10 ** 18            # the interpreted rows first
+    for method, name in list(METHODS.items()) + [("taylor", KERNEL)]:
         f, f0 = NonlinearFlow(m, method=method), NonlinearFlow(m0, method=method)
+        if name == KERNEL:
+            taylor_kernel.kernel(f.tape[0], f.tape[2], 2)     # beta = 0: the same tape
         f.run(OMEGA, Y0, 10)
+        f0.run(OMEGA, Y0, 10)
         out[f"{name}, beta = 0.5"] = rate(lambda: f.run(OMEGA, Y0, N_RUN), N_RUN)
         out[f"{name}, beta = 0"] = rate(lambda: f0.run(OMEGA, Y0, N_RUN), N_RUN)
         steps[name] = f.run(OMEGA, Y0, N_RUN)[5] / N_RUN
-
     def ivp():
         z, tau = (GAP, Y0[0]), Y0[1]
         for _ in range(N_IVP):
@@ -132,6 +145,13 @@ def speeds():
 def _loop_series(sy, tj, y, X, n):
     for i in range(n):
         taylor._coefficients(sy, tj, 1e-9 * i, y, X)
+
+
+@nb.njit
+def _loop_own(sy, tj, y, X, n):
+    kern, ad, w, tau = tj[18], tj[19], sy[8][0], sy[9][0]
+    for i in range(n):
+        taylor._series_of(kern, ad, w, tau, sy, tj, 1e-9 * i, y, X)
 
 
 @nb.njit
@@ -161,8 +181,9 @@ def _loop_end(X, h, y, n):
 
 
 def breakdown(run_rate, steps):
-    """ns of each kernel of a Taylor step (beta = 0.5, at a state of the run), and the
-    rest of an impact's time: 1e9 / run_rate - steps (sum of the step's kernels)."""
+    """ns of each kernel of a Taylor step (beta = 0.5, at a state of the run), the series
+    both ways, and the rest of an impact's time with the tape's own kernel: 1e9 /
+    run_rate - steps (sum of its step's kernels)."""
     m = Model(**LIN, nonlinear=["beta*x1**3"], parameters={"beta": BETA})
     f = NonlinearFlow(m)
     _, sec, *_ = f.run(OMEGA, Y0, 2)
@@ -172,8 +193,11 @@ def breakdown(run_rate, steps):
     taylor._prepare(sy, tj)
     taylor._coefficients(sy, tj, 0.0, z, X)
     h = taylor._jorba_zou_h(X, f._cap(OMEGA))
-    parts = {"series (the tape and the linear part, orders 0..p)":
+    own = taylor.work(*f.tape, 2, kernel=taylor_kernel.kernel(f.tape[0], f.tape[2], 2))
+    taylor._prepare(sy, own)
+    parts = {f"series, {INTERPRETED} (and the linear part, orders 0..p)":
              lambda n: _loop_series(sy, tj, z, X, n),
+             "series, the tape's own kernel": lambda n: _loop_own(sy, own, z, own[8], n),
              "step rule": lambda n: _loop_rule(X, n),
              "guard polynomial and exclusion bound":
              lambda n: _loop_guard(X, f.normals, f._table, g, h, n),
@@ -182,7 +206,7 @@ def breakdown(run_rate, steps):
     for name, fn in parts.items():
         fn(10)
         out[name] = 1e9 / rate(lambda: fn(N_PART), N_PART, reps=5)
-    step = sum(out.values())
+    step = sum(v for k, v in out.items() if INTERPRETED not in k)   # the kernel's step
     rest = "an impact's rest per impact (hull, bracket, Newton, reset, run loop)"
     out[rest] = 1e9 / run_rate - steps * step
     return out, step
@@ -204,15 +228,16 @@ def main():
     for k, v in rates.items():
         lines.append(f"| {k} | {v:.3g} | {v / base:.3g} |")
     lines += ["", "steps per impact (beta = 0.5): " + ", ".join(
-        f"{k.split(', ')[1]} {v:.1f}" for k, v in steps.items()), ""]
-    name = "nonlinear flow, Taylor"
+        f"{k.split(', ', 1)[1]} {v:.1f}" for k, v in steps.items()), ""]
+    name = KERNEL
     parts, step = breakdown(rates[f"{name}, beta = 0.5"], steps[name])
-    lines += [f"| a Taylor step (order {taylor.FLOW_ORDER}, beta = 0.5) | ns | share of an "
-              "impact |", "|---|---|---|"]
+    lines += [f"| a Taylor step with the tape's own kernel (order {taylor.FLOW_ORDER}, beta "
+              "= 0.5) | ns | share of an impact |", "|---|---|---|"]
     per = 1e9 / rates[f"{name}, beta = 0.5"]
     for k, v in parts.items():
         n = 1.0 if k.startswith("an impact") else steps[name]
-        lines.append(f"| {k} | {v:.0f} | {n * v / per:.2f} |")
+        share = "(not in it)" if INTERPRETED in k else f"{n * v / per:.2f}"
+        lines.append(f"| {k} | {v:.0f} | {share} |")
     lines += [f"| one step | {step:.0f} | {steps[name] * step / per:.2f} |", ""]
     text = "\n".join(lines)
     print(text)

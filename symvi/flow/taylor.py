@@ -14,25 +14,28 @@ sqrt, sinh, cosh, tanh, atan and real powers by their recurrences [Jorba & Zou, 
     x_{k+1} = v_k / (k + 1),   v_{k+1} = M^-1 (P s_k - C v_k - K x_k - f_k) / (k + 1)
 
 with s_k the coefficients of sin(omega t + tau) (s_k = omega c_{k-1} / k, c_k = -omega
-s_{k-1} / k).  One cached kernel interprets every model's tape: nothing is generated or
-compiled per model, and x**3 at x = 0 is 0 (integer powers are products).
+s_{k-1} / k).  One cached kernel interprets every model's tape, and x**3 at x = 0 is 0
+(integer powers are products); a long run compiles the tape's own kernel, the same
+arithmetic written out (:mod:`symvi.flow.taylor_kernel`: twice as fast), which the cached
+flights call through a function pointer (:func:`_series_of`).
 
 Order and step [Jorba & Zou, sec. 3.2]: the step h = exp(-0.7 / (p - 1)) min_{j = p-1, p}
 (TOL rho / |y_j|_inf)^(1/j), rho = max(1, |y_0|_inf): a step's last terms are TOL relative
-to rho, TOL = e^-40 what Jorba & Zou's order for double precision, 20, and their step
-rho_m / e^2 give.  Their order minimizes the p^2 products of the convolutions per unit
-time; here a step's time grows about linearly in p (the recurrences' latency, order after
-order, and the step's fixed cost), so a higher order with the same TOL is cheaper:
-FLOW_ORDER = 28 by measurement (``benchmarks/bench_nonlinear_flow.py``, the impact Duffing
-oscillator: 11 steps an impact against 21 at order 20, 1.2 times the impacts a second,
-the first impact to 2.8e-16 against mpmath; order 32 takes 9 steps and is as fast at
-beta = 0.5, slower at beta = 0, where STEP_CAP bounds the step).  The step is also
-bounded by STEP_CAP of the shortest period (a polynomial state, whose coefficients vanish,
-would have no bound).
+to rho.  TOL = EPS, the unit roundoff: the truncation, the series' tail past the last
+terms (about their size times (h/R) / (1 - h/R), R the radius of convergence), stays below
+the rounding of the step's sum.  Jorba & Zou's order for double precision, 20, with their
+step rho_m / e^2 gives e^-40 (EPS / 50): with it the impact Duffing oscillator of
+``benchmarks/bench_nonlinear_flow.py`` took 11 steps an impact and met mpmath to 2.8e-16,
+with EPS 10 steps and 3.1e-16.  Their order minimizes the p^2 products of the convolutions
+per unit time; the interpreted step's time grows about linearly in p (the recurrences'
+latency, order after order, and the step's fixed cost), and the compiled kernel's is
+flat over orders 24-32 at this TOL: FLOW_ORDER = 28 by measurement (11 steps an impact
+against 21 at order 20 with e^-40).  The step is also bounded by STEP_CAP of the shortest
+period (a polynomial state, whose coefficients vanish, would have no bound).
 
-The kernel: the state's series are the tape's first rows (no copies), the constant rows
+The work: the state's series are the tape's first rows (no copies), the constant rows
 (parameters, numbers) are set at order 0 only, and the linear part is one map Q = M^-1 (K |
-C | P) (:func:`_prepare`, once a flight).
+C | P | I) (:func:`_prepare`, once a flight).
 
 Events.  Over a step the guard h_c = sign (c . x - g) of each constraint is a polynomial
 of degree p in theta = (t - t_n) / h: the solution's own, since c . x is a linear
@@ -60,9 +63,8 @@ from ._program import FUNCS, OP_ADD, OP_CONST, OP_MUL, OP_POW, OP_POWI, OP_VAR
 
 #: double precision's unit roundoff
 EPS = 2.0 ** -52
-#: the size of a step's last terms relative to rho (module docstring): Jorba & Zou's at
-#: their order for EPS, ceil(-log(EPS) / 2 + 1) = 20, where their step rho_m / e^2 gives
-#: e^-40 (EPS / 50)
+#: the size of a step's last terms relative to rho (module docstring): the unit roundoff,
+#: so the truncation is below a step's rounding (Jorba & Zou's order and step give EPS/50)
 TOL = EPS
 #: Jorba & Zou's order for EPS, ceil(-log(EPS) / 2 + 1) = 20 (the series flights of
 #: :mod:`symvi.flow.jet_taylor` take it)
@@ -511,17 +513,23 @@ def _refine(g, lo, hi, scale):
 
 @nb.njit(cache=True, error_model="numpy")
 def _guard_coeffs(X, normals, c, gap, sign, h, g):
-    """g[k] = sign (c . x_k) h^k, less sign gap at k = 0: the guard's polynomial in theta."""
+    """g[k] = sign (c . x_k) h^k, less sign gap at k = 0: the guard's polynomial in theta;
+    returns its bound on [0, 1], g_0 + sum_k max(g_k, 0) (below 0: no contact), summed in
+    the same pass."""
     n = normals.shape[1]
     hk = 1.0
+    ub = 0.0
     for k in range(g.shape[0]):
         acc = 0.0
         for i in range(n):
             if normals[c, i] != 0.0:
                 acc += normals[c, i] * X[i, k]
         g[k] = sign * acc * hk
+        ub += max(g[k], 0.0)
         hk *= h
+    ub -= max(g[0], 0.0)
     g[0] -= sign * gap
+    return ub + g[0]
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -556,14 +564,14 @@ def _taylor_flight(sy, tj, cons, normals, z, just_hit, t_max, hmax):
         best = 2.0
         bc = -1
         for c in range(m):
-            _guard_coeffs(X, normals, c, cons[c, 1], cons[c, 2], h, g)
+            ub = _guard_coeffs(X, normals, c, cons[c, 1], cons[c, 2], h, g)
             if first and c == just_hit:
                 for k in range(p):              # the guard starts at 0: look at g / theta
                     g[k] = g[k + 1]
                 g[p] = 0.0
-            ub = g[0]
-            for k in range(1, p + 1):
-                ub += max(g[k], 0.0)
+                ub = g[0]
+                for k in range(1, p + 1):
+                    ub += max(g[k], 0.0)
             if not math.isfinite(ub):
                 return cf.NO_IMPACT, t, -2, 0.0, 0.0, steps
             if ub < 0.0:                        # below 0 on [0, 1]: no contact
