@@ -249,9 +249,9 @@ class NonlinearChain:
 
     def __init__(self, model, omega, digits=40):
         cons = model.constraints
-        if not cons or any(c.kind != "rigid" for c in cons):
-            raise ParameterError("model", model, "rigid stops (the chain checks maps of rigid "
-                                 "impacts; an elastic stop has contact phases)")
+        if not cons:
+            raise ParameterError("model", model, "a model with stops (the chain checks maps "
+                                 "from a stop's section)")
         if not isinstance(digits, int) or isinstance(digits, bool) or not 16 <= digits <= 200:
             raise ParameterError("digits", digits, "an integer from 16 to 200")
         omega = float(omega)
@@ -264,7 +264,7 @@ class NonlinearChain:
         # the layout (not numerics): flow coordinates q = T x in which each constraint
         # fixes one coordinate (a permutation for stops on masses), and each section's
         # coordinates in that order, as symvi's orbits give their points
-        perm, T, _ = frame_of(model.require_rigid_stops())
+        perm, T, _ = frame_of(model)
         if T is None:
             T = np.zeros((n, n))
             for i, j in enumerate(perm):
@@ -286,12 +286,18 @@ class NonlinearChain:
             self.P = [mp(v) for v in model.forcing]
             Mo = np.empty((n, n), dtype=object)
             Mo[:] = self.Minv
-            # per constraint: its guard h = sign (c . x - gap) and reset v+ = R v- (mass
-            # order) at this precision
+            # per constraint: its guard h = sign (c . x - gap), a rigid one's reset
+            # v+ = R v- (mass order) at this precision, an elastic one's stiffness and
+            # damping (its contact phase, :meth:`_phase`)
             self.normals = [[mp(v) for v in c.normal] for c in cons]
             self.gaps = [mp(c.gap) for c in cons]
             self.signs = [int(c.sign) for c in cons]
-            self.resets = [c.reset_matrix(Mo, r=mp(c.restitution)) for c in cons]
+            self.elastic = tuple(c.kind == "elastic" for c in cons)
+            self.resets = [None if el else c.reset_matrix(Mo, r=mp(c.restitution))
+                           for c, el in zip(cons, self.elastic)]
+            self.contact_law = [(mp(c.stiffness), mp(c.damping or 0)) if el else None
+                                for c, el in zip(cons, self.elastic)]
+            self._phases = {}
             self.tol = mp(10) ** -self.dps
             self.degree = math.ceil(self.dps * math.log(10) / 2) + 1
             forces = model._nl
@@ -305,10 +311,31 @@ class NonlinearChain:
             self._bern1 = _bernstein_table(self.degree - 1)
 
     # --- one flight -------------------------------------------------------------------
-    def _series(self, z, phi):
+    def _phase(self, S):
+        """(K_S, C_S, f_S) of the contact phase S (the elastic constraints in contact, a
+        sorted tuple), at this precision: K + sum k_i c_i c_i^T, C + sum c_si c_i c_i^T,
+        sum k_i g_i c_i (module docstring); S = () is the free flight (f_S = 0)."""
+        got = self._phases.get(S)
+        if got is None:
+            n = self.n
+            K = [row[:] for row in self.K]
+            C = [row[:] for row in self.C]
+            f = [mpmath.mpf(0)] * n
+            for i in S:
+                (k, cs), c, g = self.contact_law[i], self.normals[i], self.gaps[i]
+                for a in range(n):
+                    f[a] += k * g * c[a]
+                    for b in range(n):
+                        K[a][b] += k * c[a] * c[b]
+                        C[a][b] += cs * c[a] * c[b]
+            got = self._phases[S] = (K, C, f)
+        return got
+
+    def _series(self, z, phi, S=()):
         """The Taylor coefficients (X, V), each N lists of degree + 1, of the solution
-        through z at s = 0, the forcing's phase there phi."""
+        through z at s = 0, the forcing's phase there phi, in the contact phase S."""
         n, K = self.n, self.degree
+        Ks, Cs, fs = self._phase(S)
         X = [[z[i]] for i in range(n)]
         V = [[z[n + i]] for i in range(n)]
         if self.forces is not None:
@@ -322,8 +349,9 @@ class NonlinearChain:
             xs = [X[j][k] for j in range(n)]
             vs = [V[j][k] for j in range(n)]
             fk = wk * cyc[k % 4]                   # d^k/dt^k sin(omega t + phi) / k!
-            rhs = [self.P[i] * fk - fdot(self.C[i], vs) - fdot(self.K[i], xs)
-                   - (f[i] if f is not None else 0) for i in range(n)]
+            rhs = [self.P[i] * fk - fdot(Cs[i], vs) - fdot(Ks[i], xs)
+                   - (f[i] if f is not None else 0) + (fs[i] if k == 0 else 0)
+                   for i in range(n)]
             for i in range(n):
                 X[i].append(vs[i] / (k + 1))
                 V[i].append(fdot(self.Minv[i], rhs) / (k + 1))
@@ -342,46 +370,54 @@ class NonlinearChain:
                 rho = min(rho, top ** (-mpmath.mpf(1) / j))
         return min(rho / mpmath.e ** 2, self.hcap)
 
-    def flight(self, z0, tau, *, t_max=None):
+    def flight(self, z0, tau, *, t_max=None, contact=()):
         """(t_e, z_e-): :meth:`first_contact` without the constraint's index."""
-        t, z, _ = self.first_contact(z0, tau, t_max=t_max)
+        t, z, _ = self.first_contact(z0, tau, t_max=t_max, contact=contact)
         return t, z
 
-    def first_contact(self, z0, tau, *, t_max=None, on=None):
-        """(t_e, z_e-, j): the first contact with any stop from the state z0 (mass order
-        x, v) at time 0 and phase tau (the forcing is P sin(omega t + tau)), at ``digits``
-        digits, and the index j of the constraint met.  z0 may lie on a stop (h_j = 0
-        exactly, or the stop ``on``: a start on its section, h_on = 0 up to the rounding
-        of the frame), leaving it.  ``t_max``: longest flight searched (default MAX_PERIODS
-        forcing periods); there is no guess to give, the contact search is exhaustive
-        for each guard h_j = sign_j (c_j . x - gap_j) (module docstring).
+    def first_contact(self, z0, tau, *, t_max=None, on=None, contact=()):
+        """(t_e, z_e-, j): the first event from the state z0 (mass order x, v) at time 0
+        and phase tau (the forcing is P sin(omega t + tau)) in the contact phase
+        ``contact`` (the elastic constraints in contact, () for a free flight), at
+        ``digits`` digits, and the index j of the constraint met: a rigid impact or an
+        elastic entry (h_j = 0 rising) for j outside ``contact``, an exit (h_j = 0
+        falling) for j in it.  z0 may lie on a guard (h_j = 0 exactly, or the constraint
+        ``on``: a start on its section, h_on = 0 up to the rounding of the frame), leaving
+        it.  ``t_max``: longest flight searched (default MAX_PERIODS forcing periods);
+        there is no guess to give, the search is exhaustive for each guard
+        e_j = -+ sign_j (c_j . x - gap_j) (module docstring).
 
-        Raises SingularCaseError "no-impact" (none before t_max), "grazing" (a tangency
-        the search cannot resolve, or a start on a stop that does not leave it);
-        ParameterError for a start inside a stop."""
+        Raises SingularCaseError "no-impact" (none before t_max: for a contact phase, a
+        contact that is not left), "grazing" (a tangency the search cannot resolve, or a
+        start on a guard that does not leave it); ParameterError for a start inside a stop
+        not in ``contact`` (or outside one in it)."""
         with mpmath.workdps(self.dps):
             z = [mpmath.mpf(v) for v in z0]
             if len(z) != 2 * self.n:
                 raise ParameterError("z0", z0, f"{2 * self.n} numbers (x, v in mass order)")
+            S = self._check_contact(contact)
             tau = mpmath.mpf(tau)
             t_max = (MAX_PERIODS * 2 * mpmath.pi / self.omega if t_max is None
                      else mpmath.mpf(t_max))
             n, guards = self.n, range(len(self.gaps))
-            g0 = [self._guard(j, z[:n]) for j in guards]
+            # the guard of each constraint in this phase: h_j outside a contact, -h_j in it
+            side = [-1 if j in S else 1 for j in guards]
+            g0 = [side[j] * self._guard(j, z[:n]) for j in guards]
             if any(g > 0 and j != on for j, g in enumerate(g0)):
-                raise ParameterError("z0", z0, "a state off every stop (sign (c . x - gap) "
-                                     "<= 0)")
+                raise ParameterError("z0", z0, "a state off every stop not in contact and "
+                                     "inside every one in contact (sign (c . x - gap) <= 0, "
+                                     ">= 0)")
             on_stop = [g == 0 or j == on for j, g in enumerate(g0)]
             t = mpmath.mpf(0)
             while t < t_max:
-                X, V = self._series(z, tau + self.omega * t)
+                X, V = self._series(z, tau + self.omega * t, S)
                 h = self._step_size(X, V, z)
                 first = None
                 for j in guards:
-                    sg, c = self.signs[j], self.normals[j]
+                    sg, c = side[j] * self.signs[j], self.normals[j]
                     g = [sg * mpmath.fdot(c, [X[i][m] for i in range(n)])
                          for m in range(self.degree + 1)]
-                    g[0] = self._guard(j, [X[i][0] for i in range(n)])
+                    g[0] = side[j] * self._guard(j, [X[i][0] for i in range(n)])
                     s = self._contact(g, h, on_stop[j])
                     if s is not None and (first is None or s < first[0]):
                         first = (s, j)
@@ -391,7 +427,8 @@ class NonlinearChain:
                 z = [mpmath.polyval(row[::-1], h) for row in X + V]
                 t += h
                 on_stop = [False] * len(on_stop)
-            raise SingularCaseError("no-impact", f"no contact within t = {float(t_max):.6g}")
+            raise SingularCaseError("no-impact", f"no {'exit or ' if S else ''}contact "
+                                    f"within t = {float(t_max):.6g}")
 
     def _guard(self, j, x):
         """h_j = sign_j (c_j . x - gap_j) at positions x (mass order)."""
@@ -404,8 +441,8 @@ class NonlinearChain:
         if on_stop:                                     # g(0) = 0: look at g / theta
             p, table = p[1:], self._bern1
             if not p[0] < 0:
-                raise SingularCaseError("grazing", "the start on the stop does not leave it "
-                                        "(speed towards the stop >= 0)")
+                raise SingularCaseError("grazing", "the start on the guard does not leave it "
+                                        "(speed towards it >= 0)")
         else:
             table = self._bern
             if p[0] + sum(abs(c) for c in p[1:]) < 0:   # |g - g(0)| cannot reach 0
@@ -446,47 +483,62 @@ class NonlinearChain:
         q[self.positions[j]] = self.gaps[j]               # exactly on the section
         return [q[i] for i in self.frames[j]] + [tau]
 
-    def _map_u(self, y, p, on=0):
-        """P^p(y) from the section of constraint ``on``, the phase unwrapped (tau + omega
-        sum t_e): (y', flight times, constraints met)."""
+    def _map_u(self, y, p, on=0, contact=()):
+        """P^p(y) from the section of constraint ``on`` with ``contact`` in contact during
+        the first flight, the phase unwrapped (tau + omega sum t_e): (y', flight times,
+        constraints met, the contact after the last event).  A rigid impact applies its
+        reset; an elastic event (no jump) toggles its constraint's contact."""
         n = self.n
         y = [mpmath.mpf(v) for v in y]
+        S = tuple(contact)
         times, hits = [], []
         for _ in range(p):
             z, tau = self._state(y, on)
-            t, ze, j = self.first_contact(z, tau, on=on)
+            t, ze, j = self.first_contact(z, tau, on=on, contact=S)
             times.append(t)
             hits.append(j)
-            vplus = self.resets[j].dot(np.array(ze[n:], dtype=object))
+            if self.elastic[j]:                           # an entry or an exit
+                S = tuple(sorted(set(S) ^ {j}))
+                vplus = ze[n:]
+            else:
+                vplus = self.resets[j].dot(np.array(ze[n:], dtype=object))
             y = self._point(list(ze[:n]) + list(vplus), j, tau + self.omega * t)
             on = j
-        return y, times, hits
+        return y, times, hits, S
 
-    def _map_back(self, y, p, on):
-        """:meth:`_map_u`'s point, refused unless the p-th impact is on constraint ``on``
-        again (else P^p maps between two different sections)."""
-        img, times, hits = self._map_u(y, p, on)
-        if hits[-1] != on:
+    def _map_back(self, y, p, on, contact=()):
+        """:meth:`_map_u`'s point, refused unless the p-th event is on constraint ``on``
+        again, in the phase ``contact`` (else P^p maps between two different sections or
+        phases)."""
+        img, times, hits, S = self._map_u(y, p, on, contact)
+        if hits[-1] != on or S != tuple(contact):
             raise SingularCaseError("signature", f"P^{p} from stop {on + 1} ends on stop "
-                                    f"{hits[-1] + 1} (impacts on stops "
-                                    f"{', '.join(str(j + 1) for j in hits)})")
+                                    f"{hits[-1] + 1} (events on stops "
+                                    f"{', '.join(str(j + 1) for j in hits)}"
+                                    + (f"; in contact with {_stops(S) or 'none'}, from "
+                                       f"{_stops(contact) or 'none'}" if any(self.elastic)
+                                       else "") + ")")
         return img, times, hits
 
-    def map(self, y, *, on=0):
-        """P(y): the section point after the next impact (one flight, then the reset
-        v+ = R v-), tau' = tau + omega t_e mod 2 pi; y on the section of constraint
-        ``on``, the image on the section of the constraint met (with one stop: the
-        layout of y)."""
-        return self.map_n(y, 1, on=on)
+    def map(self, y, *, on=0, contact=()):
+        """P(y): the section point after the next event (one flight, then a rigid reset
+        v+ = R v-, or an elastic entry or exit, which keeps v), tau' = tau + omega t_e
+        mod 2 pi; y on the section of constraint ``on``, the first flight in the phase
+        ``contact`` (a :class:`symvi.model.Signature`'s: with the default (), a start on an
+        elastic stop's section leaves it), the image on the section of the constraint met
+        (with one stop: the layout of y)."""
+        return self.map_n(y, 1, on=on, contact=contact)
 
-    def map_n(self, y, p, *, on=0):
-        """P^p(y): p impacts from the section of constraint ``on``, tau mod 2 pi at the
-        end, on the section of the last constraint met."""
+    def map_n(self, y, p, *, on=0, contact=()):
+        """P^p(y): p events from the section of constraint ``on`` (first flight in the
+        phase ``contact``), tau mod 2 pi at the end, on the section of the last
+        constraint met."""
         if not isinstance(p, int) or isinstance(p, bool) or p < 1:
             raise ParameterError("p", p, "an integer >= 1")
         self._check_on(on)
+        contact = self._check_contact(contact)
         with mpmath.workdps(self.dps):
-            y, _, _ = self._map_u(self.section.check(y), p, on)
+            y, _, _, _ = self._map_u(self.section.check(y), p, on, contact)
             y[-1] = y[-1] % (2 * mpmath.pi)
             return tuple(y)
 
@@ -494,33 +546,49 @@ class NonlinearChain:
         if not isinstance(on, int) or isinstance(on, bool) or not 0 <= on < len(self.gaps):
             raise ParameterError("on", on, f"a constraint index from 0 to {len(self.gaps) - 1}")
 
+    def _check_contact(self, contact):
+        """``contact`` as a sorted tuple of elastic constraint indices, or ParameterError."""
+        try:
+            S = tuple(sorted(set(int(i) for i in contact)))
+            ok = all(0 <= i < len(self.gaps) and self.elastic[i] for i in S) and all(
+                not isinstance(i, bool) and float(i) == int(i) for i in contact)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError("contact", contact, "indices of elastic constraints (0-based)")
+        return S
+
     # --- jets, fixed point, normal form -----------------------------------------------
-    def jets(self, y, order=3, *, p=1, on=0):
+    def jets(self, y, order=3, *, p=1, on=0, contact=()):
         """(J, d2, d3[, d4, d5]) of P^p at y: raw derivative tensors, d2[i, j, k] =
         d^2 P_i / dy_j dy_k (as :mod:`symvi.codegen.jets`), numpy object arrays of mpf,
         by central differences of the map at ``digits`` (error bound: module docstring).
         The phase row is the derivative of tau + omega sum t_e.  y lies on the section of
-        constraint ``on``, and so must P^p(y)."""
+        constraint ``on`` (first flight in the phase ``contact``), and so must P^p(y)
+        (in the same phase)."""
         if order not in (1, 2, 3, 4, 5):
             raise ParameterError("order", order, "1 to 5")
         self._check_on(on)
+        contact = self._check_contact(contact)
         acc = 4 if order <= 3 else 6
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y)]
             delta = mpmath.mpf(10) ** -round(self.digits / (acc + order))
-            return _differences(lambda u: self._map_back(u, p, on)[0], y, order, acc, delta)
+            return _differences(lambda u: self._map_back(u, p, on, contact)[0], y, order,
+                                acc, delta)
 
-    def fixed_point(self, y_guess, *, p=1, max_iter=30, on=0):
+    def fixed_point(self, y_guess, *, p=1, max_iter=30, on=0, contact=()):
         """Newton at ``digits`` digits on P^p(y) = y + (0, ..., 2 pi m), m the forcing
         periods of the guess's flights (finite-difference Jacobians, refreshed when a
         step contracts by less than 1e-6); :class:`ChainFixedPoint`.  y on the section of
-        constraint ``on``."""
+        constraint ``on``, the first flight in the phase ``contact``."""
         self._check_on(on)
+        contact = self._check_contact(contact)
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y_guess, "y_guess")]
             dim = len(y)
             twopi = 2 * mpmath.pi
-            img, _, _ = self._map_back(y, p, on)
+            img, _, _ = self._map_back(y, p, on, contact)
             m = int(mpmath.nint((img[-1] - y[-1]) / twopi))
 
             def residual(u, img):
@@ -535,14 +603,14 @@ class NonlinearChain:
                 if norm <= tol * max(1, max(abs(v) for v in y)):
                     break
                 if J is None:
-                    J = self.jets(y, 1, p=p, on=on)[0]
+                    J = self.jets(y, 1, p=p, on=on, contact=contact)[0]
                 A = mpmath.matrix(dim, dim)
                 for i in range(dim):
                     for j in range(dim):
                         A[i, j] = J[i, j] - (1 if i == j else 0)
                 dy = mpmath.lu_solve(A, mpmath.matrix([-v for v in res]))
                 y = [y[i] + dy[i] for i in range(dim)]
-                img, _, _ = self._map_back(y, p, on)
+                img, _, _ = self._map_back(y, p, on, contact)
                 new = residual(y, img)
                 nn = max(abs(v) for v in new)
                 if nn > norm * mpmath.mpf("1e-6"):
@@ -551,17 +619,17 @@ class NonlinearChain:
             else:
                 raise ConvergenceError(f"Newton on P^{p}(y) = y did not converge in "
                                        f"{max_iter} steps", float(norm))
-            J = self.jets(y, 1, p=p, on=on)[0]
-            _, times, hits = self._map_back(y, p, on)
+            J = self.jets(y, 1, p=p, on=on, contact=contact)[0]
+            _, times, hits = self._map_back(y, p, on, contact)
             y[-1] = y[-1] % twopi
             return ChainFixedPoint(tuple(y), _eigenvalues(J), J, norm, tuple(times), m,
                                    tuple(hits))
 
-    def normal_form(self, y, *, p=1, on=0):
+    def normal_form(self, y, *, p=1, on=0, contact=()):
         """The flip coefficient and the Neimark-Sacker c1, l1 of P^p at the fixed point y
-        (on the section of constraint ``on``), from the jets of order 3
-        (:class:`ChainNormalForm` says each normalisation)."""
-        J, d2, d3 = self.jets(y, 3, p=p, on=on)
+        (on the section of constraint ``on``, the first flight in the phase ``contact``),
+        from the jets of order 3 (:class:`ChainNormalForm` says each normalisation)."""
+        J, d2, d3 = self.jets(y, 3, p=p, on=on, contact=contact)
         with mpmath.workdps(self.dps):
             mults = _eigenvalues(J)
             flip = c1 = l1 = None
@@ -770,27 +838,30 @@ def check_special(sp, digits=40):
     :class:`symvi.continuation.SpecialPoint` of kind fold, flip or ns) with the chain at
     ``digits``: its orbit by Newton from symvi's, the critical multiplier and, for a flip
     or an NS point, the coefficient (:class:`SpecialCheck`).  With several stops the
-    chain starts on the section of the orbit's first impact (``signature[0]``) and its
-    own contact search must meet the stops in the orbit's order.  A point the chain does
-    not take (another kind, an elastic stop) comes back with its ``reason``."""
+    chain starts on the section of the orbit's first event (``signature[0]``), with
+    elastic stops in the orbit's phase (``contact``: the stops in contact during its
+    first flight), and its own search must meet the stops in the orbit's order.  A point
+    the chain does not take (another kind, a start it refuses) comes back with its
+    ``reason``."""
     o = sp.orbit
     if sp.kind not in CHECKED_KINDS:
         return SpecialCheck(sp.kind, digits, reason=f"no map at a {sp.kind} point")
     try:
         chain = NonlinearChain(o.model, o.omega, digits)
         sig = tuple(o.signature) if o.signature is not None else (0,) * o.p
+        contact = tuple(getattr(o, "contact", ()) or ())
         if sp.kind == "fold":
             # Newton is singular at a fold (a double root): the chain's map and Jacobian
             # at symvi's point, its residual |P^p(y) - y| for the distance
-            fp, nf = _at_point(chain, o.points[0], o.p, sig[0]), None
+            fp, nf = _at_point(chain, o.points[0], o.p, sig[0], contact), None
         else:
-            fp = chain.fixed_point(o.points[0], p=o.p, on=sig[0])
-            nf = chain.normal_form(fp.y, p=o.p, on=sig[0])
+            fp = chain.fixed_point(o.points[0], p=o.p, on=sig[0], contact=contact)
+            nf = chain.normal_form(fp.y, p=o.p, on=sig[0], contact=contact)
     except (ParameterError, SingularCaseError, ConvergenceError) as exc:
         return SpecialCheck(sp.kind, digits, reason=str(exc))
     if fp.hits != sig[1:] + sig[:1]:
         # the chain's own contact search met the stops in another order than symvi's
-        return SpecialCheck(sp.kind, digits, reason="the chain's impacts hit stops "
+        return SpecialCheck(sp.kind, digits, reason="the chain's events hit stops "
                             f"{_stops(fp.hits[-1:] + fp.hits[:-1])}, symvi's orbit "
                             f"{_stops(sig)}")
     with mpmath.workdps(chain.dps):
@@ -825,16 +896,17 @@ def check_branches(branches, digits=40):
     return tuple(tuple(check_special(sp, digits) for sp in br.special) for br in branches)
 
 
-def _at_point(chain, y, p, on=0):
+def _at_point(chain, y, p, on=0, contact=()):
     """A :class:`ChainFixedPoint` at y itself (no Newton): the chain's Jacobian of P^p
     there, its multipliers, and the residual |P^p(y) - y - (0, .., 2 pi m)|."""
+    contact = chain._check_contact(contact)
     with mpmath.workdps(chain.dps):
         u = [mpmath.mpf(v) for v in chain.section.check(y, "y")]
-        img, times, hits = chain._map_back(u, p, on)
+        img, times, hits = chain._map_back(u, p, on, contact)
         twopi = 2 * mpmath.pi
         m = int(mpmath.nint((img[-1] - u[-1]) / twopi))
         res = [a - b for a, b in zip(img, u)]
         res[-1] -= twopi * m
-        J = chain.jets(u, 1, p=p, on=on)[0]
+        J = chain.jets(u, 1, p=p, on=on, contact=contact)[0]
         return ChainFixedPoint(tuple(u), _eigenvalues(J), J, max(abs(v) for v in res),
                                tuple(times), m, tuple(hits))
