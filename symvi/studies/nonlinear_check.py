@@ -1,14 +1,31 @@
 """An independent 40-digit chain for the impact map of a model with nonlinear forces (issue 28).
 
-Shares no numerical code with symvi's flows (no NonlinearFlow, no LinearFlow, no generated
-jets): it reads the model's matrices, the SymPy expressions of its forces and their
-parameters' values, its rigid stops (normal, gap, side, reset) and the layout of their
-sections (the flow coordinates of :func:`symvi.flow.linear.frame_of`, in which each stop
-fixes one coordinate, and :func:`symvi.flow.compiled.section_index`: the order of a
-section's coordinates, as symvi's orbits give their points), and computes in mpmath at
-``digits`` + GUARD_DIGITS.  Between impacts::
+Shares no numerical code with symvi's flows (no NonlinearFlow, no LinearFlow, no contact
+phase of :mod:`symvi.flow.contact` or :mod:`symvi.flow.nlcontact`, no generated jets): it
+reads the model's matrices, the SymPy expressions of its forces and their parameters'
+values, its stops (normal, gap, side; a rigid stop's reset, an elastic stop's stiffness
+k_s and damping c_s) and the layout of their sections (the flow coordinates of
+:func:`symvi.flow.linear.frame_of`, in which each stop fixes one coordinate, and
+:func:`symvi.flow.compiled.section_index`: the order of a section's coordinates, as
+symvi's orbits give their points), and computes in mpmath at ``digits`` + GUARD_DIGITS.
+Between events, with the set S of elastic stops in contact (S empty: a free flight)::
 
-    M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)
+    M x'' + C_S x' + K_S x + f(x, v) = P sin(omega t + tau) + f_S,
+    K_S = K + sum_{i in S} k_i c_i c_i^T,  C_S = C + sum_{i in S} c_si c_i c_i^T,
+    f_S = sum_{i in S} k_i g_i c_i,
+
+the contact law of :mod:`symvi.flow.contact` (the stop's force -(k_i (c_i . x - g_i) +
+c_si c_i . x') c_i while it is penetrated), summed here at the chain's precision (symvi
+sums K + k_i c c^T in float64: models whose sums round differ by ~1e-17 there).
+Events: a rigid impact (the guard h_j = sign_j (c_j . x - g_j) of a stop j outside S
+crosses 0 upward; v+ = R_j v-), an elastic entry (the same for an elastic j outside S; S
+gains j) and an exit (-h_j crosses 0 upward for j in S: the stop is left when the mass
+leaves it, as symvi's walk does, the contact force then being whatever the law gives,
+an attractive damping part included; S loses j).  An elastic event has no jump.  A
+section point lies on the section of the stop of its event, in the same layout for
+every kind (the velocity kept at an entry or exit); P^p from it runs in the phase
+``contact`` (:class:`symvi.model.Signature`'s: the stops in contact during the first
+flight), and a fixed point of P^p returns to its section in the same phase.
 
 Flight: a Taylor method.  The Taylor coefficients of the solution at each step come from
 the recurrences of automatic differentiation applied to the forces' expressions (sums,
@@ -16,22 +33,24 @@ products, quotients, powers, exp, log, sin/cos, sinh/cosh, atan and what is buil
 them) [Jorba & Zou 2005]; degree K = ceil(-ln(tol) / 2) + 1 and step h = rho / e^2, rho
 the radius of convergence estimated from the last two coefficients (Jorba and Zou's rule:
 the truncation of a step is ~ tol = 10^-(digits + GUARD_DIGITS) relative to max(1, |z|)),
-and at most STEP_FRACTION of a forcing period.  ``mpmath.odefun`` (also a Taylor method)
-was measured: one flight of the Duffing oscillator of the tests (t_e = 4.19) takes it
-18 s at 50 digits against 0.14 s here (the two agree to 1e-51), and it gives no access to
-the step's polynomial, which the contact search below needs.
+and at most STEP_FRACTION of a forcing period (a contact phase's stiffer modes shrink rho
+by themselves).  ``mpmath.odefun`` (also a Taylor method) was measured: one flight of the
+Duffing oscillator of the tests (t_e = 4.19) takes it 18 s at 50 digits against 0.14 s
+here (the two agree to 1e-51), and it gives no access to the step's polynomial, which the
+contact search below needs.
 
-Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) is the step's Taylor
-polynomial of degree K; the first contact is the earliest over the stops. Its Bernstein
-coefficients on [0, h] bound it (convex hull); de Casteljau halving finds the leftmost
-sub-interval whose coefficients end >= 0 with one sign change (Descartes' rule for
-Bernstein forms: exactly one root there), where ``mpmath.findroot`` solves the polynomial.
+Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) (its negative for a
+stop in contact) is the step's Taylor polynomial of degree K; the first event is the
+earliest over the stops.  Its Bernstein coefficients on [0, h] bound it (convex hull);
+de Casteljau halving finds the leftmost sub-interval whose coefficients end >= 0 with one
+sign change (Descartes' rule for Bernstein forms: exactly one root there), where
+``mpmath.findroot`` solves the polynomial.
 Guarantee: no zero of the step's polynomial is stepped over; the polynomial differs from
 the true guard by the step's truncation (~ tol), so a contact can be missed only if its
 penetration is below that (~1e-50 at 40 digits). A hull that still touches 0 after
 ROOT_DEPTH halvings with no such sub-interval (a tangency within 2^-ROOT_DEPTH h) is
-refused as grazing. Just after an impact the guard starts at 0 exactly and the search
-looks at g(s) / s.
+refused as grazing. Just after an event the guard of its stop starts at 0 exactly and
+the search looks at g(s) / s (after an entry, the exit's guard -h).
 
 Jets: the derivatives of the map by central finite differences of the map with the phase
 unwrapped (tau + omega t_e, so that nothing jumps at 2 pi), product stencils of accuracy
@@ -42,7 +61,12 @@ order ``acc`` = 4 (order <= 3) or 6 (orders 4, 5), one step delta = 10^-round(di
 orders <= 3: ~1e-21 for m = 3); so ~1e-15 relative holds while the map's derivatives up to order 7
 (order 11 for jets of order 5) are within ~1e6 of the tensor's own size, which is what a
 flight far from grazing gives (their growth near grazing is like 1/v_impact^k).  The
-tests show 1e-12 against the exact linear jets (beta = 0).
+tests show 1e-12 against the exact linear jets (beta = 0).  With an elastic stop
+(tests/studies/test_nonlinear_check_elastic.py) the events agree with symvi's walk to
+2e-15 (nonlinear, and an elastic with a rigid stop) and with the exact linear phases to
+5e-15 (float64 walk) and 1e-35 (closed form at 50 digits); at a flip of an elastic
+Duffing oscillator's branch the chain's multiplier is -1 to 4e-16 and c agrees to 15
+digits.
 
 References
 ----------
@@ -235,17 +259,18 @@ class _Recurrences:
 
 
 class NonlinearChain:
-    """The impact map P of ``model`` at forcing frequency ``omega``, independently, at
-    ``digits`` digits (module docstring): :meth:`flight`, :meth:`map`, :meth:`map_n`,
-    :meth:`jets`, :meth:`fixed_point`, :meth:`normal_form`.
+    """The impact map P (event to event) of ``model`` at forcing frequency ``omega``,
+    independently, at ``digits`` digits (module docstring): :meth:`flight`, :meth:`map`,
+    :meth:`map_n`, :meth:`jets`, :meth:`fixed_point`, :meth:`normal_form`.
 
-    The model: rigid stops (on masses, upper or lower, or between masses), any number of
-    masses, any smooth forces (or none).  A section point lies on the section of one
-    stop (``on``, 0-based; the model's first by default), in the layout symvi's orbits
-    use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+, x_j, v_j for
-    j != k, tau)); states z are in mass order (x, v).  Numbers come back as mpf at the
-    precision of the call's context; compute with them under ``mpmath.workdps(digits)``
-    or more."""
+    The model: rigid and elastic stops (on masses, upper or lower, or between masses),
+    any number of masses, any smooth forces (or none).  A section point lies on the
+    section of one stop (``on``, 0-based; the model's first by default), in the layout
+    symvi's orbits use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+,
+    x_j, v_j for j != k, tau)), its first flight in the phase ``contact`` (the elastic
+    stops in contact, () by default); states z are in mass order (x, v).  Numbers come
+    back as mpf at the precision of the call's context; compute with them under
+    ``mpmath.workdps(digits)`` or more."""
 
     def __init__(self, model, omega, digits=40):
         cons = model.constraints
@@ -549,7 +574,7 @@ class NonlinearChain:
     def _check_contact(self, contact):
         """``contact`` as a sorted tuple of elastic constraint indices, or ParameterError."""
         try:
-            S = tuple(sorted(set(int(i) for i in contact)))
+            S = tuple(sorted({int(i) for i in contact}))
             ok = all(0 <= i < len(self.gaps) and self.elastic[i] for i in S) and all(
                 not isinstance(i, bool) and float(i) == int(i) for i in contact)
         except (TypeError, ValueError):

@@ -149,7 +149,7 @@ def test_a_flip_of_the_elastic_branch_checked_by_the_chain(branch):
     """check_special at 30 digits on the branch's first flip: the chain's fixed point
     (its residual < 1e-28) lies within 1e-12 of symvi's, its multiplier is -1 within 1e-8
     (4.4e-16 observed), and the flip coefficient c agrees to 10 digits or more (15.3)."""
-    flip = [s for s in branch.special if s.kind == "flip"][0]
+    flip = next(s for s in branch.special if s.kind == "flip")
     got = check_special(flip, 30)
     assert got.reason == "", got.reason
     assert got.residual < 1e-28 and got.distance < 1e-12
