@@ -157,6 +157,21 @@ def test_a_flip_of_the_elastic_branch_checked_by_the_chain(branch):
     assert got.coefficient == "c" and got.agreement >= 10
 
 
+def test_a_fold_of_a_mixed_model_checked_by_the_chain():
+    """The 2-DOF model with an elastic and a rigid stop (a cubic spring): its 1-4 orbits
+    (an exit, two rigid impacts, an entry) fold at omega ~ 1.22 and 1.29; at 30 digits
+    the chain's P^4 maps symvi's orbit at a fold to itself within 1e-12 and has a
+    multiplier 1 there within 1e-10 (2.5e-15, 2e-15 observed; its flips, 60 s each, give
+    c to 13 and 14 digits)."""
+    from symvi.continuation import continue_orbits
+    branches = continue_orbits(CHAIN, "omega", 1.0, 1.6, start_omega=1.2, max_points=400)
+    fold = next(s for b in branches for s in b.special if s.kind == "fold")
+    assert fold.orbit.itinerary.names(CHAIN) == ["stop1:exit", "stop2", "stop2", "stop1:entry"]
+    got = check_special(fold, 30)
+    assert got.reason == "", got.reason
+    assert got.distance < 1e-12 and got.critical_error < 1e-10
+
+
 def test_contact_refusals():
     """A contact naming a rigid stop, a start in the wrong phase, and a P^p that ends in
     another phase are refused by name."""
