@@ -34,9 +34,9 @@ def register(sub):
     p.add_argument("--max-points", type=int, default=5000, help="points per branch")
     p.add_argument("--digits", type=int, default=None,
                    help="re-derive each fold, flip and NS point with the independent mpmath "
-                        "chain at this many digits (30..200; rigid stops, with or without "
-                        "nonlinear forces; seconds to minutes per point): the orbit, "
-                        "the critical multiplier and c or l1")
+                        "chain at this many digits (30..200; rigid and elastic stops, with "
+                        "or without nonlinear forces; seconds to minutes per point): the "
+                        "orbit, the critical multiplier and c or l1")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE.png", help="draw the branches (.png or .pdf)")
     return p
@@ -100,9 +100,8 @@ def run(args):
     model = Model.of(params_from(args))
     fixed = _sets(args.sets, model)
     check_output(args.plot, flag="--plot", suffixes=FIGURE_SUFFIXES)
-    if args.digits is not None and not (30 <= args.digits <= 200 and not model.elastic):
-        raise ParameterError("--digits", args.digits, "an integer from 30 to 200, for a "
-                             "model with rigid stops (the chain's map)")
+    if args.digits is not None and not 30 <= args.digits <= 200:
+        raise ParameterError("--digits", args.digits, "an integer from 30 to 200")
     param = span.name
     spelled = dict(FLAGS, param=flags["name"], start=flags["lo"], stop=flags["hi"])
     from ..progress import counting

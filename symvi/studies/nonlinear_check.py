@@ -1,14 +1,31 @@
 """An independent 40-digit chain for the impact map of a model with nonlinear forces (issue 28).
 
-Shares no numerical code with symvi's flows (no NonlinearFlow, no LinearFlow, no generated
-jets): it reads the model's matrices, the SymPy expressions of its forces and their
-parameters' values, its rigid stops (normal, gap, side, reset) and the layout of their
-sections (the flow coordinates of :func:`symvi.flow.linear.frame_of`, in which each stop
-fixes one coordinate, and :func:`symvi.flow.compiled.section_index`: the order of a
-section's coordinates, as symvi's orbits give their points), and computes in mpmath at
-``digits`` + GUARD_DIGITS.  Between impacts::
+Shares no numerical code with symvi's flows (no NonlinearFlow, no LinearFlow, no contact
+phase of :mod:`symvi.flow.contact` or :mod:`symvi.flow.nlcontact`, no generated jets): it
+reads the model's matrices, the SymPy expressions of its forces and their parameters'
+values, its stops (normal, gap, side; a rigid stop's reset, an elastic stop's stiffness
+k_s and damping c_s) and the layout of their sections (the flow coordinates of
+:func:`symvi.flow.linear.frame_of`, in which each stop fixes one coordinate, and
+:func:`symvi.flow.compiled.section_index`: the order of a section's coordinates, as
+symvi's orbits give their points), and computes in mpmath at ``digits`` + GUARD_DIGITS.
+Between events, with the set S of elastic stops in contact (S empty: a free flight)::
 
-    M x'' + C x' + K x + f(x, v) = P sin(omega t + tau)
+    M x'' + C_S x' + K_S x + f(x, v) = P sin(omega t + tau) + f_S,
+    K_S = K + sum_{i in S} k_i c_i c_i^T,  C_S = C + sum_{i in S} c_si c_i c_i^T,
+    f_S = sum_{i in S} k_i g_i c_i,
+
+the contact law of :mod:`symvi.flow.contact` (the stop's force -(k_i (c_i . x - g_i) +
+c_si c_i . x') c_i while it is penetrated), summed here at the chain's precision (symvi
+sums K + k_i c c^T in float64: models whose sums round differ by ~1e-17 there).
+Events: a rigid impact (the guard h_j = sign_j (c_j . x - g_j) of a stop j outside S
+crosses 0 upward; v+ = R_j v-), an elastic entry (the same for an elastic j outside S; S
+gains j) and an exit (-h_j crosses 0 upward for j in S: the stop is left when the mass
+leaves it, as symvi's walk does, the contact force then being whatever the law gives,
+an attractive damping part included; S loses j).  An elastic event has no jump.  A
+section point lies on the section of the stop of its event, in the same layout for
+every kind (the velocity kept at an entry or exit); P^p from it runs in the phase
+``contact`` (:class:`symvi.model.Signature`'s: the stops in contact during the first
+flight), and a fixed point of P^p returns to its section in the same phase.
 
 Flight: a Taylor method.  The Taylor coefficients of the solution at each step come from
 the recurrences of automatic differentiation applied to the forces' expressions (sums,
@@ -16,22 +33,24 @@ products, quotients, powers, exp, log, sin/cos, sinh/cosh, atan and what is buil
 them) [Jorba & Zou 2005]; degree K = ceil(-ln(tol) / 2) + 1 and step h = rho / e^2, rho
 the radius of convergence estimated from the last two coefficients (Jorba and Zou's rule:
 the truncation of a step is ~ tol = 10^-(digits + GUARD_DIGITS) relative to max(1, |z|)),
-and at most STEP_FRACTION of a forcing period.  ``mpmath.odefun`` (also a Taylor method)
-was measured: one flight of the Duffing oscillator of the tests (t_e = 4.19) takes it
-18 s at 50 digits against 0.14 s here (the two agree to 1e-51), and it gives no access to
-the step's polynomial, which the contact search below needs.
+and at most STEP_FRACTION of a forcing period (a contact phase's stiffer modes shrink rho
+by themselves).  ``mpmath.odefun`` (also a Taylor method) was measured: one flight of the
+Duffing oscillator of the tests (t_e = 4.19) takes it 18 s at 50 digits against 0.14 s
+here (the two agree to 1e-51), and it gives no access to the step's polynomial, which the
+contact search below needs.
 
-Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) is the step's Taylor
-polynomial of degree K; the first contact is the earliest over the stops. Its Bernstein
-coefficients on [0, h] bound it (convex hull); de Casteljau halving finds the leftmost
-sub-interval whose coefficients end >= 0 with one sign change (Descartes' rule for
-Bernstein forms: exactly one root there), where ``mpmath.findroot`` solves the polynomial.
+Contact: on each step each stop's guard g(s) = sign (c . x(s) - b) (its negative for a
+stop in contact) is the step's Taylor polynomial of degree K; the first event is the
+earliest over the stops.  Its Bernstein coefficients on [0, h] bound it (convex hull);
+de Casteljau halving finds the leftmost sub-interval whose coefficients end >= 0 with one
+sign change (Descartes' rule for Bernstein forms: exactly one root there), where
+``mpmath.findroot`` solves the polynomial.
 Guarantee: no zero of the step's polynomial is stepped over; the polynomial differs from
 the true guard by the step's truncation (~ tol), so a contact can be missed only if its
 penetration is below that (~1e-50 at 40 digits). A hull that still touches 0 after
 ROOT_DEPTH halvings with no such sub-interval (a tangency within 2^-ROOT_DEPTH h) is
-refused as grazing. Just after an impact the guard starts at 0 exactly and the search
-looks at g(s) / s.
+refused as grazing. Just after an event the guard of its stop starts at 0 exactly and
+the search looks at g(s) / s (after an entry, the exit's guard -h).
 
 Jets: the derivatives of the map by central finite differences of the map with the phase
 unwrapped (tau + omega t_e, so that nothing jumps at 2 pi), product stencils of accuracy
@@ -42,7 +61,12 @@ order ``acc`` = 4 (order <= 3) or 6 (orders 4, 5), one step delta = 10^-round(di
 orders <= 3: ~1e-21 for m = 3); so ~1e-15 relative holds while the map's derivatives up to order 7
 (order 11 for jets of order 5) are within ~1e6 of the tensor's own size, which is what a
 flight far from grazing gives (their growth near grazing is like 1/v_impact^k).  The
-tests show 1e-12 against the exact linear jets (beta = 0).
+tests show 1e-12 against the exact linear jets (beta = 0).  With an elastic stop
+(tests/studies/test_nonlinear_check_elastic.py) the events agree with symvi's walk to
+2e-15 (nonlinear, and an elastic with a rigid stop) and with the exact linear phases to
+5e-15 (float64 walk) and 1e-35 (closed form at 50 digits); at a flip of an elastic
+Duffing oscillator's branch the chain's multiplier is -1 to 4e-16 and c agrees to 15
+digits.
 
 References
 ----------
@@ -235,23 +259,24 @@ class _Recurrences:
 
 
 class NonlinearChain:
-    """The impact map P of ``model`` at forcing frequency ``omega``, independently, at
-    ``digits`` digits (module docstring): :meth:`flight`, :meth:`map`, :meth:`map_n`,
-    :meth:`jets`, :meth:`fixed_point`, :meth:`normal_form`.
+    """The impact map P (event to event) of ``model`` at forcing frequency ``omega``,
+    independently, at ``digits`` digits (module docstring): :meth:`flight`, :meth:`map`,
+    :meth:`map_n`, :meth:`jets`, :meth:`fixed_point`, :meth:`normal_form`.
 
-    The model: rigid stops (on masses, upper or lower, or between masses), any number of
-    masses, any smooth forces (or none).  A section point lies on the section of one
-    stop (``on``, 0-based; the model's first by default), in the layout symvi's orbits
-    use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+, x_j, v_j for
-    j != k, tau)); states z are in mass order (x, v).  Numbers come back as mpf at the
-    precision of the call's context; compute with them under ``mpmath.workdps(digits)``
-    or more."""
+    The model: rigid and elastic stops (on masses, upper or lower, or between masses),
+    any number of masses, any smooth forces (or none).  A section point lies on the
+    section of one stop (``on``, 0-based; the model's first by default), in the layout
+    symvi's orbits use (one stop on mass k: :meth:`symvi.maps.Section.of`, y = (v_k+,
+    x_j, v_j for j != k, tau)), its first flight in the phase ``contact`` (the elastic
+    stops in contact, () by default); states z are in mass order (x, v).  Numbers come
+    back as mpf at the precision of the call's context; compute with them under
+    ``mpmath.workdps(digits)`` or more."""
 
     def __init__(self, model, omega, digits=40):
         cons = model.constraints
-        if not cons or any(c.kind != "rigid" for c in cons):
-            raise ParameterError("model", model, "rigid stops (the chain checks maps of rigid "
-                                 "impacts; an elastic stop has contact phases)")
+        if not cons:
+            raise ParameterError("model", model, "a model with stops (the chain checks maps "
+                                 "from a stop's section)")
         if not isinstance(digits, int) or isinstance(digits, bool) or not 16 <= digits <= 200:
             raise ParameterError("digits", digits, "an integer from 16 to 200")
         omega = float(omega)
@@ -264,7 +289,7 @@ class NonlinearChain:
         # the layout (not numerics): flow coordinates q = T x in which each constraint
         # fixes one coordinate (a permutation for stops on masses), and each section's
         # coordinates in that order, as symvi's orbits give their points
-        perm, T, _ = frame_of(model.require_rigid_stops())
+        perm, T, _ = frame_of(model)
         if T is None:
             T = np.zeros((n, n))
             for i, j in enumerate(perm):
@@ -286,12 +311,18 @@ class NonlinearChain:
             self.P = [mp(v) for v in model.forcing]
             Mo = np.empty((n, n), dtype=object)
             Mo[:] = self.Minv
-            # per constraint: its guard h = sign (c . x - gap) and reset v+ = R v- (mass
-            # order) at this precision
+            # per constraint: its guard h = sign (c . x - gap), a rigid one's reset
+            # v+ = R v- (mass order) at this precision, an elastic one's stiffness and
+            # damping (its contact phase, :meth:`_phase`)
             self.normals = [[mp(v) for v in c.normal] for c in cons]
             self.gaps = [mp(c.gap) for c in cons]
             self.signs = [int(c.sign) for c in cons]
-            self.resets = [c.reset_matrix(Mo, r=mp(c.restitution)) for c in cons]
+            self.elastic = tuple(c.kind == "elastic" for c in cons)
+            self.resets = [None if el else c.reset_matrix(Mo, r=mp(c.restitution))
+                           for c, el in zip(cons, self.elastic)]
+            self.contact_law = [(mp(c.stiffness), mp(c.damping or 0)) if el else None
+                                for c, el in zip(cons, self.elastic)]
+            self._phases = {}
             self.tol = mp(10) ** -self.dps
             self.degree = math.ceil(self.dps * math.log(10) / 2) + 1
             forces = model._nl
@@ -305,10 +336,31 @@ class NonlinearChain:
             self._bern1 = _bernstein_table(self.degree - 1)
 
     # --- one flight -------------------------------------------------------------------
-    def _series(self, z, phi):
+    def _phase(self, S):
+        """(K_S, C_S, f_S) of the contact phase S (the elastic constraints in contact, a
+        sorted tuple), at this precision: K + sum k_i c_i c_i^T, C + sum c_si c_i c_i^T,
+        sum k_i g_i c_i (module docstring); S = () is the free flight (f_S = 0)."""
+        got = self._phases.get(S)
+        if got is None:
+            n = self.n
+            K = [row[:] for row in self.K]
+            C = [row[:] for row in self.C]
+            f = [mpmath.mpf(0)] * n
+            for i in S:
+                (k, cs), c, g = self.contact_law[i], self.normals[i], self.gaps[i]
+                for a in range(n):
+                    f[a] += k * g * c[a]
+                    for b in range(n):
+                        K[a][b] += k * c[a] * c[b]
+                        C[a][b] += cs * c[a] * c[b]
+            got = self._phases[S] = (K, C, f)
+        return got
+
+    def _series(self, z, phi, S=()):
         """The Taylor coefficients (X, V), each N lists of degree + 1, of the solution
-        through z at s = 0, the forcing's phase there phi."""
+        through z at s = 0, the forcing's phase there phi, in the contact phase S."""
         n, K = self.n, self.degree
+        Ks, Cs, fs = self._phase(S)
         X = [[z[i]] for i in range(n)]
         V = [[z[n + i]] for i in range(n)]
         if self.forces is not None:
@@ -322,8 +374,9 @@ class NonlinearChain:
             xs = [X[j][k] for j in range(n)]
             vs = [V[j][k] for j in range(n)]
             fk = wk * cyc[k % 4]                   # d^k/dt^k sin(omega t + phi) / k!
-            rhs = [self.P[i] * fk - fdot(self.C[i], vs) - fdot(self.K[i], xs)
-                   - (f[i] if f is not None else 0) for i in range(n)]
+            rhs = [self.P[i] * fk - fdot(Cs[i], vs) - fdot(Ks[i], xs)
+                   - (f[i] if f is not None else 0) + (fs[i] if k == 0 else 0)
+                   for i in range(n)]
             for i in range(n):
                 X[i].append(vs[i] / (k + 1))
                 V[i].append(fdot(self.Minv[i], rhs) / (k + 1))
@@ -342,46 +395,54 @@ class NonlinearChain:
                 rho = min(rho, top ** (-mpmath.mpf(1) / j))
         return min(rho / mpmath.e ** 2, self.hcap)
 
-    def flight(self, z0, tau, *, t_max=None):
+    def flight(self, z0, tau, *, t_max=None, contact=()):
         """(t_e, z_e-): :meth:`first_contact` without the constraint's index."""
-        t, z, _ = self.first_contact(z0, tau, t_max=t_max)
+        t, z, _ = self.first_contact(z0, tau, t_max=t_max, contact=contact)
         return t, z
 
-    def first_contact(self, z0, tau, *, t_max=None, on=None):
-        """(t_e, z_e-, j): the first contact with any stop from the state z0 (mass order
-        x, v) at time 0 and phase tau (the forcing is P sin(omega t + tau)), at ``digits``
-        digits, and the index j of the constraint met.  z0 may lie on a stop (h_j = 0
-        exactly, or the stop ``on``: a start on its section, h_on = 0 up to the rounding
-        of the frame), leaving it.  ``t_max``: longest flight searched (default MAX_PERIODS
-        forcing periods); there is no guess to give, the contact search is exhaustive
-        for each guard h_j = sign_j (c_j . x - gap_j) (module docstring).
+    def first_contact(self, z0, tau, *, t_max=None, on=None, contact=()):
+        """(t_e, z_e-, j): the first event from the state z0 (mass order x, v) at time 0
+        and phase tau (the forcing is P sin(omega t + tau)) in the contact phase
+        ``contact`` (the elastic constraints in contact, () for a free flight), at
+        ``digits`` digits, and the index j of the constraint met: a rigid impact or an
+        elastic entry (h_j = 0 rising) for j outside ``contact``, an exit (h_j = 0
+        falling) for j in it.  z0 may lie on a guard (h_j = 0 exactly, or the constraint
+        ``on``: a start on its section, h_on = 0 up to the rounding of the frame), leaving
+        it.  ``t_max``: longest flight searched (default MAX_PERIODS forcing periods);
+        there is no guess to give, the search is exhaustive for each guard
+        e_j = -+ sign_j (c_j . x - gap_j) (module docstring).
 
-        Raises SingularCaseError "no-impact" (none before t_max), "grazing" (a tangency
-        the search cannot resolve, or a start on a stop that does not leave it);
-        ParameterError for a start inside a stop."""
+        Raises SingularCaseError "no-impact" (none before t_max: for a contact phase, a
+        contact that is not left), "grazing" (a tangency the search cannot resolve, or a
+        start on a guard that does not leave it); ParameterError for a start inside a stop
+        not in ``contact`` (or outside one in it)."""
         with mpmath.workdps(self.dps):
             z = [mpmath.mpf(v) for v in z0]
             if len(z) != 2 * self.n:
                 raise ParameterError("z0", z0, f"{2 * self.n} numbers (x, v in mass order)")
+            S = self._check_contact(contact)
             tau = mpmath.mpf(tau)
             t_max = (MAX_PERIODS * 2 * mpmath.pi / self.omega if t_max is None
                      else mpmath.mpf(t_max))
             n, guards = self.n, range(len(self.gaps))
-            g0 = [self._guard(j, z[:n]) for j in guards]
+            # the guard of each constraint in this phase: h_j outside a contact, -h_j in it
+            side = [-1 if j in S else 1 for j in guards]
+            g0 = [side[j] * self._guard(j, z[:n]) for j in guards]
             if any(g > 0 and j != on for j, g in enumerate(g0)):
-                raise ParameterError("z0", z0, "a state off every stop (sign (c . x - gap) "
-                                     "<= 0)")
+                raise ParameterError("z0", z0, "a state off every stop not in contact and "
+                                     "inside every one in contact (sign (c . x - gap) <= 0, "
+                                     ">= 0)")
             on_stop = [g == 0 or j == on for j, g in enumerate(g0)]
             t = mpmath.mpf(0)
             while t < t_max:
-                X, V = self._series(z, tau + self.omega * t)
+                X, V = self._series(z, tau + self.omega * t, S)
                 h = self._step_size(X, V, z)
                 first = None
                 for j in guards:
-                    sg, c = self.signs[j], self.normals[j]
+                    sg, c = side[j] * self.signs[j], self.normals[j]
                     g = [sg * mpmath.fdot(c, [X[i][m] for i in range(n)])
                          for m in range(self.degree + 1)]
-                    g[0] = self._guard(j, [X[i][0] for i in range(n)])
+                    g[0] = side[j] * self._guard(j, [X[i][0] for i in range(n)])
                     s = self._contact(g, h, on_stop[j])
                     if s is not None and (first is None or s < first[0]):
                         first = (s, j)
@@ -391,7 +452,8 @@ class NonlinearChain:
                 z = [mpmath.polyval(row[::-1], h) for row in X + V]
                 t += h
                 on_stop = [False] * len(on_stop)
-            raise SingularCaseError("no-impact", f"no contact within t = {float(t_max):.6g}")
+            raise SingularCaseError("no-impact", f"no {'exit or ' if S else ''}contact "
+                                    f"within t = {float(t_max):.6g}")
 
     def _guard(self, j, x):
         """h_j = sign_j (c_j . x - gap_j) at positions x (mass order)."""
@@ -404,8 +466,8 @@ class NonlinearChain:
         if on_stop:                                     # g(0) = 0: look at g / theta
             p, table = p[1:], self._bern1
             if not p[0] < 0:
-                raise SingularCaseError("grazing", "the start on the stop does not leave it "
-                                        "(speed towards the stop >= 0)")
+                raise SingularCaseError("grazing", "the start on the guard does not leave it "
+                                        "(speed towards it >= 0)")
         else:
             table = self._bern
             if p[0] + sum(abs(c) for c in p[1:]) < 0:   # |g - g(0)| cannot reach 0
@@ -446,47 +508,62 @@ class NonlinearChain:
         q[self.positions[j]] = self.gaps[j]               # exactly on the section
         return [q[i] for i in self.frames[j]] + [tau]
 
-    def _map_u(self, y, p, on=0):
-        """P^p(y) from the section of constraint ``on``, the phase unwrapped (tau + omega
-        sum t_e): (y', flight times, constraints met)."""
+    def _map_u(self, y, p, on=0, contact=()):
+        """P^p(y) from the section of constraint ``on`` with ``contact`` in contact during
+        the first flight, the phase unwrapped (tau + omega sum t_e): (y', flight times,
+        constraints met, the contact after the last event).  A rigid impact applies its
+        reset; an elastic event (no jump) toggles its constraint's contact."""
         n = self.n
         y = [mpmath.mpf(v) for v in y]
+        S = tuple(contact)
         times, hits = [], []
         for _ in range(p):
             z, tau = self._state(y, on)
-            t, ze, j = self.first_contact(z, tau, on=on)
+            t, ze, j = self.first_contact(z, tau, on=on, contact=S)
             times.append(t)
             hits.append(j)
-            vplus = self.resets[j].dot(np.array(ze[n:], dtype=object))
+            if self.elastic[j]:                           # an entry or an exit
+                S = tuple(sorted(set(S) ^ {j}))
+                vplus = ze[n:]
+            else:
+                vplus = self.resets[j].dot(np.array(ze[n:], dtype=object))
             y = self._point(list(ze[:n]) + list(vplus), j, tau + self.omega * t)
             on = j
-        return y, times, hits
+        return y, times, hits, S
 
-    def _map_back(self, y, p, on):
-        """:meth:`_map_u`'s point, refused unless the p-th impact is on constraint ``on``
-        again (else P^p maps between two different sections)."""
-        img, times, hits = self._map_u(y, p, on)
-        if hits[-1] != on:
+    def _map_back(self, y, p, on, contact=()):
+        """:meth:`_map_u`'s point, refused unless the p-th event is on constraint ``on``
+        again, in the phase ``contact`` (else P^p maps between two different sections or
+        phases)."""
+        img, times, hits, S = self._map_u(y, p, on, contact)
+        if hits[-1] != on or S != tuple(contact):
             raise SingularCaseError("signature", f"P^{p} from stop {on + 1} ends on stop "
-                                    f"{hits[-1] + 1} (impacts on stops "
-                                    f"{', '.join(str(j + 1) for j in hits)})")
+                                    f"{hits[-1] + 1} (events on stops "
+                                    f"{', '.join(str(j + 1) for j in hits)}"
+                                    + (f"; in contact with {_stops(S) or 'none'}, from "
+                                       f"{_stops(contact) or 'none'}" if any(self.elastic)
+                                       else "") + ")")
         return img, times, hits
 
-    def map(self, y, *, on=0):
-        """P(y): the section point after the next impact (one flight, then the reset
-        v+ = R v-), tau' = tau + omega t_e mod 2 pi; y on the section of constraint
-        ``on``, the image on the section of the constraint met (with one stop: the
-        layout of y)."""
-        return self.map_n(y, 1, on=on)
+    def map(self, y, *, on=0, contact=()):
+        """P(y): the section point after the next event (one flight, then a rigid reset
+        v+ = R v-, or an elastic entry or exit, which keeps v), tau' = tau + omega t_e
+        mod 2 pi; y on the section of constraint ``on``, the first flight in the phase
+        ``contact`` (a :class:`symvi.model.Signature`'s: with the default (), a start on an
+        elastic stop's section leaves it), the image on the section of the constraint met
+        (with one stop: the layout of y)."""
+        return self.map_n(y, 1, on=on, contact=contact)
 
-    def map_n(self, y, p, *, on=0):
-        """P^p(y): p impacts from the section of constraint ``on``, tau mod 2 pi at the
-        end, on the section of the last constraint met."""
+    def map_n(self, y, p, *, on=0, contact=()):
+        """P^p(y): p events from the section of constraint ``on`` (first flight in the
+        phase ``contact``), tau mod 2 pi at the end, on the section of the last
+        constraint met."""
         if not isinstance(p, int) or isinstance(p, bool) or p < 1:
             raise ParameterError("p", p, "an integer >= 1")
         self._check_on(on)
+        contact = self._check_contact(contact)
         with mpmath.workdps(self.dps):
-            y, _, _ = self._map_u(self.section.check(y), p, on)
+            y, _, _, _ = self._map_u(self.section.check(y), p, on, contact)
             y[-1] = y[-1] % (2 * mpmath.pi)
             return tuple(y)
 
@@ -494,33 +571,49 @@ class NonlinearChain:
         if not isinstance(on, int) or isinstance(on, bool) or not 0 <= on < len(self.gaps):
             raise ParameterError("on", on, f"a constraint index from 0 to {len(self.gaps) - 1}")
 
+    def _check_contact(self, contact):
+        """``contact`` as a sorted tuple of elastic constraint indices, or ParameterError."""
+        try:
+            S = tuple(sorted({int(i) for i in contact}))
+            ok = all(0 <= i < len(self.gaps) and self.elastic[i] for i in S) and all(
+                not isinstance(i, bool) and float(i) == int(i) for i in contact)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ParameterError("contact", contact, "indices of elastic constraints (0-based)")
+        return S
+
     # --- jets, fixed point, normal form -----------------------------------------------
-    def jets(self, y, order=3, *, p=1, on=0):
+    def jets(self, y, order=3, *, p=1, on=0, contact=()):
         """(J, d2, d3[, d4, d5]) of P^p at y: raw derivative tensors, d2[i, j, k] =
         d^2 P_i / dy_j dy_k (as :mod:`symvi.codegen.jets`), numpy object arrays of mpf,
         by central differences of the map at ``digits`` (error bound: module docstring).
         The phase row is the derivative of tau + omega sum t_e.  y lies on the section of
-        constraint ``on``, and so must P^p(y)."""
+        constraint ``on`` (first flight in the phase ``contact``), and so must P^p(y)
+        (in the same phase)."""
         if order not in (1, 2, 3, 4, 5):
             raise ParameterError("order", order, "1 to 5")
         self._check_on(on)
+        contact = self._check_contact(contact)
         acc = 4 if order <= 3 else 6
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y)]
             delta = mpmath.mpf(10) ** -round(self.digits / (acc + order))
-            return _differences(lambda u: self._map_back(u, p, on)[0], y, order, acc, delta)
+            return _differences(lambda u: self._map_back(u, p, on, contact)[0], y, order,
+                                acc, delta)
 
-    def fixed_point(self, y_guess, *, p=1, max_iter=30, on=0):
+    def fixed_point(self, y_guess, *, p=1, max_iter=30, on=0, contact=()):
         """Newton at ``digits`` digits on P^p(y) = y + (0, ..., 2 pi m), m the forcing
         periods of the guess's flights (finite-difference Jacobians, refreshed when a
         step contracts by less than 1e-6); :class:`ChainFixedPoint`.  y on the section of
-        constraint ``on``."""
+        constraint ``on``, the first flight in the phase ``contact``."""
         self._check_on(on)
+        contact = self._check_contact(contact)
         with mpmath.workdps(self.dps):
             y = [mpmath.mpf(v) for v in self.section.check(y_guess, "y_guess")]
             dim = len(y)
             twopi = 2 * mpmath.pi
-            img, _, _ = self._map_back(y, p, on)
+            img, _, _ = self._map_back(y, p, on, contact)
             m = int(mpmath.nint((img[-1] - y[-1]) / twopi))
 
             def residual(u, img):
@@ -535,14 +628,14 @@ class NonlinearChain:
                 if norm <= tol * max(1, max(abs(v) for v in y)):
                     break
                 if J is None:
-                    J = self.jets(y, 1, p=p, on=on)[0]
+                    J = self.jets(y, 1, p=p, on=on, contact=contact)[0]
                 A = mpmath.matrix(dim, dim)
                 for i in range(dim):
                     for j in range(dim):
                         A[i, j] = J[i, j] - (1 if i == j else 0)
                 dy = mpmath.lu_solve(A, mpmath.matrix([-v for v in res]))
                 y = [y[i] + dy[i] for i in range(dim)]
-                img, _, _ = self._map_back(y, p, on)
+                img, _, _ = self._map_back(y, p, on, contact)
                 new = residual(y, img)
                 nn = max(abs(v) for v in new)
                 if nn > norm * mpmath.mpf("1e-6"):
@@ -551,17 +644,17 @@ class NonlinearChain:
             else:
                 raise ConvergenceError(f"Newton on P^{p}(y) = y did not converge in "
                                        f"{max_iter} steps", float(norm))
-            J = self.jets(y, 1, p=p, on=on)[0]
-            _, times, hits = self._map_back(y, p, on)
+            J = self.jets(y, 1, p=p, on=on, contact=contact)[0]
+            _, times, hits = self._map_back(y, p, on, contact)
             y[-1] = y[-1] % twopi
             return ChainFixedPoint(tuple(y), _eigenvalues(J), J, norm, tuple(times), m,
                                    tuple(hits))
 
-    def normal_form(self, y, *, p=1, on=0):
+    def normal_form(self, y, *, p=1, on=0, contact=()):
         """The flip coefficient and the Neimark-Sacker c1, l1 of P^p at the fixed point y
-        (on the section of constraint ``on``), from the jets of order 3
-        (:class:`ChainNormalForm` says each normalisation)."""
-        J, d2, d3 = self.jets(y, 3, p=p, on=on)
+        (on the section of constraint ``on``, the first flight in the phase ``contact``),
+        from the jets of order 3 (:class:`ChainNormalForm` says each normalisation)."""
+        J, d2, d3 = self.jets(y, 3, p=p, on=on, contact=contact)
         with mpmath.workdps(self.dps):
             mults = _eigenvalues(J)
             flip = c1 = l1 = None
@@ -770,27 +863,30 @@ def check_special(sp, digits=40):
     :class:`symvi.continuation.SpecialPoint` of kind fold, flip or ns) with the chain at
     ``digits``: its orbit by Newton from symvi's, the critical multiplier and, for a flip
     or an NS point, the coefficient (:class:`SpecialCheck`).  With several stops the
-    chain starts on the section of the orbit's first impact (``signature[0]``) and its
-    own contact search must meet the stops in the orbit's order.  A point the chain does
-    not take (another kind, an elastic stop) comes back with its ``reason``."""
+    chain starts on the section of the orbit's first event (``signature[0]``), with
+    elastic stops in the orbit's phase (``contact``: the stops in contact during its
+    first flight), and its own search must meet the stops in the orbit's order.  A point
+    the chain does not take (another kind, a start it refuses) comes back with its
+    ``reason``."""
     o = sp.orbit
     if sp.kind not in CHECKED_KINDS:
         return SpecialCheck(sp.kind, digits, reason=f"no map at a {sp.kind} point")
     try:
         chain = NonlinearChain(o.model, o.omega, digits)
         sig = tuple(o.signature) if o.signature is not None else (0,) * o.p
+        contact = tuple(getattr(o, "contact", ()) or ())
         if sp.kind == "fold":
             # Newton is singular at a fold (a double root): the chain's map and Jacobian
             # at symvi's point, its residual |P^p(y) - y| for the distance
-            fp, nf = _at_point(chain, o.points[0], o.p, sig[0]), None
+            fp, nf = _at_point(chain, o.points[0], o.p, sig[0], contact), None
         else:
-            fp = chain.fixed_point(o.points[0], p=o.p, on=sig[0])
-            nf = chain.normal_form(fp.y, p=o.p, on=sig[0])
+            fp = chain.fixed_point(o.points[0], p=o.p, on=sig[0], contact=contact)
+            nf = chain.normal_form(fp.y, p=o.p, on=sig[0], contact=contact)
     except (ParameterError, SingularCaseError, ConvergenceError) as exc:
         return SpecialCheck(sp.kind, digits, reason=str(exc))
     if fp.hits != sig[1:] + sig[:1]:
         # the chain's own contact search met the stops in another order than symvi's
-        return SpecialCheck(sp.kind, digits, reason="the chain's impacts hit stops "
+        return SpecialCheck(sp.kind, digits, reason="the chain's events hit stops "
                             f"{_stops(fp.hits[-1:] + fp.hits[:-1])}, symvi's orbit "
                             f"{_stops(sig)}")
     with mpmath.workdps(chain.dps):
@@ -825,16 +921,17 @@ def check_branches(branches, digits=40):
     return tuple(tuple(check_special(sp, digits) for sp in br.special) for br in branches)
 
 
-def _at_point(chain, y, p, on=0):
+def _at_point(chain, y, p, on=0, contact=()):
     """A :class:`ChainFixedPoint` at y itself (no Newton): the chain's Jacobian of P^p
     there, its multipliers, and the residual |P^p(y) - y - (0, .., 2 pi m)|."""
+    contact = chain._check_contact(contact)
     with mpmath.workdps(chain.dps):
         u = [mpmath.mpf(v) for v in chain.section.check(y, "y")]
-        img, times, hits = chain._map_back(u, p, on)
+        img, times, hits = chain._map_back(u, p, on, contact)
         twopi = 2 * mpmath.pi
         m = int(mpmath.nint((img[-1] - u[-1]) / twopi))
         res = [a - b for a, b in zip(img, u)]
         res[-1] -= twopi * m
-        J = chain.jets(u, 1, p=p, on=on)[0]
+        J = chain.jets(u, 1, p=p, on=on, contact=contact)[0]
         return ChainFixedPoint(tuple(u), _eigenvalues(J), J, max(abs(v) for v in res),
                                tuple(times), m, tuple(hits))
