@@ -31,7 +31,7 @@ import warnings
 import numpy as np
 
 from .._deprecated import moved_names as _moved_names
-from ..errors import ConvergenceError, NearSingularWarning, SymviError
+from ..errors import ConvergenceError, NearSingularWarning, SingularCaseError, SymviError
 from ..normal_forms.normal_form import flip_coefficient, fold_coefficient, normal_form, real_critical
 from ..orbits.periodic import newton, orbit_of
 from . import engine
@@ -42,6 +42,11 @@ from .points import SpecialPoint
 STRONG_RESONANCE_NEAR = 1e-2
 #: distance to the other multipliers below which a critical +-1 is called double
 DOUBLE_GAP = 1e-4
+#: the approach speed, relative to max(1, the bracket's), at which a grazing impact is
+#: taken when its root lands on v = 0 exactly (no Jacobian there: eq. (30))
+GRAZING_FLOOR = 1e-14
+
+
 @functools.lru_cache(maxsize=None)
 def _pairs(n):
     """Index pairs i < j of n multipliers (the bialternate product)."""
@@ -252,7 +257,14 @@ class Codim1Tracker(engine.Tracker):
             if pr.elastic and pr.kinds[j] == "entry":
                 return self._touch(i, Xa, ta, Xb, index)
             X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i), Xa, ta, Xb)
-            orbit = self._orbit(X, Gu, admissibility=False)
+            try:
+                orbit = self._orbit(X, Gu, admissibility=False)
+            except SingularCaseError:
+                # the root met v = 0 exactly, where the map has no Jacobian (eq. (30)):
+                # take it on the admissible side, at a speed of GRAZING_FLOOR
+                floor = GRAZING_FLOOR * max(1.0, abs(self._vimp(Xa, i)))
+                X, t, Gu = self._root(lambda X, t, Gu: self._vimp(X, i) - floor, Xa, ta, Xb)
+                orbit = self._orbit(X, Gu, admissibility=False)
             coef = {"impact": i + 1, "impact_velocity": self._vimp(X, i)}
             if pr.several:
                 coef["stop"] = int(pr.sig[(i + 1) % pr.p]) + 1
