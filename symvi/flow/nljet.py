@@ -23,8 +23,12 @@ the impact map P to order K: raw derivative tensors by
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A stop's
-gap b or restitution r moves no flight, only its ends (as on the linear path, eqs.
+p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)); in a
+contact phase of an elastic stop (:mod:`symvi.flow.nlcontact`) K_S, C_S and the contact
+force f_S move too, with the stop's stiffness, damping and gap (the phase's ``rates``:
+-f_S is a slot of the force program, moved as a force's parameter).  A rigid stop's
+gap b or restitution r moves no flight, only its ends (an elastic stop's gap moves its
+ends in the same way) (as on the linear path, eqs.
 (36)-(38) generalised): the gap the start's fixed coordinate x_a = b on its section (a
 flight that starts on that stop starts from x_a = b + p) and the guard's level sign b (one
 that ends on it); the restitution, and the masses for an impulse along M^-1 c, the reset
@@ -108,7 +112,8 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
     the phase, then omega if ``omega_var``, then ``param`` (a
     :class:`symvi.model.parameters.Parameter` other than omega) if given; ``dz0`` (mass
     order) how the start moves with ``param`` (a stop's gap moves it on its section: the
-    caller knows which section; a stop's gap or restitution moves no field)."""
+    caller knows which section).  How the field moves with ``param`` is
+    :func:`_field_rates`'s (none for a rigid stop's gap or restitution)."""
     if not float(T) >= 0:                    # the Taylor steps run forward only
         raise SingularCaseError("flight", f"a series flight over t = {float(T):.6g} < 0: "
                                 "the series flights run forward only")
