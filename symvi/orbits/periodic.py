@@ -798,7 +798,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     sym = None if problem.mirror is None else H is not None
     vimp = problem.approach_speeds(fl, flow)
     finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
-    ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
+    ok, why = admissible(problem, fl, finder, F, T, model) if admissibility else (True, "")
     two_pi = 2 * math.pi
     pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
     names = tuple(problem.sections[k].names for k in problem.sig)
@@ -809,12 +809,14 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
                          None if H is None else eigenvalues(H), problem.signature.contact)
 
 
-def admissible(problem, fl, flow, F, T):
+def admissible(problem, fl, flow, F, T, model=None):
     """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight; with
     several constraints every guard is watched (the compiled finder) and each flight must
-    end on the constraint its signature names."""
+    end on the constraint its signature names.  ``model``: the problem's model at the
+    continued parameter's value (default its own), whose contact phases walk the flights."""
     if problem.elastic:
-        return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T)
+        return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T,
+                                  problem.model if model is None else model)
     if len(problem.model.constraints) > 1:
         return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
@@ -826,12 +828,14 @@ def admissible(problem, fl, flow, F, T):
     return True, ""
 
 
-def _admissible_phases(problem, fl, flow, F, T):
+def _admissible_phases(problem, fl, flow, F, T, model):
     """:func:`admissible` with contact phases: each flight is checked by the walk of
-    :mod:`symvi.flow.contact` in its phase, which watches every guard (the entries,
-    exits and rigid impacts) with its provably safe step."""
+    :mod:`symvi.flow.contact` in its phase of ``model`` (at the continued parameter's
+    value: a stop's stiffness, damping or gap, a matrix entry move the phases), which
+    watches every guard (the entries, exits and rigid impacts) with its provably safe
+    step."""
     from ..flow import contact
-    model, N, p = problem.model, problem.N, problem.p
+    N, p = problem.N, problem.p
     ends = problem._ends(flow)
     rows = _table(flow)
     for i, (z0, tau, z, *_rest) in enumerate(fl):
