@@ -26,6 +26,7 @@ import mpmath
 import numpy as np
 
 from ..errors import ParameterError
+from ..flow.linear import contact_tangent
 from ..numerics.backend import FLOAT64
 from ._assemble import assemble64
 
@@ -145,18 +146,10 @@ def phase_tangent(flow, tangent):
     flow of a contact phase (:meth:`symvi.flow.linear.LinearFlow.contact`): dK_S = dK +
     dk c c^T and dC_S = dC + dc c c^T for the constraint in contact whose stiffness (dk)
     or damping (dc) moves, and, from zs = (K_S^-1 f_S, 0) with f_S = sum k_i g_i c_i,
-    d xs = K_S^-1 (df_S - dK_S xs) (flow order)."""
+    d xs = K_S^-1 (df_S - dK_S xs) (flow order); the contact law's derivative is
+    :func:`symvi.flow.linear.contact_tangent`'s."""
     n = flow.n
-    dK, dC = np.array(tangent.dK, dtype=float), np.array(tangent.dC, dtype=float)
-    df = np.zeros(n)
-    for i in flow.active:
-        if i != tangent.stop:
-            continue
-        con = flow.model.constraints[i]
-        c = np.array(con.normal, dtype=float)
-        dK = dK + tangent.dk * np.outer(c, c)
-        dC = dC + tangent.dc * np.outer(c, c)
-        df = df + (tangent.dk * con.gap + con.stiffness * tangent.db) * c
+    dK, dC, df = contact_tangent(flow.model, flow.active, tangent)
     xs = np.asarray(flow.offset[:n], dtype=float)
     dxs = np.linalg.solve(np.asarray(flow.K, dtype=float),
                           flow.framed(df) - flow.framed(dK) @ xs)

@@ -53,7 +53,7 @@ def check_pair(model, names, flag="names", shown=None):
     if not any(par.is_forcing_frequency or isinstance(par, NamedParameter) for par in pars):
         ta, tb = (par.tangent(model) for par in pars)
         if all(np.array_equal(getattr(ta, f), getattr(tb, f))
-               for f in ("dM", "dK", "dC", "dP", "db", "dr", "stop")):
+               for f in ("dM", "dK", "dC", "dP", "db", "dr", "dk", "dc", "stop")):
             raise ParameterError(flag, names if shown is None else shown, "two different "
                                  "parameters (these two names are one parameter)")
     if model.nonlinear is not None:

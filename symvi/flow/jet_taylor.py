@@ -374,12 +374,14 @@ def _mass_inverse(Minv, dM, pvar, Kord, W, tmp, MI, MJ, OFF):
                 W[i, e, q] = col[i, q]
 
 
-def system(flow, alg, omega, tau, pvar=None, tangent=None, pslot=None, wvar=False):
+def system(flow, alg, omega, tau, pvar=None, tangent=None, dpars=None, wvar=False):
     """(sy, tj): the field and the scratch of one series flight of ``flow`` (a
-    :class:`symvi.flow.nonlinear.NonlinearFlow`) in ``alg``: omega, tau the series of the
+    :class:`symvi.flow.nonlinear.NonlinearFlow` or a contact phase,
+    :class:`symvi.flow.nlcontact.NonlinearPhase`) in ``alg``: omega, tau the series of the
     frequency and the phase (``wvar``: omega is a variable), ``pvar`` the series of a
-    parameter, either of the forces (its slot ``pslot``) or of M, K, C, P (``tangent``:
-    their derivatives)."""
+    parameter p that moves M, K, C, P (``tangent``: their derivatives, the flow's own
+    K and C) and the parameters of the forces' program (``dpars``: the rate of each slot,
+    a force's parameter or a phase's -f_S), each linearly."""
     n, L, K = flow.n, alg.L, alg.K
     model = flow.model
     Z = np.zeros((n, n))
@@ -392,8 +394,9 @@ def system(flow, alg, omega, tau, pvar=None, tangent=None, pslot=None, wvar=Fals
     nvar = 2 * n + len(flow.pars)
     U = np.zeros((nvar, L))
     U[2 * n:, 0] = flow.pars
-    if pslot is not None:                      # a named force parameter: a variable
-        U[2 * n + pslot] += pvar
+    if dpars is not None:                      # the program's parameters move: U = u + p du
+        for j in np.flatnonzero(dpars):
+            U[2 * n + j] += dpars[j] * pvar
     pvar = pvar if pvar is not None else np.zeros(L)
     MI, MJ, OFF = alg.mul
     W = np.zeros((n, n, L))

@@ -695,6 +695,24 @@ def contact_matrices(model, active):
     return K, C, f
 
 
+def contact_tangent(model, active, tangent):
+    """(dK_S, dC_S, df_S) in mass order: the derivative of :func:`contact_matrices` along a
+    :class:`symvi.model.parameters.Tangent`, dK + dk c c^T, dC + dc c c^T and
+    (dk g + k db) c for the constraint in ``active`` whose stiffness (dk), damping (dc) or
+    gap (db) moves (the tangent's stop)."""
+    dK, dC = np.array(tangent.dK, dtype=float), np.array(tangent.dC, dtype=float)
+    df = np.zeros(model.n)
+    for i in active:
+        if i != tangent.stop:
+            continue
+        con = model.constraints[i]
+        c = np.array(con.normal, dtype=float)
+        dK = dK + tangent.dk * np.outer(c, c)
+        dC = dC + tangent.dc * np.outer(c, c)
+        df = df + (tangent.dk * con.gap + con.stiffness * tangent.db) * c
+    return dK, dC, df
+
+
 def _memo(cache, key, compute, size=256):
     """cache[key], computed once; the cache is emptied past ``size`` entries."""
     hit = cache.get(key)

@@ -30,13 +30,17 @@ Orbits.  :class:`ContactView` shows one phase to the shooting system of
 the linear part's geometry, each flight (z, Phi, dz/dtau, dz/dt) and each impact map's jet
 (:func:`symvi.flow.nljet.map_jet`, an exit's guard -h) from the series of the phase's field
 (:mod:`symvi.flow.jet_taylor`).  No jump at a switch: the elastic resets are the identity.
-Series variables: omega, a parameter of the forces, a rigid stop's gap or restitution; an
-elastic stop's gap, stiffness or damping (they move K_S, C_S, f_S) and an entry of M, K, C,
-P are refused by name.
+Series variables: those of :func:`symvi.flow.nljet.check_parameter`.  An elastic stop's
+gap, stiffness or damping and an entry of M, K, C, P move the phase's field, K_S(p), C_S(p),
+M(p), P(p) and f_S(p), each linear in p (:meth:`NonlinearPhase.rates`: -f_S is a parameter
+slot of the forces' program, so its rate enters the series as a named force's does); a
+gap moves the flights' ends too (the section x_a = g, the level of an entry's guard h and
+of an exit's -h: :func:`symvi.flow.nljet.impact_series`).
 """
 import functools
 import math
 import threading
+from dataclasses import replace
 
 import numpy as np
 
@@ -46,8 +50,8 @@ from ..numerics.tolerances import EPS64 as _EPS
 from . import compiled as cf
 from . import taylor
 from ._events import GRAZING, NO_EVENT, NONFINITE, Hit
-from ._program import OP_ADD, OP_CONST, program
-from .linear import contact_matrices
+from ._program import OP_ADD, OP_VAR, program
+from .linear import contact_matrices, contact_tangent
 from .nljet import FlowView
 from .nonlinear import RTOL, _rhs
 
@@ -70,24 +74,49 @@ class NonlinearPhase:
         names = [f"x{i + 1}" for i in range(n)] + [f"v{i + 1}" for i in range(n)]
         pnames = list(forces.names)
         ops, off, depth = program(forces.exprs(n), names + pnames)
-        # the constant force f_S on the left-hand side: force i becomes f_i - f_S_i
-        rows, offs = [], [0]
+        # the constant force f_S on the left-hand side: force i becomes f_i - f_S_i, -f_S_i
+        # a slot of the program after the forces' parameters (a series flight moves it
+        # with an elastic stop's gap or stiffness: :meth:`rates`), on every coordinate an
+        # active normal touches (f_S_i may be 0 there: a stop at gap 0)
+        touched = np.zeros(n, dtype=bool)
+        for i in self.active:
+            touched |= np.asarray(model.constraints[i].normal, dtype=float) != 0.0
+        #: per force i, its -f_S slot among the program's parameters (-1: none)
+        self.fslots = np.full(n, -1, dtype=np.int64)
+        rows, offs, extra = [], [0], []
         for i in range(n):
             rows.extend(ops[off[i]:off[i + 1]])
-            if f[i] != 0.0:
-                rows += [(OP_CONST, -f[i]), (OP_ADD, 2.0)]
+            if touched[i]:
+                self.fslots[i] = len(pnames) + len(extra)
+                rows += [(OP_VAR, 2 * n + self.fslots[i]), (OP_ADD, 2.0)]
+                extra.append(-f[i])
             offs.append(len(rows))
         self.ops = np.array(rows, dtype=np.float64).reshape(-1, 2)
         self.off = np.array(offs, dtype=np.int64)
         self._depth = max(depth, 2)
         self.tape = taylor.tape(self.ops, self.off, 2 * n)
-        self.pars = np.array([forces.value(p) for p in pnames], dtype=float)
+        self.pars = np.array([forces.value(p) for p in pnames] + extra, dtype=float)
+        #: the Model this phase is of (:meth:`rates` reads its contact law)
+        self.source = model
         w2 = np.linalg.eigvals(self.Minv @ K).real
         self.omega_max = math.sqrt(max(float(w2.max()), 0.0))
         self._local = threading.local()
         #: the phase's matrices where the series flights of :mod:`symvi.flow.jet_taylor`
         #: read a flow's model (stiffness, damping, forcing, the forces' parameters)
         self.model = _PhaseMatrices(self.K, self.C, self.P, forces)
+
+    def rates(self, tangent):
+        """(tangent, dpars): how this phase's field moves along a
+        :class:`symvi.model.parameters.Tangent` (its M, K, C, P, a stop's gap, stiffness
+        or damping), as the series flights of :mod:`symvi.flow.jet_taylor` read it: the
+        tangent with K_S's and C_S's rates (:func:`symvi.flow.linear.contact_tangent`) and
+        the rate of each program parameter, -df_S_i in the -f_S slots."""
+        dK, dC, df = contact_tangent(self.source, self.active, tangent)
+        dpars = np.zeros(len(self.pars))
+        for i, q in enumerate(self.fslots):   # df_S_i = 0 off the slots (c_i = 0 there)
+            if q >= 0:
+                dpars[q] = -df[i]
+        return replace(tangent, dK=dK, dC=dC), dpars
 
     def hmax(self, omega, frac=taylor.STEP_CAP):
         """``frac`` of the shortest period (forcing, the phase's linear modes), as
@@ -135,7 +164,7 @@ class NonlinearPhase:
 class _PhaseMatrices:
     """What a series flight reads of a flow's model, for one phase: K_S as the stiffness,
     C_S as the damping, P, and the forces (whose program :class:`NonlinearPhase` holds, -f_S
-    appended).  A parameter of M, K, C or P is no variable here (:class:`ContactView`)."""
+    appended); how they move with a parameter is :meth:`NonlinearPhase.rates`."""
 
     def __init__(self, K, C, P, forces):
         self.stiffness, self.damping, self.forcing, self._nl = K, C, P, forces
@@ -232,6 +261,7 @@ class ContactView(FlowView):
         n = model.n
         for i in self.phase.active:
             self.rows[i][2:3 + n] *= -1.0
+        self.exits = frozenset(self.phase.active)
         self.positions = tuple(int(r[0]) for r in self.rows)
         self.frames = tuple(section_index(n, q) for q in self.positions)
 
@@ -239,16 +269,6 @@ class ContactView(FlowView):
     def of(cls, model, active=()):
         """The view of ``model``'s phase ``active``, built once (:func:`view`)."""
         return view(model, active)
-
-    def flight(self, forcing, z0, tau, t, param=None):
-        """(z, dz/dz0, dz/dtau, dz/dt) at t of the phase's flight from z0 (flow order) at
-        phase tau (:meth:`symvi.flow.linear.LinearFlow.flight`'s layout); with ``param``
-        (omega or a parameter of the forces) dz/dparam appended."""
-        w = param is not None and param.is_forcing_frequency
-        if param is not None and not w and param.name not in self.model._nl.names:
-            raise ParameterError("param", param.name, "omega or a parameter of the forces "
-                                 "(with elastic stops and nonlinear forces)")
-        return super().flight(forcing, z0, tau, t, param)      # on self.nl: the phase
 
 
 @functools.lru_cache(maxsize=64)

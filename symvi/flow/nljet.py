@@ -23,8 +23,12 @@ the impact map P to order K: raw derivative tensors by
 
 Parameters.  omega enters the phase omega t + tau; a named force parameter is a variable of
 the force program; a parameter of the linear part moves M, K, C, P (linearly: M(p) = M +
-p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)).  A stop's
-gap b or restitution r moves no flight, only its ends (as on the linear path, eqs.
+p dM, ...; M(p)^-1 as a series by K fixed-point sweeps w = M^-1 (e - p dM w)); in a
+contact phase of an elastic stop (:mod:`symvi.flow.nlcontact`) K_S, C_S and the contact
+force f_S move too, with the stop's stiffness, damping and gap (the phase's ``rates``:
+-f_S is a slot of the force program, moved as a force's parameter).  A rigid stop's
+gap b or restitution r moves no flight, only its ends (an elastic stop's gap moves its
+ends in the same way) (as on the linear path, eqs.
 (36)-(38) generalised): the gap the start's fixed coordinate x_a = b on its section (a
 flight that starts on that stop starts from x_a = b + p) and the guard's level sign b (one
 that ends on it); the restitution, and the masses for an impulse along M^-1 c, the reset
@@ -36,6 +40,7 @@ import numpy as np
 
 from .. import _numba_cache  # noqa: F401  (one cache key for all kernels)
 from ..errors import ParameterError, SingularCaseError
+from ..model.parameters import StopParameter
 from . import jet_taylor, taylor, tps
 
 #: how far (relative) the flight's end may lie from the impact the series solve for (the
@@ -107,7 +112,8 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
     the phase, then omega if ``omega_var``, then ``param`` (a
     :class:`symvi.model.parameters.Parameter` other than omega) if given; ``dz0`` (mass
     order) how the start moves with ``param`` (a stop's gap moves it on its section: the
-    caller knows which section; a stop's gap or restitution moves no field)."""
+    caller knows which section).  How the field moves with ``param`` is
+    :func:`_field_rates`'s (none for a rigid stop's gap or restitution)."""
     if not float(T) >= 0:                    # the Taylor steps run forward only
         raise SingularCaseError("flight", f"a series flight over t = {float(T):.6g} < 0: "
                                 "the series flights run forward only")
@@ -124,15 +130,13 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
     ip = d - 1 if param is not None else None
     tau_s = _series(alg, tau, itau)
     om_s = _series(alg, omega, iw)
-    tangent, pslot, pvar = None, None, None
+    tangent, dpars, pvar = None, None, None
     if param is not None:
         pvar = _series(alg, 0.0, ip)
-        pslot = _force_slot(flow.model, param)
-        if pslot is None:
-            tangent = check_parameter(flow.model, param).tangent(flow.model)
+        tangent, dpars = _field_rates(flow, param)
         if dz0 is not None:
             Y[:, 1 + ip] = dz0
-    sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, pslot,
+    sy, tj = jet_taylor.system(flow, alg, om_s, tau_s, pvar, tangent, dpars,
                                wvar=bool(omega_var))
     steps = jet_taylor.integrate(sy, tj, Y, float(T), flow.hmax(omega, taylor.STEP_CAP))
     if steps < 0 or not np.all(np.isfinite(Y)):
@@ -142,27 +146,53 @@ def flight_series(flow, omega, z0, tau, T, order, B, *, omega_var=False, param=N
 
 
 #: the parameters the series take (:func:`check_parameter`)
-TAKEN = ("omega, a parameter of the forces, an entry of M, K, C, P or a rigid stop's gap "
-         "or restitution (an elastic stop's stiffness or damping with nonlinear forces: a "
-         "later step of issue 28)")
+TAKEN = ("omega, a parameter of the forces, an entry of M, K, C, P, a rigid stop's gap or "
+         "restitution, or an elastic stop's gap, stiffness or damping")
 
 
 def check_parameter(model, param):
     """``param`` (a :class:`symvi.model.parameters.Parameter`) when the series of a flight
     of ``model`` (nonlinear forces) take it as a variable, else the one-line
     ParameterError naming "param": the one owner of what they take (a curve's front end
-    asks before it computes, :func:`symvi.curves.curve_params`)."""
+    asks before it computes, :func:`symvi.curves.curve_params`; the shooting system of
+    :class:`symvi.orbits.periodic.Problem` asks at its entry).  They take :data:`TAKEN`:
+    omega, a force's parameter (a variable of the forces' program), and any parameter
+    whose tangent moves M, K, C, P, a stop's gap, restitution, stiffness or damping, each
+    linearly (:class:`symvi.model.parameters.Tangent`): the field of a free flight or of a
+    contact phase (K_S, C_S, f_S: :meth:`symvi.flow.nlcontact.NonlinearPhase.rates`), the
+    start's section, the guard's level and the reset (:func:`impact_series`)."""
     if param.is_forcing_frequency or _force_slot(model, param) is not None:
         return param
-    tan = param.tangent(model)
-    if tan.dk or tan.dc:
-        raise ParameterError("param", param.name, TAKEN)
+    try:
+        if isinstance(param, StopParameter):
+            param.stop_of(model)             # the model has that stop, and that number
+        param.tangent(model)                 # a force's parameter of another model: none
+    except ParameterError:
+        raise ParameterError("param", param.name, TAKEN) from None
     return param
+
+
+def _field_rates(flow, param):
+    """(tangent, dpars): how the field of a series flight of ``flow`` (a
+    :class:`symvi.flow.nonlinear.NonlinearFlow` or a contact phase,
+    :class:`symvi.flow.nlcontact.NonlinearPhase`) moves along ``param``: the tangent of
+    the M, K, C, P it reads (a phase's K_S, C_S: its ``rates``) and the rate of each
+    parameter slot of the forces' program (a force's parameter; a phase's -f_S)."""
+    model = getattr(flow, "source", flow.model)      # a phase's Model
+    slot = _force_slot(model, param)
+    if slot is not None:
+        dpars = np.zeros(len(flow.pars))
+        dpars[slot] = 1.0
+        return None, dpars
+    tan = check_parameter(model, param).tangent(model)
+    rates = getattr(flow, "rates", None)
+    return rates(tan) if rates is not None else (tan, None)
 
 
 def _stop_tangent(model, param):
     """The tangent of ``param`` when it moves a stop's gap or restitution (the flight's
-    ends, not its field), else None."""
+    ends; an elastic stop's gap moves its phases' field too, :func:`_field_rates`), else
+    None."""
     if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
         return None
     tan = param.tangent(model)
@@ -171,11 +201,14 @@ def _stop_tangent(model, param):
 
 def _reset_moves(model, k, param):
     """Whether ``param`` moves constraint k's reset: its restitution, or the masses for an
-    impulse along M^-1 c (:meth:`symvi.model.Constraint.reset_matrix`)."""
+    impulse along M^-1 c (:meth:`symvi.model.Constraint.reset_matrix`); an elastic
+    constraint has none (the identity)."""
     if param is None or param.is_forcing_frequency or _force_slot(model, param) is not None:
         return False
     tan = param.tangent(model)
     con = model.constraints[k]
+    if con.kind == "elastic":
+        return False
     return bool((tan.dr and tan.stop == k) or
                 (con.impulse is None and np.any(np.asarray(tan.dM) != 0)))
 
@@ -268,7 +301,8 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     E[fa, np.arange(dim - 1)] = 1.0
     S = view.S
     # a stop's gap or restitution (its tangent, else None): the flight's ends move
-    stan = _stop_tangent(flow.model, param)
+    model = view.model
+    stan = _stop_tangent(model, param)
     dz0 = None
     if stan is not None and stan.db and stan.stop == start:
         dz0 = np.zeros(dim)
@@ -286,8 +320,10 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     H = np.tensordot(guard, Z[:n], axes=1)
     H[0, 0] -= level
     if stan is not None and stan.db and stan.stop == end:
-        # the level sign b moves (the parameter is the last variable: monomial d)
-        H[0, alg.d] -= flow.model.constraints[end].sign * stan.db
+        # the level sign b moves (the parameter is the last variable: monomial d), -sign b
+        # on an exit's guard -h
+        flip = -1.0 if end in view.exits else 1.0
+        H[0, alg.d] -= flip * model.constraints[end].sign * stan.db
     speed = float(H[1, 0])
     if not speed > 0:
         raise SingularCaseError("grazing", f"the approach speed at the impact is {speed:.3g}: "
@@ -300,7 +336,7 @@ def _impact_series(view, omega, y, T, order, start, end, omega_var, param):
     for i in range(dim):
         _horner(Z[i], St, ze[i], tmp, MI, MJ, OFF)
     # the reset v+ = R(p) v- and the section point on constraint ``end``
-    if _reset_moves(flow.model, end, param):
+    if _reset_moves(model, end, param):
         ze[n:] = _reset_series(view, fl, end, param, ze[n:])
     else:
         ze[n:] = row[3 + n:].reshape(n, n) @ ze[n:]
@@ -362,6 +398,8 @@ class FlowView:
                           "_constrain", "_reset_data", "_framed_reset", "_mass_key"))
     offset = None
     free = False
+    #: the constraints whose guard is an exit's, -h (a contact phase's, :mod:`.nlcontact`)
+    exits = frozenset()
 
     def __init__(self, model):
         from .compiled import section_index

@@ -92,8 +92,9 @@ class Problem:
         #: is the exact flow of its phase (:meth:`LinearFlow.contact`) and the numpy
         #: reference evaluates the system (the compiled kernel takes one flow)
         self.elastic = model.elastic
-        if self.elastic and self.nonlinear and self.parameter is not None:
-            _series_parameter(model, self.parameter)
+        if self.nonlinear and self.parameter is not None:
+            from ..flow.nljet import check_parameter      # the one owner of what they take
+            check_parameter(model, self.parameter)
         self.phases = sig.phases(model) if self.elastic else None
         self.kinds = sig.kinds(model) if self.elastic else None
         if self.elastic:
@@ -182,10 +183,9 @@ class Problem:
             z0[self.frames[k]] = Y[i][:-1]
             tau = Y[i][-1]
             fi, Fi = phases[i]
-            if self.nonlinear and self.parameter is not None and \
-                    not isinstance(self.parameter, StopParameter):
+            if self.nonlinear and self._moves_field(self.parameter, i):
                 # one series flight gives dz/dlam too (:meth:`_dparam_series` reads it;
-                # a stop's gap or restitution moves no flight, only its ends)
+                # a rigid stop's gap or restitution moves no flight, only its ends)
                 *f, dzp = fi.flight(Fi, z0, tau, T[i], param=self.parameter)
                 out.append((z0, tau) + tuple(f) + (dzp,))
             else:
@@ -398,34 +398,50 @@ class Problem:
             out[p * d + i] = g @ dz[:N] - (model.constraints[ks].sign * pb if end else 0.0)
         return out
 
+    def _moves_field(self, par, i):
+        """Whether ``par`` moves the field of flight i (a nonlinear model): all but None and
+        a stop's gap or restitution, which move the flights' ends only, except an elastic
+        stop's numbers in a flight of a phase with that stop in contact (K_S, C_S, f_S)."""
+        if par is None:
+            return False
+        if not isinstance(par, StopParameter):
+            return True
+        return (par.stop_of(self.model).kind == "elastic" and self.elastic
+                and par.i in self.phases[i])
+
     def _dparam_series(self, fl, model, flow, F, T, name):
         """:meth:`_dparam` of a nonlinear model: dz/dp of each flight from its first-order
-        series (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or restitution
-        moves no flight, only its ends (:meth:`_dstop`); an entry of M moves the reset of
-        an impulse along M^-1 c too (dE z, as on the linear path)."""
-        if self.elastic:
-            _series_parameter(model, name)
-        if isinstance(name, StopParameter):
-            return self._dstop(fl, model, flow, name.tangent(model))
+        series in its phase (:meth:`symvi.flow.nljet.FlowView.flight`); a stop's gap or
+        restitution moves the flights' ends (:meth:`_dstop`), an elastic stop's numbers
+        the field of the phases in contact with it too (K_S, C_S, f_S); an entry of M
+        moves the reset of an impulse along M^-1 c too (dE z, as on the linear path)."""
+        from ..flow.nljet import check_parameter
+        check_parameter(model, name)
+        stop = isinstance(name, StopParameter)
+        out = (self._dstop(fl, model, flow, name.tangent(model)) if stop
+               else np.zeros(self.size))
         d, p, N = self.d, self.p, self.N
-        out = np.zeros(self.size)
         ends = self._ends(flow)
         mine = self.parameter is not None and name.name == self.parameter.name
         dE = [None] * len(model.constraints)
-        if not (name.is_forcing_frequency or isinstance(name, NamedParameter)):
+        if not (stop or name.is_forcing_frequency or isinstance(name, NamedParameter)):
             tan = name.tangent(model)
             dE = [self._dreset_rows(flow.lin, model, k, tan)
                   for k in range(len(model.constraints))]
+        phases = self.phase_flows(model, flow, F)       # each flight in its phase's field
         for i, (z0, tau, z, *rest) in enumerate(fl):
+            if not self._moves_field(name, i):
+                continue
             E, g, _ = ends[i]
+            fi, Fi = phases[i]
             dz = rest[3] if mine and len(rest) > 3 else \
-                flow.flight(F, z0, tau, T[i], param=name)[4]
-            out[i * d:i * d + d - 1] = E @ dz
+                fi.flight(Fi, z0, tau, T[i], param=name)[4]
+            out[i * d:i * d + d - 1] += E @ dz
             kb = self.sig[(i + 1) % p]
             if dE[kb] is not None:
                 out[i * d:i * d + d - 1] += dE[kb] @ z
             out[i * d + d - 1] = T[i] if name.is_forcing_frequency else 0.0
-            out[p * d + i] = g @ dz[:N]
+            out[p * d + i] += g @ dz[:N]
         return out
 
     def _dstop(self, fl, model, flow, tan):
@@ -782,7 +798,7 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
     sym = None if problem.mirror is None else H is not None
     vimp = problem.approach_speeds(fl, flow)
     finder = _shooting.CompiledFinder(flow) if problem.compiled else flow
-    ok, why = admissible(problem, fl, finder, F, T) if admissibility else (True, "")
+    ok, why = admissible(problem, fl, finder, F, T, model) if admissibility else (True, "")
     two_pi = 2 * math.pi
     pts = tuple(tuple(float(v) for v in y[:-1]) + (float(y[-1] % two_pi),) for y in Y)
     names = tuple(problem.sections[k].names for k in problem.sig)
@@ -793,12 +809,14 @@ def orbit_of(problem, u, lam, Gu=None, admissibility=True):
                          None if H is None else eigenvalues(H), problem.signature.contact)
 
 
-def admissible(problem, fl, flow, F, T):
+def admissible(problem, fl, flow, F, T, model=None):
     """(ok, reason): :func:`symvi.orbits.admissibility.check_flight` for every flight; with
     several constraints every guard is watched (the compiled finder) and each flight must
-    end on the constraint its signature names."""
+    end on the constraint its signature names.  ``model``: the problem's model at the
+    continued parameter's value (default its own), whose contact phases walk the flights."""
     if problem.elastic:
-        return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T)
+        return _admissible_phases(problem, fl, getattr(flow, "flow", flow), F, T,
+                                  problem.model if model is None else model)
     if len(problem.model.constraints) > 1:
         return _admissible_stops(problem, fl, getattr(flow, "flow", flow), F, T)
     k, g = flow.perm[0] + 1, getattr(flow, "flow", flow).approach      # flow or CompiledFinder
@@ -810,12 +828,14 @@ def admissible(problem, fl, flow, F, T):
     return True, ""
 
 
-def _admissible_phases(problem, fl, flow, F, T):
+def _admissible_phases(problem, fl, flow, F, T, model):
     """:func:`admissible` with contact phases: each flight is checked by the walk of
-    :mod:`symvi.flow.contact` in its phase, which watches every guard (the entries,
-    exits and rigid impacts) with its provably safe step."""
+    :mod:`symvi.flow.contact` in its phase of ``model`` (at the continued parameter's
+    value: a stop's stiffness, damping or gap, a matrix entry move the phases), which
+    watches every guard (the entries, exits and rigid impacts) with its provably safe
+    step."""
     from ..flow import contact
-    model, N, p = problem.model, problem.N, problem.p
+    N, p = problem.N, problem.p
     ends = problem._ends(flow)
     rows = _table(flow)
     for i, (z0, tau, z, *_rest) in enumerate(fl):
@@ -858,19 +878,6 @@ def free_flow(model):
         return contact_flow(model, ())
     from ..flow.nljet import FlowView
     return FlowView.of(model)
-
-
-def _series_parameter(model, par):
-    """Refuse, in one line naming it, a parameter the contact phases' series of a model with
-    elastic stops and nonlinear forces do not take as a variable: they take omega, a
-    parameter of the forces and a rigid stop's gap or restitution (which moves only the
-    flights' ends); an elastic stop's gap, stiffness or damping moves K_S, C_S and f_S, an
-    entry of M, K, C or P the field (:class:`symvi.flow.nlcontact.ContactView`)."""
-    if (par.is_forcing_frequency or par.name in model._nl.names
-            or (isinstance(par, StopParameter) and par.stop_of(model).kind == "rigid")):
-        return
-    raise ParameterError("parameter", par.name, "omega, a parameter of the forces or a rigid "
-                         "stop's gap or restitution (with elastic stops and nonlinear forces)")
 
 
 def contact_flow(model, active):

@@ -6,8 +6,8 @@ Checks that could fail: each checked point of a flip curve in (omega, gap) and o
 curve in (omega, restitution) of the impact Duffing oscillator is the flip (fold) that
 one-parameter continuation in omega at that gap (r) locates, to 1e-8, with the same
 normal-form coefficient; with the nonlinearity off the curve is the exact linear flow's;
-``symvi curve --params omega,gap`` works on the nonlinear model, and a parameter the series
-do not take is refused in one line naming ``--params`` before anything is computed."""
+``symvi curve --params omega,gap`` works on the nonlinear model, and a parameter the model
+does not have is refused in one line naming ``--params`` before anything is computed."""
 import json
 
 import numpy as np
@@ -149,7 +149,8 @@ def test_symvi_curve_in_omega_and_gap_on_a_nonlinear_model(tmp_path):
     assert len(flips) == 1 and abs(flips[0] - e["omega"]) < 1e-8
 
 
-#: nonlinear forces on an elastic stop: its stiffness is no variable of the series yet
+#: nonlinear forces on an elastic stop (its gap, stiffness and damping are series variables:
+#: tests/flow/test_nonlinear_elastic_params.py); it has no restitution
 ELASTIC = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
                 stop=Stop(mass=1, gap=0.0, stiffness=50.0, damping=0.1),
                 nonlinear=["beta*x1**3"], parameters={"beta": 0.2})
@@ -167,27 +168,33 @@ def _no_computing(monkeypatch):
     monkeypatch.setattr(symvi.curves.start, "start_points", fail)
 
 
-def test_a_parameter_the_series_do_not_take_is_refused_first(tmp_path, monkeypatch):
-    """``--params omega,stop[1].stiffness`` on a model with nonlinear forces: one line
-    naming --params and what the series take, exit 2, before any start is searched."""
+def test_a_parameter_the_model_does_not_have_is_refused_first(tmp_path, monkeypatch):
+    """``--params omega,restitution`` on a model whose stop is elastic: one line naming
+    --params and the stop's numbers, exit 2, before any start is searched."""
     f = tmp_path / "elastic.toml"
     f.write_text(dumps(ELASTIC))
     _no_computing(monkeypatch)
     line = assert_bad_input(cli("curve", "--model", f, "--kind", "flip", "--range",
-                                "omega=2.6:2.9", "--params", "omega,stop[1].stiffness"),
-                            "--params", "stop[1].stiffness", "rigid stop's gap")
+                                "omega=2.6:2.9", "--params", "omega,restitution"),
+                            "--params", "restitution", "stop[1].stiffness")
     assert "param =" not in line
 
 
 def test_the_library_checks_the_pair_before_computing(monkeypatch):
     """curve_from_interval refuses the pair before its start search (naming ``names``);
     a force parameter beside a gap is a pair (it asked for the force parameter's tangent
-    and was refused naming ``parameter``)."""
+    and was refused naming ``parameter``); an elastic stop's stiffness and damping are
+    two parameters (their tangents differ in dk and dc only)."""
     from symvi.curves.start import curve_from_interval
     _no_computing(monkeypatch)
-    with pytest.raises(ParameterError, match="^names = 'stop.1..stiffness'"):
-        curve_from_interval(ELASTIC, 2.6, 2.9, ("omega", "stop[1].stiffness"), kind="flip")
+    with pytest.raises(ParameterError, match="^names = 'restitution'"):
+        curve_from_interval(ELASTIC, 2.6, 2.9, ("omega", "restitution"), kind="flip")
     assert curve_params(DUFFING, "beta,gap") == ("beta", "gap")
     assert curve_params(DUFFING, "omega,restitution") == ("omega", "restitution")
+    assert curve_params(ELASTIC, "omega,stop[1].stiffness") == ("omega", "stop[1].stiffness")
+    assert curve_params(ELASTIC, "stop[1].stiffness,stop[1].damping") == \
+        ("stop[1].stiffness", "stop[1].damping")
     with pytest.raises(ParameterError, match="^--params"):
         curve_params(DUFFING, "gap,stop[1].gap")
+    with pytest.raises(ParameterError, match="^--params"):
+        curve_params(ELASTIC, "stop[1].damping,stop[1].damping")

@@ -190,13 +190,20 @@ def test_derivatives_in_gap_and_r_against_differences_of_the_map(key, name):
     assert np.max(np.abs(got["dpP"])) > 0.1
 
 
-def test_an_elastic_stop_parameter_is_refused_by_name():
-    """What the series take has one owner (:func:`nljet.check_parameter`): a rigid stop's
-    gap and restitution, not an elastic stop's stiffness (elastic stops with nonlinear
-    forces: a later step), refused in one line naming the parameter."""
+def test_what_the_series_take_has_one_owner():
+    """What the series take has one owner (:func:`nljet.check_parameter`): an elastic stop's
+    gap, stiffness and damping and an entry of M, K, C, P too (the contact phases' fields
+    move with them: tests/flow/test_nonlinear_elastic_params.py); a parameter the model
+    does not have (a rigid stop's restitution on an elastic stop) is refused in one line
+    naming it and what the series take."""
     el = Model(mass=[1.0], stiffness=[[1.0]], damping=[[0.05]], forcing=[1.0],
                stop=Stop(mass=1, gap=0.0, stiffness=50.0, damping=0.1),
                nonlinear=["beta*x1**3"], parameters={"beta": 0.2})
-    assert nljet.check_parameter(el, el.parameter("gap")).name == "gap"
-    with pytest.raises(ParameterError, match="stop.1..stiffness.*rigid stop's gap"):
-        nljet.check_parameter(el, el.parameter("stop[1].stiffness"))
+    for name in ("gap", "stop[1].stiffness", "stop[1].damping", "mass[1]",
+                 "stiffness[1,1]", "damping[1,1]", "forcing[1]", "beta", "omega"):
+        assert nljet.check_parameter(el, el.parameter(name)).name == name
+    rigid = Model(**ONE).parameter("restitution")
+    with pytest.raises(ParameterError, match=r"^param = 'restitution'.*elastic stop's gap, "
+                       "stiffness or damping") as e:
+        nljet.check_parameter(el, rigid)
+    assert "\n" not in str(e.value)

@@ -150,12 +150,15 @@ def test_the_command_line_runs_it(tmp_path):
     assert "stop1:entry, stop1:exit" in out
 
 
-@pytest.mark.parametrize("name", ["stop[1].stiffness", "stiffness[1,1]"])
-def test_a_parameter_the_phases_series_do_not_take_is_refused_in_one_line(tmp_path, name):
+@pytest.mark.parametrize("name", ["restitution", "stop[2].gap"])
+def test_a_parameter_the_model_does_not_have_is_refused_in_one_line(tmp_path, name):
+    """The phases' series take every parameter of the model (an elastic stop's stiffness
+    and an entry of K included: tests/flow/test_nonlinear_elastic_params.py); a name the
+    model does not have (a restitution of its elastic stop, a second stop) is refused in
+    one line naming it, exit 2."""
     f = tmp_path / "duffing.toml"
     f.write_text(dumps(DUFFING))
-    lo = 1.0 if name == "stiffness[1,1]" else 50.0
-    assert_bad_input(cli("continue", "--model", f, "--range", f"{name}={lo}:{lo * 1.1}",
+    assert_bad_input(cli("continue", "--model", f, "--range", f"{name}=0.5:0.6",
                          "--set", "omega=1.3", "--orbit", "1-2"), name)
 
 
@@ -170,8 +173,8 @@ def test_refusals_in_one_line():
         NonlinearFlow(DUFFING)
     assert "\n" not in str(e.value)
     from symvi.orbits.periodic import Problem
-    with pytest.raises(ParameterError, match=r"^parameter = 'stop\[1\].gap'"):
-        Problem(DUFFING, 1, 2, omega=1.3, param="stop[1].gap",
+    with pytest.raises(ParameterError, match=r"^parameter = 'restitution'.*elastic"):
+        Problem(DUFFING, 1, 2, omega=1.3, param="restitution",
                 signature=Signature((0, 0), contact=(0,)))
 
 
