@@ -33,6 +33,7 @@ def _own(flow):
     return k
 
 
+@pytest.mark.filterwarnings("ignore::numba.core.errors.NumbaExperimentalFeatureWarning")
 @pytest.mark.parametrize("case", CASES)
 def test_the_kernel_is_the_interpreter_to_the_last_bit(case):
     """A flight of 25 steps without events (taylor._taylor_integrate) from a state away
