@@ -3,14 +3,15 @@
 :func:`symvi.flow.taylor._coefficients` interprets the forces' tape (one loop over the
 tape's rows at every order, a branch on each row's code).  For a long run that dispatch is
 half of a step: on the impact Duffing oscillator (order 28) the interpreted series take
-600 ns a step, the same recurrences written out for its tape 305 ns
-(``benchmarks/bench_nonlinear_flow.py``).  :func:`kernel` writes the recurrences of
+589 ns a step, the same recurrences written out for its tape 358 ns, and a run goes from
+1.16e5 to 1.80e5 impacts a second (``benchmarks/bench_nonlinear_flow.py``).  :func:`kernel` writes the recurrences of
 :mod:`symvi.flow.taylor` (module docstring: x_{k+1} = v_k / (k + 1), v_{k+1} = M^-1 (P s_k
 - C v_k - K x_k - f_k) / (k + 1), f_k by the tape's rows) as Python source with the rows'
 indices fixed, and compiles it with numba as a C callback: the cached kernels call it
 through a function pointer (``tj``'s last entry, :func:`symvi.flow.taylor.work`), so they
-are compiled once for every model and only this function is compiled per model (about
-0.5 s, so :class:`symvi.flow.nonlinear.NonlinearFlow` takes it for long runs only).
+are compiled once for every model and only this function is compiled per model (0.6 to
+1 s, so :class:`symvi.flow.nonlinear.NonlinearFlow` takes it for long runs only:
+:func:`for_run`).
 
 The source is machine-written from the tape and deterministic: the same tape gives the same
 text.  Only polynomial tapes are written (sums, products, squares, scalings, constants and
@@ -18,6 +19,7 @@ parameters); a tape with functions (exp, sin, powers with real exponents, ...) h
 kernel and stays interpreted.  The arithmetic is the interpreter's, term for term and in the
 same order, so both give the same coefficients to the last bit (a test checks it).
 """
+import hashlib
 import math
 import threading
 
@@ -32,9 +34,10 @@ from .taylor import T_ADD, T_CONST, T_MUL, T_SCALE, T_VAR, _constants
 SIGNATURE = types.void(*([types.int64] * 7), types.float64, types.float64, types.float64)
 _POLY = (T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE)
 #: impacts a process runs on one tape, interpreted, before it compiles the tape's kernel
-#: (:func:`for_run`): the compiler takes ~0.6 s, the kernel saves ~4 us an impact
-#: (``benchmarks/bench_nonlinear_flow.py``), so it pays after ~1.5e5 impacts
-KERNEL_IMPACTS = 100_000
+#: (:func:`for_run`): the compiler takes 0.6 to 1 s and the kernel saves ~3 us an impact
+#: (8.6 against 5.6, ``benchmarks/bench_nonlinear_flow.py``), so a run this long takes
+#: about as long either way and every later run of the process gains
+KERNEL_IMPACTS = 250_000
 _CACHE = {}                 # tape -> its kernel (None: a tape with functions)
 _RAN = {}                   # tape -> impacts run interpreted
 _LOCK = threading.RLock()
@@ -150,7 +153,7 @@ def kernel(tape, roots, dim):
             else:
                 from numba import carray
                 env = {"math": math, "carray": carray, "_as_ptr": _as_ptr}
-                exec(compile(text, f"<symvi taylor kernel {hash(key) & 0xffff:04x}>",
-                             "exec"), env)
+                name = hashlib.sha256(text.encode()).hexdigest()[:12]
+                exec(compile(text, f"<symvi taylor kernel {name}>", "exec"), env)
                 _CACHE[key] = cfunc(SIGNATURE, error_model="numpy")(env["kernel"])
         return _CACHE[key]
