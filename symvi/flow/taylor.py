@@ -450,12 +450,14 @@ def _jorba_zou_h(X, hmax):
         rho = max(rho, abs(X[i, 0]))
         n1 = max(n1, abs(X[i, p - 1]))
         n2 = max(n2, abs(X[i, p]))
-    rm = math.inf
+    # the two roots and the factor by one exp (a power is a log and an exp)
+    lt = math.log(TOL * rho)
+    e = math.inf
     if n1 > 0.0:
-        rm = (TOL * rho / n1) ** (1.0 / (p - 1))
+        e = (lt - math.log(n1)) / (p - 1)
     if n2 > 0.0:
-        rm = min(rm, (TOL * rho / n2) ** (1.0 / p))
-    return min(hmax, rm * math.exp(-0.7 / (p - 1)))
+        e = min(e, (lt - math.log(n2)) / p)
+    return min(hmax, math.exp(e - 0.7 / (p - 1)))
 
 
 @nb.njit(cache=True, error_model="numpy")
