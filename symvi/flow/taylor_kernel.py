@@ -2,16 +2,16 @@
 
 :func:`symvi.flow.taylor._coefficients` interprets the forces' tape (one loop over the
 tape's rows at every order, a branch on each row's code).  For a long run that dispatch is
-half of a step: on the impact Duffing oscillator (order 28) the interpreted series take
-589 ns a step, the same recurrences written out for its tape 358 ns, and a run goes from
-1.16e5 to 1.80e5 impacts a second (``benchmarks/bench_nonlinear_flow.py``).  :func:`kernel` writes the recurrences of
-:mod:`symvi.flow.taylor` (module docstring: x_{k+1} = v_k / (k + 1), v_{k+1} = M^-1 (P s_k
-- C v_k - K x_k - f_k) / (k + 1), f_k by the tape's rows) as Python source with the rows'
-indices fixed, and compiles it with numba as a C callback: the cached kernels call it
-through a function pointer (``tj``'s last entry, :func:`symvi.flow.taylor.work`), so they
-are compiled once for every model and only this function is compiled per model (0.6 to
-1 s, so :class:`symvi.flow.nonlinear.NonlinearFlow` takes it for long runs only:
-:func:`for_run`).
+a third of a step: on the impact Duffing oscillator (order 28) the interpreted series take
+554 ns a step, the same recurrences written out for its tape 337 ns, and a run goes from
+1.34e5 to 2.04e5 impacts a second (``benchmarks/bench_nonlinear_flow.py``).  :func:`kernel`
+writes the recurrences of :mod:`symvi.flow.taylor` (module docstring: x_{k+1} = v_k /
+(k + 1), v_{k+1} = M^-1 (P s_k - C v_k - K x_k - f_k) / (k + 1), f_k by the tape's rows) as
+Python source with the rows' indices fixed, and compiles it with numba as a C callback:
+the cached kernels call it through a function pointer (``tj``'s last entries,
+:func:`symvi.flow.taylor.work`), so they are compiled once for every model and only this
+function is compiled per model (0.6 to 1 s, so :class:`symvi.flow.nonlinear.NonlinearFlow`
+takes it for long runs only: :func:`for_run`).
 
 The source is machine-written from the tape and deterministic: the same tape gives the same
 text.  Only polynomial tapes are written (sums, products, squares, scalings, constants and
@@ -34,9 +34,9 @@ from .taylor import T_ADD, T_CONST, T_MUL, T_SCALE, T_VAR, _constants
 SIGNATURE = types.void(*([types.int64] * 7), types.float64, types.float64, types.float64)
 _POLY = (T_CONST, T_VAR, T_ADD, T_MUL, T_SCALE)
 #: impacts a process runs on one tape, interpreted, before it compiles the tape's kernel
-#: (:func:`for_run`): the compiler takes 0.6 to 1 s and the kernel saves ~3 us an impact
-#: (8.6 against 5.6, ``benchmarks/bench_nonlinear_flow.py``), so a run this long takes
-#: about as long either way and every later run of the process gains
+#: (:func:`for_run`): the compiler takes 0.6 to 1 s and the kernel saves ~2.6 us an
+#: impact (7.5 against 4.9, ``benchmarks/bench_nonlinear_flow.py``), so a run this long
+#: takes about as long either way and every later run of the process gains
 KERNEL_IMPACTS = 250_000
 _CACHE = {}                 # tape -> its kernel (None: a tape with functions)
 _RAN = {}                   # tape -> impacts run interpreted
@@ -94,7 +94,8 @@ def source(tape, roots, dim):
 
 
 def _row(tape, i, k, pad):
-    """Row i's coefficient k as the interpreter computes it (:func:`symvi.flow.taylor._series`)."""
+    """Row i's coefficient k as the interpreter computes it
+    (:func:`symvi.flow.taylor._series`)."""
     code, a, b = (int(v) for v in tape[i])
     head = [pad + "# row %d" % i]
     if code == T_ADD:
