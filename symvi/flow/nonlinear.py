@@ -52,6 +52,7 @@ non-finite); a converging chatter is followed to its grazing contact, and
 :func:`symvi.flow.nlsticking.run_through` goes on from a sticking through the held phase
 and the release.
 """
+import contextlib
 import math
 import warnings
 
@@ -568,8 +569,11 @@ class NonlinearFlow:
         if self.method == "taylor":               # a long run: the tape's own kernel
             own = taylor_kernel.for_run(self.tape[0], self.tape[2], 2 * self.n,
                                         len(times) + transient)
-        with warnings.catch_warnings():           # numba's first-class functions (own)
-            warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
+        # numba calls a kernel taken by address experimental when it compiles the run for it;
+        # the filter only then (catch_warnings swaps the process's filters)
+        with warnings.catch_warnings() if own is not None else contextlib.nullcontext():
+            if own is not None:
+                warnings.filterwarnings("ignore", category=NumbaExperimentalFeatureWarning)
             out = _run(self._system(omega, tau), self._taylor_work(own), self._table,
                        self.normals, self.R, self.SEC, z, float(tau), int(k), len(times),
                        transient, self._cap(omega), 1000 * 2 * math.pi / omega, sec, times,
