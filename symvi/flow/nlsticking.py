@@ -72,7 +72,8 @@ from . import compiled as cf
 from . import taylor
 from ._hull import _bernstein, _first_bracket
 from .sticking import MAX_IDLE_STICKS, accumulation_time
-from .taylor import (_at, _guard_coeffs, _jorba_zou_h, _prepare, _refine, _series)
+from .taylor import (_acceleration, _at, _guard_coeffs, _jorba_zou_h, _prepare, _refine,
+                     _series)
 
 __all__ = ["chatter_coefficients", "accumulate", "release_one", "Held", "leave",
            "run_through"]
@@ -180,7 +181,8 @@ def _held_coefficients(sy, tj, t, y, X, gh, q, gq, mu, acc):
     """X[:, 0..p] <- the Taylor coefficients of the held motion through (t, y) (module
     docstring: x'' = M^-1 F - q mu / (gh . q)), and mu[0..p-1] those of mu = gh . M^-1 F;
     the linear part Q of :func:`symvi.flow.taylor._prepare` (the loop of
-    :func:`symvi.flow.taylor._coefficients` with the projection)."""
+    :func:`symvi.flow.taylor._coefficients`, its acceleration
+    :func:`symvi.flow.taylor._acceleration`, with the projection)."""
     Minv = sy[0]
     u, w, tau = sy[6], sy[8][0], sy[9][0]
     tp, vals, roots, S, A, sn, cs, Q = tj[0], tj[1], tj[2], tj[3], tj[4], tj[5], tj[6], tj[7]
@@ -202,11 +204,7 @@ def _held_coefficients(sy, tj, t, y, X, gh, q, gq, mu, acc):
             _series(tp, vals, k, S, A, X, u, dim, dim if k == 0 else first)
         m = 0.0
         for i in range(n):
-            a = Q[i, dim] * sn[k]
-            for j in range(dim):
-                a -= Q[i, j] * X[j, k]
-            for j in range(nf):
-                a -= Minv[i, j] * S[roots[j], k]
+            a = _acceleration(Q, Minv, X, S, roots, sn, k, i, nf)
             acc[i] = a
             m += gh[i] * a
         mu[k] = m

@@ -430,13 +430,22 @@ def _coefficients(sy, tj, t, y, X):
             X[0, k + 1] = X[1, k] * inv[k + 1]
         else:
             for i in range(n):
-                acc = Q[i, dim] * sn[k]
-                for j in range(dim):
-                    acc -= Q[i, j] * X[j, k]
-                for j in range(nf):
-                    acc -= Minv[i, j] * S[roots[j], k]
-                X[n + i, k + 1] = acc * inv[k + 1]
+                X[n + i, k + 1] = _acceleration(Q, Minv, X, S, roots, sn, k, i, nf) * inv[k + 1]
                 X[i, k + 1] = X[n + i, k] * inv[k + 1]
+
+
+@nb.njit(cache=True, inline="always", error_model="numpy")
+def _acceleration(Q, Minv, X, S, roots, sn, k, i, nf):
+    """Coefficient k of mass i's acceleration M^-1 (P s - C v - K x - f) (module
+    docstring), from Q = M^-1 (K | C | P | I) of :func:`_prepare`, the state's coefficients X
+    and the forces' rows of S (nf: 0 without forces)."""
+    dim = X.shape[0]
+    acc = Q[i, dim] * sn[k]
+    for j in range(dim):
+        acc -= Q[i, j] * X[j, k]
+    for j in range(nf):
+        acc -= Minv[i, j] * S[roots[j], k]
+    return acc
 
 
 @nb.njit(cache=True, error_model="numpy")
